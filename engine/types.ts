@@ -1,0 +1,164 @@
+/*
+ * The engine's public definitions: what callers pass in (definitions with defaults, like Box2D's
+ * b2DefaultBodyDef) and what they read back. The World class implements these.
+ */
+import type { Vec2 } from './math.ts'
+import type { Shape } from './shapes.ts'
+
+/** Opaque body id: handed out in creation order from 1, never reused within a world. */
+export type BodyId = number
+/** Opaque joint id: handed out in creation order from 1, never reused within a world. */
+export type JointId = number
+
+/** How a body moves: static never moves, kinematic moves by its velocity only, dynamic by forces. */
+export type BodyType = 'static' | 'kinematic' | 'dynamic'
+
+/** World settings; every field has a default (see DEFAULT_WORLD_DEF). */
+export interface WorldDef {
+  /** Gravity (m/s^2), usually (0, -10). */
+  gravity?: Vec2
+  /** Solver sub-steps per 1/60 s step, usually 4. */
+  subSteps?: number
+  /** Allow islands to fall asleep, usually true. */
+  enableSleep?: boolean
+  /** Continuous collision for bullets and fast bodies, usually true. */
+  enableContinuous?: boolean
+  /** Contact stiffness (Hz), usually 30; clamped to a quarter of the sub-step rate. */
+  contactHertz?: number
+  /** Contact damping ratio (non-dimensional), usually 10. */
+  contactDampingRatio?: number
+  /** Fastest speed at which overlap is pushed apart (m/s), usually 3. */
+  maxContactPushSpeed?: number
+  /** Relative normal speed below which restitution is ignored (m/s), usually 1. */
+  restitutionThreshold?: number
+  /** Speed below which a body counts as resting (m/s), usually 0.05. */
+  sleepThreshold?: number
+  /** How long an island must rest before it sleeps (s), usually 0.5. */
+  timeToSleep?: number
+}
+
+/** A body definition; only `shape` is required. */
+export interface BodyDef {
+  /** Usually 'dynamic'. */
+  type?: BodyType
+  /** World position of the body origin (m). */
+  position?: Vec2
+  /** Rotation (rad). */
+  angle?: number
+  /** Velocity of the centre of mass (m/s). */
+  linearVelocity?: Vec2
+  /** Angular velocity (rad/s). */
+  angularVelocity?: number
+  /** The body's one shape. */
+  shape: Shape
+  /** Density (kg/m^2), usually 1. */
+  density?: number
+  /** Coulomb friction coefficient, usually 0.6; pairs mix by sqrt(a*b). */
+  friction?: number
+  /** Restitution (bounciness) 0..1, usually 0; pairs mix by max(a, b). */
+  restitution?: number
+  /** Linear damping (1/s), usually 0. */
+  linearDamping?: number
+  /** Angular damping (1/s), usually 0. */
+  angularDamping?: number
+  /** Multiplier on world gravity, usually 1. */
+  gravityScale?: number
+  /** Continuous collision against dynamic bodies as well as static ones, usually false. */
+  bullet?: boolean
+  /** Start awake, usually true. */
+  awake?: boolean
+  /** May this body sleep, usually true. */
+  enableSleep?: boolean
+  /** Never rotates (infinite inertia), usually false. */
+  fixedRotation?: boolean
+}
+
+/** Revolute (pin) joint: bodies share a world anchor point and rotate about it. */
+export interface RevoluteJointDef {
+  type: 'revolute'
+  /** First body, or null for the fixed world frame. */
+  bodyA: BodyId | null
+  bodyB: BodyId
+  /** World anchor at creation (m). */
+  anchor: Vec2
+  enableLimit?: boolean
+  /** Lower and upper limits of angleB - angleA relative to creation (rad). */
+  lowerAngle?: number
+  upperAngle?: number
+  enableMotor?: boolean
+  /** Target relative angular speed (rad/s). */
+  motorSpeed?: number
+  /** Largest torque the motor applies (N m). */
+  maxMotorTorque?: number
+}
+
+/** Distance joint: a rod, a rope (minLength 0), or a soft spring (hertz > 0). */
+export interface DistanceJointDef {
+  type: 'distance'
+  bodyA: BodyId | null
+  bodyB: BodyId
+  /** World anchors at creation (m). */
+  anchorA: Vec2
+  anchorB: Vec2
+  /** Rest length (m); defaults to the anchors' current distance. */
+  length?: number
+  /** Limits on the length (m); a rope is minLength 0, maxLength = length. */
+  minLength?: number
+  maxLength?: number
+  /** Spring stiffness (Hz); 0 means rigid. */
+  hertz?: number
+  /** Spring damping ratio, usually 0.7 when hertz > 0. */
+  dampingRatio?: number
+}
+
+/** Mouse (grab) joint: pulls a point on a body toward a moving target with a capped force. */
+export interface MouseJointDef {
+  type: 'mouse'
+  body: BodyId
+  /** World target (m). */
+  target: Vec2
+  /** Grabbed point in the body's local frame (m); defaults to the target's local point. */
+  localAnchor?: Vec2
+  /** Largest force (N); defaults to 1000 * mass * |gravity or 10|. */
+  maxForce?: number
+  /** Stiffness (Hz), usually 5. */
+  hertz?: number
+  /** Damping ratio, usually 0.7. */
+  dampingRatio?: number
+}
+
+/** Every joint definition. */
+export type JointDef = RevoluteJointDef | DistanceJointDef | MouseJointDef
+
+/** A touching contact, for drawing and for the free-body diagram. */
+export interface ContactInfo {
+  bodyA: BodyId
+  bodyB: BodyId
+  /** World unit normal from A to B. */
+  normal: Vec2
+  points: Array<{
+    /** World point (m). */
+    point: Vec2
+    /** Negative when overlapping (m). */
+    separation: number
+    /** Normal impulse applied in the last step (N s); divide by the step for force. */
+    normalImpulse: number
+    /** Friction impulse along the tangent (-normal.y, normal.x) in the last step (N s). */
+    tangentImpulse: number
+  }>
+}
+
+/** A joint's state, for drawing. */
+export interface JointInfo {
+  id: JointId
+  type: JointDef['type']
+  bodyA: BodyId | null
+  bodyB: BodyId
+  /** Current world anchors (m); for a mouse joint anchorA is the target. */
+  anchorA: Vec2
+  anchorB: Vec2
+  /** Reaction force on body B in the last step (N). */
+  force: Vec2
+  /** Reaction torque on body B in the last step (N m). */
+  torque: number
+}
