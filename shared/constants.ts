@@ -1,0 +1,70 @@
+/*
+ * Protocol constants shared by the server, the browser client and the bots. Changing anything
+ * that alters the bytes on the wire means bumping PROTOCOL_VERSION.
+ */
+
+/** Wire protocol version; a join with another version is refused with an error naming both. */
+export const PROTOCOL_VERSION = 1
+
+/** Simulation rate (Hz): the server steps every room 60 times per second. */
+export const TICK_RATE = 60
+
+/** Position quantum (m): positions travel as integers of 1 mm. */
+export const POSITION_QUANTUM = 0.001
+
+/** Angle resolution (steps per turn): 16 bits per turn, about 0.0055 degrees. */
+export const ANGLE_STEPS = 65536
+
+/** Velocity quantum (m/s or rad/s) for the few places velocities travel (events). */
+export const VELOCITY_QUANTUM = 0.001
+
+/** Half size of the square world inputs are clamped to (m): x and y in [-WORLD_HALF_EXTENT, +]. */
+export const WORLD_HALF_EXTENT = 500
+
+/** Bodies further than this from the origin (m) are removed by the room, so numbers stay small. */
+export const KILL_DISTANCE = 1000
+
+/** Longest player name (UTF-16 code units). */
+export const MAX_NAME_LENGTH = 32
+
+/** Longest room name; room names match ROOM_NAME_PATTERN. */
+export const MAX_ROOM_NAME_LENGTH = 32
+
+/** Allowed room names: letters, digits, dash and underscore. */
+export const ROOM_NAME_PATTERN = /^[A-Za-z0-9_-]{1,32}$/
+
+/** Largest spawned shape extent (m): circle radius, box half size, polygon vertex distance. */
+export const MAX_SHAPE_EXTENT = 10
+
+/** Smallest spawned shape extent (m). */
+export const MIN_SHAPE_EXTENT = 0.05
+
+/** Largest spawn speed (m/s) and angular speed (rad/s). */
+export const MAX_SPAWN_SPEED = 100
+
+/** Largest gravity component a room control may set (m/s^2). */
+export const MAX_GRAVITY = 100
+
+/** Largest rope length (m). */
+export const MAX_ROPE_LENGTH = 100
+
+/** Largest reconnect token length (characters). */
+export const MAX_TOKEN_LENGTH = 64
+
+/** WebSocket close codes used by the server (RFC 6455 plus the 4000-4999 private range). */
+export const CLOSE_CODES = {
+  /** Server shutting down (RFC 6455 "going away"). */
+  goingAway: 1001,
+  /** Protocol violation: garbage, wrong version, text frames. */
+  policy: 1008,
+  /** Frame larger than the server's max payload (sent by ws itself). */
+  tooBig: 1009,
+  /** The room is full, or the server has too many rooms or connections. */
+  full: 4001,
+  /** The client fell too far behind reading its socket. */
+  tooSlow: 4002,
+  /** No join within the join timeout. */
+  joinTimeout: 4003,
+  /** Protocol version mismatch. */
+  version: 4004,
+} as const

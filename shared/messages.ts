@@ -1,0 +1,295 @@
+/*
+ * The messages, as TypeScript types. Every WebSocket binary frame holds one MessagePack map with a
+ * string field `t` naming its type. Field names are short but readable; PROTOCOL.md is the
+ * reference for other languages. Client messages are validated by validate.ts before they reach a
+ * room; server messages are trusted by the client but still shape-checked on decode.
+ *
+ * Quantized values: positions are integers of POSITION_QUANTUM (1 mm), angles integers in
+ * [0, ANGLE_STEPS) (one turn = 65536). Body and joint ids are positive integers, never reused
+ * within one world epoch (a scene load or reset starts a new epoch with a `state` message).
+ */
+
+/** A shape as it travels: circle radius, box half extents, or polygon vertices flat [x0, y0, ...]. */
+export type WireShape =
+  | { type: 'circle'; radius: number }
+  | { type: 'box'; hw: number; hh: number }
+  | { type: 'polygon'; v: number[] }
+
+/** Body type codes: 0 static, 1 kinematic, 2 dynamic. */
+export type WireBodyType = 0 | 1 | 2
+
+/** A body as it appears in full states and creation events (positions quantized). */
+export interface WireBody {
+  id: number
+  kind: WireBodyType
+  shape: WireShape
+  /** Quantized x, y (mm) and angle (1/65536 turn). */
+  x: number
+  y: number
+  a: number
+  /** 1 when awake, 0 when asleep. */
+  awake: 0 | 1
+}
+
+/** A user joint (pin or rope) as it travels; anchors in each body's local frame (m). */
+export interface WireJoint {
+  id: number
+  kind: 'pin' | 'rope'
+  /** Body ids; 0 means the fixed world frame. */
+  a: number
+  b: number
+  /** Local anchors (m): on body a (world point when a = 0) and on body b. */
+  ax: number
+  ay: number
+  bx: number
+  by: number
+  /** Rope length (m); 0 for pins. */
+  length: number
+}
+
+/** A player in the room roster. */
+export interface WirePlayer {
+  id: number
+  name: string
+  /** CSS colour, '#rrggbb'. */
+  color: string
+}
+
+/** The whole room state at one tick: sent in `welcome` and as `state` after a scene load or reset. */
+export interface FullState {
+  tick: number
+  scene: string
+  paused: boolean
+  gravity: [number, number]
+  bodies: WireBody[]
+  joints: WireJoint[]
+}
+
+/** Room rules announced in `welcome`. */
+export interface RoomRules {
+  tickRate: number
+  snapshotRate: number
+  maxBodies: number
+  maxClients: number
+  inputsPerTick: number
+  controls: boolean
+  scenes: string[]
+  worldHalfExtent: number
+}
+
+// ---------------------------------------------------------------- client -> server
+
+/** Spawn a dynamic body; position (m), angle (rad), velocities (m/s, rad/s). */
+export interface SpawnCommand {
+  k: 'spawn'
+  shape: WireShape
+  x: number
+  y: number
+  angle?: number
+  vx?: number
+  vy?: number
+  w?: number
+}
+/** Grab a body at a local point (m); the grab target starts at that point's world position. */
+export interface GrabCommand {
+  k: 'grab'
+  body: number
+  lx: number
+  ly: number
+}
+/** Move the cursor (m); while grabbing, it is the grab target. */
+export interface MoveCommand {
+  k: 'move'
+  x: number
+  y: number
+}
+/** Release this player's grab. */
+export interface ReleaseCommand {
+  k: 'release'
+}
+/** Delete a dynamic body. */
+export interface DeleteCommand {
+  k: 'delete'
+  body: number
+}
+/** Pin body b (to body a, or to the world when a = 0) at a world point (m). */
+export interface PinCommand {
+  k: 'pin'
+  a: number
+  b: number
+  x: number
+  y: number
+}
+/** Tie a rope between world points on body a (0 = world) and body b (m); length = their distance. */
+export interface RopeCommand {
+  k: 'rope'
+  a: number
+  b: number
+  ax: number
+  ay: number
+  bx: number
+  by: number
+}
+/** Remove a pin or rope. */
+export interface UnjointCommand {
+  k: 'unjoint'
+  joint: number
+}
+/** Room control: load a scene by name (SCENES). */
+export interface SceneCommand {
+  k: 'scene'
+  name: string
+}
+/** Room control: pause or resume. */
+export interface PauseCommand {
+  k: 'pause'
+  paused: boolean
+}
+/** Room control: advance one step while paused. */
+export interface StepCommand {
+  k: 'step'
+}
+/** Room control: reload the current scene. */
+export interface ResetCommand {
+  k: 'reset'
+}
+/** Room control: set gravity (m/s^2). */
+export interface GravityCommand {
+  k: 'gravity'
+  x: number
+  y: number
+}
+
+/** Every input command a client may send. */
+export type Command =
+  | SpawnCommand
+  | GrabCommand
+  | MoveCommand
+  | ReleaseCommand
+  | DeleteCommand
+  | PinCommand
+  | RopeCommand
+  | UnjointCommand
+  | SceneCommand
+  | PauseCommand
+  | StepCommand
+  | ResetCommand
+  | GravityCommand
+
+/** First message on a socket: join a room (the URL's ?room= when `room` is empty). */
+export interface JoinMessage {
+  t: 'join'
+  v: number
+  room: string
+  name: string
+  /** 'snapshot' (streamed state); 'lockstep' is reserved and refused for now. */
+  mode: 'snapshot' | 'lockstep'
+  /** Reconnect token from an earlier welcome, to keep the same player id. */
+  token?: string
+}
+/** One input command with the client's sequence number. */
+export interface InputMessage {
+  t: 'input'
+  seq: number
+  cmd: Command
+}
+/** Acknowledge a snapshot: the server may use its tick as the next baseline. */
+export interface AckMessage {
+  t: 'ack'
+  tick: number
+}
+/** Clock sync request; `time` is the client's clock (ms), echoed back. */
+export interface PingMessage {
+  t: 'ping'
+  id: number
+  time: number
+}
+
+/** Every message a client sends. */
+export type ClientMessage = JoinMessage | InputMessage | AckMessage | PingMessage
+
+// ---------------------------------------------------------------- server -> client
+
+/** Reply to join: identity, rules and the full state. */
+export interface WelcomeMessage {
+  t: 'welcome'
+  v: number
+  id: number
+  token: string
+  room: string
+  rules: RoomRules
+  players: WirePlayer[]
+  state: FullState
+}
+/** A new world epoch (scene load or reset): forget every body and baseline. */
+export interface StateMessage {
+  t: 'state'
+  state: FullState
+}
+/** Bodies and joints created or removed during one tick (sent before any snapshot using them). */
+export interface EventsMessage {
+  t: 'events'
+  tick: number
+  add: WireBody[]
+  remove: number[]
+  jadd: WireJoint[]
+  jremove: number[]
+}
+/** Room settings changed: pause state, gravity, scene name. */
+export interface RoomMessage {
+  t: 'room'
+  tick: number
+  paused: boolean
+  gravity: [number, number]
+  scene: string
+}
+/** The roster changed. */
+export interface PlayersMessage {
+  t: 'players'
+  players: WirePlayer[]
+}
+/**
+ * A snapshot at `tick`, relative to the client's copy at tick `base` (see snapshot-codec.ts for
+ * the `data` layout). `cursors` is flat [playerId, x mm, y mm, grabbedBodyId or 0, ...].
+ */
+export interface SnapshotMessage {
+  t: 'snap'
+  tick: number
+  base: number
+  data: Uint8Array
+  cursors: number[]
+}
+/** Clock sync reply: the ping's id and time, and the server's tick (fractional) when answering. */
+export interface PongMessage {
+  t: 'pong'
+  id: number
+  time: number
+  tick: number
+}
+/** State hash checkpoint: world.hash() after `step` world steps, at room tick `tick`. */
+export interface HashMessage {
+  t: 'hash'
+  tick: number
+  step: number
+  hash: number
+}
+/** Something was refused; `code` is machine-readable, `reason` for people. */
+export interface ErrorMessage {
+  t: 'error'
+  code: string
+  reason: string
+  /** The input's seq when an input was refused. */
+  seq?: number
+}
+
+/** Every message the server sends. */
+export type ServerMessage =
+  | WelcomeMessage
+  | StateMessage
+  | EventsMessage
+  | RoomMessage
+  | PlayersMessage
+  | SnapshotMessage
+  | PongMessage
+  | HashMessage
+  | ErrorMessage

@@ -1,0 +1,176 @@
+/*
+ * One client's side of snapshot delta compression, kept by the server.
+ *
+ * `reference` is the client's state at the last snapshot it acknowledged (or at its welcome), the
+ * baseline the next snapshot is written against. Sent snapshots are remembered (tick -> baseline
+ * tick and the updates) so that an ack can advance the reference exactly as the client did: an ack
+ * whose snapshot was written against the current reference moves the reference to that snapshot;
+ * any other ack is ignored. The client keeps every state newer than the last baseline it saw, so
+ * it always holds the baseline the server picks (snapshot-history.ts).
+ *
+ * Bodies that differ from the reference are candidates. When they fit the byte budget all are
+ * sent; otherwise each candidate's priority grows every snapshot (faster when awake or important,
+ * e.g. grabbed) and the highest-priority bodies that fit are sent and reset to zero (Fiedler,
+ * "State Synchronization"), so every body is refreshed eventually and bandwidth stays bounded.
+ */
+import type { ByteWriter } from './byte-io.ts'
+import { FRAME_AWAKE, QuantizedFrame } from './quantized-frame.ts'
+import { updateSize, writeUpdates } from './snapshot-codec.ts'
+
+/** Sent snapshots remembered per client, waiting for acks. */
+const MAX_PENDING = 64
+
+interface SentSnapshot {
+  base: number
+  /** Flat [id, x, y, a, flags] per update. */
+  updates: Int32Array
+}
+
+/** What one encode did. */
+export interface EncodeStats {
+  /** Bodies that differed from the client's baseline. */
+  candidates: number
+  /** Bodies written. */
+  sent: number
+  /** Longest wait (ticks) of a body written this time since it was last written or became dirty. */
+  maxStaleness: number
+}
+
+/** Server-side delta state for one client: its reference frame, pending snapshots, priorities. */
+export class SnapshotEncoder {
+  /** The client's acknowledged state. */
+  readonly reference = new QuantizedFrame()
+  /** Tick of the reference (the baseline of the next snapshot). */
+  referenceTick = 0
+  private readonly pending = new Map<number, SentSnapshot>()
+  private priority = new Float64Array(64)
+  private waitingSince = new Int32Array(64).fill(-1)
+  private candidates = new Int32Array(64)
+  private chosen = new Int32Array(64)
+
+  /** Start over from a full state the client received (welcome or state message). */
+  reset(frame: QuantizedFrame, tick: number): void {
+    this.reference.copyFrom(frame)
+    this.referenceTick = tick
+    this.pending.clear()
+    this.priority.fill(0)
+    this.waitingSince.fill(-1)
+  }
+
+  private grow(capacity: number, count: number): void {
+    if (this.priority.length < capacity) {
+      const p = new Float64Array(capacity)
+      p.set(this.priority)
+      this.priority = p
+      const w = new Int32Array(capacity).fill(-1)
+      w.set(this.waitingSince)
+      this.waitingSince = w
+    }
+    if (this.candidates.length < count) {
+      this.candidates = new Int32Array(count)
+      this.chosen = new Int32Array(count)
+    }
+  }
+
+  /**
+   * Write the snapshot of `frame` at `tick` into `out` within `budget` bytes of updates.
+   * `weight(id)` is the extra priority of a body (0 for ordinary ones, more for grabbed ones).
+   */
+  encode(
+    out: ByteWriter,
+    frame: QuantizedFrame,
+    tick: number,
+    budget: number,
+    weight?: (id: number) => number,
+  ): EncodeStats {
+    this.grow(frame.capacity, frame.count)
+    const ref = this.reference
+    let n = 0
+    let bytes = 0
+    for (let i = 0; i < frame.count; i++) {
+      const id = frame.ids[i]
+      if (frame.sameAs(ref, id)) {
+        this.waitingSince[id] = -1
+        this.priority[id] = 0
+        continue
+      }
+      if (this.waitingSince[id] < 0) this.waitingSince[id] = tick
+      const awake = (frame.flags[id] & FRAME_AWAKE) !== 0
+      this.priority[id] += 1 + (awake ? 1 : 0) + (ref.has(id) ? 0 : 4) + (weight ? weight(id) : 0)
+      this.candidates[n++] = id
+      bytes += updateSize(frame, ref, id)
+    }
+    let count = n
+    let ids = this.candidates
+    if (bytes > budget) {
+      count = this.choose(frame, n, budget)
+      ids = this.chosen
+    }
+    let maxStaleness = 0
+    const updates = new Int32Array(count * 5)
+    for (let i = 0; i < count; i++) {
+      const id = ids[i]
+      maxStaleness = Math.max(maxStaleness, tick - this.waitingSince[id])
+      this.waitingSince[id] = tick
+      this.priority[id] = 0
+      updates.set([id, frame.x[id], frame.y[id], frame.a[id], frame.flags[id]], i * 5)
+    }
+    writeUpdates(out, frame, ref, ids, count)
+    this.remember(tick, updates)
+    return { candidates: n, sent: count, maxStaleness }
+  }
+
+  /** Pick the highest-priority candidates that fit the budget into `chosen`, ascending ids. */
+  private choose(frame: QuantizedFrame, n: number, budget: number): number {
+    const order = Array.from(this.candidates.subarray(0, n))
+    const priority = this.priority
+    order.sort((p, q) => priority[q] - priority[p] || p - q)
+    let count = 0
+    let bytes = 0
+    for (const id of order) {
+      const size = updateSize(frame, this.reference, id)
+      if (bytes + size > budget) continue
+      bytes += size
+      this.chosen[count++] = id
+    }
+    this.chosen.subarray(0, count).sort()
+    return count
+  }
+
+  private remember(tick: number, updates: Int32Array): void {
+    this.pending.set(tick, { base: this.referenceTick, updates })
+    if (this.pending.size > MAX_PENDING) {
+      const oldest = this.pending.keys().next().value
+      if (oldest !== undefined) this.pending.delete(oldest)
+    }
+  }
+
+  /** The client acknowledged the snapshot at `tick`; returns true if the reference advanced. */
+  ack(tick: number): boolean {
+    const sent = this.pending.get(tick)
+    if (!sent) return false
+    this.pending.delete(tick)
+    if (sent.base !== this.referenceTick) return false
+    const u = sent.updates
+    for (let i = 0; i < u.length; i += 5) {
+      this.reference.put(u[i], u[i + 1], u[i + 2], u[i + 3], (u[i + 4] & FRAME_AWAKE) !== 0)
+    }
+    this.referenceTick = tick
+    for (const t of this.pending.keys()) if (t < tick) this.pending.delete(t)
+    return true
+  }
+
+  /** A body was destroyed: forget it (its id is never reused in this epoch). */
+  removeBody(id: number): void {
+    this.reference.remove(id)
+    if (id < this.priority.length) {
+      this.priority[id] = 0
+      this.waitingSince[id] = -1
+    }
+  }
+
+  /** Snapshots sent and not yet acknowledged or dropped. */
+  get pendingCount(): number {
+    return this.pending.size
+  }
+}

@@ -1,0 +1,304 @@
+/*
+ * Exact schemas for decoded messages. A client message passes only if every field has the right
+ * type and range, numbers are finite, strings and arrays are within their lengths, and there are
+ * no unknown fields (so `__proto__`, `constructor` and `prototype` keys never pass). The result is
+ * a fresh object built from the checked fields, never the decoded value itself.
+ *
+ * Ranges here are what the wire allows; the room then clamps to world bounds, force caps and its
+ * body limit. Server messages are checked more loosely (type tag and required fields), enough for
+ * a client not to trip over a different server version.
+ */
+
+import type { DecodeResult } from './codec.ts'
+import {
+  MAX_GRAVITY,
+  MAX_NAME_LENGTH,
+  MAX_SHAPE_EXTENT,
+  MAX_TOKEN_LENGTH,
+  MIN_SHAPE_EXTENT,
+  PROTOCOL_VERSION,
+  ROOM_NAME_PATTERN,
+} from './constants.ts'
+import type { ClientMessage, Command, ServerMessage, WireShape } from './messages.ts'
+
+/** Largest id, sequence number or tick accepted (2^53 - 1). */
+const MAX_INT = Number.MAX_SAFE_INTEGER
+/** Largest coordinate accepted on the wire (m); rooms clamp to their world bounds. */
+const MAX_COORD = 1e6
+
+class SchemaError extends Error {}
+
+type Fields = Record<string, unknown>
+
+function fields(
+  value: unknown,
+  what: string,
+  allowed: readonly string[],
+  required: readonly string[],
+): Fields {
+  if (typeof value !== 'object' || value === null || Array.isArray(value)) {
+    throw new SchemaError(`${what} must be a map`)
+  }
+  const proto = Object.getPrototypeOf(value)
+  if (proto !== Object.prototype && proto !== null) throw new SchemaError(`${what} must be a plain map`)
+  const keys = Object.keys(value)
+  if (keys.length > allowed.length) throw new SchemaError(`${what} has too many fields`)
+  for (const key of keys) {
+    if (!allowed.includes(key)) throw new SchemaError(`${what} has unknown field "${key.slice(0, 32)}"`)
+  }
+  for (const key of required) {
+    if (!Object.hasOwn(value, key)) throw new SchemaError(`${what} is missing field "${key}"`)
+  }
+  return value as Fields
+}
+
+function int(value: unknown, what: string, min: number, max: number): number {
+  if (typeof value !== 'number' || !Number.isInteger(value) || value < min || value > max) {
+    throw new SchemaError(`${what} must be an integer in [${min}, ${max}]`)
+  }
+  return value
+}
+
+function num(value: unknown, what: string, limit: number): number {
+  if (typeof value !== 'number' || !Number.isFinite(value) || Math.abs(value) > limit) {
+    throw new SchemaError(`${what} must be a finite number in [-${limit}, ${limit}]`)
+  }
+  return value
+}
+
+function optNum(value: unknown, what: string, limit: number): number | undefined {
+  return value === undefined || value === null ? undefined : num(value, what, limit)
+}
+
+function str(value: unknown, what: string, maxLength: number): string {
+  if (typeof value !== 'string' || value.length > maxLength) {
+    throw new SchemaError(`${what} must be a string of at most ${maxLength} characters`)
+  }
+  return value
+}
+
+function bool(value: unknown, what: string): boolean {
+  if (typeof value !== 'boolean') throw new SchemaError(`${what} must be true or false`)
+  return value
+}
+
+function validateShape(value: unknown): WireShape {
+  const type = fields(value, 'shape', ['type', 'radius', 'hw', 'hh', 'v'], ['type']).type
+  const extent = (v: unknown, what: string): number => {
+    const n = num(v, what, MAX_SHAPE_EXTENT)
+    if (n < MIN_SHAPE_EXTENT) throw new SchemaError(`${what} must be at least ${MIN_SHAPE_EXTENT} m`)
+    return n
+  }
+  if (type === 'circle') {
+    const f = fields(value, 'circle', ['type', 'radius'], ['radius'])
+    return { type, radius: extent(f.radius, 'circle radius') }
+  }
+  if (type === 'box') {
+    const f = fields(value, 'box', ['type', 'hw', 'hh'], ['hw', 'hh'])
+    return { type, hw: extent(f.hw, 'box hw'), hh: extent(f.hh, 'box hh') }
+  }
+  if (type === 'polygon') {
+    const f = fields(value, 'polygon', ['type', 'v'], ['v'])
+    if (!Array.isArray(f.v) || f.v.length < 6 || f.v.length > 16 || f.v.length % 2 !== 0) {
+      throw new SchemaError('polygon v must be a flat list of 3 to 8 points [x0, y0, x1, y1, ...]')
+    }
+    return { type, v: f.v.map((c, i) => num(c, `polygon v[${i}]`, MAX_SHAPE_EXTENT)) }
+  }
+  throw new SchemaError('shape type must be "circle", "box" or "polygon"')
+}
+
+const id = (v: unknown, what: string): number => int(v, what, 1, MAX_INT)
+const bodyOrWorld = (v: unknown, what: string): number => int(v, what, 0, MAX_INT)
+const coord = (v: unknown, what: string): number => num(v, what, MAX_COORD)
+
+function validateCommand(value: unknown): Command {
+  const k = fields(
+    value,
+    'cmd',
+    [
+      'k',
+      'shape',
+      'x',
+      'y',
+      'angle',
+      'vx',
+      'vy',
+      'w',
+      'body',
+      'lx',
+      'ly',
+      'a',
+      'b',
+      'ax',
+      'ay',
+      'bx',
+      'by',
+      'joint',
+      'name',
+      'paused',
+    ],
+    ['k'],
+  ).k
+  const f = (allowed: string[]): Fields =>
+    fields(
+      value,
+      `${String(k)} command`,
+      ['k', ...allowed],
+      allowed.filter((n) => !['angle', 'vx', 'vy', 'w'].includes(n)),
+    )
+  switch (k) {
+    case 'spawn': {
+      const c = f(['shape', 'x', 'y', 'angle', 'vx', 'vy', 'w'])
+      const cmd: Command = { k, shape: validateShape(c.shape), x: coord(c.x, 'x'), y: coord(c.y, 'y') }
+      const angle = optNum(c.angle, 'angle', 1e3)
+      const vx = optNum(c.vx, 'vx', MAX_COORD)
+      const vy = optNum(c.vy, 'vy', MAX_COORD)
+      const w = optNum(c.w, 'w', MAX_COORD)
+      if (angle !== undefined) cmd.angle = angle
+      if (vx !== undefined) cmd.vx = vx
+      if (vy !== undefined) cmd.vy = vy
+      if (w !== undefined) cmd.w = w
+      return cmd
+    }
+    case 'grab': {
+      const c = f(['body', 'lx', 'ly'])
+      return { k, body: id(c.body, 'body'), lx: num(c.lx, 'lx', 1e3), ly: num(c.ly, 'ly', 1e3) }
+    }
+    case 'move': {
+      const c = f(['x', 'y'])
+      return { k, x: coord(c.x, 'x'), y: coord(c.y, 'y') }
+    }
+    case 'release':
+    case 'step':
+    case 'reset':
+      f([])
+      return { k }
+    case 'delete':
+      return { k, body: id(f(['body']).body, 'body') }
+    case 'pin': {
+      const c = f(['a', 'b', 'x', 'y'])
+      return { k, a: bodyOrWorld(c.a, 'a'), b: id(c.b, 'b'), x: coord(c.x, 'x'), y: coord(c.y, 'y') }
+    }
+    case 'rope': {
+      const c = f(['a', 'b', 'ax', 'ay', 'bx', 'by'])
+      return {
+        k,
+        a: bodyOrWorld(c.a, 'a'),
+        b: id(c.b, 'b'),
+        ax: coord(c.ax, 'ax'),
+        ay: coord(c.ay, 'ay'),
+        bx: coord(c.bx, 'bx'),
+        by: coord(c.by, 'by'),
+      }
+    }
+    case 'unjoint':
+      return { k, joint: id(f(['joint']).joint, 'joint') }
+    case 'scene':
+      return { k, name: str(f(['name']).name, 'scene name', 32) }
+    case 'pause':
+      return { k, paused: bool(f(['paused']).paused, 'paused') }
+    case 'gravity': {
+      const c = f(['x', 'y'])
+      return { k, x: num(c.x, 'gravity x', MAX_GRAVITY), y: num(c.y, 'gravity y', MAX_GRAVITY) }
+    }
+    default:
+      throw new SchemaError(`unknown command "${String(k).slice(0, 32)}"`)
+  }
+}
+
+function validateJoin(value: unknown): ClientMessage {
+  const m = fields(
+    value,
+    'join',
+    ['t', 'v', 'room', 'name', 'mode', 'token'],
+    ['t', 'v', 'room', 'name', 'mode'],
+  )
+  const room = str(m.room, 'room', 32)
+  if (room !== '' && !ROOM_NAME_PATTERN.test(room)) {
+    throw new SchemaError('room must be 1-32 letters, digits, "-" or "_"')
+  }
+  // biome-ignore lint/suspicious/noControlCharactersInRegex: control characters are what we reject
+  const name = str(m.name, 'name', MAX_NAME_LENGTH).replace(/[\u0000-\u001f\u007f]/g, '')
+  if (m.mode !== 'snapshot' && m.mode !== 'lockstep')
+    throw new SchemaError('mode must be "snapshot" or "lockstep"')
+  const join: ClientMessage = { t: 'join', v: PROTOCOL_VERSION, room, name, mode: m.mode }
+  if (m.token !== undefined && m.token !== null) join.token = str(m.token, 'token', MAX_TOKEN_LENGTH)
+  return join
+}
+
+function validateClient(value: unknown): ClientMessage {
+  const t = fields(
+    value,
+    'message',
+    ['t', 'v', 'room', 'name', 'mode', 'token', 'seq', 'cmd', 'tick', 'id', 'time'],
+    ['t'],
+  ).t
+  switch (t) {
+    case 'join':
+      return validateJoin(value)
+    case 'input': {
+      const m = fields(value, 'input', ['t', 'seq', 'cmd'], ['t', 'seq', 'cmd'])
+      return { t, seq: int(m.seq, 'seq', 0, MAX_INT), cmd: validateCommand(m.cmd) }
+    }
+    case 'ack':
+      return { t, tick: int(fields(value, 'ack', ['t', 'tick'], ['t', 'tick']).tick, 'tick', 0, MAX_INT) }
+    case 'ping': {
+      const m = fields(value, 'ping', ['t', 'id', 'time'], ['t', 'id', 'time'])
+      return { t, id: int(m.id, 'id', 0, MAX_INT), time: num(m.time, 'time', Number.MAX_VALUE) }
+    }
+    default:
+      throw new SchemaError(`unknown message type "${String(t).slice(0, 32)}"`)
+  }
+}
+
+/**
+ * Check a decoded value against the client message schemas. A join with another protocol version
+ * fails with code 'version' and a reason naming both versions, before any other field is checked.
+ */
+export function validateClientMessage(value: unknown): DecodeResult<ClientMessage> {
+  if (typeof value === 'object' && value !== null && (value as Fields).t === 'join') {
+    const v = (value as Fields).v
+    if (v !== PROTOCOL_VERSION) {
+      const theirs = typeof v === 'number' ? String(v) : 'none'
+      return {
+        ok: false,
+        code: 'version',
+        reason: `protocol version mismatch: client ${theirs}, server ${PROTOCOL_VERSION}`,
+      }
+    }
+  }
+  try {
+    return { ok: true, value: validateClient(value) }
+  } catch (error) {
+    if (error instanceof SchemaError) return { ok: false, code: 'invalid', reason: error.message }
+    return { ok: false, code: 'invalid', reason: 'message rejected' }
+  }
+}
+
+const SERVER_FIELDS: Record<ServerMessage['t'], readonly string[]> = {
+  welcome: ['v', 'id', 'token', 'room', 'rules', 'players', 'state'],
+  state: ['state'],
+  events: ['tick', 'add', 'remove', 'jadd', 'jremove'],
+  room: ['tick', 'paused', 'gravity', 'scene'],
+  players: ['players'],
+  snap: ['tick', 'base', 'data', 'cursors'],
+  pong: ['id', 'time', 'tick'],
+  hash: ['tick', 'step', 'hash'],
+  error: ['code', 'reason'],
+}
+
+/** Check a decoded server message's type tag and required fields. */
+export function validateServerMessage(value: unknown): DecodeResult<ServerMessage> {
+  if (typeof value !== 'object' || value === null) return { ok: false, code: 'invalid', reason: 'not a map' }
+  const t = (value as Fields).t
+  const required =
+    typeof t === 'string' && Object.hasOwn(SERVER_FIELDS, t) ? SERVER_FIELDS[t as ServerMessage['t']] : null
+  if (!required) return { ok: false, code: 'invalid', reason: `unknown server message type "${String(t)}"` }
+  for (const key of required) {
+    if (!Object.hasOwn(value, key)) return { ok: false, code: 'invalid', reason: `${t} is missing "${key}"` }
+  }
+  if (t === 'snap' && !((value as Fields).data instanceof Uint8Array)) {
+    return { ok: false, code: 'invalid', reason: 'snap data must be binary' }
+  }
+  return { ok: true, value: value as unknown as ServerMessage }
+}
