@@ -1,0 +1,136 @@
+/*
+ * What the engine benchmark measures and how it records it.
+ *
+ * Every engine under test (Concord and its peers) is wrapped in a PeerWorld: a world built from a
+ * scene blueprint that can step 1/60 s and report its bodies' state in blueprint order. The harness
+ * times each step with performance.now(), summarizes the samples with the order statistics below
+ * (median and p95 are robust to the odd garbage-collection pause; the mean is not), and saves the
+ * numbers with the machine they were measured on, so results from different runs and machines can
+ * be told apart.
+ */
+import { execFileSync } from 'node:child_process'
+import { mkdirSync, writeFileSync } from 'node:fs'
+import os from 'node:os'
+import { dirname } from 'node:path'
+
+/** One engine's world, built from a scene blueprint, as the benchmark drives it. */
+export interface PeerWorld {
+  /** Engine name as printed: 'concord', 'planck' or 'box2d-wasm'. */
+  readonly engine: string
+  /** Advances exactly 1/60 s. */
+  step(): void
+  /** Per blueprint body, in blueprint order: x, y (body origin, m), vx, vy (m/s); 4 numbers each. */
+  readBodies(): Float64Array
+  /** Bodies currently awake (dynamic and kinematic). */
+  awakeCount(): number
+  /** Frees whatever the engine holds outside the JavaScript heap. */
+  dispose(): void
+}
+
+/** Order statistics of a list of step times (ms). */
+export interface Summary {
+  /** Number of samples. */
+  n: number
+  median: number
+  p95: number
+  mean: number
+  min: number
+  max: number
+}
+
+/** The value below which a fraction q (0..1) of the sorted samples lie, by linear interpolation. */
+export function quantile(sorted: readonly number[], q: number): number {
+  if (sorted.length === 0) return Number.NaN
+  const position = (sorted.length - 1) * q
+  const lo = Math.floor(position)
+  const hi = Math.min(lo + 1, sorted.length - 1)
+  return sorted[lo] + (sorted[hi] - sorted[lo]) * (position - lo)
+}
+
+/** Median of the samples (ms). */
+export function median(samples: readonly number[]): number {
+  return quantile(
+    [...samples].sort((a, b) => a - b),
+    0.5,
+  )
+}
+
+/** 95th percentile of the samples (ms). */
+export function p95(samples: readonly number[]): number {
+  return quantile(
+    [...samples].sort((a, b) => a - b),
+    0.95,
+  )
+}
+
+/** Median, p95, mean, min and max of the samples. */
+export function summarize(samples: readonly number[]): Summary {
+  const sorted = [...samples].sort((a, b) => a - b)
+  let sum = 0
+  for (const s of sorted) sum += s
+  return {
+    n: sorted.length,
+    median: quantile(sorted, 0.5),
+    p95: quantile(sorted, 0.95),
+    mean: sorted.length > 0 ? sum / sorted.length : Number.NaN,
+    min: sorted.length > 0 ? sorted[0] : Number.NaN,
+    max: sorted.length > 0 ? sorted[sorted.length - 1] : Number.NaN,
+  }
+}
+
+/** The machine and software a result was measured on. */
+export interface MachineInfo {
+  cpu: string
+  cores: number
+  totalMemoryGiB: number
+  platform: string
+  release: string
+  node: string
+  v8: string
+  /** 1-minute load average when the run started (the machine is shared). */
+  loadAverage: number
+  date: string
+  /** Repository commit the run measured, or 'unknown'. */
+  commit: string
+}
+
+function gitCommit(): string {
+  try {
+    const head = execFileSync('git', ['rev-parse', '--short', 'HEAD'], { encoding: 'utf8' }).trim()
+    const dirty = execFileSync('git', ['status', '--porcelain', '--', 'engine'], { encoding: 'utf8' }).trim()
+    return dirty === '' ? head : `${head}+engine-changes`
+  } catch {
+    return 'unknown'
+  }
+}
+
+/** Describes this machine, Node and the repository commit. */
+export function machineInfo(): MachineInfo {
+  const cpus = os.cpus()
+  return {
+    cpu: cpus[0]?.model ?? 'unknown',
+    cores: cpus.length,
+    totalMemoryGiB: Math.round((os.totalmem() / 2 ** 30) * 10) / 10,
+    platform: os.platform(),
+    release: os.release(),
+    node: process.version,
+    v8: process.versions.v8,
+    loadAverage: os.loadavg()[0],
+    date: new Date().toISOString(),
+    commit: gitCommit(),
+  }
+}
+
+/** Writes a result as indented JSON, creating the folder if needed. */
+export function saveResults(path: string, result: unknown): void {
+  mkdirSync(dirname(path), { recursive: true })
+  writeFileSync(path, `${JSON.stringify(result, null, 2)}\n`)
+}
+
+/** Renders rows of cells as a plain-text table with right-aligned columns after the first. */
+export function formatTable(header: readonly string[], rows: readonly (readonly string[])[]): string {
+  const widths = header.map((h, c) => Math.max(h.length, ...rows.map((r) => (r[c] ?? '').length)))
+  const line = (cells: readonly string[]): string =>
+    cells.map((cell, c) => (c === 0 ? cell.padEnd(widths[c]) : cell.padStart(widths[c]))).join('  ')
+  return [line(header), widths.map((w) => '-'.repeat(w)).join('  '), ...rows.map(line)].join('\n')
+}
