@@ -29,7 +29,16 @@ import {
   Box2DWasmPeer,
 } from './peers/box2d-wasm-peer.ts'
 import { PLANCK_POSITION_ITERATIONS, PLANCK_VELOCITY_ITERATIONS, PlanckPeer } from './peers/planck-peer.ts'
-import { formatTable, machineInfo, type PeerWorld, type Summary, saveResults, summarize } from './stats.ts'
+import {
+  formatTable,
+  type GcPause,
+  machineInfo,
+  type PeerWorld,
+  recordGcPauses,
+  type Summary,
+  saveResults,
+  summarize,
+} from './stats.ts'
 
 const ENGINES = ['concord', 'planck', 'box2d-wasm'] as const
 type EngineName = (typeof ENGINES)[number]
@@ -84,8 +93,12 @@ interface SceneCheck {
 }
 
 interface EngineResult {
+  /** Time to build the scene in this engine (ms). */
   buildMs: number
+  /** Per-step times (ms). */
   steps: Summary
+  /** Garbage-collection pauses during this engine's steps, averaged per step (ms). */
+  gcMsPerStep: number
   check: SceneCheck
 }
 
@@ -160,23 +173,42 @@ async function loadMakers(wanted: readonly EngineName[]): Promise<Map<EngineName
   return makers
 }
 
-function timeRounds(peers: PeerWorld[], steps: number): number[][] {
+/** One engine's chunk of timed steps, on the performance.now() clock. */
+interface Chunk {
+  engine: number
+  start: number
+  end: number
+}
+
+function timeRounds(peers: PeerWorld[], steps: number, chunks: Chunk[] = []): number[][] {
   const samples = peers.map(() => [] as number[])
   const rounds = Math.ceil(steps / CHUNK_STEPS)
   for (let round = 0; round < rounds; round++) {
-    const chunk = Math.min(CHUNK_STEPS, steps - round * CHUNK_STEPS)
+    const count = Math.min(CHUNK_STEPS, steps - round * CHUNK_STEPS)
     for (let k = 0; k < peers.length; k++) {
       const e = (round + k) % peers.length
       const peer = peers[e]
       const out = samples[e]
-      for (let s = 0; s < chunk; s++) {
+      const start = performance.now()
+      for (let s = 0; s < count; s++) {
         const t0 = performance.now()
         peer.step()
         out.push(performance.now() - t0)
       }
+      chunks.push({ engine: e, start, end: performance.now() })
     }
   }
   return samples
+}
+
+/** Adds to each engine's result the garbage-collection time that began inside its chunks. */
+function attributeGc(result: CaseResult, pauses: GcPause[], chunks: Chunk[]): void {
+  const names = ENGINES.filter((name) => result.engines[name])
+  for (const pause of pauses) {
+    const chunk = chunks.find((c) => pause.start >= c.start && pause.start < c.end)
+    const engine = chunk ? result.engines[names[chunk.engine]] : undefined
+    if (engine) engine.gcMsPerStep += pause.duration / result.timedSteps
+  }
 }
 
 async function runCase(
@@ -185,6 +217,7 @@ async function runCase(
   makers: Map<EngineName, MakePeer>,
   warmupSteps: number,
   timedSteps: number,
+  chunks: Chunk[],
 ): Promise<CaseResult> {
   const blueprint = scene.make()
   const names = [...makers.keys()]
@@ -197,11 +230,11 @@ async function runCase(
   }
   const starts = peers.map((p) => p.readBodies())
   timeRounds(peers, warmupSteps)
-  const samples = timeRounds(peers, timedSteps)
+  const samples = timeRounds(peers, timedSteps, chunks)
   const engines: CaseResult['engines'] = {}
   names.forEach((name, e) => {
     const check = checkScene(scene, blueprint, starts[e], peers[e].readBodies(), peers[e].awakeCount())
-    engines[name] = { buildMs: buildMs[e], steps: summarize(samples[e]), check }
+    engines[name] = { buildMs: buildMs[e], steps: summarize(samples[e]), gcMsPerStep: 0, check }
     peers[e].dispose()
   })
   const concord = engines.concord?.steps.median
@@ -244,6 +277,7 @@ function printResults(results: CaseResult[]): void {
         fmt(e.steps.median, 3),
         fmt(e.steps.p95, 3),
         fmt(e.steps.mean, 3),
+        fmt(e.gcMsPerStep, 3),
         String(c.awake),
         fmt(c.topDx, 3),
         fmt(c.topDy, 3),
@@ -259,6 +293,7 @@ function printResults(results: CaseResult[]): void {
     'median ms',
     'p95 ms',
     'mean ms',
+    'gc ms',
     'awake',
     'top dx m',
     'top dy m',
@@ -312,15 +347,22 @@ async function main(): Promise<void> {
     `engine bench on ${machine.cpu} x${machine.cores}, node ${machine.node}, load ${machine.loadAverage}`,
   )
   const results: CaseResult[] = []
+  const chunksOf = new Map<CaseResult, Chunk[]>()
+  const gc = recordGcPauses()
   for (const scene of options.scenes) {
     for (const sleep of options.sleeps) {
       const timedSteps = options.quick ? Math.max(20, scene.steps / 10) : scene.steps
       const t0 = performance.now()
-      results.push(await runCase(scene, sleep, makers, warmupSteps, timedSteps))
+      const chunks: Chunk[] = []
+      const result = await runCase(scene, sleep, makers, warmupSteps, timedSteps, chunks)
+      results.push(result)
+      chunksOf.set(result, chunks)
       const seconds = ((performance.now() - t0) / 1000).toFixed(1)
       console.error(`  ${scene.name} sleep ${sleep ? 'on' : 'off'}: ${timedSteps} steps in ${seconds} s`)
     }
   }
+  const pauses = await gc.stop()
+  for (const result of results) attributeGc(result, pauses, chunksOf.get(result)!)
   printResults(results)
   const settings = {
     stepSeconds: 1 / 60,

@@ -12,6 +12,7 @@ import { execFileSync } from 'node:child_process'
 import { mkdirSync, writeFileSync } from 'node:fs'
 import os from 'node:os'
 import { dirname } from 'node:path'
+import { PerformanceObserver } from 'node:perf_hooks'
 
 /** One engine's world, built from a scene blueprint, as the benchmark drives it. */
 export interface PeerWorld {
@@ -133,4 +134,30 @@ export function formatTable(header: readonly string[], rows: readonly (readonly 
   const line = (cells: readonly string[]): string =>
     cells.map((cell, c) => (c === 0 ? cell.padEnd(widths[c]) : cell.padStart(widths[c]))).join('  ')
   return [line(header), widths.map((w) => '-'.repeat(w)).join('  '), ...rows.map(line)].join('\n')
+}
+
+/** A garbage-collection pause: start on the performance.now() clock and duration (ms). */
+export interface GcPause {
+  start: number
+  duration: number
+}
+
+/**
+ * Starts recording garbage-collection pauses; `stop()` resolves with every pause since. Node
+ * delivers the entries late (measured: a case's pauses arrive during the next case), so record
+ * over the whole run and let stop() wait a few timer turns for the stragglers.
+ */
+export function recordGcPauses(): { stop(): Promise<GcPause[]> } {
+  const pauses: GcPause[] = []
+  const observer = new PerformanceObserver((list) => {
+    for (const entry of list.getEntries()) pauses.push({ start: entry.startTime, duration: entry.duration })
+  })
+  observer.observe({ entryTypes: ['gc'] })
+  return {
+    async stop() {
+      for (let turn = 0; turn < 5; turn++) await new Promise((resolve) => setTimeout(resolve, 10))
+      observer.disconnect()
+      return pauses
+    },
+  }
 }
