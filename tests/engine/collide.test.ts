@@ -153,3 +153,381 @@ describe('hand-computed manifolds', () => {
     expect(collide(circle(0.5), xf(0, 50), unit, xf(0, 0)).pointCount).toBe(0)
   })
 })
+
+// ---------------------------------------------------------------------------------------------
+// Oracle 1: a world-space box-box collider in the manner of Box2D Lite (SAT over the four box axes,
+// incident face by the most anti-parallel normal, ClipSegmentToLine), written without the engine.
+
+interface OBox {
+  x: number
+  y: number
+  c: number
+  s: number
+  hx: number
+  hy: number
+}
+const axesOf = (b: OBox): Vec2[] => [
+  { x: b.c, y: b.s },
+  { x: -b.s, y: b.c },
+]
+const halvesOf = (b: OBox) => [b.hx, b.hy]
+const extentAlong = (b: OBox, n: Vec2) =>
+  b.hx * Math.abs(dot(n, axesOf(b)[0])) + b.hy * Math.abs(dot(n, axesOf(b)[1]))
+
+interface Face {
+  n: Vec2
+  sep: number
+  center: Vec2
+  halfT: number
+  ambiguous: boolean
+}
+
+/** The face of X (of its four) that separates it most from Y. */
+function bestFace(X: OBox, Y: OBox): Face {
+  const d = { x: Y.x - X.x, y: Y.y - X.y }
+  const faces = axesOf(X).map((axis, k) => {
+    const p = dot(axis, d)
+    const n = p >= 0 ? axis : { x: -axis.x, y: -axis.y }
+    const h = halvesOf(X)
+    return { n, p, sep: Math.abs(p) - h[k] - extentAlong(Y, n), h: h[k], t: h[1 - k] }
+  })
+  const [f, g] = faces[0].sep >= faces[1].sep ? faces : [faces[1], faces[0]]
+  return {
+    n: f.n,
+    sep: f.sep,
+    center: { x: X.x + f.n.x * f.h, y: X.y + f.n.y * f.h },
+    halfT: f.t,
+    ambiguous: f.sep - g.sep < 1e-9 || Math.abs(f.p) < 1e-9,
+  }
+}
+
+/** Box2D Lite's ClipSegmentToLine: keeps the part of the segment with dot(n, p) <= offset. */
+function clipSegmentToLine(seg: Vec2[], n: Vec2, offset: number): Vec2[] {
+  const out: Vec2[] = []
+  const d0 = dot(n, seg[0]) - offset
+  const d1 = dot(n, seg[1]) - offset
+  if (d0 <= 0) out.push(seg[0])
+  if (d1 <= 0) out.push(seg[1])
+  if (d0 * d1 < 0) {
+    const t = d0 / (d0 - d1)
+    out.push({ x: seg[0].x + t * (seg[1].x - seg[0].x), y: seg[0].y + t * (seg[1].y - seg[0].y) })
+  }
+  return out
+}
+
+/** Closest endpoints of two segments if the closest pair is vertex-vertex, else null; 'skip' if borderline. */
+function closestVertices(s1: Vec2[], s2: Vec2[]): Vec2[] | null | 'skip' {
+  const cands: { d: number; vv: boolean; pair: Vec2[]; border: boolean }[] = []
+  const project = (p: Vec2, seg: Vec2[], pFirst: boolean) => {
+    const e = sub(seg[1], seg[0])
+    const u = dot(sub(p, seg[0]), e) / dot(e, e)
+    const uc = Math.max(0, Math.min(1, u))
+    const q = { x: seg[0].x + uc * e.x, y: seg[0].y + uc * e.y }
+    const border = Math.abs(u) < 1e-9 || Math.abs(u - 1) < 1e-9
+    cands.push({
+      d: Math.hypot(p.x - q.x, p.y - q.y),
+      vv: u <= 0 || u >= 1,
+      pair: pFirst ? [p, q] : [q, p],
+      border,
+    })
+  }
+  for (const p of s1) project(p, s2, true)
+  for (const p of s2) project(p, s1, false)
+  cands.sort((a, b) => a.d - b.d)
+  if (cands[0].border || (cands[1].d - cands[0].d < 1e-12 && cands[1].vv !== cands[0].vv)) return 'skip'
+  return cands[0].vv ? cands[0].pair : null
+}
+
+type Expected = { normal: Vec2; points: Pt[]; vertexVertex?: boolean } | 'skip'
+
+/** The expected manifold of boxes A and B (normal from A to B, points kept below `spec`). */
+function oracleBoxes(A: OBox, B: OBox, spec: number): Expected {
+  const fa = bestFace(A, B)
+  const fb = bestFace(B, A)
+  const none = { normal: { x: 0, y: 0 }, points: [] }
+  if (Math.abs(fa.sep - spec) < 1e-9 || Math.abs(fb.sep - spec) < 1e-9) return 'skip'
+  if (fa.sep >= spec || fb.sep >= spec) return none
+  if (Math.abs(fb.sep - fa.sep - REFERENCE_FACE_TOLERANCE) < 1e-9) return 'skip'
+  const flip = fb.sep > fa.sep + REFERENCE_FACE_TOLERANCE
+  const ref = flip ? fb : fa
+  if (ref.ambiguous) return 'skip'
+  const inc = flip ? A : B
+  // Incident face: the face of the other box whose normal is most anti-parallel to the reference normal.
+  const faces = axesOf(inc).flatMap((axis, k) =>
+    [1, -1].map((sg) => ({ m: { x: sg * axis.x, y: sg * axis.y }, k })),
+  )
+  faces.sort((f, g) => dot(f.m, ref.n) - dot(g.m, ref.n))
+  if (dot(faces[1].m, ref.n) - dot(faces[0].m, ref.n) < 1e-9) return 'skip'
+  const { m, k } = faces[0]
+  const h = halvesOf(inc)
+  const mid = { x: inc.x + m.x * h[k], y: inc.y + m.y * h[k] }
+  const mt = { x: -m.y * h[1 - k], y: m.x * h[1 - k] }
+  const incSeg = [sub(mid, mt), { x: mid.x + mt.x, y: mid.y + mt.y }]
+  const t = { x: -ref.n.y, y: ref.n.x }
+  const refSeg = [
+    { x: ref.center.x - t.x * ref.halfT, y: ref.center.y - t.y * ref.halfT },
+    { x: ref.center.x + t.x * ref.halfT, y: ref.center.y + t.y * ref.halfT },
+  ]
+  const normalAB = (n: Vec2) => (flip ? { x: -n.x, y: -n.y } : n)
+  if (Math.max(fa.sep, fb.sep) > 0.1 * SLOP) {
+    const vv = closestVertices(refSeg, incSeg)
+    if (vv === 'skip') return 'skip'
+    if (vv !== null) {
+      const [pa, pb] = flip ? [vv[1], vv[0]] : vv
+      const dist = Math.hypot(pb.x - pa.x, pb.y - pa.y)
+      if (Math.abs(dist - spec) < 1e-9) return 'skip'
+      if (dist >= spec) return none
+      const n = { x: (pb.x - pa.x) / dist, y: (pb.y - pa.y) / dist }
+      const points = [{ x: 0.5 * (pa.x + pb.x), y: 0.5 * (pa.y + pb.y), sep: dist }]
+      return { normal: n, points, vertexVertex: true }
+    }
+  }
+  let clipped = clipSegmentToLine(incSeg, t, dot(t, ref.center) + ref.halfT)
+  if (clipped.length < 2) return 'skip'
+  clipped = clipSegmentToLine(clipped, { x: -t.x, y: -t.y }, -dot(t, ref.center) + ref.halfT)
+  if (clipped.length < 2) return 'skip'
+  const points: Pt[] = []
+  for (const p of clipped) {
+    const sep = dot(ref.n, sub(p, ref.center))
+    if (Math.abs(sep - spec) < 1e-9) return 'skip'
+    if (sep < spec) points.push({ x: p.x - 0.5 * sep * ref.n.x, y: p.y - 0.5 * sep * ref.n.y, sep })
+  }
+  return points.length === 0 ? none : { normal: normalAB(ref.n), points }
+}
+
+/** A random box size: mostly 0.05-2 m, some tiny (0.001-0.05 m) and some huge (5-100 m). */
+function randomHalf(rng: Prng): number {
+  const r = rng.next()
+  if (r < 0.1) return rng.range(0.001, 0.05)
+  if (r < 0.2) return rng.range(5, 100)
+  return rng.range(0.05, 2)
+}
+
+/**
+ * Moves B from A's centre along a random direction until the largest SAT separation (`sepAt`)
+ * reaches a random target: a deep overlap, a shallow one, or a gap within the speculative distance.
+ * The SAT separation is convex along the ray, so bisection finds the one crossing.
+ */
+function placeNear(rng: Prng, sepAt: (x: number, y: number) => number, ax: number, ay: number): Vec2 {
+  const theta = rng.range(-PI, PI)
+  const dir = { x: cos(theta), y: sin(theta) }
+  const deepest = sepAt(ax, ay)
+  const r = rng.next()
+  const target = r < 0.25 ? deepest * rng.next() : r < 0.75 ? rng.range(-0.1, 0) : rng.range(0, 0.03)
+  let lo = 0
+  let hi = 1
+  while (sepAt(ax + dir.x * hi, ay + dir.y * hi) < target) hi *= 2
+  for (let k = 0; k < 60; k++) {
+    const mid = 0.5 * (lo + hi)
+    if (sepAt(ax + dir.x * mid, ay + dir.y * mid) < target) lo = mid
+    else hi = mid
+  }
+  return { x: ax + dir.x * hi, y: ay + dir.y * hi }
+}
+
+function randomBoxPair(rng: Prng): [OBox, OBox] {
+  const a = rng.range(-PI, PI)
+  const A = {
+    x: rng.range(-5, 5),
+    y: rng.range(-5, 5),
+    c: cos(a),
+    s: sin(a),
+    hx: randomHalf(rng),
+    hy: randomHalf(rng),
+  }
+  const b = rng.range(-PI, PI)
+  const B = { x: 0, y: 0, c: cos(b), s: sin(b), hx: randomHalf(rng), hy: randomHalf(rng) }
+  const sepAt = (x: number, y: number) => {
+    const moved = { ...B, x, y }
+    return Math.max(bestFace(A, moved).sep, bestFace(moved, A).sep)
+  }
+  const p = placeNear(rng, sepAt, A.x, A.y)
+  B.x = p.x
+  B.y = p.y
+  return [A, B]
+}
+
+const boxXf = (b: OBox): Xf => ({ x: b.x, y: b.y, c: b.c, s: b.s })
+
+/** Corner k (0..3, counter-clockwise from bottom-left) of a box and its outward half-angle bisector. */
+function corner(b: OBox, k: number): { p: Vec2; u: Vec2; v: Vec2 } {
+  const [u, v] = axesOf(b)
+  const sx = k === 1 || k === 2 ? 1 : -1
+  const sy = k >= 2 ? 1 : -1
+  return {
+    p: { x: b.x + sx * b.hx * u.x + sy * b.hy * v.x, y: b.y + sx * b.hx * u.y + sy * b.hy * v.y },
+    u: { x: sx * u.x, y: sx * u.y },
+    v: { x: sy * v.x, y: sy * v.y },
+  }
+}
+
+/**
+ * Two boxes whose closest features are a corner of each, `gap` apart: the gap direction lies in the
+ * normal cone of A's corner and its opposite in the cone of B's corner (retries until it does).
+ */
+function cornerToCornerPair(rng: Prng, gap: number): [OBox, OBox, Vec2] {
+  for (;;) {
+    const [A, B] = randomBoxPair(rng)
+    const ca = corner(A, rng.int(4))
+    const w = rng.range(0.05, 0.95)
+    const dir = { x: w * ca.u.x + (1 - w) * ca.v.x, y: w * ca.u.y + (1 - w) * ca.v.y }
+    const len = Math.hypot(dir.x, dir.y)
+    const n = { x: dir.x / len, y: dir.y / len }
+    const cb = corner(B, rng.int(4))
+    // -n in B's corner cone: positive components along both of B's outward corner axes, with margin.
+    if (-dot(n, cb.u) < 0.05 || -dot(n, cb.v) < 0.05) continue
+    B.x += ca.p.x + gap * n.x - cb.p.x
+    B.y += ca.p.y + gap * n.y - cb.p.y
+    return [A, B, n]
+  }
+}
+
+describe('polygon-polygon against a Box2D Lite style box-box oracle', () => {
+  it('agrees on normal, separations and points for 4000 random box pairs', () => {
+    const rng = new Prng(20261122)
+    const counts = { compared: 0, skipped: 0, none: 0, one: 0, two: 0, vertexVertex: 0 }
+    for (let i = 0; i < 4000; i++) {
+      const [A, B] = i % 4 === 0 ? cornerToCornerPair(rng, rng.range(0, 0.025)) : randomBoxPair(rng)
+      const expected = oracleBoxes(A, B, SPEC)
+      if (expected === 'skip') {
+        counts.skipped++
+        continue
+      }
+      const m = collide(box(A.hx, A.hy), boxXf(A), box(B.hx, B.hy), boxXf(B))
+      const scale = 1 + Math.max(A.hx, A.hy, B.hx, B.hy)
+      counts.compared++
+      expect(m.pointCount, `pair ${i}`).toBe(expected.points.length)
+      if (m.pointCount === 0) {
+        counts.none++
+        continue
+      }
+      if (m.pointCount === 1) counts.one++
+      else counts.two++
+      if (expected.vertexVertex) counts.vertexVertex++
+      expect(Math.abs(m.normalX - expected.normal.x), `pair ${i}`).toBeLessThan(1e-9)
+      expect(Math.abs(m.normalY - expected.normal.y), `pair ${i}`).toBeLessThan(1e-9)
+      expectSamePoints(pts(m), expected.points, 1e-6 * scale, 1e-9 * scale)
+      const minSep = Math.min(...pts(m).map((p) => p.sep))
+      expect(Math.abs(minSep - Math.min(...expected.points.map((p) => p.sep)))).toBeLessThan(1e-9 * scale)
+    }
+    console.log('box-box oracle', counts)
+    expect(counts.compared).toBeGreaterThan(3600)
+    expect(Math.min(counts.none, counts.one, counts.two)).toBeGreaterThan(200)
+    expect(counts.vertexVertex).toBeGreaterThan(20)
+  })
+
+  it('boxes whose closest features are two corners report the true gap along the corner-to-corner line', () => {
+    const rng = new Prng(7)
+    for (let i = 0; i < 1000; i++) {
+      const gap = rng.range(0.001, 0.0199)
+      const [A, B, n] = cornerToCornerPair(rng, gap)
+      const m = collide(box(A.hx, A.hy), boxXf(A), box(B.hx, B.hy), boxXf(B))
+      expect(m.pointCount).toBe(1)
+      expect(Math.abs(m.points[0].separation - gap)).toBeLessThan(1e-9)
+      expect(Math.abs(m.normalX - n.x) + Math.abs(m.normalY - n.y)).toBeLessThan(1e-9)
+    }
+  })
+})
+
+// ---------------------------------------------------------------------------------------------
+// Oracle 2: brute-force SAT over every edge normal of two convex polygons in world space.
+
+interface WPoly {
+  v: Vec2[]
+  n: Vec2[]
+}
+const worldPoly = (p: PolygonShape, t: Xf): WPoly => ({
+  v: p.vertices.map((v) => toWorld(t, v)),
+  n: p.normals.map((n) => rotate(t, n)),
+})
+
+/** Largest over P's edge normals of how far Q's vertices stay outside that edge; with the runner-up. */
+function satSeparation(P: WPoly, Q: WPoly): { sep: number; edge: number; runnerUp: number } {
+  const seps = P.n.map((n, i) => Math.min(...Q.v.map((w) => dot(n, sub(w, P.v[i])))))
+  const order = seps.map((_, i) => i).sort((i, j) => seps[j] - seps[i])
+  return { sep: seps[order[0]], edge: order[0], runnerUp: seps[order[1]] }
+}
+
+/** A random convex polygon of 3-8 vertices: jittered points on an ellipse, off-centre, any size. */
+function randomPolygon(rng: Prng): PolygonShape {
+  for (;;) {
+    const count = 3 + rng.int(6)
+    const a = Math.max(0.01, randomHalf(rng))
+    const b = a * rng.range(0.3, 1)
+    const phase = rng.range(-PI, PI)
+    const cx = rng.range(-0.5, 0.5) * a
+    const cy = rng.range(-0.5, 0.5) * a
+    const points: Vec2[] = []
+    for (let i = 0; i < count; i++) {
+      const t = phase + ((i + rng.range(-0.35, 0.35)) * 2 * PI) / count
+      points.push({ x: cx + a * cos(t), y: cy + b * sin(t) })
+    }
+    try {
+      return polygon(points)
+    } catch {
+      // too thin or nearly collinear for polygon(): draw again
+    }
+  }
+}
+
+function randomXf(rng: Prng): Xf {
+  return xf(rng.range(-5, 5), rng.range(-5, 5), rng.range(-PI, PI))
+}
+
+/** Random polygon pair placed by placeNear, with the world polygons and both SAT separations. */
+function randomPolygonPair(rng: Prng) {
+  const a = randomPolygon(rng)
+  const b = randomPolygon(rng)
+  const ta = randomXf(rng)
+  const tb = randomXf(rng)
+  const wa = worldPoly(a, ta)
+  const sepAt = (x: number, y: number) => {
+    const wb = worldPoly(b, { ...tb, x, y })
+    return Math.max(satSeparation(wa, wb).sep, satSeparation(wb, wa).sep)
+  }
+  const p = placeNear(rng, sepAt, ta.x, ta.y)
+  tb.x = p.x
+  tb.y = p.y
+  const wb = worldPoly(b, tb)
+  return { a, b, ta, tb, wa, wb, satA: satSeparation(wa, wb), satB: satSeparation(wb, wa) }
+}
+
+describe('polygon-polygon against a brute-force SAT', () => {
+  it('penetration depth of overlapping random convex polygons is the minimum SAT overlap', () => {
+    const rng = new Prng(99)
+    let overlapping = 0
+    for (let i = 0; i < 3000; i++) {
+      const { a, b, ta, tb, wa, wb, satA, satB } = randomPolygonPair(rng)
+      if (Math.max(satA.sep, satB.sep) >= 0) continue
+      overlapping++
+      const m = collide(a, ta, b, tb)
+      const scale = 1 + Math.max(...wa.v.concat(wb.v).map((v) => Math.abs(v.x) + Math.abs(v.y)))
+      expect(m.pointCount).toBeGreaterThan(0)
+      const minSep = Math.min(...pts(m).map((p) => p.sep))
+      // Depth: the smallest push along any edge normal that separates the two (brute force).
+      const depth = -Math.max(satA.sep, satB.sep)
+      const flip = satB.sep > satA.sep + REFERENCE_FACE_TOLERANCE
+      const chosen = flip ? satB : satA
+      if (Math.abs(satA.sep - satB.sep) > REFERENCE_FACE_TOLERANCE) {
+        // Unambiguous reference face: the deepest point is exactly the SAT depth.
+        expect(Math.abs(minSep + depth), `pair ${i}`).toBeLessThan(1e-9 * scale)
+      } else {
+        // A's face kept although B's is up to the tolerance better: the depth is A's face's or
+        // shallower (its deepest vertex may be clipped away), never shallower than B's.
+        expect(minSep, `pair ${i}`).toBeGreaterThan(chosen.sep - 1e-9 * scale)
+        expect(minSep, `pair ${i}`).toBeLessThan(-depth + 1e-9 * scale)
+      }
+      if (
+        chosen.sep - chosen.runnerUp > 1e-9 &&
+        Math.abs(satB.sep - satA.sep - REFERENCE_FACE_TOLERANCE) > 1e-9
+      ) {
+        const n = flip ? wb.n[chosen.edge] : wa.n[chosen.edge]
+        const sign = flip ? -1 : 1
+        expect(Math.abs(m.normalX - sign * n.x) + Math.abs(m.normalY - sign * n.y), `pair ${i}`).toBeLessThan(
+          1e-9,
+        )
+      }
+    }
+    expect(overlapping).toBeGreaterThan(1500)
+  })
+})
