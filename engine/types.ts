@@ -141,9 +141,9 @@ export interface ContactInfo {
     point: Vec2
     /** Negative when overlapping (m). */
     separation: number
-    /** Normal impulse applied in the last step (N s); divide by the step for force. */
+    /** Total normal impulse over the last step, all sub-steps (N s); divided by 1/60 s it is the force (N). */
     normalImpulse: number
-    /** Friction impulse along the tangent (-normal.y, normal.x) in the last step (N s). */
+    /** Total friction impulse along the tangent (normal.y, -normal.x) over the last step (N s). */
     tangentImpulse: number
   }>
 }

@@ -1,0 +1,142 @@
+/*
+ * Distance joint (Box2D v3 distance_joint.c): keeps the anchors `length` apart.
+ * - Rod: minLength = maxLength = length: a rigid, softly corrected axial constraint.
+ * - Rope: minLength = 0 < maxLength: only the upper limit acts, so it pulls and never pushes.
+ * - Spring: hertz > 0: a soft spring toward `length` (implicit, stable at any stiffness), plus the
+ *   min/max limits when they differ from the length.
+ * Limits are speculative (close at most the remaining gap) and soft once violated, like contacts.
+ */
+import type { Joint, JointStepContext } from './joint.ts'
+import { Softness } from './softness.ts'
+
+const springSoftness = new Softness()
+
+// Current axis and length, from the sub-step deltas (set by computeAxis).
+let axisX = 0
+let axisY = 0
+let currentLength = 0
+let rAx = 0
+let rAy = 0
+let rBx = 0
+let rBy = 0
+
+function computeAxis(joint: Joint): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  rAx = a.dqc * joint.anchorAx - a.dqs * joint.anchorAy
+  rAy = a.dqs * joint.anchorAx + a.dqc * joint.anchorAy
+  rBx = b.dqc * joint.anchorBx - b.dqs * joint.anchorBy
+  rBy = b.dqs * joint.anchorBx + b.dqc * joint.anchorBy
+  const dx = b.dpx - a.dpx + joint.deltaCenterX + rBx - rAx
+  const dy = b.dpy - a.dpy + joint.deltaCenterY + rBy - rAy
+  currentLength = Math.sqrt(dx * dx + dy * dy)
+  if (currentLength > 1e-12) {
+    axisX = dx / currentLength
+    axisY = dy / currentLength
+  } else {
+    axisX = 1
+    axisY = 0
+  }
+}
+
+/** Per-step preparation of a distance joint. */
+export function prepareDistance(joint: Joint, ctx: JointStepContext): void {
+  // The sub-step deltas are the identity before the sub-steps: this is the step-start geometry.
+  computeAxis(joint)
+  const a = joint.bodyA
+  const b = joint.bodyB
+  const crA = rAx * axisY - rAy * axisX
+  const crB = rBx * axisY - rBy * axisX
+  const k = a.invMass + b.invMass + a.invInertia * crA * crA + b.invInertia * crB * crB
+  joint.axialMass = k > 0 ? 1 / k : 0
+  springSoftness.set(joint.hertz, joint.dampingRatio, ctx.h)
+  joint.springBiasRate = springSoftness.biasRate
+  joint.springMassScale = springSoftness.massScale
+  joint.springImpulseScale = springSoftness.impulseScale
+  if (joint.minLength === joint.maxLength) {
+    joint.lowerImpulse = 0
+    joint.upperImpulse = 0
+  }
+}
+
+function applyAxial(joint: Joint, impulse: number): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  const px = impulse * axisX
+  const py = impulse * axisY
+  a.vx -= a.invMass * px
+  a.vy -= a.invMass * py
+  a.w -= a.invInertia * (rAx * py - rAy * px)
+  b.vx += b.invMass * px
+  b.vy += b.invMass * py
+  b.w += b.invInertia * (rBx * py - rBy * px)
+}
+
+/** Applies the accumulated impulses of a distance joint. */
+export function warmStartDistance(joint: Joint): void {
+  computeAxis(joint)
+  applyAxial(joint, joint.impulse + joint.lowerImpulse - joint.upperImpulse)
+}
+
+function axialSpeed(joint: Joint): number {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  const vx = b.vx - b.w * rBy - (a.vx - a.w * rAy)
+  const vy = b.vy + b.w * rBx - (a.vy + a.w * rAx)
+  return vx * axisX + vy * axisY
+}
+
+/** One iteration of a distance joint. */
+export function solveDistance(joint: Joint, ctx: JointStepContext, useBias: boolean): void {
+  computeAxis(joint)
+  const rigid = joint.minLength === joint.maxLength
+  if (joint.hertz > 0 && !rigid) {
+    // Soft spring toward the rest length (always biased: the spring is the physics, not correction).
+    const C = currentLength - joint.length
+    const bias = joint.springBiasRate * C
+    const cdot = axialSpeed(joint)
+    const impulse =
+      -joint.springMassScale * joint.axialMass * (cdot + bias) - joint.springImpulseScale * joint.impulse
+    joint.impulse += impulse
+    applyAxial(joint, impulse)
+  } else if (rigid) {
+    const C = currentLength - joint.length
+    let bias = 0
+    let massScale = 1
+    let impulseScale = 0
+    if (useBias) {
+      bias = ctx.jointSoftness.biasRate * C
+      massScale = ctx.jointSoftness.massScale
+      impulseScale = ctx.jointSoftness.impulseScale
+    }
+    const cdot = axialSpeed(joint)
+    const impulse = -massScale * joint.axialMass * (cdot + bias) - impulseScale * joint.impulse
+    joint.impulse += impulse
+    applyAxial(joint, impulse)
+  }
+  if (!rigid) {
+    solveLimit(joint, ctx, useBias, currentLength - joint.minLength, 1)
+    solveLimit(joint, ctx, useBias, joint.maxLength - currentLength, -1)
+  }
+}
+
+/** A one-sided length limit; sign +1 keeps length >= min (pushes), -1 keeps length <= max (pulls). */
+function solveLimit(joint: Joint, ctx: JointStepContext, useBias: boolean, C: number, sign: number): void {
+  let bias = 0
+  let massScale = 1
+  let impulseScale = 0
+  if (C > 0) bias = C * ctx.invH
+  else if (useBias) {
+    bias = ctx.jointSoftness.biasRate * C
+    massScale = ctx.jointSoftness.massScale
+    impulseScale = ctx.jointSoftness.impulseScale
+  }
+  const accumulated = sign > 0 ? joint.lowerImpulse : joint.upperImpulse
+  const cdot = sign * axialSpeed(joint)
+  let impulse = -massScale * joint.axialMass * (cdot + bias) - impulseScale * accumulated
+  const newImpulse = Math.max(accumulated + impulse, 0)
+  impulse = newImpulse - accumulated
+  if (sign > 0) joint.lowerImpulse = newImpulse
+  else joint.upperImpulse = newImpulse
+  applyAxial(joint, sign * impulse)
+}

@@ -1,0 +1,48 @@
+/*
+ * Concord's physics engine: the public surface. Nothing outside engine/ imports anything else from
+ * this folder. See engine/README.md for the rules and the contract.
+ */
+
+export { atan2, cos, PI, sin, TWO_PI, type Vec2, wrapAngle } from './math.ts'
+export { Prng } from './prng.ts'
+export {
+  buildScene,
+  emptyScene,
+  groundDef,
+  heavyOnLightScene,
+  pileScene,
+  pyramidScene,
+  rampScene,
+  regularPolygon,
+  SCENES,
+  type SceneBlueprint,
+  towerScene,
+} from './scenes.ts'
+export {
+  box,
+  type CircleShape,
+  circle,
+  computeMass,
+  MAX_POLYGON_VERTICES,
+  type MassData,
+  type PolygonShape,
+  polygon,
+  type Shape,
+} from './shapes.ts'
+export { FixedStepper } from './stepper.ts'
+export type {
+  BodyDef,
+  BodyId,
+  BodyType,
+  ContactInfo,
+  DistanceJointDef,
+  JointDef,
+  JointId,
+  JointInfo,
+  MouseJointDef,
+  RevoluteJointDef,
+  WorldDef,
+} from './types.ts'
+export { createWorld, loadWorld, resolveWorldDef, World } from './world.ts'
+export { SAVE_FORMAT_VERSION, WorldLoadError } from './world-state.ts'
+export { DEFAULT_WORLD_DEF, LINEAR_SLOP, SPECULATIVE_DISTANCE, STEP_SECONDS } from './world-store.ts'

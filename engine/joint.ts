@@ -1,0 +1,173 @@
+/*
+ * Joints: constraints between two bodies (or a body and the fixed world), solved in the same
+ * soft-step stages as contacts (Box2D v3 joint.c): prepare once per step, then in each sub-step
+ * warm start, solve with bias, and relax without bias.
+ *
+ * One Joint class holds the fields of every kind so that all joints share one hidden class; the
+ * kind-specific math lives in revolute-joint.ts, distance-joint.ts and mouse-joint.ts. Anchors are
+ * stored relative to each body's origin in the body frame (localAnchorA/B); each step they are
+ * rotated into world-oriented arms from the centre of mass (anchorA/B), and the sub-step deltas of
+ * the bodies update the constraint error without running any geometry again.
+ */
+import type { Body } from './body.ts'
+import { prepareDistance, solveDistance, warmStartDistance } from './distance-joint.ts'
+import { atan2 } from './math.ts'
+import { prepareMouse, solveMouse, warmStartMouse } from './mouse-joint.ts'
+import { prepareRevolute, solveRevolute, warmStartRevolute } from './revolute-joint.ts'
+import type { Softness } from './softness.ts'
+
+/** Joint kind codes. */
+export const REVOLUTE = 0
+export const DISTANCE = 1
+export const MOUSE = 2
+/** Kind names in code order. */
+export const JOINT_TYPE_NAMES = ['revolute', 'distance', 'mouse'] as const
+
+/** Per-step values shared by all joints. */
+export interface JointStepContext {
+  /** Sub-step (s) and its inverse. */
+  h: number
+  invH: number
+  /** Softness of rigid joint constraints (position error correction). */
+  jointSoftness: Softness
+  /** Whether the world's warm starting is on. */
+  enableWarmStarting: boolean
+}
+
+/** A joint. Engine-internal; the public API addresses joints by id. */
+export class Joint {
+  readonly id: number
+  readonly type: number
+  readonly bodyA: Body
+  readonly bodyB: Body
+  /** Anchors in each body's frame, relative to the body origin (m). */
+  localAnchorAx = 0
+  localAnchorAy = 0
+  localAnchorBx = 0
+  localAnchorBy = 0
+  /** Revolute: angleB - angleA at creation (rad). */
+  referenceAngle = 0
+  // Revolute settings
+  enableLimit = false
+  lowerAngle = 0
+  upperAngle = 0
+  enableMotor = false
+  motorSpeed = 0
+  maxMotorTorque = 0
+  // Distance settings
+  length = 0
+  minLength = 0
+  maxLength = 0
+  hertz = 0
+  dampingRatio = 0
+  // Mouse settings
+  targetX = 0
+  targetY = 0
+  maxForce = 0
+
+  // Accumulated impulses (warm started across steps)
+  linearImpulseX = 0
+  linearImpulseY = 0
+  /** Distance joint: rigid/spring axial impulse (N s). */
+  impulse = 0
+  lowerImpulse = 0
+  upperImpulse = 0
+  motorImpulse = 0
+
+  // Per-step solver data
+  anchorAx = 0
+  anchorAy = 0
+  anchorBx = 0
+  anchorBy = 0
+  deltaCenterX = 0
+  deltaCenterY = 0
+  deltaAngle = 0
+  axialMass = 0
+  /** Spring softness (distance spring, mouse). */
+  springBiasRate = 0
+  springMassScale = 1
+  springImpulseScale = 0
+
+  constructor(id: number, type: number, bodyA: Body, bodyB: Body) {
+    this.id = id
+    this.type = type
+    this.bodyA = bodyA
+    this.bodyB = bodyB
+  }
+
+  /** The other body of the joint. */
+  other(body: Body): Body {
+    return body === this.bodyA ? this.bodyB : this.bodyA
+  }
+}
+
+/** Computes world arms from the centres of mass and the step-start centre offset. */
+export function prepareAnchors(joint: Joint): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  const lax = joint.localAnchorAx - a.localCenterX
+  const lay = joint.localAnchorAy - a.localCenterY
+  const lbx = joint.localAnchorBx - b.localCenterX
+  const lby = joint.localAnchorBy - b.localCenterY
+  joint.anchorAx = a.c * lax - a.s * lay
+  joint.anchorAy = a.s * lax + a.c * lay
+  joint.anchorBx = b.c * lbx - b.s * lby
+  joint.anchorBy = b.s * lbx + b.c * lby
+  joint.deltaCenterX = b.cx - a.cx
+  joint.deltaCenterY = b.cy - a.cy
+}
+
+/** Prepares every joint for the step. */
+export function prepareJoints(joints: Joint[], count: number, ctx: JointStepContext): void {
+  for (let i = 0; i < count; i++) {
+    const joint = joints[i]
+    prepareAnchors(joint)
+    if (!ctx.enableWarmStarting) {
+      joint.linearImpulseX = 0
+      joint.linearImpulseY = 0
+      joint.impulse = 0
+      joint.lowerImpulse = 0
+      joint.upperImpulse = 0
+      joint.motorImpulse = 0
+    }
+    if (joint.type === REVOLUTE) prepareRevolute(joint)
+    else if (joint.type === DISTANCE) prepareDistance(joint, ctx)
+    else prepareMouse(joint, ctx)
+  }
+}
+
+/** Applies every joint's accumulated impulses. */
+export function warmStartJoints(joints: Joint[], count: number): void {
+  for (let i = 0; i < count; i++) {
+    const joint = joints[i]
+    if (joint.type === REVOLUTE) warmStartRevolute(joint)
+    else if (joint.type === DISTANCE) warmStartDistance(joint)
+    else warmStartMouse(joint)
+  }
+}
+
+/** One iteration over the joints; `useBias` corrects position error, false is the relax pass. */
+export function solveJoints(joints: Joint[], count: number, ctx: JointStepContext, useBias: boolean): void {
+  for (let i = 0; i < count; i++) {
+    const joint = joints[i]
+    if (joint.type === REVOLUTE) solveRevolute(joint, ctx, useBias)
+    else if (joint.type === DISTANCE) solveDistance(joint, ctx, useBias)
+    else solveMouse(joint, ctx)
+  }
+}
+
+/** Relative angle of rotation b with respect to rotation a, in [-pi, pi] (rad). */
+export function relativeAngle(bc: number, bs: number, ac: number, as: number): number {
+  return atan2(bs * ac - bc * as, bc * ac + bs * as)
+}
+
+/** Solves the symmetric 2x2 system [k11 k12; k12 k22] x = (bx, by) into solved2x/y (Cramer's rule). */
+export function solve22(k11: number, k12: number, k22: number, bx: number, by: number): void {
+  let det = k11 * k22 - k12 * k12
+  if (det !== 0) det = 1 / det
+  solved2x = det * (k22 * bx - k12 * by)
+  solved2y = det * (k11 * by - k12 * bx)
+}
+/** Output of solve22. */
+export let solved2x = 0
+export let solved2y = 0

@@ -1,0 +1,166 @@
+/*
+ * The world's storage: settings, bodies, contacts and joints in id order, lookups by id, the
+ * broadphase proxies, and the scratch arrays of the step. World (world.ts) adds the step and
+ * WorldApi (world-api.ts) the public methods; this layer only keeps the containers consistent.
+ */
+import { Body, STATIC } from './body.ts'
+import { BroadPhase, PairBuffer } from './broad-phase.ts'
+import type { Contact } from './contact.ts'
+import { IslandBuilder } from './island.ts'
+import type { Joint, JointStepContext } from './joint.ts'
+import { circle } from './shapes.ts'
+import { Softness } from './softness.ts'
+import type { WorldDef } from './types.ts'
+
+/** The fixed step (s). */
+export const STEP_SECONDS = 1 / 60
+/** Collision tolerance (m). */
+export const LINEAR_SLOP = 0.005
+/** Contacts are created while shapes are closer than this (m): 4 x slop. */
+export const SPECULATIVE_DISTANCE = 4 * LINEAR_SLOP
+/** Fastest linear speed a body may reach (m/s). */
+export const MAX_LINEAR_SPEED = 400
+
+/** WorldDef with every field set. */
+export type ResolvedWorldDef = Required<WorldDef>
+
+/** The defaults of every world setting. */
+export const DEFAULT_WORLD_DEF: Readonly<ResolvedWorldDef> = {
+  gravity: { x: 0, y: -10 },
+  subSteps: 4,
+  enableSleep: true,
+  enableContinuous: true,
+  contactHertz: 30,
+  contactDampingRatio: 10,
+  maxContactPushSpeed: 3,
+  restitutionThreshold: 1,
+  sleepThreshold: 0.05,
+  timeToSleep: 0.5,
+}
+
+/** Storage shared by the world's layers. */
+export class WorldStore {
+  readonly settings: ResolvedWorldDef
+  gravityX: number
+  gravityY: number
+  protected tickCount = 0
+  protected nextBodyId = 1
+  protected nextJointId = 1
+
+  /** Bodies in ascending id order. */
+  readonly bodies: Body[] = []
+  protected readonly bodyMap = new Map<number, Body>()
+  /** Contacts in ascending pair-key order. */
+  readonly contactArray: Contact[] = []
+  protected readonly contactMap = new Map<number, Contact>()
+  /** Joints in ascending id order. */
+  protected readonly jointList: Joint[] = []
+  protected readonly jointMap = new Map<number, Joint>()
+  /** The fixed world frame that joints with `bodyA: null` attach to (id 0, never in the broadphase). */
+  protected readonly ground = new Body(0, STATIC, circle(1))
+
+  // Solver sets of the current step, in id order
+  protected readonly awake: Body[] = []
+  protected awakeCount = 0
+  protected readonly activeContacts: Contact[] = []
+  protected activeContactCount = 0
+  protected readonly activeJoints: Joint[] = []
+  protected activeJointCount = 0
+
+  readonly broadPhase = new BroadPhase()
+  protected readonly islands = new IslandBuilder()
+  protected readonly pairBuffer = new PairBuffer()
+  protected readonly contactSoftness = new Softness()
+  protected readonly staticSoftness = new Softness()
+  protected readonly jointContext: JointStepContext = {
+    h: 0,
+    invH: 0,
+    jointSoftness: new Softness(),
+    enableWarmStarting: true,
+  }
+  /** Tight AABB scratch: minX, minY, maxX, maxY. */
+  protected readonly aabb = new Float64Array(4)
+
+  constructor(settings: ResolvedWorldDef) {
+    this.settings = settings
+    this.gravityX = settings.gravity.x
+    this.gravityY = settings.gravity.y
+    this.ground.awake = false
+  }
+
+  /** Computes a body's tight AABB (plus the speculative margin for moving bodies) into `aabb`. */
+  protected computeAABB(b: Body, margin: number): void {
+    const shape = b.shape
+    const out = this.aabb
+    if (shape.type === 'circle') {
+      const r = shape.radius + margin
+      out[0] = b.x - r
+      out[1] = b.y - r
+      out[2] = b.x + r
+      out[3] = b.y + r
+      return
+    }
+    let minX = Number.POSITIVE_INFINITY
+    let minY = Number.POSITIVE_INFINITY
+    let maxX = Number.NEGATIVE_INFINITY
+    let maxY = Number.NEGATIVE_INFINITY
+    const vertices = shape.vertices
+    for (let i = 0; i < shape.count; i++) {
+      const v = vertices[i]
+      const x = b.x + b.c * v.x - b.s * v.y
+      const y = b.y + b.s * v.x + b.c * v.y
+      if (x < minX) minX = x
+      if (y < minY) minY = y
+      if (x > maxX) maxX = x
+      if (y > maxY) maxY = y
+    }
+    out[0] = minX - margin
+    out[1] = minY - margin
+    out[2] = maxX + margin
+    out[3] = maxY + margin
+  }
+
+  /** Adds a body's proxy to the broadphase. */
+  protected createProxy(b: Body): void {
+    const isStatic = b.type === STATIC
+    this.computeAABB(b, isStatic ? 0 : SPECULATIVE_DISTANCE)
+    const a = this.aabb
+    b.proxy = this.broadPhase.createProxy(a[0], a[1], a[2], a[3], b.id, isStatic)
+  }
+
+  /** Updates a body's proxy after it moved; enlarged proxies are paired at the next step. */
+  protected moveProxy(b: Body): void {
+    this.computeAABB(b, b.type === STATIC ? 0 : SPECULATIVE_DISTANCE)
+    const a = this.aabb
+    this.broadPhase.moveProxy(b.proxy, a[0], a[1], a[2], a[3])
+  }
+
+  /** Removes a contact from the pair map and from both bodies' lists (not from `contacts`). */
+  protected unlinkContact(c: Contact): void {
+    this.contactMap.delete(c.key)
+    removeItem(c.bodyA.contacts, c)
+    removeItem(c.bodyB.contacts, c)
+  }
+
+  /** A body by id, or a RangeError naming the id. */
+  protected body(id: number): Body {
+    const b = this.bodyMap.get(id)
+    if (b === undefined) throw new RangeError(`no body with id ${id}`)
+    return b
+  }
+
+  /** A joint by id, or a RangeError naming the id. */
+  protected joint(id: number): Joint {
+    const j = this.jointMap.get(id)
+    if (j === undefined) throw new RangeError(`no joint with id ${id}`)
+    return j
+  }
+}
+
+/** Removes one item from an unordered list by swapping in the last element. */
+export function removeItem<T>(list: T[], item: T): void {
+  const i = list.indexOf(item)
+  if (i < 0) return
+  list[i] = list[list.length - 1]
+  list.pop()
+}
