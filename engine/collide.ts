@@ -118,7 +118,7 @@ export function collideCircles(
   }
   const ra = circleA.radius
   const rb = circleB.radius
-  const separation = distance - ra - rb
+  const separation = distance - (ra + rb)
   if (!(separation < speculativeDistance)) {
     setEmpty(out)
     return
