@@ -1,0 +1,109 @@
+/*
+ * Load bots: `npm run bots -- --url ws://127.0.0.1:8080 --room NAME --count N [--seconds S]`.
+ * Each bot joins, spawns a few shapes, then repeatedly grabs a random body and drags it in a
+ * circle, releasing and regrabbing now and then. Every second it prints per-bot RTT and received
+ * bytes per second. Runs until --seconds elapse (0 = forever) or Ctrl-C.
+ */
+import { performance } from 'node:perf_hooks'
+import { Prng } from '../engine/index.ts'
+import { BotClient } from './bot-client.ts'
+
+interface BotArgs {
+  url: string
+  room: string
+  count: number
+  seconds: number
+}
+
+function parseArgs(argv: string[]): BotArgs {
+  const args: BotArgs = { url: 'ws://127.0.0.1:8080', room: 'lobby', count: 4, seconds: 0 }
+  for (let i = 0; i < argv.length; i += 2) {
+    const [flag, value] = [argv[i], argv[i + 1]]
+    if (value === undefined) throw new Error(`${flag} needs a value`)
+    if (flag === '--url') args.url = value
+    else if (flag === '--room') args.room = value
+    else if (flag === '--count') args.count = Number.parseInt(value, 10)
+    else if (flag === '--seconds') args.seconds = Number(value)
+    else throw new Error(`unknown option ${flag}; use --url, --room, --count, --seconds`)
+  }
+  if (!(args.count >= 1 && args.count <= 1000)) throw new Error('--count must be 1..1000')
+  return args
+}
+
+/** One bot's behaviour for one tick of its own 20 Hz loop. */
+export function driveBot(bot: BotClient, prng: Prng, step: number): void {
+  const m = bot.mirror
+  if (step < 3) {
+    const kind = prng.int(3)
+    const shape =
+      kind === 0
+        ? { type: 'circle' as const, radius: 0.3 + prng.next() * 0.3 }
+        : kind === 1
+          ? { type: 'box' as const, hw: 0.3 + prng.next() * 0.3, hh: 0.3 + prng.next() * 0.3 }
+          : { type: 'polygon' as const, v: [-0.4, -0.3, 0.4, -0.3, 0, 0.5] }
+    bot.command({ k: 'spawn', shape, x: prng.next() * 10 - 5, y: 8 + prng.next() * 4 })
+    return
+  }
+  const phase = step % 100
+  if (phase === 0) {
+    const dynamic = [...m.bodies.values()].filter((b) => b.kind === 2)
+    if (dynamic.length > 0)
+      bot.command({ k: 'grab', body: dynamic[prng.int(dynamic.length)].id, lx: 0, ly: 0 })
+  } else if (phase === 80) {
+    bot.command({ k: 'release' })
+  } else if (phase < 80) {
+    const a = (phase / 80) * 2 * Math.PI
+    bot.command({ k: 'move', x: 4 * Math.cos(a), y: 6 + 3 * Math.sin(a) })
+  }
+}
+
+async function main(): Promise<void> {
+  const args = parseArgs(process.argv.slice(2))
+  const url = args.url.replace(/^ws/, 'http')
+  const bots: BotClient[] = []
+  for (let i = 0; i < args.count; i++)
+    bots.push(await BotClient.connect({ url, room: args.room, name: `bot ${i + 1}` }))
+  process.stdout.write(`${bots.length} bots joined room ${args.room}\n`)
+  const prngs = bots.map((_, i) => new Prng(i + 1))
+  let step = 0
+  const drive = setInterval(() => {
+    step++
+    bots.forEach((b, i) => {
+      driveBot(b, prngs[i], step)
+    })
+  }, 50)
+  let lastBytes = bots.map((b) => b.bytesReceived)
+  let last = performance.now()
+  const report = setInterval(() => {
+    const now = performance.now()
+    const seconds = (now - last) / 1000
+    last = now
+    const lines = bots.map((b, i) => {
+      b.ping()
+      const rate = (b.bytesReceived - lastBytes[i]) / seconds
+      return `bot ${i + 1}: rtt ${b.rtt.toFixed(1)} ms, ${(rate / 1000).toFixed(2)} kB/s, bodies ${b.mirror.bodies.size}`
+    })
+    lastBytes = bots.map((b) => b.bytesReceived)
+    process.stdout.write(`${lines.join('\n')}\n`)
+  }, 1000)
+  const stop = async (): Promise<void> => {
+    clearInterval(drive)
+    clearInterval(report)
+    await Promise.all(bots.map((b) => b.close()))
+    process.exit(0)
+  }
+  process.once('SIGINT', stop)
+  process.once('SIGTERM', stop)
+  if (args.seconds > 0) setTimeout(stop, args.seconds * 1000)
+  for (const b of bots)
+    b.closed.then(() =>
+      process.stdout.write(`bot ${b.mirror.clientId} closed: ${b.closeCode} ${b.closeReason}\n`),
+    )
+}
+
+if (process.argv[1]?.endsWith('bots.ts') || process.argv[1]?.endsWith('bots.js')) {
+  main().catch((error) => {
+    process.stderr.write(`bots: ${(error as Error).message}\n`)
+    process.exit(1)
+  })
+}

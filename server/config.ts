@@ -1,0 +1,336 @@
+/*
+ * Server settings. Every setting has a default, a command-line flag and an environment variable;
+ * a flag beats the environment, which beats the default. Bad values are refused at startup with a
+ * message naming the setting, never silently replaced.
+ */
+
+/** Everything the server can be configured with. */
+export interface ServerConfig {
+  port: number
+  host: string
+  maxRooms: number
+  maxClientsPerRoom: number
+  maxConnections: number
+  maxBodies: number
+  snapshotRate: number
+  maxMessageBytes: number
+  inputsPerTick: number
+  clientBandwidth: number
+  sendBufferBytes: number
+  slowClientSeconds: number
+  heartbeatMs: number
+  joinTimeoutMs: number
+  roomIdleSeconds: number
+  reconnectSeconds: number
+  maxRejects: number
+  defaultRoom: string
+  defaultScene: string
+  roomControls: boolean
+  staticDir: string
+  replayDir: string
+  logLevel: string
+}
+
+type Kind = 'int' | 'string' | 'bool'
+
+interface Setting {
+  key: keyof ServerConfig
+  flag: string
+  env: string
+  kind: Kind
+  fallback: number | string | boolean
+  min?: number
+  max?: number
+  help: string
+}
+
+/** The settings table: flag, environment variable, default and meaning (printed by --help). */
+export const SETTINGS: readonly Setting[] = [
+  {
+    key: 'port',
+    flag: '--port',
+    env: 'PORT',
+    kind: 'int',
+    fallback: 8080,
+    min: 0,
+    max: 65535,
+    help: 'HTTP and WebSocket port (0 = any free port)',
+  },
+  {
+    key: 'host',
+    flag: '--host',
+    env: 'HOST',
+    kind: 'string',
+    fallback: '127.0.0.1',
+    help: 'address to listen on (0.0.0.0 in Docker)',
+  },
+  {
+    key: 'maxRooms',
+    flag: '--max-rooms',
+    env: 'MAX_ROOMS',
+    kind: 'int',
+    fallback: 50,
+    min: 1,
+    max: 10000,
+    help: 'rooms open at once',
+  },
+  {
+    key: 'maxClientsPerRoom',
+    flag: '--max-clients',
+    env: 'MAX_CLIENTS_PER_ROOM',
+    kind: 'int',
+    fallback: 32,
+    min: 1,
+    max: 1000,
+    help: 'players per room',
+  },
+  {
+    key: 'maxConnections',
+    flag: '--max-connections',
+    env: 'MAX_CONNECTIONS',
+    kind: 'int',
+    fallback: 1000,
+    min: 1,
+    max: 100000,
+    help: 'WebSocket connections per process',
+  },
+  {
+    key: 'maxBodies',
+    flag: '--max-bodies',
+    env: 'MAX_BODIES',
+    kind: 'int',
+    fallback: 1500,
+    min: 1,
+    max: 100000,
+    help: 'bodies per room (spawns beyond are refused)',
+  },
+  {
+    key: 'snapshotRate',
+    flag: '--snapshot-rate',
+    env: 'SNAPSHOT_RATE',
+    kind: 'int',
+    fallback: 30,
+    min: 1,
+    max: 60,
+    help: 'snapshots per second, a divisor of 60 (60, 30, 20, 15, ...)',
+  },
+  {
+    key: 'maxMessageBytes',
+    flag: '--max-message-bytes',
+    env: 'MAX_MESSAGE_BYTES',
+    kind: 'int',
+    fallback: 4096,
+    min: 256,
+    max: 1048576,
+    help: 'largest client frame; larger ones close the socket with 1009',
+  },
+  {
+    key: 'inputsPerTick',
+    flag: '--inputs-per-tick',
+    env: 'INPUTS_PER_TICK',
+    kind: 'int',
+    fallback: 8,
+    min: 1,
+    max: 1000,
+    help: 'input commands per client per tick; more are refused',
+  },
+  {
+    key: 'clientBandwidth',
+    flag: '--client-bandwidth',
+    env: 'CLIENT_BANDWIDTH',
+    kind: 'int',
+    fallback: 28000,
+    min: 1000,
+    max: 100000000,
+    help: 'snapshot byte budget per client per second',
+  },
+  {
+    key: 'sendBufferBytes',
+    flag: '--send-buffer-bytes',
+    env: 'SEND_BUFFER_BYTES',
+    kind: 'int',
+    fallback: 262144,
+    min: 1,
+    max: 1073741824,
+    help: "unsent bytes above which a client's snapshots are skipped",
+  },
+  {
+    key: 'slowClientSeconds',
+    flag: '--slow-client-seconds',
+    env: 'SLOW_CLIENT_SECONDS',
+    kind: 'int',
+    fallback: 5,
+    min: 1,
+    max: 3600,
+    help: 'how long a client may stay over the send buffer before it is closed',
+  },
+  {
+    key: 'heartbeatMs',
+    flag: '--heartbeat-ms',
+    env: 'HEARTBEAT_MS',
+    kind: 'int',
+    fallback: 5000,
+    min: 10,
+    max: 600000,
+    help: 'WebSocket ping interval; a peer missing one pong is closed',
+  },
+  {
+    key: 'joinTimeoutMs',
+    flag: '--join-timeout-ms',
+    env: 'JOIN_TIMEOUT_MS',
+    kind: 'int',
+    fallback: 5000,
+    min: 10,
+    max: 600000,
+    help: 'time a new socket has to send join',
+  },
+  {
+    key: 'roomIdleSeconds',
+    flag: '--room-idle-seconds',
+    env: 'ROOM_IDLE_SECONDS',
+    kind: 'int',
+    fallback: 60,
+    min: 0,
+    max: 86400,
+    help: 'an empty room is disposed after this long',
+  },
+  {
+    key: 'reconnectSeconds',
+    flag: '--reconnect-seconds',
+    env: 'RECONNECT_SECONDS',
+    kind: 'int',
+    fallback: 30,
+    min: 0,
+    max: 86400,
+    help: 'a player reconnecting with its token within this keeps its id',
+  },
+  {
+    key: 'maxRejects',
+    flag: '--max-rejects',
+    env: 'MAX_REJECTS',
+    kind: 'int',
+    fallback: 20,
+    min: 1,
+    max: 100000,
+    help: 'invalid messages per heartbeat interval before a client is disconnected',
+  },
+  {
+    key: 'defaultRoom',
+    flag: '--default-room',
+    env: 'DEFAULT_ROOM',
+    kind: 'string',
+    fallback: 'lobby',
+    help: 'room that always exists and that a join without a room name enters',
+  },
+  {
+    key: 'defaultScene',
+    flag: '--default-scene',
+    env: 'DEFAULT_SCENE',
+    kind: 'string',
+    fallback: 'pyramid',
+    help: 'scene a new room starts with (a name from SCENES)',
+  },
+  {
+    key: 'roomControls',
+    flag: '--room-controls',
+    env: 'ROOM_CONTROLS',
+    kind: 'bool',
+    fallback: true,
+    help: 'let every player load scenes, pause, step, reset and set gravity',
+  },
+  {
+    key: 'staticDir',
+    flag: '--static-dir',
+    env: 'STATIC_DIR',
+    kind: 'string',
+    fallback: 'dist/client',
+    help: 'directory of the built browser client',
+  },
+  {
+    key: 'replayDir',
+    flag: '--replay-dir',
+    env: 'REPLAY_DIR',
+    kind: 'string',
+    fallback: 'replays',
+    help: 'where rooms write input logs (replay recorder)',
+  },
+  {
+    key: 'logLevel',
+    flag: '--log-level',
+    env: 'LOG_LEVEL',
+    kind: 'string',
+    fallback: 'info',
+    help: 'pino level: fatal, error, warn, info, debug, trace, silent',
+  },
+]
+
+/** The defaults alone. */
+export function defaultConfig(): ServerConfig {
+  const config: Record<string, unknown> = {}
+  for (const s of SETTINGS) config[s.key] = s.fallback
+  return config as unknown as ServerConfig
+}
+
+function parseValue(s: Setting, raw: string, source: string): number | string | boolean {
+  if (s.kind === 'string') return raw
+  if (s.kind === 'bool') {
+    if (['1', 'true', 'yes', 'on'].includes(raw)) return true
+    if (['0', 'false', 'no', 'off'].includes(raw)) return false
+    throw new Error(`${source} must be true or false, got "${raw}"`)
+  }
+  const n = Number(raw)
+  if (
+    !/^\d+$/.test(raw) ||
+    !Number.isSafeInteger(n) ||
+    n < (s.min ?? 0) ||
+    n > (s.max ?? Number.MAX_SAFE_INTEGER)
+  ) {
+    throw new Error(`${source} must be an integer in [${s.min}, ${s.max}], got "${raw}"`)
+  }
+  return n
+}
+
+/** Settings from flags (`--port 8080` or `--port=8080`), then env, then defaults; throws on bad input. */
+export function loadConfig(
+  argv: readonly string[],
+  env: NodeJS.ProcessEnv,
+  overrides: Partial<ServerConfig> = {},
+): ServerConfig {
+  const config = defaultConfig() as unknown as Record<string, unknown>
+  for (const s of SETTINGS) {
+    const raw = env[s.env]
+    if (raw !== undefined && raw !== '') config[s.key] = parseValue(s, raw, s.env)
+  }
+  for (let i = 0; i < argv.length; i++) {
+    const arg = argv[i]
+    const [flag, inline] = arg.includes('=')
+      ? [arg.slice(0, arg.indexOf('=')), arg.slice(arg.indexOf('=') + 1)]
+      : [arg, undefined]
+    const s = SETTINGS.find((x) => x.flag === flag)
+    if (!s) throw new Error(`unknown option ${flag} (try --help)`)
+    const raw =
+      inline ??
+      (s.kind === 'bool' && (argv[i + 1] === undefined || argv[i + 1].startsWith('--')) ? 'true' : argv[++i])
+    if (raw === undefined) throw new Error(`${flag} needs a value`)
+    config[s.key] = parseValue(s, raw, flag)
+  }
+  Object.assign(config, overrides)
+  const result = config as unknown as ServerConfig
+  if (60 % result.snapshotRate !== 0)
+    throw new Error(`snapshot rate must divide 60, got ${result.snapshotRate}`)
+  return result
+}
+
+/** The settings as a help text table. */
+export function helpText(): string {
+  const rows = SETTINGS.map(
+    (s) =>
+      `  ${`${s.flag} <${s.kind}>`.padEnd(28)} ${s.env.padEnd(22)} ${String(s.fallback).padEnd(12)} ${s.help}`,
+  )
+  return [
+    'Usage: node dist/server.js [options]',
+    '',
+    `  ${'flag'.padEnd(28)} ${'env'.padEnd(22)} ${'default'.padEnd(12)} meaning`,
+    ...rows,
+  ].join('\n')
+}

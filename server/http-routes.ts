@@ -1,0 +1,127 @@
+/*
+ * Plain HTTP on the same port as the WebSocket endpoint: the built browser client as static files,
+ * health and readiness probes, Prometheus metrics, and the open rooms as JSON for the lobby.
+ * Static paths are resolved inside the static directory only (no traversal), GET and HEAD only.
+ */
+import { createReadStream } from 'node:fs'
+import { stat } from 'node:fs/promises'
+import type { IncomingMessage, ServerResponse } from 'node:http'
+import { extname, join, normalize, resolve, sep } from 'node:path'
+import type { Logger } from 'pino'
+import type { ServerMetrics } from './metrics.ts'
+import type { RoomManager } from './room-manager.ts'
+
+const TYPES: Record<string, string> = {
+  '.html': 'text/html; charset=utf-8',
+  '.js': 'text/javascript; charset=utf-8',
+  '.mjs': 'text/javascript; charset=utf-8',
+  '.css': 'text/css; charset=utf-8',
+  '.json': 'application/json',
+  '.map': 'application/json',
+  '.svg': 'image/svg+xml',
+  '.png': 'image/png',
+  '.ico': 'image/x-icon',
+  '.wasm': 'application/wasm',
+  '.cclog': 'application/octet-stream',
+}
+
+/** What the routes need to answer. */
+export interface RouteContext {
+  staticDir: string
+  rooms: RoomManager
+  metrics: ServerMetrics
+  log: Logger
+  /** False while shutting down (readiness fails so load balancers stop sending players). */
+  ready: () => boolean
+}
+
+function send(res: ServerResponse, status: number, type: string, body: string): void {
+  res.writeHead(status, { 'content-type': type, 'cache-control': 'no-store' })
+  res.end(body)
+}
+
+/** The HTTP request handler. */
+export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, res: ServerResponse) => void {
+  const root = resolve(ctx.staticDir)
+  return (req, res) => {
+    res.on('error', () => {})
+    const url = new URL(req.url ?? '/', 'http://localhost')
+    if (req.method !== 'GET' && req.method !== 'HEAD')
+      return send(res, 405, 'text/plain', 'method not allowed\n')
+    switch (url.pathname) {
+      case '/healthz':
+        return send(res, 200, 'text/plain', 'ok\n')
+      case '/readyz':
+        return ctx.ready()
+          ? send(res, 200, 'text/plain', 'ready\n')
+          : send(res, 503, 'text/plain', 'shutting down\n')
+      case '/metrics':
+        ctx.metrics.registry.metrics().then(
+          (text) => send(res, 200, ctx.metrics.registry.contentType, text),
+          () => send(res, 500, 'text/plain', 'metrics failed\n'),
+        )
+        return
+      case '/rooms':
+        return send(res, 200, 'application/json', JSON.stringify(listRooms(ctx.rooms)))
+      default:
+        serveStatic(root, url.pathname, req, res, ctx.log)
+    }
+  }
+}
+
+/** The open rooms for the lobby. */
+export function listRooms(
+  rooms: RoomManager,
+): Array<{ name: string; players: number; bodies: number; scene: string; tick: number }> {
+  return [...rooms.rooms.values()].map((r) => ({
+    name: r.name,
+    players: r.sessions.size,
+    bodies: r.world.bodyCount,
+    scene: r.scene,
+    tick: r.tick,
+  }))
+}
+
+function serveStatic(
+  root: string,
+  pathname: string,
+  req: IncomingMessage,
+  res: ServerResponse,
+  log: Logger,
+): void {
+  let relative: string
+  try {
+    relative = decodeURIComponent(pathname)
+  } catch {
+    send(res, 400, 'text/plain', 'bad path\n')
+    return
+  }
+  if (relative.includes('\0')) {
+    send(res, 400, 'text/plain', 'bad path\n')
+    return
+  }
+  if (relative.endsWith('/')) relative += 'index.html'
+  const file = normalize(join(root, relative))
+  if (file !== root && !file.startsWith(root + sep)) {
+    send(res, 404, 'text/plain', 'not found\n')
+    return
+  }
+  stat(file).then(
+    (info) => {
+      if (!info.isFile()) return send(res, 404, 'text/plain', 'not found\n')
+      res.writeHead(200, {
+        'content-type': TYPES[extname(file)] ?? 'application/octet-stream',
+        'content-length': info.size,
+        'cache-control': 'no-cache',
+      })
+      if (req.method === 'HEAD') return res.end()
+      createReadStream(file)
+        .on('error', (error) => {
+          log.warn({ err: error.message, file }, 'static file read failed')
+          res.destroy()
+        })
+        .pipe(res)
+    },
+    () => send(res, 404, 'text/plain', 'not found (is the client built? run npm start)\n'),
+  )
+}

@@ -1,0 +1,40 @@
+/*
+ * The server's command line: `node dist/server.js [--port 8080 ...]` (see --help). Starts the
+ * server, and on SIGTERM or SIGINT shuts down gracefully: clients get a close frame with a reason,
+ * logs are flushed, and the process exits within 5 s even if something hangs.
+ */
+import { helpText, loadConfig, type ServerConfig } from './config.ts'
+import { startServer } from './server.ts'
+
+/** Hard deadline for shutdown (ms). */
+const SHUTDOWN_DEADLINE_MS = 4500
+
+async function main(): Promise<void> {
+  const argv = process.argv.slice(2)
+  if (argv.includes('--help') || argv.includes('-h')) {
+    process.stdout.write(`${helpText()}\n`)
+    return
+  }
+  let config: ServerConfig
+  try {
+    config = loadConfig(argv, process.env)
+  } catch (error) {
+    process.stderr.write(`concord: ${(error as Error).message}\n`)
+    process.exit(2)
+  }
+  const server = await startServer(config)
+  const shutdown = (signal: string): void => {
+    setTimeout(() => process.exit(1), SHUTDOWN_DEADLINE_MS).unref()
+    server.close(`server shutting down (${signal})`).then(
+      () => process.exit(0),
+      () => process.exit(1),
+    )
+  }
+  process.once('SIGTERM', () => shutdown('SIGTERM'))
+  process.once('SIGINT', () => shutdown('SIGINT'))
+}
+
+main().catch((error) => {
+  process.stderr.write(`concord: ${(error as Error).stack ?? error}\n`)
+  process.exit(1)
+})

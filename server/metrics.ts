@@ -1,0 +1,76 @@
+/*
+ * Prometheus metrics for one server instance, on a registry of its own (so several servers in one
+ * test process do not collide). Served at /metrics.
+ */
+import { Counter, collectDefaultMetrics, Gauge, Histogram, Registry } from 'prom-client'
+
+/** The server's metrics. */
+export interface ServerMetrics {
+  registry: Registry
+  rooms: Gauge
+  clients: Gauge
+  connections: Gauge
+  tickSeconds: Histogram
+  bytesSent: Counter
+  messagesReceived: Counter
+  rejected: Counter<'reason'>
+  overruns: Counter
+  snapshotsSkipped: Counter
+  slowClientsClosed: Counter
+  desyncs: Counter
+}
+
+/** Create the metrics on a fresh registry; `processMetrics` adds Node's default process metrics. */
+export function createMetrics(processMetrics: boolean): ServerMetrics {
+  const registry = new Registry()
+  if (processMetrics) collectDefaultMetrics({ register: registry })
+  const registers = [registry]
+  return {
+    registry,
+    rooms: new Gauge({ name: 'concord_rooms', help: 'Open rooms', registers }),
+    clients: new Gauge({ name: 'concord_clients', help: 'Joined players', registers }),
+    connections: new Gauge({ name: 'concord_connections', help: 'Open WebSocket connections', registers }),
+    tickSeconds: new Histogram({
+      name: 'concord_room_tick_seconds',
+      help: 'Time to run one room tick: inputs, step, snapshots',
+      buckets: [0.0001, 0.00025, 0.0005, 0.001, 0.002, 0.004, 0.008, 0.016, 0.032],
+      registers,
+    }),
+    bytesSent: new Counter({
+      name: 'concord_bytes_sent_total',
+      help: 'WebSocket payload bytes sent',
+      registers,
+    }),
+    messagesReceived: new Counter({
+      name: 'concord_messages_received_total',
+      help: 'Client messages received',
+      registers,
+    }),
+    rejected: new Counter({
+      name: 'concord_messages_rejected_total',
+      help: 'Client messages rejected, by reason',
+      labelNames: ['reason'],
+      registers,
+    }),
+    overruns: new Counter({
+      name: 'concord_tick_overruns_total',
+      help: 'Ticks dropped because the loop fell behind',
+      registers,
+    }),
+    snapshotsSkipped: new Counter({
+      name: 'concord_snapshots_skipped_total',
+      help: 'Snapshots skipped for full send buffers',
+      registers,
+    }),
+    slowClientsClosed: new Counter({
+      name: 'concord_slow_clients_closed_total',
+      help: 'Clients closed for not reading',
+      registers,
+    }),
+    desyncs: new Counter({
+      name: 'concord_desyncs_total',
+      help: 'State hash mismatches reported (lockstep mode)',
+      registers,
+    }),
+  }
+}

@@ -1,0 +1,88 @@
+/*
+ * The rooms of one process: created on demand by name up to the limit, all driven by one
+ * TickClock at 60 Hz, and disposed a while after their last player leaves (the default room
+ * stays). Rooms are ticked in creation order; one room's work never depends on another's.
+ */
+import { performance } from 'node:perf_hooks'
+import type { Logger } from 'pino'
+import { STEP_SECONDS } from '../engine/index.ts'
+import { TICK_RATE } from '../shared/index.ts'
+import type { ServerConfig } from './config.ts'
+import type { ServerMetrics } from './metrics.ts'
+import { Room } from './room.ts'
+import { TickClock } from './tick-clock.ts'
+
+/** Every room of the process and the clock that drives them. */
+export class RoomManager {
+  readonly rooms = new Map<string, Room>()
+  readonly clock: TickClock
+  /** Called when a room is created (e.g. to attach a recorder). */
+  onRoomCreated: ((room: Room) => void) | null = null
+  private ticks = 0
+
+  constructor(
+    private readonly config: ServerConfig,
+    private readonly metrics: ServerMetrics,
+    private readonly log: Logger,
+  ) {
+    this.clock = new TickClock(
+      STEP_SECONDS,
+      () => this.tickAll(),
+      (n) => {
+        metrics.overruns.inc(n)
+        log.warn({ dropped: n }, 'tick loop fell behind; dropped ticks')
+      },
+    )
+  }
+
+  /** The room of that name, created if there is room for it; null at the room limit. */
+  getOrCreate(name: string): Room | null {
+    const existing = this.rooms.get(name)
+    if (existing) return existing
+    if (this.rooms.size >= this.config.maxRooms) return null
+    const room = new Room(name, this.config, this.metrics, this.log)
+    this.rooms.set(name, room)
+    this.metrics.rooms.set(this.rooms.size)
+    this.onRoomCreated?.(room)
+    this.log.info({ room: name, scene: room.scene }, 'room created')
+    return room
+  }
+
+  /** Run one tick of every room, measuring each (the measurement is for metrics only). */
+  tickAll(): void {
+    for (const room of this.rooms.values()) {
+      const start = performance.now()
+      try {
+        room.runTick()
+      } catch (error) {
+        // A bug in one room must not take the process down with every other room.
+        this.log.error({ room: room.name, err: error }, 'room tick failed; closing the room')
+        room.closeAll(1011, 'room failed')
+        this.dispose(room)
+      }
+      this.metrics.tickSeconds.observe((performance.now() - start) / 1000)
+    }
+    if (++this.ticks % TICK_RATE === 0) this.disposeIdle()
+  }
+
+  private disposeIdle(): void {
+    const idleTicks = this.config.roomIdleSeconds * TICK_RATE
+    for (const room of this.rooms.values()) {
+      if (room.name === this.config.defaultRoom || room.sessions.size > 0 || room.emptySince < 0) continue
+      if (room.tick - room.emptySince >= idleTicks) this.dispose(room)
+    }
+  }
+
+  private dispose(room: Room): void {
+    this.rooms.delete(room.name)
+    this.metrics.rooms.set(this.rooms.size)
+    this.log.info({ room: room.name }, 'room disposed')
+  }
+
+  /** Total joined players. */
+  get playerCount(): number {
+    let n = 0
+    for (const room of this.rooms.values()) n += room.sessions.size
+    return n
+  }
+}

@@ -1,0 +1,73 @@
+/*
+ * Player identity within a room: ids handed out in join order, colours from a fixed palette, and
+ * reconnect tokens. A client that rejoins with the token from its welcome within the reconnect
+ * window gets its old id, name and colour back; if its old socket is still open (a dead peer not
+ * yet detected), that socket is replaced.
+ */
+import { randomBytes } from 'node:crypto'
+import type { ClientSession } from './client-session.ts'
+
+/** A player who left, remembered for the reconnect window. */
+export interface DepartedPlayer {
+  id: number
+  name: string
+  color: string
+  leftTick: number
+}
+
+const PALETTE = [
+  '#e6194b',
+  '#3cb44b',
+  '#4363d8',
+  '#f58231',
+  '#911eb4',
+  '#42d4f4',
+  '#f032e6',
+  '#bfef45',
+  '#fabed4',
+  '#469990',
+  '#dcbeff',
+  '#9a6324',
+]
+
+/** A player's colour from its id. */
+export function playerColor(id: number): string {
+  return PALETTE[(id - 1) % PALETTE.length]
+}
+
+/** What a join resolves to. */
+export interface Identity {
+  id: number
+  token: string
+  name?: string
+  color?: string
+  /** An open session with the same token, to be closed. */
+  replaced?: ClientSession
+}
+
+interface RoomPlayers {
+  sessions: Map<number, ClientSession>
+  departed: Map<string, DepartedPlayer>
+  nextPlayerId: number
+  leave(session: ClientSession): void
+}
+
+/** Resolve a join's token to a returning identity or a fresh one. */
+export function assignIdentity(room: RoomPlayers, token: string | undefined): Identity {
+  if (token) {
+    for (const s of room.sessions.values()) {
+      if (s.token === token) {
+        room.leave(s)
+        const back = room.departed.get(token)!
+        room.departed.delete(token)
+        return { id: back.id, token, name: back.name, color: back.color, replaced: s }
+      }
+    }
+    const back = room.departed.get(token)
+    if (back) {
+      room.departed.delete(token)
+      return { id: back.id, token, name: back.name, color: back.color }
+    }
+  }
+  return { id: room.nextPlayerId++, token: randomBytes(16).toString('hex') }
+}

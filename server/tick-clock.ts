@@ -1,0 +1,70 @@
+/*
+ * The server's clock: the one place the simulation reads wall-clock time. A fixed-step accumulator
+ * turns elapsed real time into whole 1/60 s ticks (Fiedler, "Fix Your Timestep"); the rooms only
+ * ever see ticks. When the process falls behind (GC pause, overload), it runs at most
+ * MAX_CATCH_UP ticks in a row and drops the rest, counting them as overruns, so a stall never
+ * snowballs into a spiral of catch-up work. It never takes a variable step.
+ */
+import { performance } from 'node:perf_hooks'
+
+/** Ticks run back to back at most when behind. */
+export const MAX_CATCH_UP = 4
+
+/** Drives `onTick` at a fixed rate from the wall clock. */
+export class TickClock {
+  private accumulator = 0
+  private last = 0
+  private timer: NodeJS.Timeout | null = null
+  /** Ticks dropped because the loop fell too far behind. */
+  overruns = 0
+  /** Ticks run. */
+  ticks = 0
+
+  constructor(
+    private readonly stepSeconds: number,
+    private readonly onTick: () => void,
+    private readonly onOverrun: (dropped: number) => void = () => {},
+  ) {}
+
+  /** Start ticking. */
+  start(): void {
+    if (this.timer) return
+    this.last = performance.now()
+    this.accumulator = 0
+    this.schedule()
+  }
+
+  /** Stop ticking. */
+  stop(): void {
+    if (this.timer) clearTimeout(this.timer)
+    this.timer = null
+  }
+
+  /** Fraction of the next tick elapsed, 0..1 (for clock sync replies). */
+  get fraction(): number {
+    return Math.min(1, this.accumulator / this.stepSeconds)
+  }
+
+  private schedule(): void {
+    const wait = Math.max(0, (this.stepSeconds - this.accumulator) * 1000)
+    this.timer = setTimeout(() => this.wake(), wait)
+  }
+
+  private wake(): void {
+    const now = performance.now()
+    this.accumulator += (now - this.last) / 1000
+    this.last = now
+    let steps = Math.floor(this.accumulator / this.stepSeconds)
+    this.accumulator -= steps * this.stepSeconds
+    if (steps > MAX_CATCH_UP) {
+      this.overruns += steps - MAX_CATCH_UP
+      this.onOverrun(steps - MAX_CATCH_UP)
+      steps = MAX_CATCH_UP
+    }
+    for (let i = 0; i < steps; i++) {
+      this.ticks++
+      this.onTick()
+    }
+    if (this.timer) this.schedule()
+  }
+}
