@@ -84,6 +84,7 @@ export class BroadPhase {
   private keys = new Float64Array(256)
   private keyCount = 0
   private readonly sortStack = new Int32Array(128)
+  private readonly queryBox = new Float64Array(4)
 
   constructor(margin = AABB_MARGIN) {
     if (!(margin >= 0) || !Number.isFinite(margin)) throw new Error(`BroadPhase: bad margin ${margin}`)
@@ -156,7 +157,11 @@ export class BroadPhase {
     const o = 4 * proxy
     if (b[o] <= minX && b[o + 1] <= minY && maxX <= b[o + 2] && maxY <= b[o + 3]) return false
     const r = (tree.flags[proxy] & FLAG_STATIC) !== 0 ? 0 : this.margin
-    tree.moveLeaf(proxy, minX - r, minY - r, maxX + r, maxY + r)
+    b[o] = minX - r
+    b[o + 1] = minY - r
+    b[o + 2] = maxX + r
+    b[o + 3] = maxY + r
+    tree.reinsertLeaf(proxy)
     this.bufferMove(proxy)
     return true
   }
@@ -222,7 +227,12 @@ export class BroadPhase {
   /** Bodies whose fat AABB overlaps the query box (touching counts), ascending, into `out`; returns the count. */
   query(minX: number, minY: number, maxX: number, maxY: number, out: IdBuffer): number {
     const tree = this.tree
-    const hits = tree.queryLeaves(minX, minY, maxX, maxY)
+    const box = this.queryBox
+    box[0] = minX
+    box[1] = minY
+    box[2] = maxX
+    box[3] = maxY
+    const hits = tree.queryLeaves(box, 0)
     this.ensureKeys(hits)
     const keys = this.keys
     for (let i = 0; i < hits; i++) keys[i] = tree.body[tree.hits[i]]
@@ -260,9 +270,7 @@ export class BroadPhase {
    */
   private collectPairs(proxy: number, fromMoveList: boolean): void {
     const tree = this.tree
-    const b = tree.bounds
-    const o = 4 * proxy
-    const hitCount = tree.queryLeaves(b[o], b[o + 1], b[o + 2], b[o + 3])
+    const hitCount = tree.queryLeaves(tree.bounds, 4 * proxy)
     const hits = tree.hits
     const flags = tree.flags
     const bodies = tree.body

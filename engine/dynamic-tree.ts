@@ -92,14 +92,13 @@ export class DynamicTree {
     this.leafCount--
   }
 
-  /** Gives a leaf a new box: removes it and inserts it again where the heuristic says. */
-  moveLeaf(leaf: number, minX: number, minY: number, maxX: number, maxY: number): void {
+  /**
+   * Re-inserts a leaf whose box the caller has just rewritten in `bounds`: removes it and inserts
+   * it again where the heuristic says. (Passing the box in `bounds` rather than as four number
+   * arguments keeps V8 from boxing them when this call is not inlined.)
+   */
+  reinsertLeaf(leaf: number): void {
     this.removeLeaf(leaf)
-    const b = this.bounds
-    b[4 * leaf] = minX
-    b[4 * leaf + 1] = minY
-    b[4 * leaf + 2] = maxX
-    b[4 * leaf + 3] = maxY
     this.insertLeaf(leaf)
   }
 
@@ -109,31 +108,39 @@ export class DynamicTree {
   }
 
   /**
-   * Writes into `hits` every leaf whose box overlaps the query box (touching counts) and returns
-   * how many. Order: depth first, child1 before child2.
+   * Writes into `hits` every leaf whose box overlaps the query box box[o..o+3] = minX, minY, maxX,
+   * maxY (touching counts) and returns how many. Order: depth first, child1 before child2.
    */
-  queryLeaves(minX: number, minY: number, maxX: number, maxY: number): number {
-    if (this.root === NULL_NODE) return 0
+  queryLeaves(box: Float64Array, o: number): number {
+    const minX = box[o]
+    const minY = box[o + 1]
+    const maxX = box[o + 2]
+    const maxY = box[o + 3]
+    const root = this.root
     const b = this.bounds
+    if (root === NULL_NODE || b[4 * root] > maxX || b[4 * root + 1] > maxY) return 0
+    if (minX > b[4 * root + 2] || minY > b[4 * root + 3]) return 0
     const c1 = this.child1
     const c2 = this.child2
     const stack = this.stack
     let hits = this.hits
     let count = 0
     let top = 0
-    stack[top++] = this.root
+    stack[top++] = root
+    // Every node on the stack overlaps the query box; children are tested before they are pushed.
     while (top > 0) {
       const node = stack[--top]
-      const o = 4 * node
-      if (b[o] > maxX || b[o + 1] > maxY || minX > b[o + 2] || minY > b[o + 3]) continue
       const first = c1[node]
       if (first === NULL_NODE) {
         if (count === hits.length) hits = this.growHits()
         hits[count++] = node
-      } else {
-        stack[top++] = first
-        stack[top++] = c2[node]
+        continue
       }
+      const second = c2[node]
+      let p = 4 * second
+      if (!(b[p] > maxX || b[p + 1] > maxY || minX > b[p + 2] || minY > b[p + 3])) stack[top++] = second
+      p = 4 * first
+      if (!(b[p] > maxX || b[p + 1] > maxY || minX > b[p + 2] || minY > b[p + 3])) stack[top++] = first
     }
     return count
   }
@@ -280,6 +287,7 @@ export class DynamicTree {
     return index
   }
 
+  /** Detaches a leaf, frees its parent and refits upwards. */
   private removeLeaf(leaf: number): void {
     if (leaf === this.root) {
       this.root = NULL_NODE
@@ -302,17 +310,47 @@ export class DynamicTree {
     }
   }
 
-  /** From `index` to the root: rebalance, then recompute height and box from the children. */
+  /**
+   * From `index` towards the root: rebalance, then recompute height and box from the children.
+   * Stops early once a node (after the first) keeps its height and box and was not rotated: its
+   * ancestors then depend on exactly what they depended on before.
+   */
   private refitUpwards(index: number): void {
     const b = this.bounds
     const height = this.height
+    const c1 = this.child1
+    const c2 = this.child2
+    let first = true
     while (index !== NULL_NODE) {
-      index = this.balance(index)
-      const child1 = this.child1[index]
-      const child2 = this.child2[index]
-      height[index] = 1 + Math.max(height[child1], height[child2])
-      setUnion(b, index, child1, child2)
-      index = this.parent[index]
+      const top = this.balance(index)
+      const child1 = c1[top]
+      const child2 = c2[top]
+      const h = 1 + Math.max(height[child1], height[child2])
+      const o = 4 * top
+      const p = 4 * child1
+      const q = 4 * child2
+      const minX = Math.min(b[p], b[q])
+      const minY = Math.min(b[p + 1], b[q + 1])
+      const maxX = Math.max(b[p + 2], b[q + 2])
+      const maxY = Math.max(b[p + 3], b[q + 3])
+      if (
+        !first &&
+        top === index &&
+        height[top] === h &&
+        b[o] === minX &&
+        b[o + 1] === minY &&
+        b[o + 2] === maxX &&
+        b[o + 3] === maxY
+      ) {
+        return
+      }
+      first = false
+      height[top] = h
+      b[o] = minX
+      b[o + 1] = minY
+      b[o + 2] = maxX
+      b[o + 3] = maxY
+      index = this.parent[top]
     }
   }
 

@@ -1,0 +1,295 @@
+/*
+ * Broadphase benchmark: the dynamic AABB tree against a brute-force pair loop on a pile-like
+ * scene (mostly similar-size bodies, 0.4-0.9 m, packed in a container about 1.25 sqrt(n) m wide,
+ * plus a few huge static bodies: the ground, two walls, a shelf). Every frame 30% of the dynamic
+ * bodies, chosen at random, move by their velocity (a random walk, at most 3 m/s, 1/60 s steps).
+ *
+ * Tree frame: moveProxy for every dynamic body (as the world does for every awake body), then
+ * updatePairs. Brute-force frame: the same fat-AABB update, then the O(n^2) loop over all pairs
+ * (already sorted, because bodies are visited in id order). Prints a table and writes
+ * bench/results/broad-phase.json. Run: npx tsx bench/broad-phase-bench.ts
+ */
+import { writeFileSync } from 'node:fs'
+import os from 'node:os'
+import { BroadPhase, PairBuffer } from '../engine/broad-phase.ts'
+import { Prng } from '../engine/prng.ts'
+
+const SIZES = [250, 500, 1000, 2000, 4000]
+const MARGIN = 0.1
+const DT = 1 / 60
+const MAX_SPEED = 3 // m/s
+const MOVING_FRACTION = 0.3
+
+/** Bodies as flat arrays: half extents, centres, velocities; statics first. */
+interface Pile {
+  n: number
+  statics: number
+  hx: Float64Array
+  hy: Float64Array
+  x: Float64Array
+  y: Float64Array
+  vx: Float64Array
+  vy: Float64Array
+  width: number
+  height: number
+}
+
+function buildPile(n: number, seed: number): Pile {
+  const prng = new Prng(seed)
+  const columns = Math.ceil(Math.sqrt(n) * 1.25)
+  const rows = Math.ceil(n / columns)
+  const width = columns + 1
+  const height = rows + 2
+  const statics = 4
+  const total = n + statics
+  const p: Pile = {
+    n: total,
+    statics,
+    hx: new Float64Array(total),
+    hy: new Float64Array(total),
+    x: new Float64Array(total),
+    y: new Float64Array(total),
+    vx: new Float64Array(total),
+    vy: new Float64Array(total),
+    width,
+    height,
+  }
+  const set = (i: number, x: number, y: number, hx: number, hy: number): void => {
+    p.x[i] = x
+    p.y[i] = y
+    p.hx[i] = hx
+    p.hy[i] = hy
+  }
+  set(0, 0, -1, 100, 1) // ground, 200 m
+  set(1, -width / 2 - 0.5, height / 2, 0.5, height / 2)
+  set(2, width / 2 + 0.5, height / 2, 0.5, height / 2)
+  set(3, 0, height * 0.6, width / 4, 0.25) // a shelf across the middle of the pile
+  for (let i = 0; i < n; i++) {
+    const b = statics + i
+    const column = i % columns
+    const row = Math.floor(i / columns)
+    set(b, -width / 2 + 1 + column, 0.5 + row, prng.range(0.2, 0.45), prng.range(0.2, 0.45))
+    p.vx[b] = prng.range(-MAX_SPEED, MAX_SPEED) / 2
+    p.vy[b] = prng.range(-MAX_SPEED, MAX_SPEED) / 2
+  }
+  return p
+}
+
+/** Moves a random 30% of the dynamic bodies one step; velocities random-walk, bounded by the walls. */
+function stepPile(p: Pile, prng: Prng): void {
+  const halfW = p.width / 2
+  for (let i = p.statics; i < p.n; i++) {
+    if (prng.next() >= MOVING_FRACTION) continue
+    let vx = p.vx[i] + prng.range(-0.5, 0.5)
+    let vy = p.vy[i] + prng.range(-0.5, 0.5)
+    vx = Math.max(-MAX_SPEED, Math.min(MAX_SPEED, vx))
+    vy = Math.max(-MAX_SPEED, Math.min(MAX_SPEED, vy))
+    let x = p.x[i] + vx * DT
+    let y = p.y[i] + vy * DT
+    if (x < -halfW + 0.5 || x > halfW - 0.5) vx = -vx
+    if (y < 0.5 || y > p.height) vy = -vy
+    x = Math.max(-halfW + 0.5, Math.min(halfW - 0.5, x))
+    y = Math.max(0.5, Math.min(p.height, y))
+    p.x[i] = x
+    p.y[i] = y
+    p.vx[i] = vx
+    p.vy[i] = vy
+  }
+}
+
+interface Run {
+  times: number[]
+  pairsPerFrame: number
+  movedPerFrame: number
+}
+
+function runTree(n: number, frames: number, warmup: number): Run & { height: number; heapDelta: number } {
+  const pile = buildPile(n, 1)
+  const prng = new Prng(2)
+  const bp = new BroadPhase(MARGIN)
+  const proxies = new Int32Array(pile.n)
+  for (let i = 0; i < pile.n; i++) {
+    const x = pile.x[i]
+    const y = pile.y[i]
+    const hx = pile.hx[i]
+    const hy = pile.hy[i]
+    proxies[i] = bp.createProxy(x - hx, y - hy, x + hx, y + hy, i + 1, i < pile.statics)
+  }
+  const pairs = new PairBuffer()
+  bp.updatePairs(pairs)
+  const times: number[] = []
+  let pairTotal = 0
+  let movedTotal = 0
+  let heapBefore = 0
+  for (let f = 0; f < warmup + frames; f++) {
+    if (f === warmup) heapBefore = process.memoryUsage().heapUsed
+    stepPile(pile, prng)
+    const t0 = performance.now()
+    let moved = 0
+    for (let i = pile.statics; i < pile.n; i++) {
+      const x = pile.x[i]
+      const y = pile.y[i]
+      const hx = pile.hx[i]
+      const hy = pile.hy[i]
+      if (bp.moveProxy(proxies[i], x - hx, y - hy, x + hx, y + hy)) moved++
+    }
+    const count = bp.updatePairs(pairs)
+    const t1 = performance.now()
+    if (f >= warmup) {
+      times.push(t1 - t0)
+      pairTotal += count
+      movedTotal += moved
+    }
+  }
+  const heapDelta = process.memoryUsage().heapUsed - heapBefore
+  return {
+    times,
+    pairsPerFrame: pairTotal / frames,
+    movedPerFrame: movedTotal / frames,
+    height: bp.treeHeight,
+    heapDelta,
+  }
+}
+
+function runBruteForce(n: number, frames: number, warmup: number): Run {
+  const pile = buildPile(n, 1)
+  const prng = new Prng(2)
+  const total = pile.n
+  const fat = new Float64Array(4 * total)
+  for (let i = 0; i < total; i++) {
+    const r = i < pile.statics ? 0 : MARGIN
+    fat[4 * i] = pile.x[i] - pile.hx[i] - r
+    fat[4 * i + 1] = pile.y[i] - pile.hy[i] - r
+    fat[4 * i + 2] = pile.x[i] + pile.hx[i] + r
+    fat[4 * i + 3] = pile.y[i] + pile.hy[i] + r
+  }
+  const pairs = new PairBuffer(1 << 16)
+  const times: number[] = []
+  let pairTotal = 0
+  let movedTotal = 0
+  for (let f = 0; f < warmup + frames; f++) {
+    stepPile(pile, prng)
+    const t0 = performance.now()
+    const moved = refitFatBoxes(pile, fat)
+    const count = bruteForcePairs(fat, total, pile.statics, pairs)
+    const t1 = performance.now()
+    if (f >= warmup) {
+      times.push(t1 - t0)
+      pairTotal += count
+      movedTotal += moved
+    }
+  }
+  return { times, pairsPerFrame: pairTotal / frames, movedPerFrame: movedTotal / frames }
+}
+
+/** The same fat-AABB rule as the tree: re-fatten only when the tight box leaves the fat one. */
+function refitFatBoxes(pile: Pile, fat: Float64Array): number {
+  let moved = 0
+  for (let i = pile.statics; i < pile.n; i++) {
+    const x0 = pile.x[i] - pile.hx[i]
+    const y0 = pile.y[i] - pile.hy[i]
+    const x1 = pile.x[i] + pile.hx[i]
+    const y1 = pile.y[i] + pile.hy[i]
+    const o = 4 * i
+    if (fat[o] <= x0 && fat[o + 1] <= y0 && x1 <= fat[o + 2] && y1 <= fat[o + 3]) continue
+    fat[o] = x0 - MARGIN
+    fat[o + 1] = y0 - MARGIN
+    fat[o + 2] = x1 + MARGIN
+    fat[o + 3] = y1 + MARGIN
+    moved++
+  }
+  return moved
+}
+
+/** Every overlapping pair, not static-static, in (a, b) order because i < j are visited in id order. */
+function bruteForcePairs(fat: Float64Array, n: number, statics: number, pairs: PairBuffer): number {
+  let count = 0
+  for (let i = 0; i < n; i++) {
+    const x0 = fat[4 * i]
+    const y0 = fat[4 * i + 1]
+    const x1 = fat[4 * i + 2]
+    const y1 = fat[4 * i + 3]
+    for (let j = i < statics ? statics : i + 1; j < n; j++) {
+      const o = 4 * j
+      if (x0 > fat[o + 2] || fat[o] > x1 || y0 > fat[o + 3] || fat[o + 1] > y1) continue
+      if (count === pairs.a.length) {
+        pairs.count = count
+        pairs.reserve(count + 1)
+      }
+      pairs.a[count] = i + 1
+      pairs.b[count] = j + 1
+      count++
+    }
+  }
+  pairs.count = count
+  return count
+}
+
+function percentile(times: number[], q: number): number {
+  const sorted = [...times].sort((a, b) => a - b)
+  return sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))]
+}
+
+function round(x: number, digits = 4): number {
+  const s = 10 ** digits
+  return Math.round(x * s) / s
+}
+
+const results = []
+console.log(
+  'bodies | tree median / p95 ms | brute median / p95 ms | speed-up | reinserted/frame | new pairs/frame | all pairs | height',
+)
+for (const n of SIZES) {
+  const tree = runTree(n, 600, 120)
+  const bruteFrames = n <= 1000 ? 300 : n <= 2000 ? 120 : 60
+  const brute = runBruteForce(n, bruteFrames, 20)
+  const row = {
+    bodies: n,
+    staticBodies: 4,
+    tree: {
+      medianMs: round(percentile(tree.times, 0.5)),
+      p95Ms: round(percentile(tree.times, 0.95)),
+      frames: tree.times.length,
+      reinsertedPerFrame: round(tree.movedPerFrame, 1),
+      newPairsPerFrame: round(tree.pairsPerFrame, 1),
+      height: tree.height,
+      heapDeltaBytesOverFrames: tree.heapDelta,
+    },
+    bruteForce: {
+      medianMs: round(percentile(brute.times, 0.5)),
+      p95Ms: round(percentile(brute.times, 0.95)),
+      frames: brute.times.length,
+      allPairsPerFrame: round(brute.pairsPerFrame, 1),
+    },
+  }
+  results.push(row)
+  console.log(
+    [
+      String(n).padStart(6),
+      `${row.tree.medianMs.toFixed(4)} / ${row.tree.p95Ms.toFixed(4)}`.padStart(20),
+      `${row.bruteForce.medianMs.toFixed(3)} / ${row.bruteForce.p95Ms.toFixed(3)}`.padStart(21),
+      `${(row.bruteForce.medianMs / row.tree.medianMs).toFixed(1)}x`.padStart(8),
+      String(row.tree.reinsertedPerFrame).padStart(16),
+      String(row.tree.newPairsPerFrame).padStart(15),
+      String(row.bruteForce.allPairsPerFrame).padStart(9),
+      String(row.tree.height).padStart(6),
+    ].join(' | '),
+  )
+}
+
+const report = {
+  benchmark: 'broad-phase',
+  scene:
+    'pile-like: 0.4-0.9 m boxes in a ~1.25 sqrt(n) m container, 4 huge statics; 30% of bodies move per frame',
+  margin: MARGIN,
+  machine: {
+    cpu: os.cpus()[0]?.model ?? 'unknown',
+    cores: os.cpus().length,
+    node: process.version,
+    os: os.platform(),
+  },
+  date: new Date().toISOString(),
+  results,
+}
+writeFileSync(new URL('./results/broad-phase.json', import.meta.url), `${JSON.stringify(report, null, 2)}\n`)
+console.log('wrote bench/results/broad-phase.json')
