@@ -22,8 +22,11 @@
  * Points are kept only while their separation is below the speculative distance. Circle A against
  * polygon B runs polygon-against-circle with the roles swapped and flips the normal.
  *
- * Determinism and speed: only + - * / and Math.sqrt/abs; nothing is allocated per call (scratch
- * lives in module-level Float64Arrays and numbers).
+ * Determinism and speed: only + - * / and Math.sqrt/abs/min/max. Nothing is allocated per call:
+ * scratch lives in module-level Float64Arrays. V8 boxes a non-integer number into a fresh heap
+ * object whenever it crosses a call that was not inlined (argument or return value) or is stored
+ * in a module-level `let`, so the transforms are copied once into the `frame` array and the
+ * internal helpers pass only integers, booleans and objects, returning doubles through `found`.
  */
 import type { Manifold, ManifoldPoint } from './manifold.ts'
 import { makeFeatureId } from './manifold.ts'
@@ -46,8 +49,19 @@ const NY = 3 * MAX_VERTICES
 const localA = new Float64Array(4 * MAX_VERTICES)
 const localB = new Float64Array(4 * MAX_VERTICES)
 
-/** Edge index found by the last findMaxSeparation call. */
-let bestEdge = 0
+// The current call's transforms and speculative distance, unboxed.
+const AX = 0
+const AY = 1
+const AC = 2
+const AS = 3
+const BX = 4
+const BY = 5
+const BC = 6
+const BS = 7
+const SPEC = 8
+const frame = new Float64Array(9)
+// Results of findMaxSeparation: separation at [0], edge index at [1].
+const found = new Float64Array(2)
 
 /** Fills `out` with the contact manifold of shapeA at transform A and shapeB at transform B. */
 export function collideShapes(
@@ -64,78 +78,37 @@ export function collideShapes(
   speculativeDistance: number,
   out: Manifold,
 ): void {
+  setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
   if (shapeA.type === 'polygon') {
-    if (shapeB.type === 'polygon') {
-      collidePolygons(shapeA, ax, ay, ac, as, shapeB, bx, by, bc, bs, speculativeDistance, out)
-    } else {
-      collidePolygonAndCircle(shapeA, ax, ay, ac, as, shapeB, bx, by, bc, bs, speculativeDistance, out)
-    }
+    if (shapeB.type === 'polygon') polygonsInFrame(shapeA, shapeB, out)
+    else polygonAndCircleInFrame(shapeA, shapeB, false, out)
   } else if (shapeB.type === 'polygon') {
-    collidePolygonAndCircle(shapeB, bx, by, bc, bs, shapeA, ax, ay, ac, as, speculativeDistance, out)
-    if (out.pointCount > 0) {
-      out.normalX = -out.normalX
-      out.normalY = -out.normalY
-    }
+    polygonAndCircleInFrame(shapeB, shapeA, true, out)
   } else {
-    collideCircles(shapeA, ax, ay, ac, as, shapeB, bx, by, bc, bs, speculativeDistance, out)
+    circlesInFrame(shapeA, shapeB, out)
   }
-}
-
-/** Clears a manifold to "no contact" (zero normal, no points). */
-function setEmpty(out: Manifold): void {
-  out.normalX = 0
-  out.normalY = 0
-  out.pointCount = 0
 }
 
 /**
  * Circle against circle. Coincident centres (closer than 1e-12 m) use the fixed world normal (1, 0),
  * so the result is defined and deterministic; otherwise the normal is the centre-to-centre direction.
- * The point is computed in a form that is exactly mirror-symmetric when A and B are swapped.
  */
 export function collideCircles(
   circleA: CircleShape,
   ax: number,
   ay: number,
-  _ac: number,
-  _as: number,
+  ac: number,
+  as: number,
   circleB: CircleShape,
   bx: number,
   by: number,
-  _bc: number,
-  _bs: number,
+  bc: number,
+  bs: number,
   speculativeDistance: number,
   out: Manifold,
 ): void {
-  const dx = bx - ax
-  const dy = by - ay
-  const distance = Math.sqrt(dx * dx + dy * dy)
-  let nx = 1
-  let ny = 0
-  if (distance > TINY_DISTANCE) {
-    nx = dx / distance
-    ny = dy / distance
-  }
-  const ra = circleA.radius
-  const rb = circleB.radius
-  const separation = distance - (ra + rb)
-  if (!(separation < speculativeDistance)) {
-    setEmpty(out)
-    return
-  }
-  out.normalX = nx
-  out.normalY = ny
-  out.pointCount = 1
-  // Midpoint of (A + ra n) and (B - rb n).
-  const half = 0.5 * (ra - rb)
-  setPoint(out.points[0], 0.5 * (ax + bx) + half * nx, 0.5 * (ay + by) + half * ny, separation, 0)
-}
-
-function setPoint(p: ManifoldPoint, x: number, y: number, separation: number, id: number): void {
-  p.x = x
-  p.y = y
-  p.separation = separation
-  p.id = id
+  setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
+  circlesInFrame(circleA, circleB, out)
 }
 
 /**
@@ -151,73 +124,13 @@ export function collidePolygonAndCircle(
   circleB: CircleShape,
   bx: number,
   by: number,
-  _bc: number,
-  _bs: number,
+  bc: number,
+  bs: number,
   speculativeDistance: number,
   out: Manifold,
 ): void {
-  // Circle centre in A's frame.
-  const dx = bx - ax
-  const dy = by - ay
-  const cx = ac * dx + as * dy
-  const cy = ac * dy - as * dx
-  const radius = circleB.radius
-  const count = polygonA.count
-  const vs = polygonA.vertices
-  const ns = polygonA.normals
-  // Face of greatest separation.
-  let face = 0
-  let faceSeparation = Number.NEGATIVE_INFINITY
-  for (let i = 0; i < count; i++) {
-    const s = ns[i].x * (cx - vs[i].x) + ns[i].y * (cy - vs[i].y)
-    if (s > faceSeparation) {
-      faceSeparation = s
-      face = i
-    }
-  }
-  if (!(faceSeparation - radius < speculativeDistance)) {
-    setEmpty(out)
-    return
-  }
-  const v1 = vs[face]
-  const v2 = vs[face + 1 < count ? face + 1 : 0]
-  const u1 = (cx - v1.x) * (v2.x - v1.x) + (cy - v1.y) * (v2.y - v1.y)
-  const u2 = (cx - v2.x) * (v1.x - v2.x) + (cy - v2.y) * (v1.y - v2.y)
-  let nx: number
-  let ny: number
-  let px: number
-  let py: number
-  let separation: number
-  if (faceSeparation > TINY_DISTANCE && (u1 < 0 || u2 < 0)) {
-    // Vertex region: the centre is outside, nearest to one end of the face.
-    const vx = u1 < 0 ? v1.x : v2.x
-    const vy = u1 < 0 ? v1.y : v2.y
-    const ex = cx - vx
-    const ey = cy - vy
-    const distance = Math.sqrt(ex * ex + ey * ey)
-    nx = ex / distance
-    ny = ey / distance
-    separation = distance - radius
-    // Midpoint of the vertex and the circle's nearest point c - r n.
-    px = 0.5 * (vx + cx - radius * nx)
-    py = 0.5 * (vy + cy - radius * ny)
-  } else {
-    // Face region: the centre projects onto the face (it may be inside the polygon).
-    nx = ns[face].x
-    ny = ns[face].y
-    separation = faceSeparation - radius
-    const back = 0.5 * (faceSeparation + radius)
-    px = cx - back * nx
-    py = cy - back * ny
-  }
-  if (!(separation < speculativeDistance)) {
-    setEmpty(out)
-    return
-  }
-  out.normalX = ac * nx - as * ny
-  out.normalY = as * nx + ac * ny
-  out.pointCount = 1
-  setPoint(out.points[0], ax + ac * px - as * py, ay + as * px + ac * py, separation, 0)
+  setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
+  polygonAndCircleInFrame(polygonA, circleB, false, out)
 }
 
 /**
@@ -238,43 +151,178 @@ export function collidePolygons(
   speculativeDistance: number,
   out: Manifold,
 ): void {
+  setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
+  polygonsInFrame(polygonA, polygonB, out)
+}
+
+function setFrame(
+  ax: number,
+  ay: number,
+  ac: number,
+  as: number,
+  bx: number,
+  by: number,
+  bc: number,
+  bs: number,
+  speculativeDistance: number,
+): void {
+  frame[AX] = ax
+  frame[AY] = ay
+  frame[AC] = ac
+  frame[AS] = as
+  frame[BX] = bx
+  frame[BY] = by
+  frame[BC] = bc
+  frame[BS] = bs
+  frame[SPEC] = speculativeDistance
+}
+
+/** Clears a manifold to "no contact" (zero normal, no points). */
+function setEmpty(out: Manifold): void {
+  out.normalX = 0
+  out.normalY = 0
+  out.pointCount = 0
+}
+
+/** Circles in `frame`. The formulas are exactly mirror-symmetric when A and B are swapped. */
+function circlesInFrame(circleA: CircleShape, circleB: CircleShape, out: Manifold): void {
+  const ax = frame[AX]
+  const ay = frame[AY]
+  const dx = frame[BX] - ax
+  const dy = frame[BY] - ay
+  const distance = Math.sqrt(dx * dx + dy * dy)
+  let nx = 1
+  let ny = 0
+  if (distance > TINY_DISTANCE) {
+    nx = dx / distance
+    ny = dy / distance
+  }
+  const ra = circleA.radius
+  const rb = circleB.radius
+  const separation = distance - (ra + rb)
+  if (!(separation < frame[SPEC])) {
+    setEmpty(out)
+    return
+  }
+  out.normalX = nx
+  out.normalY = ny
+  out.pointCount = 1
+  // Midpoint of (A + ra n) and (B - rb n).
+  const half = 0.5 * (ra - rb)
+  const p = out.points[0]
+  p.x = 0.5 * (ax + frame[BX]) + half * nx
+  p.y = 0.5 * (ay + frame[BY]) + half * ny
+  p.separation = separation
+  p.id = 0
+}
+
+/** Polygon against circle in `frame`; `swapped` means the polygon is B and the circle A. */
+function polygonAndCircleInFrame(
+  poly: PolygonShape,
+  circle: CircleShape,
+  swapped: boolean,
+  out: Manifold,
+): void {
+  const px = frame[swapped ? BX : AX]
+  const py = frame[swapped ? BY : AY]
+  const pc = frame[swapped ? BC : AC]
+  const ps = frame[swapped ? BS : AS]
+  // Circle centre in the polygon's frame.
+  const dx = frame[swapped ? AX : BX] - px
+  const dy = frame[swapped ? AY : BY] - py
+  const cx = pc * dx + ps * dy
+  const cy = pc * dy - ps * dx
+  const radius = circle.radius
+  const count = poly.count
+  const vs = poly.vertices
+  const ns = poly.normals
+  // Face of greatest separation.
+  let face = 0
+  let faceSeparation = Number.NEGATIVE_INFINITY
+  for (let i = 0; i < count; i++) {
+    const s = ns[i].x * (cx - vs[i].x) + ns[i].y * (cy - vs[i].y)
+    if (s > faceSeparation) {
+      faceSeparation = s
+      face = i
+    }
+  }
+  const v1 = vs[face]
+  const v2 = vs[face + 1 < count ? face + 1 : 0]
+  const u1 = (cx - v1.x) * (v2.x - v1.x) + (cy - v1.y) * (v2.y - v1.y)
+  const u2 = (cx - v2.x) * (v1.x - v2.x) + (cy - v2.y) * (v1.y - v2.y)
+  let nx = ns[face].x
+  let ny = ns[face].y
+  let separation = faceSeparation - radius
+  // Face region: the centre projects onto the face (it may be inside the polygon).
+  const back = 0.5 * (faceSeparation + radius)
+  let qx = cx - back * nx
+  let qy = cy - back * ny
+  if (faceSeparation > TINY_DISTANCE && (u1 < 0 || u2 < 0)) {
+    // Vertex region: the centre is outside, nearest to one end of the face.
+    const vx = u1 < 0 ? v1.x : v2.x
+    const vy = u1 < 0 ? v1.y : v2.y
+    const ex = cx - vx
+    const ey = cy - vy
+    const distance = Math.sqrt(ex * ex + ey * ey)
+    nx = ex / distance
+    ny = ey / distance
+    separation = distance - radius
+    // Midpoint of the vertex and the circle's nearest point c - r n.
+    qx = 0.5 * (vx + cx - radius * nx)
+    qy = 0.5 * (vy + cy - radius * ny)
+  }
+  if (!(separation < frame[SPEC])) {
+    setEmpty(out)
+    return
+  }
+  const sign = swapped ? -1 : 1
+  out.normalX = sign * (pc * nx - ps * ny)
+  out.normalY = sign * (ps * nx + pc * ny)
+  out.pointCount = 1
+  const p = out.points[0]
+  p.x = px + pc * qx - ps * qy
+  p.y = py + ps * qx + pc * qy
+  p.separation = separation
+  p.id = 0
+}
+
+/** Polygons in `frame`: SAT, reference and incident edges, then vertex-vertex or clipping. */
+function polygonsInFrame(polygonA: PolygonShape, polygonB: PolygonShape, out: Manifold): void {
   const countA = polygonA.count
   const countB = polygonB.count
-  const ox = polygonA.vertices[0].x
-  const oy = polygonA.vertices[0].y
-  loadPolygons(polygonA, polygonB, ax, ay, ac, as, bx, by, bc, bs)
-
-  let edgeA = 0
-  let edgeB = 0
-  const separationA = findMaxSeparation(localA, countA, localB, countB)
-  edgeA = bestEdge
-  const separationB = findMaxSeparation(localB, countB, localA, countA)
-  edgeB = bestEdge
-  if (!(separationA < speculativeDistance && separationB < speculativeDistance)) {
+  const spec = frame[SPEC]
+  loadPolygons(polygonA, polygonB)
+  findMaxSeparation(localA, countA, localB, countB)
+  const separationA = found[0]
+  let edgeA = found[1]
+  findMaxSeparation(localB, countB, localA, countA)
+  const separationB = found[0]
+  let edgeB = found[1]
+  if (!(separationA < spec && separationB < spec)) {
     setEmpty(out)
     return
   }
   // Reference face: A's unless B's is clearly better; the incident edge is on the other polygon.
   const flip = separationB > separationA + REFERENCE_FACE_TOLERANCE
-  if (flip) {
-    edgeA = findIncidentEdge(localB[NX + edgeB], localB[NY + edgeB], localA, countA)
-  } else {
-    edgeB = findIncidentEdge(localA[NX + edgeA], localA[NY + edgeA], localB, countB)
-  }
+  if (flip) edgeA = findIncidentEdge(localB, edgeB, localA, countA)
+  else edgeB = findIncidentEdge(localA, edgeA, localB, countB)
   // Apart by more than a tenth of the slop: the closest features may be two vertices.
-  const apart = Math.max(separationA, separationB) > 0.1 * LINEAR_SLOP
-  if (!(apart && collideVertices(edgeA, countA, edgeB, countB, speculativeDistance, out))) {
-    if (flip) {
-      clipPolygons(localB, countB, edgeB, localA, countA, edgeA, true, speculativeDistance, out)
-    } else {
-      clipPolygons(localA, countA, edgeA, localB, countB, edgeB, false, speculativeDistance, out)
-    }
+  const apart = separationA > 0.1 * LINEAR_SLOP || separationB > 0.1 * LINEAR_SLOP
+  if (!(apart && collideVertices(edgeA, countA, edgeB, countB, out))) {
+    if (flip) clipPolygons(localB, countB, edgeB, localA, countA, edgeA, true, out)
+    else clipPolygons(localA, countA, edgeA, localB, countB, edgeB, false, out)
   }
   if (out.pointCount === 0) {
     setEmpty(out)
     return
   }
   // Back to world space.
+  const ax = frame[AX]
+  const ay = frame[AY]
+  const ac = frame[AC]
+  const as = frame[AS]
+  const ox = polygonA.vertices[0].x
+  const oy = polygonA.vertices[0].y
   const nx = out.normalX
   const ny = out.normalY
   out.normalX = ac * nx - as * ny
@@ -289,18 +337,7 @@ export function collidePolygons(
 }
 
 /** Loads A (shifted by its vertex 0) and B (moved into that frame) into the scratch polygons. */
-function loadPolygons(
-  polygonA: PolygonShape,
-  polygonB: PolygonShape,
-  ax: number,
-  ay: number,
-  ac: number,
-  as: number,
-  bx: number,
-  by: number,
-  bc: number,
-  bs: number,
-): void {
+function loadPolygons(polygonA: PolygonShape, polygonB: PolygonShape): void {
   const va = polygonA.vertices
   const na = polygonA.normals
   const ox = va[0].x
@@ -312,10 +349,14 @@ function loadPolygons(
     localA[NY + i] = na[i].y
   }
   // B relative to the shifted A frame: rotation qA^T qB, translation qA^T (pB - pA - qA o).
+  const ac = frame[AC]
+  const as = frame[AS]
+  const bc = frame[BC]
+  const bs = frame[BS]
   const qc = ac * bc + as * bs
   const qs = ac * bs - as * bc
-  const dx = bx - (ax + ac * ox - as * oy)
-  const dy = by - (ay + as * ox + ac * oy)
+  const dx = frame[BX] - (frame[AX] + ac * ox - as * oy)
+  const dy = frame[BY] - (frame[AY] + as * ox + ac * oy)
   const px = ac * dx + as * dy
   const py = ac * dy - as * dx
   const vb = polygonB.vertices
@@ -330,8 +371,8 @@ function loadPolygons(
   }
 }
 
-/** Largest over poly1's edges of the smallest signed distance of poly2's vertices; sets bestEdge. */
-function findMaxSeparation(poly1: Float64Array, count1: number, poly2: Float64Array, count2: number): number {
+/** found = (largest over poly1's edges of the least signed distance of poly2's vertices, that edge). */
+function findMaxSeparation(poly1: Float64Array, count1: number, poly2: Float64Array, count2: number): void {
   let best = 0
   let maxSeparation = Number.NEGATIVE_INFINITY
   for (let i = 0; i < count1; i++) {
@@ -349,22 +390,24 @@ function findMaxSeparation(poly1: Float64Array, count1: number, poly2: Float64Ar
       best = i
     }
   }
-  bestEdge = best
-  return maxSeparation
+  found[0] = maxSeparation
+  found[1] = best
 }
 
-/** The edge of `poly` whose normal is most anti-parallel to (nx, ny). */
-function findIncidentEdge(nx: number, ny: number, poly: Float64Array, count: number): number {
-  let edge = 0
+/** The edge of `inc` whose normal is most anti-parallel to the normal of edge `edge` of `ref`. */
+function findIncidentEdge(ref: Float64Array, edge: number, inc: Float64Array, count: number): number {
+  const nx = ref[NX + edge]
+  const ny = ref[NY + edge]
+  let incident = 0
   let minDot = Number.POSITIVE_INFINITY
   for (let i = 0; i < count; i++) {
-    const dot = nx * poly[NX + i] + ny * poly[NY + i]
+    const dot = nx * inc[NX + i] + ny * inc[NY + i]
     if (dot < minDot) {
       minDot = dot
-      edge = i
+      incident = i
     }
   }
-  return edge
+  return incident
 }
 
 /**
@@ -377,7 +420,6 @@ function collideVertices(
   countA: number,
   edgeB: number,
   countB: number,
-  speculativeDistance: number,
   out: Manifold,
 ): boolean {
   const a2 = edgeA + 1 < countA ? edgeA + 1 : 0
@@ -405,14 +447,14 @@ function collideVertices(
     const s2 = d1x * (localB[b2] - p1x) + d1y * (localB[VY + b2] - p1y)
     if (Math.min(dd1, Math.max(s1, s2)) > Math.max(0, Math.min(s1, s2))) return false
   }
-  let f1 = denom > 0 ? clamp01((d12 * rd2 - rd1 * dd2) / denom) : 0
+  let f1 = denom > 0 ? Math.max(0, Math.min((d12 * rd2 - rd1 * dd2) / denom, 1)) : 0
   let f2 = (d12 * f1 + rd2) / dd2
   if (f2 < 0) {
     f2 = 0
-    f1 = clamp01(-rd1 / dd1)
+    f1 = Math.max(0, Math.min(-rd1 / dd1, 1))
   } else if (f2 > 1) {
     f2 = 1
-    f1 = clamp01((d12 - rd1) / dd1)
+    f1 = Math.max(0, Math.min((d12 - rd1) / dd1, 1))
   }
   if ((f1 !== 0 && f1 !== 1) || (f2 !== 0 && f2 !== 1)) return false
   const iA = f1 === 0 ? edgeA : a2
@@ -422,19 +464,18 @@ function collideVertices(
   const ex = localB[iB] - vax
   const ey = localB[VY + iB] - vay
   const distance = Math.sqrt(ex * ex + ey * ey)
-  if (distance < speculativeDistance) {
+  out.pointCount = 0
+  if (distance < frame[SPEC]) {
     out.normalX = ex / distance
     out.normalY = ey / distance
     out.pointCount = 1
-    setPoint(out.points[0], vax + 0.5 * ex, vay + 0.5 * ey, distance, makeFeatureId(iA, iB))
-  } else {
-    out.pointCount = 0
+    const p = out.points[0]
+    p.x = vax + 0.5 * ex
+    p.y = vay + 0.5 * ey
+    p.separation = distance
+    p.id = makeFeatureId(iA, iB)
   }
   return true
-}
-
-function clamp01(x: number): number {
-  return Math.max(0, Math.min(x, 1))
 }
 
 /**
@@ -451,7 +492,6 @@ function clipPolygons(
   incCount: number,
   i21: number,
   flip: boolean,
-  speculativeDistance: number,
   out: Manifold,
 ): void {
   const i12 = i11 + 1 < refCount ? i11 + 1 : 0
@@ -475,44 +515,46 @@ function clipPolygons(
   let upperX = v21x
   let upperY = v21y
   if (lower2 < 0 && span > 0) {
-    const t = clamp01(-lower2 / span)
+    const t = Math.min(-lower2 / span, 1)
     lowerX = v22x + t * (v21x - v22x)
     lowerY = v22y + t * (v21y - v22y)
   }
   if (upper2 > upper1 && span > 0) {
-    const t = clamp01((upper1 - lower2) / span)
+    const t = Math.max(0, (upper1 - lower2) / span)
     upperX = v22x + t * (v21x - v22x)
     upperY = v22y + t * (v21y - v22y)
   }
   const separationLower = nx * (lowerX - v11x) + ny * (lowerY - v11y)
   const separationUpper = nx * (upperX - v11x) + ny * (upperY - v11y)
-  // The incident edge lies wholly beyond one side plane (only in degenerate overlaps): the two
-  // clipped points coincide, so keep one.
-  const single = upper2 < 0 || lower2 > upper1
-  // Midpoints between the incident point and its projection on the reference face.
+  // If the incident edge lies wholly beyond one side plane (only in degenerate overlaps) the two
+  // clipped points coincide: keep one.
+  const spec = frame[SPEC]
+  const keepLower = separationLower < spec && !(upper2 < 0)
+  const keepUpper = separationUpper < spec && !(lower2 > upper1)
+  // Each point moves halfway to its projection on the reference face.
   const lowerMidX = lowerX - 0.5 * separationLower * nx
   const lowerMidY = lowerY - 0.5 * separationLower * ny
   const upperMidX = upperX - 0.5 * separationUpper * nx
   const upperMidY = upperY - 0.5 * separationUpper * ny
+  out.normalX = flip ? -nx : nx
+  out.normalY = flip ? -ny : ny
   let n = 0
-  if (flip) {
-    out.normalX = -nx
-    out.normalY = -ny
-    if (separationUpper < speculativeDistance && !(single && lower2 > upper1)) {
-      setPoint(out.points[n++], upperMidX, upperMidY, separationUpper, makeFeatureId(i21, i12))
-    }
-    if (separationLower < speculativeDistance && !(single && upper2 < 0)) {
-      setPoint(out.points[n++], lowerMidX, lowerMidY, separationLower, makeFeatureId(i22, i11))
-    }
-  } else {
-    out.normalX = nx
-    out.normalY = ny
-    if (separationLower < speculativeDistance && !(single && upper2 < 0)) {
-      setPoint(out.points[n++], lowerMidX, lowerMidY, separationLower, makeFeatureId(i11, i22))
-    }
-    if (separationUpper < speculativeDistance && !(single && lower2 > upper1)) {
-      setPoint(out.points[n++], upperMidX, upperMidY, separationUpper, makeFeatureId(i12, i21))
-    }
+  if (keepLower && !flip) {
+    setPoint(out.points[n++], lowerMidX, lowerMidY, separationLower, makeFeatureId(i11, i22))
+  }
+  if (keepUpper) {
+    const id = flip ? makeFeatureId(i21, i12) : makeFeatureId(i12, i21)
+    setPoint(out.points[n++], upperMidX, upperMidY, separationUpper, id)
+  }
+  if (keepLower && flip) {
+    setPoint(out.points[n++], lowerMidX, lowerMidY, separationLower, makeFeatureId(i22, i11))
   }
   out.pointCount = n
+}
+
+function setPoint(p: ManifoldPoint, x: number, y: number, separation: number, id: number): void {
+  p.x = x
+  p.y = y
+  p.separation = separation
+  p.id = id
 }

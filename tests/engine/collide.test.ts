@@ -684,3 +684,125 @@ describe('swapping A and B', () => {
     expect(polygonPairs).toBeGreaterThan(800)
   })
 })
+
+describe('feature ids', () => {
+  /** Ids of a two-point manifold ordered by the points' x (left corner first). */
+  const idsLeftToRight = (m: Manifold) =>
+    m.points[0].x < m.points[1].x ? [m.points[0].id, m.points[1].id] : [m.points[1].id, m.points[0].id]
+
+  it('a box resting on the ground keeps the id of each corner while it jiggles, in either order', () => {
+    const ground = box(10, 1)
+    const tg = xf(0, -1)
+    const body = box(0.5, 0.5)
+    const rng = new Prng(3)
+    for (const groundFirst of [true, false]) {
+      const at = (t: Xf) => (groundFirst ? collide(ground, tg, body, t) : collide(body, t, ground, tg))
+      const base = at(xf(0.3, 0.49))
+      expect(base.pointCount).toBe(2)
+      const baseIds = idsLeftToRight(base)
+      expect(baseIds[0]).not.toBe(baseIds[1])
+      for (let i = 0; i < 200; i++) {
+        const t = xf(0.3 + rng.range(-0.05, 0.05), 0.5 + rng.range(-0.015, 0.004), rng.range(-0.005, 0.005))
+        const m = at(t)
+        if (m.pointCount !== 2) expect(m.pointCount, `step ${i}`).toBe(2)
+        const ids = idsLeftToRight(m)
+        if (ids[0] !== baseIds[0] || ids[1] !== baseIds[1]) expect(ids, `step ${i}`).toEqual(baseIds)
+      }
+    }
+  })
+
+  it('the two points of every two-point manifold have different ids', () => {
+    const rng = new Prng(11)
+    let twoPoint = 0
+    for (let i = 0; i < 1000; i++) {
+      const { a, b, ta, tb } = randomPolygonPair(rng)
+      const m = collide(a, ta, b, tb)
+      if (m.pointCount < 2) continue
+      twoPoint++
+      if (m.points[0].id === m.points[1].id) expect(m.points[1].id, `pair ${i}`).not.toBe(m.points[0].id)
+    }
+    expect(twoPoint).toBeGreaterThan(100)
+  })
+})
+
+describe('robustness', () => {
+  const finiteUnit = (m: Manifold) =>
+    pts(m).every((p) => Number.isFinite(p.x) && Number.isFinite(p.y) && Number.isFinite(p.sep)) &&
+    (m.pointCount === 0 || Math.abs(Math.hypot(m.normalX, m.normalY) - 1) < 1e-12)
+
+  it('identical transforms: full overlap gives finite points at the full depth', () => {
+    const m = collide(box(0.5, 0.5), xf(2, 3, 0.3), box(0.5, 0.5), xf(2, 3, 0.3))
+    expect(m.pointCount).toBe(2)
+    expect(finiteUnit(m)).toBe(true)
+    for (const p of pts(m)) expect(p.sep).toBeCloseTo(-1, 12)
+    const rng = new Prng(8)
+    for (let i = 0; i < 100; i++) {
+      const poly = randomPolygon(rng)
+      const t = randomXf(rng)
+      const same = collide(poly, t, poly, t)
+      expect(same.pointCount).toBeGreaterThan(0)
+      expect(finiteUnit(same)).toBe(true)
+      const r = randomRadius(rng)
+      const c = collide(circle(r), t, circle(r), t)
+      expect(finiteUnit(c) && c.pointCount === 1 && c.points[0].separation === -2 * r).toBe(true)
+    }
+  })
+
+  it('a 0.05 m box on a 100 m box, in either order', () => {
+    const big = box(50, 50)
+    const small = box(0.025, 0.025)
+    const expected = [
+      { x: 9.975, y: -0.0005, sep: -0.001 },
+      { x: 10.025, y: -0.0005, sep: -0.001 },
+    ]
+    expectManifold(collide(big, xf(0, -50), small, xf(10, 0.024)), { x: 0, y: 1 }, expected, 1e-12)
+    expectManifold(collide(small, xf(10, 0.024), big, xf(0, -50)), { x: 0, y: -1 }, expected, 1e-12)
+  })
+
+  it('a 2 mm box resting 0.1 mm deep, and tilted 30 degrees corner down', () => {
+    const tiny = box(0.001, 0.001)
+    const ground = box(5, 0.5)
+    expectManifold(collide(ground, xf(0, -0.5), tiny, xf(1, 0.0009)), { x: 0, y: 1 }, [
+      { x: 0.999, y: -0.00005, sep: -0.0001 },
+      { x: 1.001, y: -0.00005, sep: -0.0001 },
+    ])
+    // Tilted by 30 degrees the lowest corner is 0.001 (cos 30 + sin 30) below the centre and the
+    // other end of the bottom edge 2 * 0.001 sin 30 = 0.001 higher: still within the speculative distance.
+    const drop = 0.001 * (cos(PI / 6) + sin(PI / 6))
+    const m = collide(ground, xf(0, -0.5), tiny, xf(1, drop - 0.0001, PI / 6))
+    expect(m.pointCount).toBe(2)
+    expect(m.normalY).toBe(1)
+    const seps = pts(m).map((p) => p.sep)
+    expect(Math.min(...seps)).toBeCloseTo(-0.0001, 12)
+    expect(Math.max(...seps)).toBeCloseTo(0.0009, 12)
+  })
+
+  it('a small polygon deep inside a large one is pushed out through the nearest face', () => {
+    const big = polygon([
+      { x: -3, y: -2 },
+      { x: 3, y: -2 },
+      { x: 4, y: 1 },
+      { x: 0, y: 3 },
+      { x: -4, y: 1 },
+    ])
+    const m = collide(big, xf(0, 0), box(0.1, 0.1), xf(0, -1.5))
+    // The bottom face y = -2 is nearest: pushing the box out through it takes 0.6 m (its top edge,
+    // y = -1.4, is the incident edge), against more than 3 m through any other face.
+    expect(m.normalX).toBe(0)
+    expect(m.normalY).toBe(-1)
+    expectManifold(m, { x: 0, y: -1 }, [
+      { x: -0.1, y: -1.7, sep: -0.6 },
+      { x: 0.1, y: -1.7, sep: -0.6 },
+    ])
+  })
+
+  it('a circle centred on a polygon vertex or deep inside gets a face normal and a finite point', () => {
+    const square = box(1, 1)
+    const onVertex = collide(square, xf(0, 0), circle(0.3), xf(1, 1))
+    expect(finiteUnit(onVertex) && onVertex.pointCount === 1).toBe(true)
+    expect(onVertex.points[0].separation).toBeCloseTo(-0.3, 12)
+    const centred = collide(square, xf(0, 0), circle(0.3), xf(0, 0))
+    expect(finiteUnit(centred) && centred.pointCount === 1).toBe(true)
+    expect(centred.points[0].separation).toBeCloseTo(-1.3, 12)
+  })
+})
