@@ -1,0 +1,252 @@
+/*
+ * The page: one animation-frame loop (the only wall-clock read besides the server's tick clock)
+ * that advances the sandbox, computes the lab, and draws; and the DOM around the canvas: toolbar,
+ * HUD, lab panel, status banner, help and lobby. Everything acts through the Sandbox interface,
+ * so the page does not know whether the physics runs here or on the server.
+ */
+import { SCENES } from '../engine/index.ts'
+import { Camera } from './camera.ts'
+import { FpsMeter, hudText } from './hud.ts'
+import { computeFreeBody, describeFreeBody, type FreeBody } from './lab.ts'
+import { cleanRoomName, roomLink, showLobby } from './lobby.ts'
+import { type DebugLayers, Renderer } from './renderer.ts'
+import type { Sandbox, ViewBody } from './sandbox.ts'
+import { helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
+import { TOOLS, ToolController, type ToolName } from './tools.ts'
+
+const $ = <T extends HTMLElement = HTMLElement>(id: string): T => document.getElementById(id) as T
+
+/** The running page. */
+export class App {
+  readonly camera = new Camera()
+  readonly renderer: Renderer
+  readonly tools: ToolController
+  readonly layers: DebugLayers = { contacts: false, joints: false, aabbs: false, ids: false }
+  readonly fps = new FpsMeter()
+  /** Latest free-body diagram (null when nothing is selected). */
+  freeBody: FreeBody | null = null
+  private lastHud = 0
+  private fittedScene = ''
+  private lastToastCount = 0
+  private frameHandle = 0
+
+  constructor(
+    readonly sandbox: Sandbox,
+    private readonly httpBase: string,
+    private readonly room: string,
+  ) {
+    const canvas = $<HTMLCanvasElement>('view')
+    this.renderer = new Renderer(canvas, this.camera)
+    this.tools = new ToolController(canvas, this.camera, () => this.sandbox)
+    this.renderer.resize()
+    window.addEventListener('resize', () => this.renderer.resize())
+    window.addEventListener('blur', () => this.tools.cancel())
+    window.addEventListener('keydown', (e) => this.key(e))
+    this.wireToolbar()
+    $('help-rows').innerHTML = helpRows()
+    this.setTool('grab')
+    this.frameHandle = requestAnimationFrame((t) => this.frame(t))
+  }
+
+  private wireToolbar(): void {
+    for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
+      b.addEventListener('click', () => this.setTool(b.dataset.tool as ToolName))
+    }
+    const scene = $<HTMLSelectElement>('scene')
+    scene.addEventListener('change', () => {
+      this.sandbox.send({ k: 'scene', name: scene.value })
+      scene.blur()
+    })
+    const click = (id: string, action: ShortcutAction): void =>
+      $(id).addEventListener('click', () => this.act(action))
+    click('pause', 'pause')
+    click('step', 'step')
+    click('reset', 'reset')
+    click('gravity', 'gravity')
+    click('help-button', 'help')
+    click('help-close', 'help')
+    click('rooms', 'lobby')
+    click('lobby-close', 'lobby')
+    $('layers').addEventListener('click', () => {
+      const on = !this.layers.contacts
+      this.layers.contacts = this.layers.joints = this.layers.aabbs = this.layers.ids = on
+    })
+    $('mode').textContent = this.sandbox.mode === 'online' ? 'Offline' : 'Online'
+    $('mode').addEventListener('click', () => {
+      location.href =
+        this.sandbox.mode === 'online' ? `?offline&scene=${this.sandbox.scene()}` : roomLink(this.room)
+    })
+    $('go-offline').addEventListener('click', () => {
+      location.href = `?offline&scene=${this.sandbox.scene() || 'pyramid'}`
+    })
+    $('retry').addEventListener('click', () => (this.sandbox as { retry?: () => void }).retry?.())
+    $('create-room').addEventListener('click', () => {
+      const name = cleanRoomName($<HTMLInputElement>('new-room').value)
+      if (name) location.href = roomLink(name)
+      else $('lobby-list').textContent = 'Room names use letters, digits, - and _ (at most 32).'
+    })
+  }
+
+  /** Switch the active tool. */
+  setTool(tool: ToolName): void {
+    this.tools.cancel()
+    this.tools.tool = tool
+    if (tool !== 'inspect') this.tools.selected = 0
+    for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
+      b.classList.toggle('active', b.dataset.tool === tool)
+    }
+  }
+
+  private key(e: KeyboardEvent): void {
+    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return
+    const action = shortcutFor(e)
+    if (!action) return
+    e.preventDefault()
+    this.act(action)
+  }
+
+  /** Perform one toolbar or keyboard action. */
+  act(action: ShortcutAction): void {
+    const s = this.sandbox
+    if (action.startsWith('tool:')) {
+      this.setTool(action.slice(5) as ToolName)
+      return
+    }
+    if (action.startsWith('layer:')) {
+      const layer = action.slice(6) as keyof DebugLayers
+      this.layers[layer] = !this.layers[layer]
+      return
+    }
+    switch (action) {
+      case 'pause':
+        s.send({ k: 'pause', paused: !s.paused() })
+        break
+      case 'step':
+        s.send({ k: 'step' })
+        break
+      case 'reset':
+        s.send({ k: 'reset' })
+        break
+      case 'gravity': {
+        const g = s.gravity()
+        s.send(g.y !== 0 || g.x !== 0 ? { k: 'gravity', x: 0, y: 0 } : { k: 'gravity', x: 0, y: -10 })
+        break
+      }
+      case 'fit':
+        this.fit()
+        break
+      case 'help':
+        $('help').hidden = !$('help').hidden
+        break
+      case 'lobby':
+        $('lobby').hidden = !$('lobby').hidden
+        if (!$('lobby').hidden) void showLobby($('lobby-list'), this.httpBase, this.room)
+        break
+      case 'escape':
+        $('help').hidden = true
+        $('lobby').hidden = true
+        this.tools.cancel()
+        this.tools.selected = 0
+        return
+    }
+  }
+
+  /** Frame the scene's movable bodies (and the ground line) in the view. */
+  fit(): void {
+    let minX = Infinity
+    let minY = 0
+    let maxX = -Infinity
+    let maxY = 4
+    for (const b of this.sandbox.bodies()) {
+      if (b.kind === 0 && Math.abs(b.x) > 60) continue
+      minX = Math.min(minX, b.x - 1)
+      maxX = Math.max(maxX, b.x + 1)
+      minY = Math.min(minY, b.y - 1)
+      maxY = Math.max(maxY, b.y + 1)
+    }
+    if (!Number.isFinite(minX)) [minX, maxX] = [-10, 10]
+    this.camera.fit(minX, minY, maxX, maxY)
+  }
+
+  private frame(now: number): void {
+    this.frameHandle = requestAnimationFrame((t) => this.frame(t))
+    this.fps.frame(now)
+    const s = this.sandbox
+    s.update(now)
+    const scene = s.scene()
+    if (scene && scene !== this.fittedScene && s.bodies().length > 0) {
+      this.fittedScene = scene
+      this.fit()
+      this.syncScenePicker()
+    }
+    const selected = this.selectedBody()
+    const lab = selected ? s.lab(selected.id) : null
+    this.freeBody = selected && lab ? computeFreeBody(selected.id, lab) : null
+    this.renderer.draw({
+      bodies: s.bodies(),
+      joints: s.joints(),
+      cursors: s.cursors(),
+      contacts: s.contacts(),
+      layers: this.layers,
+      overlay: this.tools.overlay(s.color()),
+      selected,
+      freeBody: this.freeBody,
+    })
+    if (now - this.lastHud > 250) {
+      this.lastHud = now
+      this.refreshPanels(selected)
+    }
+  }
+
+  private selectedBody(): ViewBody | null {
+    const id = this.tools.selected
+    if (!id) return null
+    const body = this.sandbox.bodies().find((b) => b.id === id) ?? null
+    if (!body) this.tools.selected = 0
+    return body
+  }
+
+  private syncScenePicker(): void {
+    const select = $<HTMLSelectElement>('scene')
+    const names = this.sandbox.rules()?.scenes ?? Object.keys(SCENES)
+    if (select.options.length !== names.length) {
+      select.innerHTML = names.map((n) => `<option value="${n}">${n}</option>`).join('')
+    }
+    select.value = this.sandbox.scene()
+  }
+
+  private refreshPanels(selected: ViewBody | null): void {
+    const s = this.sandbox
+    $('hud').textContent = hudText(s.stats(), this.fps.value, s.mode, s.scene())
+    const controls = s.rules()?.controls ?? true
+    for (const id of ['scene', 'pause', 'step', 'reset', 'gravity']) {
+      ;($(id) as HTMLButtonElement).disabled = !controls
+    }
+    $('pause').textContent = s.paused() ? '▶ Play' : '⏸ Pause'
+    if ($<HTMLSelectElement>('scene').value !== s.scene()) this.syncScenePicker()
+    $('lab').hidden = !selected
+    if (selected && this.freeBody) $('lab-text').textContent = describeFreeBody(selected.id, this.freeBody)
+    const status = s.status()
+    $('banner').hidden = status.state !== 'error'
+    if (status.state === 'error') {
+      $('banner-text').textContent = status.message
+      $('retry').hidden = !status.retrying
+    }
+    const notices = (s as { notices?: string[] }).notices
+    if (notices && notices.length !== this.lastToastCount) {
+      this.lastToastCount = notices.length
+      $('toast').hidden = false
+      $('toast').textContent = notices[notices.length - 1] ?? ''
+      setTimeout(() => ($('toast').hidden = true), 3000)
+    }
+  }
+
+  /** Stop the loop. */
+  stop(): void {
+    cancelAnimationFrame(this.frameHandle)
+    this.sandbox.dispose()
+  }
+}
+
+/** The tools in toolbar order (re-exported for tests and the README). */
+export { TOOLS }

@@ -1,0 +1,147 @@
+/*
+ * One WebSocket to the server with automatic reconnect. It joins on open (with the reconnect
+ * token of the previous welcome, so a dropped player keeps its identity and colour), decodes every
+ * frame with the shared codec, and turns failures into messages a person can act on:
+ * unreachable server, protocol version mismatch, full room, server shutting down. It retries with
+ * exponential backoff (0.5 s doubling to 8 s) except after a version mismatch, where only a reload
+ * with a newer client can help.
+ */
+import {
+  CLOSE_CODES,
+  type ClientMessage,
+  decodeServerMessage,
+  encodeMessage,
+  type ServerMessage,
+} from '../shared/index.ts'
+
+/** What the connection reports. */
+export interface ConnectionHandlers {
+  message(message: ServerMessage, bytes: number): void
+  /** Status for the banner: null when joined and healthy. */
+  status(text: string | null, retrying: boolean, fatal: boolean): void
+}
+
+const MIN_BACKOFF_MS = 500
+const MAX_BACKOFF_MS = 8000
+
+/** A reconnecting WebSocket session. */
+export class Connection {
+  private ws: WebSocket | null = null
+  private backoff = MIN_BACKOFF_MS
+  private timer: ReturnType<typeof setTimeout> | null = null
+  private lastError: { code: string; reason: string } | null = null
+  private joined = false
+  private closed = false
+  /** Bytes sent since creation. */
+  bytesSent = 0
+
+  constructor(
+    private readonly url: string,
+    private readonly join: () => ClientMessage,
+    private readonly handlers: ConnectionHandlers,
+  ) {
+    this.open()
+  }
+
+  /** True after a welcome on the current socket. */
+  get isJoined(): boolean {
+    return this.joined
+  }
+
+  private open(): void {
+    this.joined = false
+    this.lastError = null
+    let ws: WebSocket
+    try {
+      ws = new WebSocket(this.url)
+    } catch (error) {
+      this.handlers.status(`Cannot open ${this.url}: ${(error as Error).message}`, false, true)
+      return
+    }
+    ws.binaryType = 'arraybuffer'
+    this.ws = ws
+    ws.onopen = () => this.send(this.join())
+    ws.onmessage = (event) => this.receive(event.data)
+    ws.onclose = (event) => this.onClose(event.code, event.reason)
+    ws.onerror = () => {}
+  }
+
+  private receive(data: unknown): void {
+    if (!(data instanceof ArrayBuffer)) return
+    const decoded = decodeServerMessage(new Uint8Array(data))
+    if (!decoded.ok) {
+      this.handlers.status(
+        `The server sent something this client cannot read: ${decoded.reason}`,
+        true,
+        false,
+      )
+      return
+    }
+    const message = decoded.value
+    if (message.t === 'welcome') {
+      this.joined = true
+      this.backoff = MIN_BACKOFF_MS
+      this.handlers.status(null, false, false)
+    }
+    if (message.t === 'error') this.lastError = { code: message.code, reason: message.reason }
+    this.handlers.message(message, data.byteLength)
+  }
+
+  private onClose(code: number, reason: string): void {
+    this.ws = null
+    const wasJoined = this.joined
+    this.joined = false
+    if (this.closed) return
+    const error = this.lastError
+    if (code === CLOSE_CODES.version || error?.code === 'version') {
+      const why = error?.reason ?? reason
+      this.handlers.status(
+        `Protocol mismatch: ${why}. Reload the page to get the current client.`,
+        false,
+        true,
+      )
+      return
+    }
+    let text: string
+    if (code === CLOSE_CODES.full || error?.code === 'full') {
+      text = `Room full: ${error?.reason ?? reason}. Trying again`
+      this.backoff = Math.max(this.backoff, 4000)
+    } else if (code === CLOSE_CODES.goingAway)
+      text = `The server is restarting (${reason || 'going away'}). Reconnecting`
+    else if (!wasJoined && code === 1006)
+      text = `Cannot reach the server at ${new URL(this.url).host}. Retrying`
+    else text = `Connection lost (${code}${reason ? `: ${reason}` : ''}). Reconnecting`
+    this.handlers.status(`${text} in ${(this.backoff / 1000).toFixed(1)} s…`, true, false)
+    this.timer = setTimeout(() => {
+      this.timer = null
+      this.open()
+    }, this.backoff)
+    this.backoff = Math.min(MAX_BACKOFF_MS, this.backoff * 2)
+  }
+
+  /** Send a message if the socket is open; returns the bytes sent (0 when dropped). */
+  send(message: ClientMessage): number {
+    const ws = this.ws
+    if (!ws || ws.readyState !== WebSocket.OPEN) return 0
+    const bytes = encodeMessage(message)
+    ws.send(bytes as Uint8Array<ArrayBuffer>)
+    this.bytesSent += bytes.byteLength
+    return bytes.byteLength
+  }
+
+  /** Reconnect now (e.g. a "retry" button), skipping the backoff wait. */
+  retryNow(): void {
+    if (this.ws || this.closed) return
+    if (this.timer) clearTimeout(this.timer)
+    this.timer = null
+    this.open()
+  }
+
+  /** Close for good. */
+  close(): void {
+    this.closed = true
+    if (this.timer) clearTimeout(this.timer)
+    this.ws?.close(1000, 'leaving')
+    this.ws = null
+  }
+}

@@ -1,0 +1,43 @@
+/*
+ * The HUD: one block of monospace text, refreshed a few times a second (not every frame, so it
+ * costs nothing and stays readable). Numbers a mode does not have are shown as "-".
+ */
+import type { SandboxStats } from './sandbox.ts'
+
+const n = (v: number | null, digits = 0, unit = ''): string =>
+  v === null ? '-' : `${v.toFixed(digits)}${unit}`
+
+/** The HUD text for one refresh. */
+export function hudText(s: SandboxStats, fps: number, mode: 'online' | 'offline', scene: string): string {
+  const lines = [
+    `${mode === 'online' ? `room ${s.room}` : 'offline'}  ${scene}  players ${s.players}`,
+    `tick ${s.tick}  fps ${fps.toFixed(0)}`,
+    `bodies ${s.awake} awake / ${s.total}`,
+  ]
+  if (mode === 'online') {
+    lines.push(`ping ${n(s.pingMs, 0, ' ms')}  delay ${n(s.delayMs, 0, ' ms')}`)
+    lines.push(`snapshots ${n(s.snapshotHz, 0, ' Hz')}`)
+    lines.push(`down ${n(s.downKBs, 1, ' kB/s')}  up ${n(s.upKBs, 1, ' kB/s')}`)
+  }
+  lines.push(`step ${n(s.stepMs, 2, ' ms')}${mode === 'online' && s.stepMs !== null ? ' (server)' : ''}`)
+  return lines.join('\n')
+}
+
+/** Counts frames and reports frames per second over the last half second or more. */
+export class FpsMeter {
+  private frames = 0
+  private start = Number.NaN
+  value = 0
+
+  /** Count one frame at `nowMs`. */
+  frame(nowMs: number): void {
+    if (Number.isNaN(this.start)) this.start = nowMs
+    this.frames++
+    const elapsed = nowMs - this.start
+    if (elapsed >= 500) {
+      this.value = (this.frames * 1000) / elapsed
+      this.frames = 0
+      this.start = nowMs
+    }
+  }
+}

@@ -1,0 +1,122 @@
+/*
+ * The lab: a free-body diagram of one selected body. Forces come from the contact impulses of the
+ * last step divided by the step (Box2D reports impulses; an impulse over 1/60 s is an average
+ * force): each contact's normal and friction force on the body, gravity m g, and their sum. A
+ * contact's impulses act on body B along +normal and +tangent (tangent = (ny, -nx)) and on body A
+ * with the opposite sign, exactly as the solver applies them.
+ *
+ * On a box resting on a ramp of angle theta this gives normal = m g cos(theta) and friction =
+ * m g sin(theta), and the net force is about zero: the browser test checks those numbers.
+ */
+import { STEP_SECONDS, type Vec2 } from '../engine/index.ts'
+import type { LabData } from './sandbox.ts'
+
+/** One contact's forces on the selected body (N), applied at the mean contact point (m). */
+export interface ContactForce {
+  other: number
+  point: Vec2
+  normal: Vec2
+  friction: Vec2
+  /** Magnitudes (N). */
+  normalN: number
+  frictionN: number
+}
+
+/** The free-body diagram of one body. */
+export interface FreeBody {
+  mass: number
+  gravity: Vec2
+  contacts: ContactForce[]
+  net: Vec2
+  source: LabData['source']
+}
+
+/** Forces on `bodyId` from the lab data (see the file comment for the sign conventions). */
+export function computeFreeBody(bodyId: number, data: LabData): FreeBody {
+  const gravity = { x: data.mass * data.gravity.x, y: data.mass * data.gravity.y }
+  const net = { x: gravity.x, y: gravity.y }
+  const contacts: ContactForce[] = []
+  for (const c of data.contacts) {
+    if (c.bodyA !== bodyId && c.bodyB !== bodyId) continue
+    if (c.points.length === 0) continue
+    const sign = c.bodyB === bodyId ? 1 : -1
+    let n = 0
+    let t = 0
+    let px = 0
+    let py = 0
+    for (const p of c.points) {
+      n += p.normalImpulse
+      t += p.tangentImpulse
+      px += p.point.x
+      py += p.point.y
+    }
+    const fn = (sign * n) / STEP_SECONDS
+    const ft = (sign * t) / STEP_SECONDS
+    const normal = { x: fn * c.normal.x, y: fn * c.normal.y }
+    const friction = { x: ft * c.normal.y, y: -ft * c.normal.x }
+    net.x += normal.x + friction.x
+    net.y += normal.y + friction.y
+    contacts.push({
+      other: c.bodyA === bodyId ? c.bodyB : c.bodyA,
+      point: { x: px / c.points.length, y: py / c.points.length },
+      normal,
+      friction,
+      normalN: Math.abs(fn),
+      frictionN: Math.abs(ft),
+    })
+  }
+  return { mass: data.mass, gravity, contacts, net, source: data.source }
+}
+
+const fmt = (v: number): string => v.toFixed(2)
+const len = (v: Vec2): number => Math.sqrt(v.x * v.x + v.y * v.y)
+
+/** The lab panel's text, one line per force (values in newtons). */
+export function describeFreeBody(bodyId: number, fb: FreeBody): string {
+  const lines = [`body ${bodyId}   mass ${fmt(fb.mass)} kg`, `gravity  ${fmt(len(fb.gravity))} N`]
+  for (const c of fb.contacts) {
+    lines.push(`contact with ${c.other}: normal ${fmt(c.normalN)} N  friction ${fmt(c.frictionN)} N`)
+  }
+  if (fb.contacts.length === 0) lines.push('no contacts')
+  lines.push(`net force ${fmt(len(fb.net))} N  (${fmt(fb.net.x)}, ${fmt(fb.net.y)})`)
+  lines.push(
+    fb.source === 'world'
+      ? 'source: contact impulses of the last step / (1/60 s)'
+      : 'source: local re-solve of the snapshot pose (server sends no contacts)',
+  )
+  return lines.join('\n')
+}
+
+/** Draw the diagram's arrows in world space; `scale` is CSS px per metre. */
+export function drawFreeBody(ctx: CanvasRenderingContext2D, origin: Vec2, fb: FreeBody, scale: number): void {
+  // Arrows are 1 m per (m g) so a body's weight is always one metre long whatever its mass.
+  const unit = 1 / Math.max(1e-6, len(fb.gravity))
+  const arrow = (from: Vec2, f: Vec2, color: string): void => {
+    const tx = from.x + f.x * unit
+    const ty = from.y + f.y * unit
+    const l = len(f) * unit
+    if (l < 1e-4) return
+    const head = Math.min(0.25, l * 0.4)
+    const ux = (tx - from.x) / l
+    const uy = (ty - from.y) / l
+    ctx.strokeStyle = color
+    ctx.fillStyle = color
+    ctx.lineWidth = 2.5 / scale
+    ctx.beginPath()
+    ctx.moveTo(from.x, from.y)
+    ctx.lineTo(tx, ty)
+    ctx.stroke()
+    ctx.beginPath()
+    ctx.moveTo(tx, ty)
+    ctx.lineTo(tx - ux * head - uy * head * 0.5, ty - uy * head + ux * head * 0.5)
+    ctx.lineTo(tx - ux * head + uy * head * 0.5, ty - uy * head - ux * head * 0.5)
+    ctx.closePath()
+    ctx.fill()
+  }
+  arrow(origin, fb.gravity, '#f2c14e')
+  for (const c of fb.contacts) {
+    arrow(c.point, c.normal, '#4ecdc4')
+    arrow(c.point, c.friction, '#ff6b6b')
+  }
+  arrow(origin, fb.net, '#ffffff')
+}

@@ -1,0 +1,36 @@
+/*
+ * Entry point. The URL decides the mode:
+ *   ?room=NAME      join that room on the server that served this page (a link invites a friend)
+ *   ?offline        run the engine in the page, no server (&scene=NAME picks the scene)
+ *   &name=NAME      player name (default: "guest" and a number)
+ *   &server=URL     a WebSocket URL other than this page's origin (ws://host:port/ws)
+ * Without ?room the page joins the server's default room and writes it into the address bar.
+ */
+import { App } from './app.ts'
+import { OfflineSandbox } from './offline-sandbox.ts'
+import { OnlineSandbox } from './online-sandbox.ts'
+import type { Sandbox } from './sandbox.ts'
+
+function boot(): App {
+  const params = new URLSearchParams(location.search)
+  const httpBase = `${location.protocol}//${location.host}`
+  const room = params.get('room') || 'lobby'
+  let sandbox: Sandbox
+  if (params.has('offline') || location.protocol === 'file:') {
+    sandbox = new OfflineSandbox(params.get('scene') ?? 'pyramid')
+  } else {
+    if (!params.has('room')) {
+      params.set('room', room)
+      history.replaceState(null, '', `?${params.toString()}`)
+    }
+    const ws =
+      params.get('server') || `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`
+    const name = params.get('name') || `guest ${Math.floor(Math.random() * 900 + 100)}`
+    sandbox = new OnlineSandbox({ url: ws, room, name })
+  }
+  return new App(sandbox, httpBase, room)
+}
+
+const app = boot()
+// A handle for the browser tests and for poking at the sandbox from the console.
+;(window as unknown as { concord: App }).concord = app

@@ -1,0 +1,328 @@
+/*
+ * Offline mode: the engine runs in the page. Frames are turned into whole 1/60 s steps by the
+ * engine's FixedStepper (never a variable step), and the same protocol commands the server would
+ * receive are applied to the local world here, so every tool behaves as it does online. The lab
+ * reads world.contacts() directly: the impulses of the step that was just taken.
+ */
+import {
+  buildScene,
+  type ContactInfo,
+  computeMass,
+  createWorld,
+  FixedStepper,
+  type JointId,
+  SCENES,
+  type World,
+} from '../engine/index.ts'
+import {
+  type Command,
+  fromWireShape,
+  MAX_SPAWN_SPEED,
+  type RoomRules,
+  toWireShape,
+  type WireShape,
+  WORLD_HALF_EXTENT,
+} from '../shared/index.ts'
+import { toWorld } from './picking.ts'
+import type {
+  LabData,
+  Sandbox,
+  SandboxStats,
+  SandboxStatus,
+  ViewBody,
+  ViewCursor,
+  ViewJoint,
+} from './sandbox.ts'
+
+const KIND = { static: 0, kinematic: 1, dynamic: 2 } as const
+const OWN_COLOR = '#ff9f1c'
+const clamp = (v: number, limit: number): number => Math.min(limit, Math.max(-limit, v))
+
+interface LocalJoint {
+  kind: 'pin' | 'rope'
+  a: number
+  b: number
+  ax: number
+  ay: number
+  bx: number
+  by: number
+}
+
+/** The sandbox with the engine in the page. */
+export class OfflineSandbox implements Sandbox {
+  readonly mode = 'offline'
+  world: World
+  private sceneName: string
+  private isPaused = false
+  private stepOnce = false
+  private readonly stepper = new FixedStepper()
+  private lastNow = Number.NaN
+  private readonly shapes = new Map<number, WireShape>()
+  private readonly view: ViewBody[] = []
+  private readonly viewById = new Map<number, ViewBody>()
+  private readonly joints_ = new Map<JointId, LocalJoint>()
+  private grab: { joint: JointId; body: number } | null = null
+  private stepMs = 0
+  private contactCache: ContactInfo[] | null = null
+
+  constructor(scene = 'pyramid') {
+    this.sceneName = Object.hasOwn(SCENES, scene) ? scene : 'pyramid'
+    this.world = this.build(this.sceneName)
+  }
+
+  private build(scene: string): World {
+    const world = createWorld()
+    buildScene(world, SCENES[scene].make())
+    this.shapes.clear()
+    this.viewById.clear()
+    this.view.length = 0
+    this.joints_.clear()
+    this.grab = null
+    return world
+  }
+
+  update(nowMs: number): void {
+    const frame = Number.isNaN(this.lastNow) ? 0 : (nowMs - this.lastNow) / 1000
+    this.lastNow = nowMs
+    let steps = this.stepper.advance(frame)
+    if (this.isPaused) steps = this.stepOnce ? 1 : 0
+    this.stepOnce = false
+    if (steps > 0) {
+      const start = performance.now()
+      for (let i = 0; i < steps; i++) this.world.step()
+      this.stepMs += ((performance.now() - start) / steps - this.stepMs) * 0.1
+      this.contactCache = null
+    }
+    this.refreshView()
+  }
+
+  private refreshView(): void {
+    const w = this.world
+    const ids = w.bodyIds()
+    if (ids.length !== this.view.length) {
+      this.view.length = 0
+      for (const id of ids) this.view.push(this.viewBody(id))
+    }
+    const p = { x: 0, y: 0 }
+    for (const v of this.view) {
+      w.getPosition(v.id, p)
+      v.x = p.x
+      v.y = p.y
+      v.angle = w.getAngle(v.id)
+      v.awake = w.isAwake(v.id)
+      v.grabColor = this.grab?.body === v.id ? OWN_COLOR : null
+    }
+  }
+
+  private viewBody(id: number): ViewBody {
+    let v = this.viewById.get(id)
+    if (!v) {
+      let shape = this.shapes.get(id)
+      if (!shape) {
+        shape = toWireShape(this.world.getShape(id))
+        this.shapes.set(id, shape)
+      }
+      const kind = KIND[this.world.getBodyType(id)]
+      v = { id, kind, shape, x: 0, y: 0, angle: 0, awake: true, grabColor: null }
+      this.viewById.set(id, v)
+    }
+    return v
+  }
+
+  bodies(): readonly ViewBody[] {
+    return this.view
+  }
+
+  joints(): readonly ViewJoint[] {
+    const out: ViewJoint[] = []
+    for (const [id, j] of this.joints_) {
+      const a = j.a ? this.viewById.get(j.a) : null
+      const b = this.viewById.get(j.b)
+      if (!b || (j.a && !a)) continue
+      const pa = a ? toWorld(a, j.ax, j.ay) : { x: j.ax, y: j.ay }
+      const pb = toWorld(b, j.bx, j.by)
+      out.push({ id, kind: j.kind, ax: pa.x, ay: pa.y, bx: pb.x, by: pb.y })
+    }
+    return out
+  }
+
+  cursors(): readonly ViewCursor[] {
+    return []
+  }
+
+  contacts(): ContactInfo[] {
+    this.contactCache ??= this.world.contacts()
+    return this.contactCache
+  }
+
+  /** Apply a command to the local world, as a room would (refused commands are ignored). */
+  send(cmd: Command): void {
+    try {
+      this.apply(cmd)
+    } catch {
+      // Engine preconditions (degenerate shapes or joints) refuse the command, as online.
+    }
+  }
+
+  private apply(cmd: Command): void {
+    const w = this.world
+    const movable = (id: number): boolean => w.hasBody(id) && w.getBodyType(id) !== 'static'
+    switch (cmd.k) {
+      case 'spawn':
+        w.createBody({
+          shape: fromWireShape(cmd.shape),
+          position: { x: clamp(cmd.x, WORLD_HALF_EXTENT), y: clamp(cmd.y, WORLD_HALF_EXTENT) },
+          angle: cmd.angle ?? 0,
+          linearVelocity: { x: clamp(cmd.vx ?? 0, MAX_SPAWN_SPEED), y: clamp(cmd.vy ?? 0, MAX_SPAWN_SPEED) },
+          angularVelocity: clamp(cmd.w ?? 0, MAX_SPAWN_SPEED),
+          friction: 0.6,
+        })
+        return
+      case 'grab': {
+        if (!movable(cmd.body) || w.getBodyType(cmd.body) !== 'dynamic') return
+        this.release()
+        const local = { x: cmd.lx, y: cmd.ly }
+        const target = w.getWorldPoint(cmd.body, local)
+        const maxForce = 1000 * w.getMass(cmd.body)
+        const joint = w.createJoint({ type: 'mouse', body: cmd.body, target, localAnchor: local, maxForce })
+        this.grab = { joint, body: cmd.body }
+        return
+      }
+      case 'move':
+        if (this.grab && w.hasJoint(this.grab.joint)) {
+          w.setJointTarget(this.grab.joint, {
+            x: clamp(cmd.x, WORLD_HALF_EXTENT),
+            y: clamp(cmd.y, WORLD_HALF_EXTENT),
+          })
+        }
+        return
+      case 'release':
+        this.release()
+        return
+      case 'delete':
+        if (!movable(cmd.body)) return
+        if (this.grab?.body === cmd.body) this.grab = null
+        for (const [id, j] of this.joints_) if (j.a === cmd.body || j.b === cmd.body) this.joints_.delete(id)
+        w.destroyBody(cmd.body)
+        this.viewById.delete(cmd.body)
+        this.view.length = 0
+        return
+      case 'pin':
+      case 'rope':
+        this.joint(cmd)
+        return
+      case 'unjoint':
+        if (this.joints_.has(cmd.joint)) w.destroyJoint(cmd.joint)
+        this.joints_.delete(cmd.joint)
+        return
+      case 'scene':
+        if (!Object.hasOwn(SCENES, cmd.name)) return
+        this.sceneName = cmd.name
+        this.world = this.build(cmd.name)
+        return
+      case 'reset':
+        this.world = this.build(this.sceneName)
+        return
+      case 'pause':
+        this.isPaused = cmd.paused
+        return
+      case 'step':
+        this.stepOnce = true
+        return
+      case 'gravity':
+        w.setGravity({ x: cmd.x, y: cmd.y })
+        for (const id of w.bodyIds()) if (w.getBodyType(id) === 'dynamic') w.setAwake(id, true)
+        return
+    }
+  }
+
+  private release(): void {
+    if (this.grab && this.world.hasJoint(this.grab.joint)) this.world.destroyJoint(this.grab.joint)
+    this.grab = null
+  }
+
+  private joint(cmd: Extract<Command, { k: 'pin' | 'rope' }>): void {
+    const w = this.world
+    if (!w.hasBody(cmd.b) || w.getBodyType(cmd.b) === 'static' || cmd.a === cmd.b) return
+    if (cmd.a !== 0 && !w.hasBody(cmd.a)) return
+    const bodyA = cmd.a === 0 ? null : cmd.a
+    const local = (body: number | null, x: number, y: number) =>
+      body === null ? { x, y } : w.getLocalPoint(body, { x, y })
+    if (cmd.k === 'pin') {
+      const id = w.createJoint({ type: 'revolute', bodyA, bodyB: cmd.b, anchor: { x: cmd.x, y: cmd.y } })
+      const la = local(bodyA, cmd.x, cmd.y)
+      const lb = local(cmd.b, cmd.x, cmd.y)
+      this.joints_.set(id, { kind: 'pin', a: cmd.a, b: cmd.b, ax: la.x, ay: la.y, bx: lb.x, by: lb.y })
+      return
+    }
+    const anchorA = { x: cmd.ax, y: cmd.ay }
+    const anchorB = { x: cmd.bx, y: cmd.by }
+    const length = Math.hypot(anchorB.x - anchorA.x, anchorB.y - anchorA.y)
+    const id = w.createJoint({
+      type: 'distance',
+      bodyA,
+      bodyB: cmd.b,
+      anchorA,
+      anchorB,
+      length,
+      minLength: 0,
+      maxLength: length,
+    })
+    const la = local(bodyA, cmd.ax, cmd.ay)
+    const lb = local(cmd.b, cmd.bx, cmd.by)
+    this.joints_.set(id, { kind: 'rope', a: cmd.a, b: cmd.b, ax: la.x, ay: la.y, bx: lb.x, by: lb.y })
+  }
+
+  color(): string {
+    return OWN_COLOR
+  }
+
+  status(): SandboxStatus {
+    return { state: 'offline' }
+  }
+
+  stats(): SandboxStats {
+    return {
+      room: 'offline',
+      players: 1,
+      tick: this.world.tick,
+      pingMs: null,
+      delayMs: null,
+      snapshotHz: null,
+      downKBs: null,
+      upKBs: null,
+      awake: this.world.awakeBodyCount(),
+      total: this.world.bodyCount,
+      stepMs: this.stepMs,
+    }
+  }
+
+  rules(): RoomRules | null {
+    return null
+  }
+
+  scene(): string {
+    return this.sceneName
+  }
+
+  paused(): boolean {
+    return this.isPaused
+  }
+
+  gravity(): { x: number; y: number } {
+    return this.world.getGravity()
+  }
+
+  lab(bodyId: number): LabData | null {
+    const w = this.world
+    if (!w.hasBody(bodyId) || w.getBodyType(bodyId) !== 'dynamic') return null
+    return { contacts: this.contacts(), mass: w.getMass(bodyId), gravity: w.getGravity(), source: 'world' }
+  }
+
+  dispose(): void {}
+}
+
+/** Mass (kg) of a wire shape at density 1, as the server's rooms spawn and build scenes. */
+export function wireShapeMass(shape: WireShape): number {
+  return computeMass(fromWireShape(shape), 1).mass
+}

@@ -1,0 +1,340 @@
+/*
+ * Online mode: a server room mirrored in the page. Server messages go into the shared
+ * ClientMirror (the one decoder every client uses); each decoded snapshot's full frame is copied
+ * into the SnapshotTimeline, which draws bodies a little in the past between two snapshots. Inputs
+ * go out as protocol commands; cursor moves are coalesced to at most one per animation frame so a
+ * 1000 Hz mouse never exceeds the room's per-tick input budget. Ping/pong once a second measures
+ * the round trip. Byte counters give the HUD its kB/s.
+ */
+import type { ContactInfo } from '../engine/index.ts'
+import {
+  ClientMirror,
+  type Command,
+  type JoinMessage,
+  type MirrorBody,
+  PROTOCOL_VERSION,
+  type RoomRules,
+  type ServerMessage,
+  TICK_RATE,
+} from '../shared/index.ts'
+import { Connection } from './connection.ts'
+import { type Pose, SnapshotTimeline } from './interpolation.ts'
+import { probeContacts } from './lab-probe.ts'
+import { toWorld } from './picking.ts'
+import type {
+  LabData,
+  Sandbox,
+  SandboxStats,
+  SandboxStatus,
+  ViewBody,
+  ViewCursor,
+  ViewJoint,
+} from './sandbox.ts'
+
+/** Where and how to join. */
+export interface OnlineOptions {
+  /** WebSocket URL without the query, e.g. ws://host:8080/ws. */
+  url: string
+  room: string
+  name: string
+}
+
+const TOKEN_KEY = 'concord.token.'
+
+/** Per-second rate counter. */
+class Rate {
+  private count = 0
+  private windowStart = Number.NaN
+  value = 0
+  add(n: number, nowMs: number): void {
+    this.tick(nowMs)
+    this.count += n
+  }
+  tick(nowMs: number): void {
+    if (Number.isNaN(this.windowStart)) this.windowStart = nowMs
+    const elapsed = nowMs - this.windowStart
+    if (elapsed >= 1000) {
+      this.value = (this.count * 1000) / elapsed
+      this.count = 0
+      this.windowStart = nowMs
+    }
+  }
+}
+
+/** The sandbox mirroring a server room. */
+export class OnlineSandbox implements Sandbox {
+  readonly mode = 'online'
+  readonly mirror = new ClientMirror()
+  readonly timeline = new SnapshotTimeline()
+  private readonly connection: Connection
+  private readonly view: ViewBody[] = []
+  private readonly viewById = new Map<number, ViewBody>()
+  private viewDirty = true
+  private pendingMove: Command | null = null
+  private seq = 0
+  private pingId = 0
+  private lastPing = 0
+  private rttMs: number | null = null
+  private readonly down = new Rate()
+  private readonly up = new Rate()
+  private readonly snaps = new Rate()
+  private statusValue: SandboxStatus = { state: 'connecting' }
+  private ownGrab = 0
+  private readonly pose: Pose = { x: 0, y: 0, angle: 0, awake: true }
+  private probe: { body: number; at: number; data: LabData } | null = null
+  /** Server-reported problems (refused inputs), newest last, for a toast. */
+  readonly notices: string[] = []
+
+  constructor(private readonly options: OnlineOptions) {
+    const url = `${options.url}?room=${encodeURIComponent(options.room)}`
+    this.connection = new Connection(url, () => this.joinMessage(), {
+      message: (m, bytes) => this.receive(m, bytes),
+      status: (text, retrying, fatal) => {
+        this.statusValue =
+          text === null
+            ? { state: 'connected' }
+            : { state: 'error', message: text, retrying: retrying && !fatal }
+      },
+    })
+  }
+
+  private joinMessage(): JoinMessage {
+    let token: string | undefined
+    try {
+      token = sessionStorage.getItem(TOKEN_KEY + this.options.room) ?? undefined
+    } catch {
+      token = undefined
+    }
+    return {
+      t: 'join',
+      v: PROTOCOL_VERSION,
+      room: this.options.room,
+      name: this.options.name,
+      mode: 'snapshot',
+      ...(token ? { token } : {}),
+    }
+  }
+
+  private receive(message: ServerMessage, bytes: number): void {
+    const now = performance.now()
+    this.down.add(bytes, now)
+    if (message.t === 'pong') {
+      this.rttMs = now - message.time
+      return
+    }
+    if (message.t === 'error' && message.code === 'refused') {
+      this.notices.push(message.reason)
+      if (this.notices.length > 5) this.notices.shift()
+    }
+    const ack = this.mirror.handle(message)
+    switch (message.t) {
+      case 'welcome':
+        try {
+          sessionStorage.setItem(TOKEN_KEY + this.options.room, message.token)
+        } catch {}
+        this.ownGrab = 0
+        this.resetTimeline(message.state.tick, now, message.rules)
+        break
+      case 'state':
+        this.ownGrab = 0
+        this.resetTimeline(message.state.tick, now, this.mirror.rules)
+        break
+      case 'events':
+        this.viewDirty = true
+        break
+      case 'snap': {
+        const applied = this.mirror.lastSnapshot
+        if (ack && applied) {
+          this.up.add(this.connection.send(ack), now)
+          this.timeline.push(applied.tick, applied.frame, now)
+          this.snaps.add(1, now)
+        }
+        break
+      }
+    }
+  }
+
+  private resetTimeline(tick: number, now: number, rules: RoomRules | null): void {
+    if (rules) this.timeline.intervalTicks = TICK_RATE / rules.snapshotRate
+    this.timeline.clear()
+    const frame = this.mirror.history.get(tick)
+    if (frame) this.timeline.push(tick, frame, now)
+    this.viewDirty = true
+  }
+
+  update(nowMs: number): void {
+    if (this.pendingMove) {
+      this.transmit(this.pendingMove, nowMs)
+      this.pendingMove = null
+    }
+    if (nowMs - this.lastPing >= 1000 && this.connection.isJoined) {
+      this.lastPing = nowMs
+      this.up.add(this.connection.send({ t: 'ping', id: ++this.pingId, time: nowMs }), nowMs)
+    }
+    this.down.tick(nowMs)
+    this.up.tick(nowMs)
+    this.snaps.tick(nowMs)
+    const tick = this.timeline.advance(nowMs)
+    this.refreshView(tick)
+  }
+
+  private refreshView(tick: number): void {
+    if (this.viewDirty || this.view.length !== this.mirror.bodies.size) this.rebuildView()
+    const grabbed = new Map<number, string>()
+    for (const [id, c] of this.mirror.cursors) {
+      if (c.body && id !== this.mirror.clientId)
+        grabbed.set(c.body, this.mirror.players.get(id)?.color ?? '#fff')
+    }
+    if (this.ownGrab) grabbed.set(this.ownGrab, this.color())
+    const pose = this.pose
+    for (const v of this.view) {
+      const m = this.mirror.bodies.get(v.id)
+      if (!m) continue
+      if (m.kind !== 0 && !Number.isNaN(tick) && this.timeline.sample(v.id, tick, pose)) {
+        v.x = pose.x
+        v.y = pose.y
+        v.angle = pose.angle
+        v.awake = pose.awake
+      } else {
+        v.x = m.x
+        v.y = m.y
+        v.angle = m.angle
+        v.awake = m.awake
+      }
+      v.grabColor = grabbed.get(v.id) ?? null
+    }
+  }
+
+  private rebuildView(): void {
+    this.view.length = 0
+    const alive = new Set<number>()
+    for (const m of this.mirror.bodies.values()) {
+      let v = this.viewById.get(m.id)
+      if (!v || v.shape !== m.shape) v = this.makeView(m)
+      this.view.push(v)
+      alive.add(m.id)
+    }
+    for (const id of this.viewById.keys()) if (!alive.has(id)) this.viewById.delete(id)
+    this.view.sort((a, b) => a.kind - b.kind || a.id - b.id)
+    this.viewDirty = false
+  }
+
+  private makeView(m: MirrorBody): ViewBody {
+    const v: ViewBody = { ...m, grabColor: null }
+    this.viewById.set(m.id, v)
+    return v
+  }
+
+  bodies(): readonly ViewBody[] {
+    return this.view
+  }
+
+  joints(): readonly ViewJoint[] {
+    const out: ViewJoint[] = []
+    for (const j of this.mirror.joints.values()) {
+      const a = j.a ? this.viewById.get(j.a) : null
+      const b = this.viewById.get(j.b)
+      if (!b || (j.a && !a)) continue
+      const pa = a ? toWorld(a, j.ax, j.ay) : { x: j.ax, y: j.ay }
+      const pb = toWorld(b, j.bx, j.by)
+      out.push({ id: j.id, kind: j.kind, ax: pa.x, ay: pa.y, bx: pb.x, by: pb.y })
+    }
+    return out
+  }
+
+  cursors(): readonly ViewCursor[] {
+    const out: ViewCursor[] = []
+    for (const [id, c] of this.mirror.cursors) {
+      const p = this.mirror.players.get(id)
+      if (id === this.mirror.clientId || !p) continue
+      out.push({ id, name: p.name, color: p.color, x: c.x, y: c.y, body: c.body })
+    }
+    return out
+  }
+
+  contacts(): readonly ContactInfo[] | null {
+    const fresh = this.probe && performance.now() - this.probe.at < 500
+    return fresh ? this.probe!.data.contacts : null
+  }
+
+  send(cmd: Command): void {
+    const now = performance.now()
+    if (cmd.k === 'move') {
+      this.pendingMove = cmd
+      return
+    }
+    if (this.pendingMove) {
+      this.transmit(this.pendingMove, now)
+      this.pendingMove = null
+    }
+    if (cmd.k === 'grab') this.ownGrab = cmd.body
+    if (cmd.k === 'release') this.ownGrab = 0
+    if (cmd.k === 'delete' && cmd.body === this.ownGrab) this.ownGrab = 0
+    this.transmit(cmd, now)
+  }
+
+  private transmit(cmd: Command, now: number): void {
+    this.up.add(this.connection.send({ t: 'input', seq: ++this.seq, cmd }), now)
+  }
+
+  color(): string {
+    return this.mirror.players.get(this.mirror.clientId)?.color ?? '#ff9f1c'
+  }
+
+  status(): SandboxStatus {
+    return this.statusValue
+  }
+
+  stats(): SandboxStats {
+    let awake = 0
+    for (const v of this.view) if (v.kind !== 0 && v.awake) awake++
+    return {
+      room: this.mirror.room || this.options.room,
+      players: this.mirror.players.size,
+      tick: Math.floor(this.mirror.tick),
+      pingMs: this.rttMs,
+      delayMs: (this.timeline.delayTicks * 1000) / TICK_RATE,
+      snapshotHz: this.snaps.value,
+      downKBs: this.down.value / 1000,
+      upKBs: this.up.value / 1000,
+      awake,
+      total: this.mirror.bodies.size,
+      stepMs: null,
+    }
+  }
+
+  rules(): RoomRules | null {
+    return this.mirror.rules
+  }
+
+  scene(): string {
+    return this.mirror.scene
+  }
+
+  paused(): boolean {
+    return this.mirror.paused
+  }
+
+  gravity(): { x: number; y: number } {
+    return { x: this.mirror.gravity[0], y: this.mirror.gravity[1] }
+  }
+
+  lab(bodyId: number): LabData | null {
+    const target = this.viewById.get(bodyId)
+    if (target?.kind !== 2) return null
+    const now = performance.now()
+    if (!this.probe || this.probe.body !== bodyId || now - this.probe.at > 250) {
+      this.probe = { body: bodyId, at: now, data: probeContacts(target, this.view, this.gravity()) }
+    }
+    return this.probe.data
+  }
+
+  /** Reconnect immediately. */
+  retry(): void {
+    this.connection.retryNow()
+  }
+
+  dispose(): void {
+    this.connection.close()
+  }
+}

@@ -1,0 +1,102 @@
+/*
+ * The seam between the page and where the physics runs. An online sandbox mirrors a server room
+ * (snapshots, interpolation); an offline sandbox steps the engine in the page. Both speak the wire
+ * protocol's Command type, so every tool produces the same commands whichever side applies them,
+ * and both hand the renderer the same view: bodies with poses for this frame, joints, cursors.
+ */
+import type { ContactInfo } from '../engine/index.ts'
+import type { Command, RoomRules, WireShape } from '../shared/index.ts'
+
+/** A body as drawn this frame. */
+export interface ViewBody {
+  id: number
+  /** 0 static, 1 kinematic, 2 dynamic. */
+  kind: 0 | 1 | 2
+  shape: WireShape
+  x: number
+  y: number
+  angle: number
+  awake: boolean
+  /** Colour of the player grabbing it, or null. */
+  grabColor: string | null
+}
+
+/** A user joint drawn as a line between world anchors (m). */
+export interface ViewJoint {
+  id: number
+  kind: 'pin' | 'rope'
+  ax: number
+  ay: number
+  bx: number
+  by: number
+}
+
+/** Another player's cursor (m) with its grab. */
+export interface ViewCursor {
+  id: number
+  name: string
+  color: string
+  x: number
+  y: number
+  /** Grabbed body id, 0 when none. */
+  body: number
+}
+
+/** Numbers for the HUD; null where a mode has no such number. */
+export interface SandboxStats {
+  room: string
+  players: number
+  tick: number
+  pingMs: number | null
+  delayMs: number | null
+  snapshotHz: number | null
+  downKBs: number | null
+  upKBs: number | null
+  awake: number
+  total: number
+  stepMs: number | null
+}
+
+/** Contact data for the lab, with where it came from. */
+export interface LabData {
+  contacts: ContactInfo[]
+  mass: number
+  gravity: { x: number; y: number }
+  /** 'world' when read from the stepping world, 'probe' when re-solved locally from a snapshot. */
+  source: 'world' | 'probe'
+}
+
+/** Connection status shown to the user. */
+export type SandboxStatus =
+  | { state: 'connecting' }
+  | { state: 'connected' }
+  | { state: 'offline' }
+  | { state: 'error'; message: string; retrying: boolean }
+
+/** A running sandbox, online or offline. */
+export interface Sandbox {
+  readonly mode: 'online' | 'offline'
+  /** Advance to this animation frame (ms, performance.now()); cheap when nothing changed. */
+  update(nowMs: number): void
+  /** Bodies to draw this frame (the array and objects are reused between frames). */
+  bodies(): readonly ViewBody[]
+  joints(): readonly ViewJoint[]
+  /** Other players' cursors (not this player's own). */
+  cursors(): readonly ViewCursor[]
+  /** Touching contacts for the debug layer, when this mode has them. */
+  contacts(): readonly ContactInfo[] | null
+  /** Apply or send one command. */
+  send(cmd: Command): void
+  /** This player's colour. */
+  color(): string
+  status(): SandboxStatus
+  stats(): SandboxStats
+  rules(): RoomRules | null
+  scene(): string
+  paused(): boolean
+  gravity(): { x: number; y: number }
+  /** Free-body data for one body, or null when it does not exist. */
+  lab(bodyId: number): LabData | null
+  /** Close sockets and timers. */
+  dispose(): void
+}

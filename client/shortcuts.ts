@@ -1,0 +1,70 @@
+/*
+ * Keyboard shortcuts: one table drives both the key handling and the help overlay, so the help
+ * can never list a key that does nothing.
+ */
+
+/** What a shortcut does; main.ts maps each action to code. */
+export type ShortcutAction =
+  | 'tool:grab'
+  | 'tool:circle'
+  | 'tool:box'
+  | 'tool:polygon'
+  | 'tool:delete'
+  | 'tool:pin'
+  | 'tool:rope'
+  | 'tool:inspect'
+  | 'pause'
+  | 'step'
+  | 'reset'
+  | 'gravity'
+  | 'fit'
+  | 'layer:contacts'
+  | 'layer:joints'
+  | 'layer:aabbs'
+  | 'layer:ids'
+  | 'help'
+  | 'lobby'
+  | 'escape'
+
+/** The shortcut table: keys (KeyboardEvent.key, lower case), action, description. */
+export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; help: string }> = [
+  { keys: ['g', '1'], action: 'tool:grab', help: 'Grab and throw: drag a body' },
+  { keys: ['c', '2'], action: 'tool:circle', help: 'Spawn circle: click to drop, drag to throw' },
+  { keys: ['b', '3'], action: 'tool:box', help: 'Spawn box: click to drop, drag to throw' },
+  { keys: ['p', '4'], action: 'tool:polygon', help: 'Spawn polygon (3-8 sides, cycling)' },
+  { keys: ['x', '5'], action: 'tool:delete', help: 'Delete: click a body' },
+  {
+    keys: ['n', '6'],
+    action: 'tool:pin',
+    help: 'Pin: click a body to pin it to what is under it (or the world)',
+  },
+  { keys: ['l', '7'], action: 'tool:rope', help: 'Rope: drag from one body (or space) to another' },
+  { keys: ['i', '8'], action: 'tool:inspect', help: 'Inspect: click a body to see its free-body diagram' },
+  { keys: [' '], action: 'pause', help: 'Pause / resume' },
+  { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
+  { keys: ['r'], action: 'reset', help: 'Reset the scene' },
+  { keys: ['v'], action: 'gravity', help: 'Gravity on / off' },
+  { keys: ['f'], action: 'fit', help: 'Fit the scene in view' },
+  { keys: ['k'], action: 'layer:contacts', help: 'Debug: contact points and normals' },
+  { keys: ['j'], action: 'layer:joints', help: 'Debug: joint anchors' },
+  { keys: ['a'], action: 'layer:aabbs', help: 'Debug: bounding boxes' },
+  { keys: ['d'], action: 'layer:ids', help: 'Debug: body ids' },
+  { keys: ['h', '?'], action: 'help', help: 'This help' },
+  { keys: ['o'], action: 'lobby', help: 'Rooms (lobby)' },
+  { keys: ['escape'], action: 'escape', help: 'Close panels, cancel, deselect' },
+]
+
+/** The action for a key event, or null (ignores keys with Ctrl, Alt or Meta held). */
+export function shortcutFor(e: { key: string; ctrlKey: boolean; altKey: boolean; metaKey: boolean }) {
+  if (e.ctrlKey || e.altKey || e.metaKey) return null
+  const key = e.key.toLowerCase()
+  return SHORTCUTS.find((s) => s.keys.includes(key))?.action ?? null
+}
+
+/** The help overlay's HTML rows. */
+export function helpRows(): string {
+  const label = (k: string): string => (k === ' ' ? 'Space' : k === 'escape' ? 'Esc' : k.toUpperCase())
+  return SHORTCUTS.map(
+    (s) => `<tr><td>${s.keys.map((k) => `<kbd>${label(k)}</kbd>`).join(' ')}</td><td>${s.help}</td></tr>`,
+  ).join('')
+}
