@@ -309,6 +309,39 @@ describe('BroadPhase', () => {
     }
   })
 
+  it('rejects body ids outside [1, 2^26), inverted boxes and dead proxies, naming the value', () => {
+    const bp = new BroadPhase()
+    expect(() => bp.createProxy(0, 0, 1, 1, 0, false)).toThrow(/body id 0/)
+    expect(() => bp.createProxy(0, 0, 1, 1, SCALE, false)).toThrow(/67108864/)
+    expect(() => bp.createProxy(0, 0, 1, 1, 1.5, false)).toThrow(/1.5/)
+    expect(() => bp.createProxyWithFatAABB(2, 0, 1, 1, 3, false)).toThrow(/bad AABB/)
+    const p = bp.createProxy(0, 0, 1, 1, SCALE - 1, false)
+    bp.destroyProxy(p)
+    expect(() => bp.destroyProxy(p)).toThrow(/not a live proxy/)
+    expect(() => bp.touchProxy(p)).toThrow(/not a live proxy/)
+    expect(() => new BroadPhase(-1)).toThrow(/margin -1/)
+  })
+
+  it('is deterministic: the same operations give the same fat boxes, pairs and tree height', () => {
+    const run = (): number[] => {
+      const prng = new Prng(13)
+      const h = randomScene(300, 14)
+      const pairs = new PairBuffer()
+      const out: number[] = []
+      for (let frame = 0; frame < 10; frame++) {
+        stepFrame(h, prng, 35, new Set())
+        out.push(...pairKeys(pairs, h.bp.updatePairs(pairs)), h.bp.treeHeight)
+      }
+      const fat = new Float64Array(4)
+      for (const e of h.entries()) {
+        h.bp.getFatAABB(e.proxy, fat)
+        out.push(e.proxy, ...fat)
+      }
+      return out
+    }
+    expect(run()).toEqual(run())
+  })
+
   it('sortKeys sorts like TypedArray.prototype.sort, duplicates and presorted runs included', () => {
     const prng = new Prng(12)
     const stack = new Int32Array(128)
