@@ -42,8 +42,12 @@ export class BotClient {
   closeCode = 0
   closeReason = ''
   keepFrames = false
+  /** The first message this client could not decode or apply (a protocol bug), if any. */
+  failure: Error | null = null
   /** Drop the next n snapshots unread (to simulate loss in tests). */
   dropSnapshots = 0
+  /** Called after each message has been applied to the mirror. */
+  onServerMessage: ((message: ServerMessage) => void) | null = null
   private seq = 0
   private pingId = 0
   private waiters: Array<() => void> = []
@@ -97,7 +101,11 @@ export class BotClient {
     if (!isBinary) return
     if (this.keepFrames) this.frames.push(new Uint8Array(data))
     const decoded = decodeServerMessage(data)
-    if (!decoded.ok) throw new Error(`bot could not decode a server message: ${decoded.reason}`)
+    if (!decoded.ok) {
+      this.failure = new Error(`could not decode a server message: ${decoded.reason}`)
+      this.ws.close(1002, 'undecodable server message')
+      return
+    }
     const message = decoded.value
     if (message.t === 'snap' && this.dropSnapshots > 0) {
       this.dropSnapshots--
@@ -106,8 +114,17 @@ export class BotClient {
     this.received.push(message)
     if (this.received.length > 10000) this.received.splice(0, 5000)
     if (message.t === 'pong') this.onPong(message.time, message.tick)
-    const ack = this.mirror.handle(message)
+    let ack: ReturnType<ClientMirror['handle']>
+    try {
+      ack = this.mirror.handle(message)
+    } catch (error) {
+      // A snapshot that does not decode against our baselines: a protocol bug. Fail loudly.
+      this.failure = error as Error
+      this.ws.close(1002, `client could not apply ${message.t}: ${(error as Error).message}`.slice(0, 120))
+      return
+    }
     if (ack && this.options.ack !== false) this.send(ack)
+    this.onServerMessage?.(message)
     this.notify()
   }
 
@@ -130,7 +147,11 @@ export class BotClient {
         if (condition()) {
           resolve()
         } else if (this.ws.readyState === WebSocket.CLOSED) {
-          reject(new Error(`socket closed (${this.closeCode} ${this.closeReason}) while waiting for ${what}`))
+          reject(
+            new Error(
+              `socket closed (${this.closeCode} ${this.closeReason}) while waiting for ${what}${this.failure ? `: ${this.failure.message}` : ''}`,
+            ),
+          )
         } else {
           this.waiters.push(check)
         }
