@@ -30,11 +30,15 @@ import {
 } from './peers/box2d-wasm-peer.ts'
 import { PLANCK_POSITION_ITERATIONS, PLANCK_VELOCITY_ITERATIONS, PlanckPeer } from './peers/planck-peer.ts'
 import {
+  checkScene,
   formatTable,
   type GcPause,
   machineInfo,
   type PeerWorld,
+  pairedRatio,
   recordGcPauses,
+  type SceneCheck,
+  type SceneKind,
   type Summary,
   saveResults,
   summarize,
@@ -49,7 +53,7 @@ const CONCORD_PEER = new URL('./peers/concord-peer.ts', import.meta.url).href
 interface SceneCase {
   name: string
   make: () => SceneBlueprint
-  kind: 'pyramid' | 'pile'
+  kind: SceneKind
   /** Timed steps in a full run. */
   steps: number
 }
@@ -67,30 +71,6 @@ const TARGET_PLANCK_OVER_CONCORD = 5
 const TARGET_CONCORD_OVER_BOX2D = 2
 /** Steps each engine takes per round before the next engine's turn. */
 const CHUNK_STEPS = 10
-/**
- * A pyramid stands while no box has moved this far from its start (m). Box2D 2.x keeps a 0.01 m
- * skin on polygons, so its pyramids rise about 0.015 m per row while settling; a collapse moves
- * boxes metres.
- */
-const STANDING_DRIFT = 1
-
-/** How a scene looks after the run, for one engine. */
-interface SceneCheck {
-  /** Final minus initial position of the last blueprint body: the pyramid's top box (m). */
-  topDx: number
-  topDy: number
-  /** Largest distance any dynamic body moved from its start (m). */
-  maxDrift: number
-  /** Fastest dynamic body (m/s). */
-  maxSpeed: number
-  /** Highest dynamic body origin (m). */
-  maxY: number
-  /** Dynamic bodies below the ground or outside the container's walls. */
-  escaped: number
-  awake: number
-  /** Pyramids: 'standing' when no box moved 1 m or more, else 'FELL'; pile: 'contained' or 'N ESCAPED'. */
-  verdict: string
-}
 
 interface EngineResult {
   /** Time to build the scene in this engine (ms). */
@@ -111,48 +91,10 @@ interface CaseResult {
   engines: Partial<Record<EngineName, EngineResult>>
   planckOverConcord: number | null
   concordOverBox2d: number | null
+  /** The same ratios paired in time: median over rounds of the ratio of the engines' chunk medians. */
+  pairedRatios: { planckOverConcord: number | null; concordOverBox2d: number | null }
   /** Whether the issue's targets hold, or null when they do not apply or an engine is missing. */
   targetMet: boolean | null
-}
-
-function checkScene(
-  scene: SceneCase,
-  blueprint: SceneBlueprint,
-  start: Float64Array,
-  end: Float64Array,
-  awake: number,
-): SceneCheck {
-  let maxDrift = 0
-  let maxSpeed = 0
-  let maxY = Number.NEGATIVE_INFINITY
-  let escaped = 0
-  let wallX = Number.POSITIVE_INFINITY
-  if (scene.kind === 'pile') {
-    wallX = 0
-    for (const def of blueprint.bodies)
-      if (def.type === 'static') wallX = Math.max(wallX, Math.abs(def.position?.x ?? 0))
-  }
-  blueprint.bodies.forEach((def, i) => {
-    if (def.type === 'static') return
-    const [x0, y0] = [start[i * 4], start[i * 4 + 1]]
-    const [x, y, vx, vy] = end.subarray(i * 4, i * 4 + 4)
-    maxDrift = Math.max(maxDrift, Math.sqrt((x - x0) ** 2 + (y - y0) ** 2))
-    maxSpeed = Math.max(maxSpeed, Math.sqrt(vx * vx + vy * vy))
-    maxY = Math.max(maxY, y)
-    if (!(y > -0.25 && Math.abs(x) < wallX)) escaped++
-  })
-  const last = blueprint.bodies.length - 1
-  const topDx = end[last * 4] - start[last * 4]
-  const topDy = end[last * 4 + 1] - start[last * 4 + 1]
-  const verdict =
-    scene.kind === 'pyramid'
-      ? maxDrift < STANDING_DRIFT && escaped === 0
-        ? 'standing'
-        : 'FELL'
-      : escaped === 0
-        ? 'contained'
-        : `${escaped} ESCAPED`
-  return { topDx, topDy, maxDrift, maxSpeed, maxY, escaped, awake, verdict }
 }
 
 async function loadMakers(wanted: readonly EngineName[]): Promise<Map<EngineName, MakePeer>> {
@@ -220,6 +162,10 @@ async function runCase(
   chunks: Chunk[],
 ): Promise<CaseResult> {
   const blueprint = scene.make()
+  // The peers build bodies only; a scene with joints would silently differ between engines.
+  if (((blueprint as { joints?: unknown[] }).joints?.length ?? 0) > 0) {
+    throw new Error(`scene ${scene.name} has joints, which the peer adapters do not build`)
+  }
   const names = [...makers.keys()]
   const peers: PeerWorld[] = []
   const buildMs: number[] = []
@@ -233,7 +179,7 @@ async function runCase(
   const samples = timeRounds(peers, timedSteps, chunks)
   const engines: CaseResult['engines'] = {}
   names.forEach((name, e) => {
-    const check = checkScene(scene, blueprint, starts[e], peers[e].readBodies(), peers[e].awakeCount())
+    const check = checkScene(scene.kind, blueprint, starts[e], peers[e].readBodies(), peers[e].awakeCount())
     engines[name] = { buildMs: buildMs[e], steps: summarize(samples[e]), gcMsPerStep: 0, check }
     peers[e].dispose()
   })
@@ -242,6 +188,15 @@ async function runCase(
   const box2d = engines['box2d-wasm']?.steps.median
   const planckOverConcord = concord !== undefined && planck !== undefined ? planck / concord : null
   const concordOverBox2d = concord !== undefined && box2d !== undefined ? concord / box2d : null
+  const paired = (a: EngineName, b: EngineName): number | null => {
+    const ia = names.indexOf(a)
+    const ib = names.indexOf(b)
+    return ia < 0 || ib < 0 ? null : pairedRatio(samples[ia], samples[ib], CHUNK_STEPS)
+  }
+  const pairedRatios = {
+    planckOverConcord: paired('planck', 'concord'),
+    concordOverBox2d: paired('concord', 'box2d-wasm'),
+  }
   const applies = !sleep && TARGET_SCENES.includes(scene.name)
   const targetMet =
     applies && planckOverConcord !== null && concordOverBox2d !== null
@@ -257,6 +212,7 @@ async function runCase(
     engines,
     planckOverConcord,
     concordOverBox2d,
+    pairedRatios,
     targetMet,
   }
 }
@@ -304,11 +260,23 @@ function printResults(results: CaseResult[]): void {
   const ratioRows = results.map((r) => [
     `${r.scene} sleep ${r.sleep ? 'on' : 'off'}`,
     fmt(r.planckOverConcord),
+    fmt(r.pairedRatios.planckOverConcord),
     fmt(r.concordOverBox2d),
+    fmt(r.pairedRatios.concordOverBox2d),
+    ENGINES.map((name) => r.engines[name]?.check.awake ?? '-').join('/'),
     r.targetMet === null ? '' : r.targetMet ? 'MET' : 'MISSED',
   ])
-  const ratioHeader = ['scene', 'planck/concord', 'concord/box2d-wasm', 'target (>=5, <=2)']
-  console.log(`${formatTable(ratioHeader, ratioRows)}\n`)
+  const ratioHeader = [
+    'scene',
+    'planck/concord',
+    '(paired)',
+    'concord/box2d-wasm',
+    '(paired)',
+    'awake c/p/b',
+    'target',
+  ]
+  console.log(`${formatTable(ratioHeader, ratioRows)}`)
+  console.log(`target: planck/concord >= 5 and concord/box2d-wasm <= 2 (medians), sleep off\n`)
 }
 
 function parseOptions() {
