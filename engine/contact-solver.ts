@@ -2,29 +2,135 @@
  * The soft-step contact solver (Erin Catto, "Solver2D" 2024; Box2D v3 contact_solver.c).
  *
  * Stages, called by World.step in this order:
- *   prepareContacts   once per step: anchors, effective masses, softness, pre-step normal velocity
- *   warmStartContacts each sub-step: apply last impulses
+ *   prepareContacts   once per step: copy each touching contact into a flat constraint record
+ *                     (anchors, effective masses, softness, pre-step normal velocity)
+ *   warmStartContacts each sub-step: apply the accumulated impulses
  *   solveContacts     each sub-step with bias (soft push-out of overlap), then again without (relax)
  *   applyRestitution  once per step, after the sub-steps, for contacts closing faster than the threshold
+ *   storeImpulses     copy the accumulated impulses back to the contacts for the next step
+ *
+ * Data layout: constraints live in one Float64Array (CONSTRAINT_STRIDE numbers each) and bodies'
+ * solver state in another (STATE_STRIDE numbers per awake body; slot 0 is a shared, never-moving
+ * state for static bodies), so the thirteen passes per step stream through contiguous memory
+ * instead of chasing objects (the layout of Box2D v3's b2ContactConstraint and b2BodyState).
  *
  * Within a sub-step the separation is not recomputed by the narrowphase: it is the step-start
  * separation plus the bodies' position and rotation deltas projected on the fixed normal:
  *   s = baseSeparation + dot(dpB - dpA + rot(dqB, rB) - rot(dqA, rA), n)
- * Positive separation is handled speculatively (the contact only stops the bodies from closing
- * more than the gap); negative separation is pushed out by a soft spring of stiffness `contactHertz`
- * (twice that against static bodies), limited to `maxContactPushSpeed`.
+ * Positive separation is handled speculatively (the contact only removes the approach speed that
+ * would close more than the gap); negative separation is pushed out by a soft spring of stiffness
+ * `contactHertz` (twice that against static bodies), limited to `maxContactPushSpeed`.
  * Friction is a Coulomb cone: the tangent impulse is clamped to friction * normal impulse.
  */
-import type { Contact } from './contact.ts'
+import type { Contact, ContactPoint } from './contact.ts'
 import type { Softness } from './softness.ts'
 
-/** Computes each contact's anchors, effective masses, softness and pre-step velocity. */
+/** Numbers per body in the solver state: vx, vy, w, dpx, dpy, dqc, dqs, (unused). */
+export const STATE_STRIDE = 8
+
+// Constraint record layout
+const M_A = 0
+const I_A = 1
+const M_B = 2
+const I_B = 3
+const NX = 4
+const NY = 5
+const FRICTION = 6
+const RESTITUTION = 7
+const BIAS_RATE = 8
+const MASS_SCALE = 9
+const IMPULSE_SCALE = 10
+const POINTS = 11
+// Point record layout (two per constraint)
+const RAX = 0
+const RAY = 1
+const RBX = 2
+const RBY = 3
+const BASE_SEPARATION = 4
+const NORMAL_MASS = 5
+const TANGENT_MASS = 6
+const NORMAL_IMPULSE = 7
+const TANGENT_IMPULSE = 8
+const TOTAL_NORMAL = 9
+const TOTAL_TANGENT = 10
+const RELATIVE_VELOCITY = 11
+const POINT_STRIDE = 12
+/** Numbers per constraint record. */
+export const CONSTRAINT_STRIDE = POINTS + 2 * POINT_STRIDE
+
+/** Flat storage of the step's contact constraints. */
+export class ContactConstraints {
+  data = new Float64Array(64 * CONSTRAINT_STRIDE)
+  /** Offsets of body A's and body B's solver state, per constraint. */
+  stateA = new Int32Array(64)
+  stateB = new Int32Array(64)
+  pointCount = new Int32Array(64)
+  count = 0
+
+  /** Makes room for n constraints (grows by doubling; no allocation once warm). */
+  reserve(n: number): void {
+    if (n <= this.stateA.length) return
+    let size = this.stateA.length * 2
+    while (size < n) size *= 2
+    this.data = new Float64Array(size * CONSTRAINT_STRIDE)
+    this.stateA = new Int32Array(size)
+    this.stateB = new Int32Array(size)
+    this.pointCount = new Int32Array(size)
+  }
+}
+
+function preparePoint(
+  d: Float64Array,
+  o: number,
+  cp: ContactPoint,
+  c: Contact,
+  mA: number,
+  iA: number,
+  mB: number,
+  iB: number,
+): void {
+  const nx = c.normalX
+  const ny = c.normalY
+  const rAx = cp.anchorAx
+  const rAy = cp.anchorAy
+  const rBx = cp.anchorBx
+  const rBy = cp.anchorBy
+  d[o + RAX] = rAx
+  d[o + RAY] = rAy
+  d[o + RBX] = rBx
+  d[o + RBY] = rBy
+  d[o + BASE_SEPARATION] = cp.separation - ((rBx - rAx) * nx + (rBy - rAy) * ny)
+  const rnA = rAx * ny - rAy * nx
+  const rnB = rBx * ny - rBy * nx
+  const kNormal = mA + mB + iA * rnA * rnA + iB * rnB * rnB
+  d[o + NORMAL_MASS] = kNormal > 0 ? 1 / kNormal : 0
+  // tangent = right perpendicular of the normal (ny, -nx)
+  const rtA = -rAx * nx - rAy * ny
+  const rtB = -rBx * nx - rBy * ny
+  const kTangent = mA + mB + iA * rtA * rtA + iB * rtB * rtB
+  d[o + TANGENT_MASS] = kTangent > 0 ? 1 / kTangent : 0
+  d[o + NORMAL_IMPULSE] = cp.normalImpulse
+  d[o + TANGENT_IMPULSE] = cp.tangentImpulse
+  d[o + TOTAL_NORMAL] = 0
+  d[o + TOTAL_TANGENT] = 0
+  const a = c.bodyA
+  const b = c.bodyB
+  const dvx = b.vx - b.w * rBy - (a.vx - a.w * rAy)
+  const dvy = b.vy + b.w * rBx - (a.vy + a.w * rAx)
+  d[o + RELATIVE_VELOCITY] = nx * dvx + ny * dvy
+}
+
+/** Fills the constraint records from the touching contacts (bodies' solverIndex must be set). */
 export function prepareContacts(
+  out: ContactConstraints,
   contacts: Contact[],
   count: number,
   contactSoftness: Softness,
   staticSoftness: Softness,
 ): void {
+  out.reserve(count)
+  out.count = count
+  const d = out.data
   for (let i = 0; i < count; i++) {
     const c = contacts[i]
     const a = c.bodyA
@@ -33,140 +139,132 @@ export function prepareContacts(
     const iA = a.invInertia
     const mB = b.invMass
     const iB = b.invInertia
+    const o = i * CONSTRAINT_STRIDE
+    out.stateA[i] = (a.solverIndex + 1) * STATE_STRIDE
+    out.stateB[i] = (b.solverIndex + 1) * STATE_STRIDE
+    out.pointCount[i] = c.pointCount
     const soft = mA === 0 || mB === 0 ? staticSoftness : contactSoftness
-    c.biasRate = soft.biasRate
-    c.massScale = soft.massScale
-    c.impulseScale = soft.impulseScale
-    const nx = c.normalX
-    const ny = c.normalY
-    // tangent = right perpendicular of the normal (ny, -nx)
-    const tx = ny
-    const ty = -nx
-    for (let j = 0; j < c.pointCount; j++) {
-      const cp = j === 0 ? c.p0 : c.p1
-      const rAx = cp.anchorAx
-      const rAy = cp.anchorAy
-      const rBx = cp.anchorBx
-      const rBy = cp.anchorBy
-      cp.baseSeparation = cp.separation - ((rBx - rAx) * nx + (rBy - rAy) * ny)
-      cp.totalNormalImpulse = 0
-      cp.totalTangentImpulse = 0
-      const rnA = rAx * ny - rAy * nx
-      const rnB = rBx * ny - rBy * nx
-      const kNormal = mA + mB + iA * rnA * rnA + iB * rnB * rnB
-      cp.normalMass = kNormal > 0 ? 1 / kNormal : 0
-      const rtA = rAx * ty - rAy * tx
-      const rtB = rBx * ty - rBy * tx
-      const kTangent = mA + mB + iA * rtA * rtA + iB * rtB * rtB
-      cp.tangentMass = kTangent > 0 ? 1 / kTangent : 0
-      const dvx = b.vx - b.w * rBy - (a.vx - a.w * rAy)
-      const dvy = b.vy + b.w * rBx - (a.vy + a.w * rAx)
-      cp.relativeVelocity = nx * dvx + ny * dvy
-    }
+    d[o + M_A] = mA
+    d[o + I_A] = iA
+    d[o + M_B] = mB
+    d[o + I_B] = iB
+    d[o + NX] = c.normalX
+    d[o + NY] = c.normalY
+    d[o + FRICTION] = c.friction
+    d[o + RESTITUTION] = c.restitution
+    d[o + BIAS_RATE] = soft.biasRate
+    d[o + MASS_SCALE] = soft.massScale
+    d[o + IMPULSE_SCALE] = soft.impulseScale
+    preparePoint(d, o + POINTS, c.p0, c, mA, iA, mB, iB)
+    if (c.pointCount > 1) preparePoint(d, o + POINTS + POINT_STRIDE, c.p1, c, mA, iA, mB, iB)
   }
 }
 
-/** Applies the accumulated impulses of the previous step or sub-step. */
-export function warmStartContacts(contacts: Contact[], count: number): void {
-  for (let i = 0; i < count; i++) {
-    const c = contacts[i]
-    const a = c.bodyA
-    const b = c.bodyB
-    const mA = a.invMass
-    const iA = a.invInertia
-    const mB = b.invMass
-    const iB = b.invInertia
-    const nx = c.normalX
-    const ny = c.normalY
-    let vAx = a.vx
-    let vAy = a.vy
-    let wA = a.w
-    let vBx = b.vx
-    let vBy = b.vy
-    let wB = b.w
-    for (let j = 0; j < c.pointCount; j++) {
-      const cp = j === 0 ? c.p0 : c.p1
-      const px = cp.normalImpulse * nx + cp.tangentImpulse * ny
-      const py = cp.normalImpulse * ny - cp.tangentImpulse * nx
-      cp.totalNormalImpulse += cp.normalImpulse
-      cp.totalTangentImpulse += cp.tangentImpulse
-      wA -= iA * (cp.anchorAx * py - cp.anchorAy * px)
+/** Applies the accumulated impulses (each sub-step). */
+export function warmStartContacts(k: ContactConstraints, state: Float64Array): void {
+  const d = k.data
+  for (let i = 0; i < k.count; i++) {
+    const o = i * CONSTRAINT_STRIDE
+    const sa = k.stateA[i]
+    const sb = k.stateB[i]
+    const mA = d[o + M_A]
+    const iA = d[o + I_A]
+    const mB = d[o + M_B]
+    const iB = d[o + I_B]
+    const nx = d[o + NX]
+    const ny = d[o + NY]
+    let vAx = state[sa]
+    let vAy = state[sa + 1]
+    let wA = state[sa + 2]
+    let vBx = state[sb]
+    let vBy = state[sb + 1]
+    let wB = state[sb + 2]
+    const end = o + POINTS + k.pointCount[i] * POINT_STRIDE
+    for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
+      const ni = d[p + NORMAL_IMPULSE]
+      const ti = d[p + TANGENT_IMPULSE]
+      const px = ni * nx + ti * ny
+      const py = ni * ny - ti * nx
+      d[p + TOTAL_NORMAL] += ni
+      d[p + TOTAL_TANGENT] += ti
+      wA -= iA * (d[p + RAX] * py - d[p + RAY] * px)
       vAx -= mA * px
       vAy -= mA * py
-      wB += iB * (cp.anchorBx * py - cp.anchorBy * px)
+      wB += iB * (d[p + RBX] * py - d[p + RBY] * px)
       vBx += mB * px
       vBy += mB * py
     }
-    a.vx = vAx
-    a.vy = vAy
-    a.w = wA
-    b.vx = vBx
-    b.vy = vBy
-    b.w = wB
+    state[sa] = vAx
+    state[sa + 1] = vAy
+    state[sa + 2] = wA
+    state[sb] = vBx
+    state[sb + 1] = vBy
+    state[sb + 2] = wB
   }
 }
 
 /** One iteration over the contacts; `useBias` pushes overlap apart, false is the relax pass. */
 export function solveContacts(
-  contacts: Contact[],
-  count: number,
+  k: ContactConstraints,
+  state: Float64Array,
   invH: number,
   maxPushSpeed: number,
   useBias: boolean,
 ): void {
-  for (let i = 0; i < count; i++) {
-    const c = contacts[i]
-    const a = c.bodyA
-    const b = c.bodyB
-    const mA = a.invMass
-    const iA = a.invInertia
-    const mB = b.invMass
-    const iB = b.invInertia
-    let vAx = a.vx
-    let vAy = a.vy
-    let wA = a.w
-    let vBx = b.vx
-    let vBy = b.vy
-    let wB = b.w
-    const qAc = a.dqc
-    const qAs = a.dqs
-    const qBc = b.dqc
-    const qBs = b.dqs
-    const dpx = b.dpx - a.dpx
-    const dpy = b.dpy - a.dpy
-    const nx = c.normalX
-    const ny = c.normalY
-    const pointCount = c.pointCount
+  const d = k.data
+  for (let i = 0; i < k.count; i++) {
+    const o = i * CONSTRAINT_STRIDE
+    const sa = k.stateA[i]
+    const sb = k.stateB[i]
+    const mA = d[o + M_A]
+    const iA = d[o + I_A]
+    const mB = d[o + M_B]
+    const iB = d[o + I_B]
+    let vAx = state[sa]
+    let vAy = state[sa + 1]
+    let wA = state[sa + 2]
+    let vBx = state[sb]
+    let vBy = state[sb + 1]
+    let wB = state[sb + 2]
+    const dpx = state[sb + 3] - state[sa + 3]
+    const dpy = state[sb + 4] - state[sa + 4]
+    const qAc = state[sa + 5]
+    const qAs = state[sa + 6]
+    const qBc = state[sb + 5]
+    const qBs = state[sb + 6]
+    const nx = d[o + NX]
+    const ny = d[o + NY]
+    const end = o + POINTS + k.pointCount[i] * POINT_STRIDE
 
     // Non-penetration
-    for (let j = 0; j < pointCount; j++) {
-      const cp = j === 0 ? c.p0 : c.p1
-      const rAx = cp.anchorAx
-      const rAy = cp.anchorAy
-      const rBx = cp.anchorBx
-      const rBy = cp.anchorBy
+    for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
+      const rAx = d[p + RAX]
+      const rAy = d[p + RAY]
+      const rBx = d[p + RBX]
+      const rBy = d[p + RBY]
       // current separation from the sub-step deltas
       const dx = dpx + (qBc * rBx - qBs * rBy) - (qAc * rAx - qAs * rAy)
       const dy = dpy + (qBs * rBx + qBc * rBy) - (qAs * rAx + qAc * rAy)
-      const s = cp.baseSeparation + dx * nx + dy * ny
+      const s = d[p + BASE_SEPARATION] + dx * nx + dy * ny
       let velocityBias = 0
       let massScale = 1
       let impulseScale = 0
       if (s > 0) {
         velocityBias = s * invH // speculative: close at most the gap this sub-step
       } else if (useBias) {
-        velocityBias = Math.max(c.massScale * c.biasRate * s, -maxPushSpeed)
-        massScale = c.massScale
-        impulseScale = c.impulseScale
+        velocityBias = Math.max(d[o + MASS_SCALE] * d[o + BIAS_RATE] * s, -maxPushSpeed)
+        massScale = d[o + MASS_SCALE]
+        impulseScale = d[o + IMPULSE_SCALE]
       }
       const dvx = vBx - wB * rBy - (vAx - wA * rAy)
       const dvy = vBy + wB * rBx - (vAy + wA * rAx)
       const vn = dvx * nx + dvy * ny
-      let impulse = -cp.normalMass * (massScale * vn + velocityBias) - impulseScale * cp.normalImpulse
-      const newImpulse = Math.max(cp.normalImpulse + impulse, 0)
-      impulse = newImpulse - cp.normalImpulse
-      cp.normalImpulse = newImpulse
-      cp.totalNormalImpulse += impulse
+      const accumulated = d[p + NORMAL_IMPULSE]
+      let impulse = -d[p + NORMAL_MASS] * (massScale * vn + velocityBias) - impulseScale * accumulated
+      const newImpulse = Math.max(accumulated + impulse, 0)
+      impulse = newImpulse - accumulated
+      d[p + NORMAL_IMPULSE] = newImpulse
+      d[p + TOTAL_NORMAL] += impulse
       const px = impulse * nx
       const py = impulse * ny
       vAx -= mA * px
@@ -178,22 +276,22 @@ export function solveContacts(
     }
 
     // Friction (Coulomb cone), tangent = (ny, -nx)
-    const friction = c.friction
-    for (let j = 0; j < pointCount; j++) {
-      const cp = j === 0 ? c.p0 : c.p1
-      const rAx = cp.anchorAx
-      const rAy = cp.anchorAy
-      const rBx = cp.anchorBx
-      const rBy = cp.anchorBy
+    const friction = d[o + FRICTION]
+    for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
+      const rAx = d[p + RAX]
+      const rAy = d[p + RAY]
+      const rBx = d[p + RBX]
+      const rBy = d[p + RBY]
       const dvx = vBx - wB * rBy - (vAx - wA * rAy)
       const dvy = vBy + wB * rBx - (vAy + wA * rAx)
       const vt = dvx * ny - dvy * nx
-      let impulse = -cp.tangentMass * vt
-      const maxFriction = friction * cp.normalImpulse
-      const newImpulse = Math.max(-maxFriction, Math.min(cp.tangentImpulse + impulse, maxFriction))
-      impulse = newImpulse - cp.tangentImpulse
-      cp.tangentImpulse = newImpulse
-      cp.totalTangentImpulse += impulse
+      const accumulated = d[p + TANGENT_IMPULSE]
+      let impulse = -d[p + TANGENT_MASS] * vt
+      const maxFriction = friction * d[p + NORMAL_IMPULSE]
+      const newImpulse = Math.max(-maxFriction, Math.min(accumulated + impulse, maxFriction))
+      impulse = newImpulse - accumulated
+      d[p + TANGENT_IMPULSE] = newImpulse
+      d[p + TOTAL_TANGENT] += impulse
       const px = impulse * ny
       const py = -impulse * nx
       vAx -= mA * px
@@ -203,51 +301,53 @@ export function solveContacts(
       vBy += mB * py
       wB += iB * (rBx * py - rBy * px)
     }
-    a.vx = vAx
-    a.vy = vAy
-    a.w = wA
-    b.vx = vBx
-    b.vy = vBy
-    b.w = wB
+    state[sa] = vAx
+    state[sa + 1] = vAy
+    state[sa + 2] = wA
+    state[sb] = vBx
+    state[sb + 1] = vBy
+    state[sb + 2] = wB
   }
 }
 
 /** Restitution after the sub-steps: bounce contacts that closed faster than the threshold (m/s). */
-export function applyRestitution(contacts: Contact[], count: number, threshold: number): void {
-  for (let i = 0; i < count; i++) {
-    const c = contacts[i]
-    const restitution = c.restitution
+export function applyRestitution(k: ContactConstraints, state: Float64Array, threshold: number): void {
+  const d = k.data
+  for (let i = 0; i < k.count; i++) {
+    const o = i * CONSTRAINT_STRIDE
+    const restitution = d[o + RESTITUTION]
     if (restitution === 0) continue
-    const a = c.bodyA
-    const b = c.bodyB
-    const mA = a.invMass
-    const iA = a.invInertia
-    const mB = b.invMass
-    const iB = b.invInertia
-    const nx = c.normalX
-    const ny = c.normalY
-    let vAx = a.vx
-    let vAy = a.vy
-    let wA = a.w
-    let vBx = b.vx
-    let vBy = b.vy
-    let wB = b.w
-    for (let j = 0; j < c.pointCount; j++) {
-      const cp = j === 0 ? c.p0 : c.p1
+    const sa = k.stateA[i]
+    const sb = k.stateB[i]
+    const mA = d[o + M_A]
+    const iA = d[o + I_A]
+    const mB = d[o + M_B]
+    const iB = d[o + I_B]
+    const nx = d[o + NX]
+    const ny = d[o + NY]
+    let vAx = state[sa]
+    let vAy = state[sa + 1]
+    let wA = state[sa + 2]
+    let vBx = state[sb]
+    let vBy = state[sb + 1]
+    let wB = state[sb + 2]
+    const end = o + POINTS + k.pointCount[i] * POINT_STRIDE
+    for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
       // Skip slow contacts and speculative points that never pushed.
-      if (cp.relativeVelocity > -threshold || cp.totalNormalImpulse === 0) continue
-      const rAx = cp.anchorAx
-      const rAy = cp.anchorAy
-      const rBx = cp.anchorBx
-      const rBy = cp.anchorBy
+      if (d[p + RELATIVE_VELOCITY] > -threshold || d[p + TOTAL_NORMAL] === 0) continue
+      const rAx = d[p + RAX]
+      const rAy = d[p + RAY]
+      const rBx = d[p + RBX]
+      const rBy = d[p + RBY]
       const dvx = vBx - wB * rBy - (vAx - wA * rAy)
       const dvy = vBy + wB * rBx - (vAy + wA * rAx)
       const vn = dvx * nx + dvy * ny
-      let impulse = -cp.normalMass * (vn + restitution * cp.relativeVelocity)
-      const newImpulse = Math.max(cp.normalImpulse + impulse, 0)
-      impulse = newImpulse - cp.normalImpulse
-      cp.normalImpulse = newImpulse
-      cp.totalNormalImpulse += impulse
+      const accumulated = d[p + NORMAL_IMPULSE]
+      let impulse = -d[p + NORMAL_MASS] * (vn + restitution * d[p + RELATIVE_VELOCITY])
+      const newImpulse = Math.max(accumulated + impulse, 0)
+      impulse = newImpulse - accumulated
+      d[p + NORMAL_IMPULSE] = newImpulse
+      d[p + TOTAL_NORMAL] += impulse
       const px = impulse * nx
       const py = impulse * ny
       vAx -= mA * px
@@ -257,11 +357,29 @@ export function applyRestitution(contacts: Contact[], count: number, threshold: 
       vBy += mB * py
       wB += iB * (rBx * py - rBy * px)
     }
-    a.vx = vAx
-    a.vy = vAy
-    a.w = wA
-    b.vx = vBx
-    b.vy = vBy
-    b.w = wB
+    state[sa] = vAx
+    state[sa + 1] = vAy
+    state[sa + 2] = wA
+    state[sb] = vBx
+    state[sb + 1] = vBy
+    state[sb + 2] = wB
   }
+}
+
+/** Copies the accumulated impulses back to the contacts (warm starting and read-back). */
+export function storeImpulses(k: ContactConstraints, contacts: Contact[]): void {
+  const d = k.data
+  for (let i = 0; i < k.count; i++) {
+    const c = contacts[i]
+    const o = i * CONSTRAINT_STRIDE + POINTS
+    storePoint(d, o, c.p0)
+    if (k.pointCount[i] > 1) storePoint(d, o + POINT_STRIDE, c.p1)
+  }
+}
+
+function storePoint(d: Float64Array, p: number, cp: ContactPoint): void {
+  cp.normalImpulse = d[p + NORMAL_IMPULSE]
+  cp.tangentImpulse = d[p + TANGENT_IMPULSE]
+  cp.totalNormalImpulse = d[p + TOTAL_NORMAL]
+  cp.totalTangentImpulse = d[p + TOTAL_TANGENT]
 }

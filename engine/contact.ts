@@ -45,9 +45,9 @@ export class ContactPoint {
 
 /** A contact between two bodies, bodyA.id < bodyB.id. */
 export class Contact {
-  readonly key: number
-  readonly bodyA: Body
-  readonly bodyB: Body
+  key: number
+  bodyA: Body
+  bodyB: Body
   friction: number
   restitution: number
   touching = false
@@ -67,6 +67,24 @@ export class Contact {
     this.bodyB = bodyB
     this.friction = Math.sqrt(bodyA.friction * bodyB.friction)
     this.restitution = Math.max(bodyA.restitution, bodyB.restitution)
+  }
+
+  /** Reinitializes a pooled contact for a new pair (no allocation). */
+  reset(bodyA: Body, bodyB: Body): this {
+    this.key = bodyA.id * KEY_SCALE + bodyB.id
+    this.bodyA = bodyA
+    this.bodyB = bodyB
+    this.friction = Math.sqrt(bodyA.friction * bodyB.friction)
+    this.restitution = Math.max(bodyA.restitution, bodyB.restitution)
+    this.touching = false
+    this.pointCount = 0
+    this.normalX = 0
+    this.normalY = 0
+    this.p0.normalImpulse = 0
+    this.p0.tangentImpulse = 0
+    this.p1.normalImpulse = 0
+    this.p1.tangentImpulse = 0
+    return this
   }
 }
 

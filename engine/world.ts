@@ -19,7 +19,15 @@
  */
 import { type Body, DYNAMIC, STATIC } from './body.ts'
 import { Contact, KEY_SCALE, updateContact } from './contact.ts'
-import { applyRestitution, prepareContacts, solveContacts, warmStartContacts } from './contact-solver.ts'
+import {
+  applyRestitution,
+  ContactConstraints,
+  prepareContacts,
+  STATE_STRIDE,
+  solveContacts,
+  storeImpulses,
+  warmStartContacts,
+} from './contact-solver.ts'
 import { solveContinuous } from './continuous.ts'
 import { type Joint, prepareJoints, solveJoints, warmStartJoints } from './joint.ts'
 import type { WorldDef } from './types.ts'
@@ -87,6 +95,12 @@ export class World extends WorldApi {
   }
 
   private readonly writer = new ByteWriter()
+  /** Contacts created this step (sorted), and destroyed contacts kept for reuse. */
+  private readonly newContacts: Contact[] = []
+  private readonly contactPool: Contact[] = []
+  /** Solver state of the awake bodies (STATE_STRIDE numbers each, slot 0 static) and the constraints. */
+  private state = new Float64Array(64 * STATE_STRIDE)
+  private readonly constraints = new ContactConstraints()
   private readonly fatAABB = new Float64Array(4)
 
   private writeState(w: ByteWriter): void {
@@ -192,25 +206,25 @@ export class World extends WorldApi {
     }
   }
 
-  /** Creates contacts for pairs whose fat AABBs began to overlap. */
+  /** Creates contacts for pairs whose fat AABBs began to overlap, keeping pair-key order. */
   private updatePairs(): void {
     const pairs = this.pairBuffer
     const n = this.broadPhase.updatePairs(pairs)
-    let added = false
+    const fresh = this.newContacts
+    fresh.length = 0
     for (let i = 0; i < n; i++) {
       const key = pairs.a[i] * KEY_SCALE + pairs.b[i]
       if (this.contactMap.has(key)) continue
       const a = this.bodyMap.get(pairs.a[i])!
       const b = this.bodyMap.get(pairs.b[i])!
       if (!shouldCollide(a, b)) continue
-      const contact = new Contact(a, b)
+      const contact = this.contactPool.pop()?.reset(a, b) ?? new Contact(a, b)
       this.contactMap.set(key, contact)
-      this.contactArray.push(contact)
       a.contacts.push(contact)
       b.contacts.push(contact)
-      added = true
+      fresh.push(contact)
     }
-    if (added) sortContacts(this.contactArray)
+    if (fresh.length > 0) mergeContacts(this.contactArray, fresh)
   }
 
   /** Narrowphase for contacts with an awake body; destroys contacts whose fat AABBs parted. */
@@ -227,6 +241,7 @@ export class World extends WorldApi {
       }
       if (!this.broadPhase.testOverlap(a.proxy, b.proxy)) {
         this.unlinkContact(c)
+        this.contactPool.push(c)
         continue
       }
       contacts[kept++] = c
@@ -284,23 +299,84 @@ export class World extends WorldApi {
     this.staticSoftness.set(2 * contactHertz, s.contactDampingRatio, h)
     ctx.jointSoftness.set(2 * contactHertz, 2, h)
 
-    const contacts = this.activeContacts
-    const contactCount = this.activeContactCount
+    const k = this.constraints
     const joints = this.activeJoints
     const jointCount = this.activeJointCount
+    const hasJoints = jointCount > 0
+    this.loadSolverStates()
     prepareJoints(joints, jointCount, ctx)
-    prepareContacts(contacts, contactCount, this.contactSoftness, this.staticSoftness)
+    prepareContacts(
+      k,
+      this.activeContacts,
+      this.activeContactCount,
+      this.contactSoftness,
+      this.staticSoftness,
+    )
+    const state = this.state
     for (let i = 0; i < subSteps; i++) {
       this.integrateVelocities(h)
-      warmStartJoints(joints, jointCount)
-      warmStartContacts(contacts, contactCount)
-      solveJoints(joints, jointCount, ctx, true)
-      solveContacts(contacts, contactCount, invH, s.maxContactPushSpeed, true)
+      if (hasJoints) {
+        this.statesToJointBodies()
+        warmStartJoints(joints, jointCount)
+        this.jointBodiesToStates()
+      }
+      warmStartContacts(k, state)
+      if (hasJoints) {
+        this.statesToJointBodies()
+        solveJoints(joints, jointCount, ctx, true)
+        this.jointBodiesToStates()
+      }
+      solveContacts(k, state, invH, s.maxContactPushSpeed, true)
       this.integratePositions(h)
-      solveJoints(joints, jointCount, ctx, false)
-      solveContacts(contacts, contactCount, invH, s.maxContactPushSpeed, false)
+      if (hasJoints) {
+        this.statesToJointBodies()
+        solveJoints(joints, jointCount, ctx, false)
+        this.jointBodiesToStates()
+      }
+      solveContacts(k, state, invH, s.maxContactPushSpeed, false)
     }
-    applyRestitution(contacts, contactCount, s.restitutionThreshold)
+    applyRestitution(k, state, s.restitutionThreshold)
+    storeImpulses(k, this.activeContacts)
+  }
+
+  /** Copies awake bodies' velocities into the solver state; zero deltas. Slot 0 is the static state. */
+  private loadSolverStates(): void {
+    const n = this.awakeCount
+    if (this.state.length < (n + 1) * STATE_STRIDE) this.state = new Float64Array((n + 1) * 2 * STATE_STRIDE)
+    const state = this.state
+    state.fill(0, 0, STATE_STRIDE)
+    state[5] = 1
+    for (let i = 0; i < n; i++) {
+      const b = this.awake[i]
+      const o = (i + 1) * STATE_STRIDE
+      state[o] = b.vx
+      state[o + 1] = b.vy
+      state[o + 2] = b.w
+      state[o + 3] = 0
+      state[o + 4] = 0
+      state[o + 5] = 1
+      state[o + 6] = 0
+    }
+  }
+
+  /** Joints work on Body fields: copy the solver state of jointed awake bodies into them. */
+  private statesToJointBodies(): void {
+    const state = this.state
+    for (let i = 0; i < this.activeJointCount; i++) {
+      const j = this.activeJoints[i]
+      stateToBody(state, j.bodyA)
+      stateToBody(state, j.bodyB)
+    }
+  }
+
+  /** And back, after the joints have been solved. */
+  private jointBodiesToStates(): void {
+    const state = this.state
+    for (let i = 0; i < this.activeJointCount; i++) {
+      const j = this.activeJoints[i]
+      bodyToState(state, j.bodyA)
+      bodyToState(state, j.bodyB)
+    }
   }
 
   /** Gravity and damping for awake dynamic bodies, semi-implicit Euler. */
@@ -308,12 +384,14 @@ export class World extends WorldApi {
     const gx = this.gravityX * h
     const gy = this.gravityY * h
     const maxAngularSpeed = (0.25 * Math.PI) / h
+    const state = this.state
     for (let i = 0; i < this.awakeCount; i++) {
       const b = this.awake[i]
       if (b.type !== DYNAMIC) continue
-      let vx = b.vx
-      let vy = b.vy
-      let w = b.w
+      const o = (i + 1) * STATE_STRIDE
+      let vx = state[o]
+      let vy = state[o + 1]
+      let w = state[o + 2]
       if (b.linearDamping > 0) {
         const damp = 1 / (1 + h * b.linearDamping)
         vx *= damp
@@ -329,26 +407,29 @@ export class World extends WorldApi {
         vy *= scale
       }
       if (w * w > maxAngularSpeed * maxAngularSpeed) w = w > 0 ? maxAngularSpeed : -maxAngularSpeed
-      b.vx = vx
-      b.vy = vy
-      b.w = w
+      state[o] = vx
+      state[o + 1] = vy
+      state[o + 2] = w
     }
   }
 
   /** Accumulates the sub-step position and rotation deltas. */
   private integratePositions(h: number): void {
-    for (let i = 0; i < this.awakeCount; i++) {
-      const b = this.awake[i]
-      b.dpx += h * b.vx
-      b.dpy += h * b.vy
+    const state = this.state
+    const end = (this.awakeCount + 1) * STATE_STRIDE
+    for (let o = STATE_STRIDE; o < end; o += STATE_STRIDE) {
+      state[o + 3] += h * state[o]
+      state[o + 4] += h * state[o + 1]
       // Integrate the rotation and renormalize (Box2D v3 b2IntegrateRotation).
-      const da = h * b.w
-      const qc = b.dqc - da * b.dqs
-      const qs = b.dqs + da * b.dqc
+      const da = h * state[o + 2]
+      const c = state[o + 5]
+      const s = state[o + 6]
+      const qc = c - da * s
+      const qs = s + da * c
       const mag = Math.sqrt(qc * qc + qs * qs)
       const inv = mag > 0 ? 1 / mag : 0
-      b.dqc = qc * inv
-      b.dqs = qs * inv
+      state[o + 5] = qc * inv
+      state[o + 6] = qs * inv
     }
   }
 
@@ -356,8 +437,10 @@ export class World extends WorldApi {
   private finalizeBodies(): void {
     const s = this.settings
     const enableSleep = s.enableSleep
+    const state = this.state
     for (let i = 0; i < this.awakeCount; i++) {
       const b = this.awake[i]
+      stateToBody(state, b)
       b.c0x = b.cx
       b.c0y = b.cy
       b.q0c = b.c
@@ -442,15 +525,38 @@ export function shouldCollide(a: Body, b: Body): boolean {
   return true
 }
 
-/** Insertion sort by pair key: contacts are nearly sorted (new ones at the end). */
-function sortContacts(contacts: Contact[]): void {
-  for (let i = 1; i < contacts.length; i++) {
-    const c = contacts[i]
-    let j = i - 1
-    while (j >= 0 && contacts[j].key > c.key) {
-      contacts[j + 1] = contacts[j]
-      j--
-    }
-    contacts[j + 1] = c
+function stateToBody(state: Float64Array, b: Body): void {
+  if (b.solverIndex < 0) return
+  const o = (b.solverIndex + 1) * STATE_STRIDE
+  b.vx = state[o]
+  b.vy = state[o + 1]
+  b.w = state[o + 2]
+  b.dpx = state[o + 3]
+  b.dpy = state[o + 4]
+  b.dqc = state[o + 5]
+  b.dqs = state[o + 6]
+}
+
+function bodyToState(state: Float64Array, b: Body): void {
+  if (b.solverIndex < 0) return
+  const o = (b.solverIndex + 1) * STATE_STRIDE
+  state[o] = b.vx
+  state[o + 1] = b.vy
+  state[o + 2] = b.w
+  state[o + 3] = b.dpx
+  state[o + 4] = b.dpy
+  state[o + 5] = b.dqc
+  state[o + 6] = b.dqs
+}
+
+/** Merges sorted `fresh` contacts into the sorted `contacts` array in place, O(n + k). */
+function mergeContacts(contacts: Contact[], fresh: Contact[]): void {
+  let i = contacts.length - 1
+  let j = fresh.length - 1
+  let w = contacts.length + fresh.length - 1
+  contacts.length = w + 1
+  while (j >= 0) {
+    if (i >= 0 && contacts[i].key > fresh[j].key) contacts[w--] = contacts[i--]
+    else contacts[w--] = fresh[j--]
   }
 }
