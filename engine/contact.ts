@@ -89,14 +89,10 @@ export class Contact {
 }
 
 const scratch = new Manifold()
-// Previous impulses, by feature id, while a manifold is rebuilt.
-let oldId0 = 0
-let oldId1 = 0
-let oldNormal0 = 0
-let oldNormal1 = 0
-let oldTangent0 = 0
-let oldTangent1 = 0
-let oldCount = 0
+// Previous ids and impulses while a manifold is rebuilt: [id0, id1, normal0, normal1, tangent0,
+// tangent1, count]. A typed array, because a module-level `let` holding a double allocates a heap
+// number on every write in V8.
+const old = new Float64Array(7)
 
 function fillPoint(cp: ContactPoint, index: number, a: Body, b: Body): void {
   const mp = scratch.points[index]
@@ -110,12 +106,12 @@ function fillPoint(cp: ContactPoint, index: number, a: Body, b: Body): void {
   cp.py = mp.y
   cp.normalImpulse = 0
   cp.tangentImpulse = 0
-  if (oldCount > 0 && oldId0 === mp.id) {
-    cp.normalImpulse = oldNormal0
-    cp.tangentImpulse = oldTangent0
-  } else if (oldCount > 1 && oldId1 === mp.id) {
-    cp.normalImpulse = oldNormal1
-    cp.tangentImpulse = oldTangent1
+  if (old[6] > 0 && old[0] === mp.id) {
+    cp.normalImpulse = old[2]
+    cp.tangentImpulse = old[4]
+  } else if (old[6] > 1 && old[1] === mp.id) {
+    cp.normalImpulse = old[3]
+    cp.tangentImpulse = old[5]
   }
 }
 
@@ -124,13 +120,13 @@ export function updateContact(contact: Contact, speculativeDistance: number): bo
   const a = contact.bodyA
   const b = contact.bodyB
   collideShapes(a.shape, a.x, a.y, a.c, a.s, b.shape, b.x, b.y, b.c, b.s, speculativeDistance, scratch)
-  oldCount = contact.pointCount
-  oldId0 = contact.p0.id
-  oldId1 = contact.p1.id
-  oldNormal0 = contact.p0.normalImpulse
-  oldNormal1 = contact.p1.normalImpulse
-  oldTangent0 = contact.p0.tangentImpulse
-  oldTangent1 = contact.p1.tangentImpulse
+  old[0] = contact.p0.id
+  old[1] = contact.p1.id
+  old[2] = contact.p0.normalImpulse
+  old[3] = contact.p1.normalImpulse
+  old[4] = contact.p0.tangentImpulse
+  old[5] = contact.p1.tangentImpulse
+  old[6] = contact.pointCount
   const count = scratch.pointCount
   contact.pointCount = count
   contact.normalX = scratch.normalX

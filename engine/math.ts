@@ -64,11 +64,11 @@ function kernelCos(x: number, y: number): number {
   return t + (1 - t - hz + (z * r - x * y))
 }
 
-// Reduction output: x = n * pi/2 + (reducedHi + reducedLo)
-let reducedHi = 0
-let reducedLo = 0
+// Reduction output: x = n * pi/2 + (reduced[0] + reduced[1]). A typed array, because a
+// module-level `let` holding a double allocates a heap number on every write in V8.
+const reduced = new Float64Array(2)
 
-/** Reduces x modulo pi/2; returns the quadrant n (mod 4) and sets reducedHi/Lo. */
+/** Reduces x modulo pi/2; returns the quadrant n (mod 4) and sets `reduced`. */
 function reduce(x: number): number {
   const n = Math.round(x * INV_PIO2)
   // Two Cody-Waite iterations: pi/2 is carried to about 118 bits, plenty for |x| < 2^20.
@@ -77,8 +77,9 @@ function reduce(x: number): number {
   const w2 = n * PIO2_2
   const r2 = t - w2
   const w3 = n * PIO2_2T - (t - r2 - w2)
-  reducedHi = r2 - w3
-  reducedLo = r2 - reducedHi - w3
+  const hi = r2 - w3
+  reduced[0] = hi
+  reduced[1] = r2 - hi - w3
   return ((n % 4) + 4) % 4
 }
 
@@ -88,13 +89,13 @@ export function sin(x: number): number {
   if (x > -PIO4 && x < PIO4) return kernelSin(x, 0)
   switch (reduce(x)) {
     case 0:
-      return kernelSin(reducedHi, reducedLo)
+      return kernelSin(reduced[0], reduced[1])
     case 1:
-      return kernelCos(reducedHi, reducedLo)
+      return kernelCos(reduced[0], reduced[1])
     case 2:
-      return -kernelSin(reducedHi, reducedLo)
+      return -kernelSin(reduced[0], reduced[1])
     default:
-      return -kernelCos(reducedHi, reducedLo)
+      return -kernelCos(reduced[0], reduced[1])
   }
 }
 
@@ -104,13 +105,13 @@ export function cos(x: number): number {
   if (x > -PIO4 && x < PIO4) return kernelCos(x, 0)
   switch (reduce(x)) {
     case 0:
-      return kernelCos(reducedHi, reducedLo)
+      return kernelCos(reduced[0], reduced[1])
     case 1:
-      return -kernelSin(reducedHi, reducedLo)
+      return -kernelSin(reduced[0], reduced[1])
     case 2:
-      return -kernelCos(reducedHi, reducedLo)
+      return -kernelCos(reduced[0], reduced[1])
     default:
-      return kernelSin(reducedHi, reducedLo)
+      return kernelSin(reduced[0], reduced[1])
   }
 }
 
