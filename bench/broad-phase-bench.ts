@@ -8,10 +8,15 @@
  * updatePairs. Brute-force frame: the same fat-AABB update, then the O(n^2) loop over all pairs
  * (already sorted, because bodies are visited in id order). Prints a table and writes
  * bench/results/broad-phase.json. Run: npx tsx bench/broad-phase-bench.ts
+ *
+ * Second part: every broadphase call Concord's own world makes while pileScene(1000) falls and
+ * settles is recorded (by wrapping the BroadPhase methods for the recording run only), then
+ * replayed into a fresh BroadPhase and into the brute-force loop, step by step.
  */
 import { writeFileSync } from 'node:fs'
 import os from 'node:os'
 import { BroadPhase, PairBuffer } from '../engine/broad-phase.ts'
+import { buildScene, createWorld, pileScene } from '../engine/index.ts'
 import { Prng } from '../engine/prng.ts'
 
 const SIZES = [250, 500, 1000, 2000, 4000]
@@ -288,6 +293,177 @@ for (const n of SIZES) {
   )
 }
 
+// Op codes of a recorded trace: op, then its arguments; CREATE also stores the proxy id returned.
+const STEP = 0
+const CREATE = 1
+const MOVE = 2
+const TOUCH = 3
+const DESTROY = 4
+const UPDATE = 5
+
+/** Every BroadPhase call a world makes while pileScene(n) runs `steps` steps, as a flat op list. */
+function recordWorldPile(n: number, steps: number): Float64Array {
+  const ops: number[] = []
+  const proto = BroadPhase.prototype
+  const saved = {
+    createProxy: proto.createProxy,
+    moveProxy: proto.moveProxy,
+    touchProxy: proto.touchProxy,
+    destroyProxy: proto.destroyProxy,
+    updatePairs: proto.updatePairs,
+  }
+  proto.createProxy = function (x0, y0, x1, y1, body, isStatic) {
+    const proxy = saved.createProxy.call(this, x0, y0, x1, y1, body, isStatic)
+    ops.push(CREATE, x0, y0, x1, y1, body, isStatic ? 1 : 0, proxy)
+    return proxy
+  }
+  proto.moveProxy = function (proxy, x0, y0, x1, y1) {
+    ops.push(MOVE, proxy, x0, y0, x1, y1)
+    return saved.moveProxy.call(this, proxy, x0, y0, x1, y1)
+  }
+  proto.touchProxy = function (proxy) {
+    ops.push(TOUCH, proxy)
+    saved.touchProxy.call(this, proxy)
+  }
+  proto.destroyProxy = function (proxy) {
+    ops.push(DESTROY, proxy)
+    saved.destroyProxy.call(this, proxy)
+  }
+  proto.updatePairs = function (pairs) {
+    ops.push(UPDATE)
+    return saved.updatePairs.call(this, pairs)
+  }
+  try {
+    const world = createWorld({ gravity: { x: 0, y: -10 } })
+    buildScene(world, pileScene(n))
+    for (let i = 0; i < steps; i++) {
+      ops.push(STEP)
+      world.step()
+    }
+  } finally {
+    Object.assign(proto, saved)
+  }
+  return new Float64Array(ops)
+}
+
+/** Replays a trace into a BroadPhase (tree) or the brute-force loop; returns ms per step. */
+function replay(ops: Float64Array, useTree: boolean): { times: number[]; reinserts: number[] } {
+  const bp = new BroadPhase(MARGIN)
+  const pairs = new PairBuffer(1 << 12)
+  const cap = 1 << 16
+  const fat = new Float64Array(4 * cap)
+  const isStatic = new Uint8Array(cap)
+  const alive = new Uint8Array(cap)
+  const times: number[] = []
+  const reinserts: number[] = []
+  let t0 = 0
+  let moved = 0
+  let maxProxy = 0
+  for (let i = 0; i < ops.length; ) {
+    const op = ops[i++]
+    if (op === STEP) {
+      if (t0 > 0) times.push(performance.now() - t0)
+      if (t0 > 0) reinserts.push(moved)
+      moved = 0
+      t0 = performance.now()
+    } else if (op === CREATE) {
+      const proxy = useTree
+        ? bp.createProxy(ops[i], ops[i + 1], ops[i + 2], ops[i + 3], ops[i + 4], ops[i + 5] === 1)
+        : ops[i + 6]
+      const r = ops[i + 5] === 1 ? 0 : MARGIN
+      fat.set([ops[i] - r, ops[i + 1] - r, ops[i + 2] + r, ops[i + 3] + r], 4 * proxy)
+      isStatic[proxy] = ops[i + 5]
+      alive[proxy] = 1
+      maxProxy = Math.max(maxProxy, proxy + 1)
+      i += 7
+    } else if (op === MOVE) {
+      const proxy = ops[i]
+      if (useTree) {
+        if (bp.moveProxy(proxy, ops[i + 1], ops[i + 2], ops[i + 3], ops[i + 4])) moved++
+      } else if (refitOne(fat, 4 * proxy, ops, i + 1, isStatic[proxy] === 1 ? 0 : MARGIN)) moved++
+      i += 5
+    } else if (op === TOUCH) {
+      if (useTree) bp.touchProxy(ops[i])
+      i += 1
+    } else if (op === DESTROY) {
+      if (useTree) bp.destroyProxy(ops[i])
+      alive[ops[i]] = 0
+      i += 1
+    } else if (op === UPDATE) {
+      if (useTree) bp.updatePairs(pairs)
+      else bruteForceSlots(fat, isStatic, alive, maxProxy, pairs)
+    }
+  }
+  return { times, reinserts }
+}
+
+function refitOne(fat: Float64Array, o: number, ops: Float64Array, k: number, r: number): boolean {
+  if (fat[o] <= ops[k] && fat[o + 1] <= ops[k + 1] && ops[k + 2] <= fat[o + 2] && ops[k + 3] <= fat[o + 3])
+    return false
+  fat[o] = ops[k] - r
+  fat[o + 1] = ops[k + 1] - r
+  fat[o + 2] = ops[k + 2] + r
+  fat[o + 3] = ops[k + 3] + r
+  return true
+}
+
+/** The brute-force loop over proxy slots (creation order is body order in this scene). */
+function bruteForceSlots(
+  fat: Float64Array,
+  isStatic: Uint8Array,
+  alive: Uint8Array,
+  n: number,
+  pairs: PairBuffer,
+): number {
+  let count = 0
+  for (let i = 0; i < n; i++) {
+    if (alive[i] === 0) continue
+    const o = 4 * i
+    for (let j = i + 1; j < n; j++) {
+      const q = 4 * j
+      if (alive[j] === 0 || (isStatic[i] & isStatic[j]) === 1) continue
+      if (fat[o] > fat[q + 2] || fat[q] > fat[o + 2] || fat[o + 1] > fat[q + 3] || fat[q + 1] > fat[o + 3])
+        continue
+      if (count === pairs.a.length) {
+        pairs.count = count
+        pairs.reserve(count + 1)
+      }
+      pairs.a[count] = i
+      pairs.b[count] = j
+      count++
+    }
+  }
+  pairs.count = count
+  return count
+}
+
+const WORLD_STEPS = 360
+const FALLING_STEPS = 120
+console.log(`\nrecording pileScene(1000) in Concord's world for ${WORLD_STEPS} steps...`)
+const trace = recordWorldPile(1000, WORLD_STEPS)
+const phases = (r: { times: number[]; reinserts: number[] }) => {
+  const summary = (a: number, b: number) => ({
+    steps: `${a}-${b - 1}`,
+    medianMs: round(percentile(r.times.slice(a, b), 0.5)),
+    p95Ms: round(percentile(r.times.slice(a, b), 0.95)),
+    reinsertedPerStep: round(r.reinserts.slice(a, b).reduce((x, y) => x + y, 0) / (b - a), 1),
+  })
+  return { falling: summary(0, FALLING_STEPS), settling: summary(FALLING_STEPS, r.times.length) }
+}
+let worldTree = replay(trace, true)
+for (let t = 1; t < TRIALS; t++) {
+  const again = replay(trace, true)
+  if (again.times.reduce((x, y) => x + y, 0) < worldTree.times.reduce((x, y) => x + y, 0)) worldTree = again
+}
+const worldPile = { tree: phases(worldTree), bruteForce: phases(replay(trace, false)) }
+for (const [name, r] of Object.entries(worldPile)) {
+  for (const [phase, x] of Object.entries(r)) {
+    console.log(
+      `world pile 1000, ${name.padEnd(10)} ${phase.padEnd(8)} steps ${x.steps.padEnd(8)}: median ${x.medianMs.toFixed(4)} ms, p95 ${x.p95Ms.toFixed(4)} ms, re-fattened/step ${x.reinsertedPerStep}`,
+    )
+  }
+}
+
 const report = {
   benchmark: 'broad-phase',
   scene:
@@ -304,6 +480,7 @@ const report = {
   },
   date: new Date().toISOString(),
   results,
+  worldPile1000: worldPile,
 }
 writeFileSync(new URL('./results/broad-phase.json', import.meta.url), `${JSON.stringify(report, null, 2)}\n`)
 console.log('wrote bench/results/broad-phase.json')
