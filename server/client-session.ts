@@ -48,6 +48,8 @@ export class ClientSession {
     readonly ws: WebSocket,
     readonly urlRoom: string,
     private readonly metrics: ServerMetrics,
+    /** Unsent bytes beyond which the socket is dropped at once (memory bound per client). */
+    private readonly hardBufferLimit: number,
   ) {}
 
   /** True while the socket can take data. */
@@ -55,9 +57,14 @@ export class ClientSession {
     return this.ws.readyState === 1
   }
 
-  /** Send pre-encoded bytes. */
+  /** Send pre-encoded bytes; a socket whose unsent data would pass the hard limit is dropped instead. */
   sendBytes(bytes: Uint8Array): void {
     if (!this.open) return
+    if (this.ws.bufferedAmount + bytes.length > this.hardBufferLimit) {
+      this.metrics.slowClientsClosed.inc()
+      this.ws.terminate()
+      return
+    }
     this.ws.send(bytes)
     this.bytesSent += bytes.length
     this.metrics.bytesSent.inc(bytes.length)

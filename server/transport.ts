@@ -16,6 +16,11 @@ import type { ServerConfig } from './config.ts'
 import type { ServerMetrics } from './metrics.ts'
 import type { RoomManager } from './room-manager.ts'
 
+/** Unsent bytes at which a client is dropped at once: 8 send-buffer budgets, at least 1 MiB. */
+export function hardBufferLimit(config: ServerConfig): number {
+  return Math.max(config.sendBufferBytes * 8, 1 << 20)
+}
+
 /** Accepts sockets and routes their messages to rooms. */
 export class Transport {
   readonly wss: WebSocketServer
@@ -65,7 +70,7 @@ export class Transport {
   }
 
   private accept(ws: WebSocket, urlRoom: string): void {
-    const session = new ClientSession(ws, urlRoom, this.metrics)
+    const session = new ClientSession(ws, urlRoom, this.metrics, hardBufferLimit(this.config))
     this.sessions.add(session)
     this.metrics.connections.set(this.sessions.size)
     const joinTimer = setTimeout(() => {
@@ -152,6 +157,11 @@ export class Transport {
         session.encoder.ack(message.tick)
         return
       case 'ping':
+        // Pings share the input budget, so they cannot be used to amplify traffic.
+        if (++session.inputsThisTick > this.config.inputsPerTick) {
+          this.reject(session, 'input-budget', 'too many pings')
+          return
+        }
         session.send({
           t: 'pong',
           id: message.id,
