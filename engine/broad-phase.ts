@@ -156,6 +156,7 @@ export class BroadPhase {
     const b = tree.bounds
     const o = 4 * proxy
     if (b[o] <= minX && b[o + 1] <= minY && maxX <= b[o + 2] && maxY <= b[o + 3]) return false
+    if (tree.height[proxy] !== 0) throw new Error(`BroadPhase: ${proxy} is not a live proxy`)
     const r = (tree.flags[proxy] & FLAG_STATIC) !== 0 ? 0 : this.margin
     b[o] = minX - r
     b[o + 1] = minY - r

@@ -319,6 +319,7 @@ describe('BroadPhase', () => {
     bp.destroyProxy(p)
     expect(() => bp.destroyProxy(p)).toThrow(/not a live proxy/)
     expect(() => bp.touchProxy(p)).toThrow(/not a live proxy/)
+    expect(() => bp.moveProxy(p, 5, 5, 6, 6)).toThrow(/not a live proxy/)
     expect(() => new BroadPhase(-1)).toThrow(/margin -1/)
   })
 
