@@ -159,6 +159,8 @@ export function openSave(bytes: Uint8Array): ByteReader {
       `saved world has format version ${version}; this engine reads version ${SAVE_FORMAT_VERSION}`,
     )
   }
+  if (view.getUint16(6, true) !== 0)
+    throw new WorldLoadError('saved world header is corrupted: reserved bytes are not zero')
   const length = view.getUint32(8, true)
   if (HEADER_BYTES + length > bytes.length) {
     throw new WorldLoadError(
