@@ -9,6 +9,7 @@ import { Camera } from './camera.ts'
 import { FpsMeter, hudText } from './hud.ts'
 import { computeFreeBody, describeFreeBody, type FreeBody } from './lab.ts'
 import { cleanRoomName, roomLink, showLobby } from './lobby.ts'
+import { shapeRadius } from './picking.ts'
 import { type DebugLayers, Renderer } from './renderer.ts'
 import type { Sandbox, ViewBody } from './sandbox.ts'
 import { helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
@@ -158,14 +159,16 @@ export class App {
     let maxX = -Infinity
     let maxY = 4
     for (const b of this.sandbox.bodies()) {
-      if (b.kind === 0 && Math.abs(b.x) > 60) continue
-      minX = Math.min(minX, b.x - 1)
-      maxX = Math.max(maxX, b.x + 1)
-      minY = Math.min(minY, b.y - 1)
-      maxY = Math.max(maxY, b.y + 1)
+      const r = shapeRadius(b.shape)
+      if (b.kind === 0 && r > 50) continue // the ground: frame what stands on it instead
+      minX = Math.min(minX, b.x - r)
+      maxX = Math.max(maxX, b.x + r)
+      minY = Math.min(minY, b.y - r)
+      maxY = Math.max(maxY, b.y + r)
     }
     if (!Number.isFinite(minX)) [minX, maxX] = [-10, 10]
-    this.camera.fit(minX, minY, maxX, maxY)
+    const toolbar = $('toolbar').getBoundingClientRect()
+    this.camera.fit(minX, minY, maxX, maxY, toolbar.bottom)
   }
 
   private frame(now: number): void {
@@ -222,7 +225,7 @@ export class App {
     for (const id of ['scene', 'pause', 'step', 'reset', 'gravity']) {
       ;($(id) as HTMLButtonElement).disabled = !controls
     }
-    $('pause').textContent = s.paused() ? '▶ Play' : '⏸ Pause'
+    $('pause').textContent = s.paused() ? 'Play' : 'Pause'
     if ($<HTMLSelectElement>('scene').value !== s.scene()) this.syncScenePicker()
     $('lab').hidden = !selected
     if (selected && this.freeBody) $('lab-text').textContent = describeFreeBody(selected.id, this.freeBody)

@@ -56,13 +56,17 @@ export class Camera {
     this.y += before.y - after.y
   }
 
-  /** Frame a world rectangle (m) with a margin, e.g. a scene's dynamic bodies. */
-  fit(minX: number, minY: number, maxX: number, maxY: number, margin = 1.15): void {
+  /**
+   * Frame a world rectangle (m) with a margin, e.g. a scene's bodies, below a band of `insetTop`
+   * CSS px (the toolbar) that the rectangle should not hide behind.
+   */
+  fit(minX: number, minY: number, maxX: number, maxY: number, insetTop = 0, margin = 1.15): void {
     const w = Math.max(4, (maxX - minX) * margin)
     const h = Math.max(4, (maxY - minY) * margin)
-    this.scale = Math.min(MAX_SCALE, Math.max(MIN_SCALE, Math.min(this.width / w, this.height / h)))
+    const usable = Math.max(1, this.height - insetTop)
+    this.scale = Math.min(MAX_SCALE, Math.max(MIN_SCALE, Math.min(this.width / w, usable / h)))
     this.x = (minX + maxX) / 2
-    this.y = (minY + maxY) / 2
+    this.y = (minY + maxY) / 2 + insetTop / 2 / this.scale
   }
 
   /** The visible world rectangle (m), for culling. */

@@ -6,8 +6,11 @@
  * snapshots around that moment, so motion is smooth even though states arrive in bursts.
  *
  * The timeline is the server's tick as it reaches this client: every snapshot arrival gives one
- * sample `tick - arrivalMs * rate`; the largest recent sample is the least-delayed path through the
- * network, so "now" on the server-as-seen-here is `nowMs * rate + offset`. The render time is that
+ * sample `tick - arrivalMs * rate`; the largest sample is the least-delayed path through the
+ * network, so "now" on the server-as-seen-here is `nowMs * rate + offset`. The maximum is taken
+ * over the last OFFSET_WINDOW_MS of arrivals only, so a server whose clock stepped back (an
+ * overloaded host dropping ticks) or a path that got slower is followed within a second or two
+ * instead of being outrun. The render time is that
  * minus an adaptive delay: two measured snapshot intervals plus a margin that grows with jitter
  * (how late snapshots arrive compared with the fastest one), i.e. about 2-3 intervals by default.
  * With a delay of at least two intervals, one lost snapshot still leaves a pair to interpolate
@@ -32,8 +35,8 @@ import {
 
 /** Frames kept (about half a second at 30 Hz snapshots). */
 const CAPACITY = 24
-/** Arrival samples kept for the clock offset (about 3 s at 30 Hz). */
-const OFFSET_WINDOW = 90
+/** Arrivals considered for the clock offset (ms). */
+const OFFSET_WINDOW_MS = 1500
 /** Longest extrapolation past the newest snapshot (ticks): 100 ms. */
 export const MAX_EXTRAPOLATION = 6
 /** Playback speed is corrected by at most this fraction of real time. */
@@ -59,8 +62,8 @@ interface TimedFrame {
 export class SnapshotTimeline {
   private readonly frames: TimedFrame[] = []
   private readonly spare: QuantizedFrame[] = []
-  private readonly samples: number[] = []
   private offset = Number.NaN
+  private readonly samples: Array<{ value: number; at: number }> = []
   /** Measured snapshot interval (ticks), smoothed. */
   intervalTicks: number
   /** Mean lateness of arrivals behind the fastest one (ticks), smoothed. */
@@ -71,8 +74,12 @@ export class SnapshotTimeline {
   renderTick = Number.NaN
   private lastNow = Number.NaN
 
+  /** The room's announced snapshot interval (ticks), e.g. 2 at 30 Hz. */
+  nominalInterval: number
+
   /** nominalInterval: the expected snapshot interval (ticks), e.g. 2 at 30 Hz. */
   constructor(nominalInterval = 2) {
+    this.nominalInterval = nominalInterval
     this.intervalTicks = nominalInterval
     this.delayTicks = this.targetDelay()
   }
@@ -87,22 +94,22 @@ export class SnapshotTimeline {
   push(tick: number, frame: QuantizedFrame, arrivalMs: number): void {
     const newest = this.frames[this.frames.length - 1]
     if (newest && tick <= newest.tick) return
-    if (newest) {
-      const gap = Math.min(tick - newest.tick, 30)
-      this.intervalTicks += (gap - this.intervalTicks) * 0.1
-    }
+    // Gaps much longer than announced are a quiet room (nothing to send), not the network.
+    const gap = newest ? tick - newest.tick : 0
+    if (gap > 0 && gap <= 3 * this.nominalInterval) this.intervalTicks += (gap - this.intervalTicks) * 0.1
     const copy = this.spare.pop() ?? new QuantizedFrame()
     copy.copyFrom(frame)
     this.frames.push({ tick, frame: copy })
     if (this.frames.length > CAPACITY) this.spare.push(this.frames.shift()!.frame)
-    this.observeArrival(tick - arrivalMs * TICKS_PER_MS)
+    this.observeArrival(tick - arrivalMs * TICKS_PER_MS, arrivalMs)
   }
 
-  private observeArrival(sample: number): void {
-    this.samples.push(sample)
-    if (this.samples.length > OFFSET_WINDOW) this.samples.shift()
+  private observeArrival(sample: number, arrivalMs: number): void {
+    const samples = this.samples
+    samples.push({ value: sample, at: arrivalMs })
+    while (samples[0].at < arrivalMs - OFFSET_WINDOW_MS) samples.shift()
     let best = -Infinity
-    for (const s of this.samples) if (s > best) best = s
+    for (const s of samples) if (s.value > best) best = s.value
     this.offset = best
     this.jitterTicks += (best - sample - this.jitterTicks) * 0.1
   }

@@ -89,8 +89,8 @@ export function describeFreeBody(bodyId: number, fb: FreeBody): string {
 
 /** Draw the diagram's arrows in world space; `scale` is CSS px per metre. */
 export function drawFreeBody(ctx: CanvasRenderingContext2D, origin: Vec2, fb: FreeBody, scale: number): void {
-  // Arrows are 1 m per (m g) so a body's weight is always one metre long whatever its mass.
-  const unit = 1 / Math.max(1e-6, len(fb.gravity))
+  // Arrows are 2 m per (m g): a body's weight is always two metres long whatever its mass.
+  const unit = 2 / Math.max(1e-6, len(fb.gravity))
   const arrow = (from: Vec2, f: Vec2, color: string): void => {
     const tx = from.x + f.x * unit
     const ty = from.y + f.y * unit

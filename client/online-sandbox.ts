@@ -155,7 +155,7 @@ export class OnlineSandbox implements Sandbox {
   }
 
   private resetTimeline(tick: number, now: number, rules: RoomRules | null): void {
-    if (rules) this.timeline.intervalTicks = TICK_RATE / rules.snapshotRate
+    if (rules) this.timeline.nominalInterval = this.timeline.intervalTicks = TICK_RATE / rules.snapshotRate
     this.timeline.clear()
     const frame = this.mirror.history.get(tick)
     if (frame) this.timeline.push(tick, frame, now)

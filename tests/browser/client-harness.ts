@@ -1,0 +1,211 @@
+/*
+ * Shared setup for the client's browser tests: the client bundle built into a scratch folder, a
+ * real server on 127.0.0.1 (port 0) serving it, one headless Debian Chromium, and page helpers
+ * that read the page's state through the `window.concord` handle (main.ts) and act through real
+ * mouse and touch input.
+ */
+import { mkdir } from 'node:fs/promises'
+import { type Browser, type BrowserContext, type CDPSession, chromium, type Page } from 'playwright-core'
+import { buildClient } from '../../scripts/build-client.mjs'
+import { loadConfig } from '../../server/config.ts'
+import { type RunningServer, startServer } from '../../server/server.ts'
+
+/** Where screenshots go (git-ignored). */
+export const ARTIFACTS = 'test-results/browser-client'
+const DIST = 'test-results/browser-client/dist'
+
+/** Chromium flags for this machine (no sandbox, no GPU, no network side traffic). */
+export const CHROMIUM_ARGS = [
+  '--headless',
+  '--no-sandbox',
+  '--disable-gpu',
+  '--disable-quic',
+  '--no-first-run',
+  '--disable-background-networking',
+  '--disable-component-update',
+  '--disable-sync',
+]
+
+/** Build the client and start a server that serves it. */
+export async function startClientServer(): Promise<RunningServer> {
+  await mkdir(ARTIFACTS, { recursive: true })
+  await buildClient(DIST)
+  const config = loadConfig([], {}, { port: 0, staticDir: DIST, logLevel: 'silent', heartbeatMs: 60_000 })
+  return startServer(config, { processMetrics: false })
+}
+
+/** Launch the one browser the suite shares. */
+export function launchBrowser(): Promise<Browser> {
+  return chromium.launch({ executablePath: '/usr/bin/chromium', args: CHROMIUM_ARGS })
+}
+
+/** Console errors and page errors seen by a page. */
+export function collectErrors(page: Page): string[] {
+  const errors: string[] = []
+  page.on('console', (m) => {
+    if (m.type() === 'error') errors.push(m.text())
+  })
+  page.on('pageerror', (e) => errors.push(e.message))
+  return errors
+}
+
+/** Open a page in a new context and wait until it has joined (or, offline, drawn) the world. */
+export async function openSandbox(
+  browser: Browser,
+  url: string,
+  options: { touch?: boolean } = {},
+): Promise<{ context: BrowserContext; page: Page; errors: string[] }> {
+  const context = await browser.newContext({
+    viewport: { width: 1000, height: 700 },
+    deviceScaleFactor: 1,
+    hasTouch: options.touch ?? false,
+    isMobile: false,
+  })
+  const page = await context.newPage()
+  const errors = collectErrors(page)
+  await page.goto(url)
+  await page.waitForFunction(() => {
+    const c = (window as any).concord
+    return c && c.sandbox.bodies().length > 0 && c.fps.value > 0
+  })
+  return { context, page, errors }
+}
+
+/** A body as the page draws it (pose in metres). */
+export interface PageBody {
+  id: number
+  kind: number
+  shape: { type: string; hw?: number; radius?: number }
+  x: number
+  y: number
+}
+
+/** The page's bodies this frame. */
+export function bodies(page: Page): Promise<PageBody[]> {
+  return page.evaluate(() =>
+    (window as any).concord.sandbox
+      .bodies()
+      .map((b: PageBody) => ({ id: b.id, kind: b.kind, shape: b.shape, x: b.x, y: b.y })),
+  )
+}
+
+/** Viewport coordinates (CSS px) of a world point. */
+export function screenOf(page: Page, x: number, y: number): Promise<{ x: number; y: number }> {
+  return page.evaluate(
+    ([wx, wy]) => {
+      const app = (window as any).concord
+      const r = app.renderer.canvas.getBoundingClientRect()
+      const p = app.camera.toScreen(wx, wy)
+      return { x: p.x + r.left, y: p.y + r.top }
+    },
+    [x, y],
+  )
+}
+
+/** Viewport coordinates of a body's centre. */
+export async function screenOfBody(page: Page, id: number): Promise<{ x: number; y: number }> {
+  const b = (await bodies(page)).find((v) => v.id === id)
+  if (!b) throw new Error(`body ${id} is not on the page`)
+  return screenOf(page, b.x, b.y)
+}
+
+/** Wait until a body satisfies a predicate on the page (polled every animation frame). */
+export async function waitForBody(
+  page: Page,
+  id: number,
+  predicate: string,
+  timeout = 15_000,
+): Promise<void> {
+  await page.waitForFunction(
+    ([bodyId, test]) => {
+      const b = (window as any).concord.sandbox.bodies().find((v: { id: number }) => v.id === bodyId)
+      return b ? new Function('b', `return ${test}`)(b) : false
+    },
+    [id, predicate] as const,
+    { timeout },
+  )
+}
+
+/** Select a tool by its toolbar button. */
+export async function pickTool(page: Page, tool: string): Promise<void> {
+  await page.click(`[data-tool="${tool}"]`)
+}
+
+/** Count canvas pixels (device px) that differ from the background colour. */
+export function paintedPixels(page: Page): Promise<{ painted: number; total: number }> {
+  return page.evaluate(() => {
+    const canvas = (window as any).concord.renderer.canvas as HTMLCanvasElement
+    const ctx = canvas.getContext('2d')!
+    const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data
+    let painted = 0
+    // Background #161a22 and grid #1f2530 are both dark blue-greys; bodies are brighter.
+    for (let i = 0; i < data.length; i += 16) if (data[i] + data[i + 1] + data[i + 2] > 150) painted++
+    return { painted, total: data.length / 16 }
+  })
+}
+
+/** The colour (r, g, b) of one canvas pixel at a viewport point. */
+export function pixelAt(page: Page, x: number, y: number): Promise<[number, number, number]> {
+  return page.evaluate(
+    ([sx, sy]) => {
+      const canvas = (window as any).concord.renderer.canvas as HTMLCanvasElement
+      const r = canvas.getBoundingClientRect()
+      const k = canvas.width / r.width
+      const d = canvas.getContext('2d')!.getImageData((sx - r.left) * k, (sy - r.top) * k, 1, 1).data
+      return [d[0], d[1], d[2]] as [number, number, number]
+    },
+    [x, y],
+  )
+}
+
+/** One finger driven through the DevTools protocol (real touch events, as a touchscreen sends). */
+export class Finger {
+  private constructor(
+    private readonly page: Page,
+    private readonly cdp: CDPSession,
+    private at: { x: number; y: number },
+  ) {}
+
+  /** Put a finger down at a viewport point. */
+  static async down(page: Page, at: { x: number; y: number }): Promise<Finger> {
+    const cdp = await page.context().newCDPSession(page)
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ ...at, id: 1 }] })
+    return new Finger(page, cdp, at)
+  }
+
+  /** Slide to a point in `steps` moves, one per animation frame. */
+  async moveTo(to: { x: number; y: number }, steps = 12): Promise<void> {
+    const from = this.at
+    for (let i = 1; i <= steps; i++) {
+      const p = {
+        x: from.x + ((to.x - from.x) * i) / steps,
+        y: from.y + ((to.y - from.y) * i) / steps,
+        id: 1,
+      }
+      await this.cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [p] })
+      await this.page.evaluate(() => new Promise((r) => requestAnimationFrame(() => r(null))))
+    }
+    this.at = to
+  }
+
+  /** Lift the finger. */
+  async up(): Promise<void> {
+    await this.cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] })
+    await this.cdp.detach()
+  }
+}
+
+/** The lab panel's numbers: normal and friction of the first contact, and the net force (N). */
+export async function labNumbers(
+  page: Page,
+): Promise<{ normal: number; friction: number; net: number; text: string }> {
+  const text = (await page.textContent('#lab-text')) ?? ''
+  const contact = /normal ([\d.]+) N\s+friction ([\d.]+) N/.exec(text)
+  const net = /net force ([\d.]+) N/.exec(text)
+  return {
+    normal: contact ? Number(contact[1]) : Number.NaN,
+    friction: contact ? Number(contact[2]) : Number.NaN,
+    net: net ? Number(net[1]) : Number.NaN,
+    text,
+  }
+}

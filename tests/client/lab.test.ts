@@ -1,0 +1,64 @@
+/*
+ * The lab's free-body diagram against the inclined-plane formula: a box of mass m resting on a
+ * ramp of angle theta feels normal = m g cos(theta) and friction = m g sin(theta), and no net
+ * force. Checked for both sources: the stepping world's contacts (offline) and the local re-solve
+ * from snapshot poses (online).
+ */
+import { describe, expect, it } from 'vitest'
+import { computeFreeBody } from '../../client/lab.ts'
+import { probeContacts } from '../../client/lab-probe.ts'
+import type { ViewBody } from '../../client/sandbox.ts'
+import { buildScene, createWorld, rampScene } from '../../engine/index.ts'
+import { toWireShape } from '../../shared/index.ts'
+
+function restingRamp(degrees: number) {
+  const theta = (degrees * Math.PI) / 180
+  const world = createWorld()
+  const [, ramp, box] = buildScene(world, rampScene(theta))
+  for (let i = 0; i < 120; i++) world.step()
+  return { world, ramp, box, theta }
+}
+
+function expectInclinedPlane(fb: ReturnType<typeof computeFreeBody>, theta: number) {
+  const mg = fb.mass * 10
+  expect(fb.contacts).toHaveLength(1)
+  expect(fb.contacts[0].normalN / (mg * Math.cos(theta))).toBeCloseTo(1, 1)
+  expect(Math.abs(fb.contacts[0].normalN / (mg * Math.cos(theta)) - 1)).toBeLessThan(0.02)
+  expect(Math.abs(fb.contacts[0].frictionN / (mg * Math.sin(theta)) - 1)).toBeLessThan(0.02)
+  expect(Math.hypot(fb.net.x, fb.net.y)).toBeLessThan(0.02 * mg)
+}
+
+describe('free-body diagram', () => {
+  for (const degrees of [10, 20, 30]) {
+    it(`matches m g cos and m g sin on a ${degrees} degree ramp from the world's contacts`, () => {
+      const { world, box, theta } = restingRamp(degrees)
+      const fb = computeFreeBody(box, {
+        contacts: world.contacts(),
+        mass: world.getMass(box),
+        gravity: world.getGravity(),
+        source: 'world',
+      })
+      expectInclinedPlane(fb, theta)
+      // The normal force points away from the ramp, up its normal (-sin, cos).
+      const n = fb.contacts[0].normal
+      expect(n.x / Math.hypot(n.x, n.y)).toBeCloseTo(-Math.sin(theta), 2)
+      // Friction points up the slope (cos, sin) to hold the box.
+      const f = fb.contacts[0].friction
+      expect(f.x / Math.hypot(f.x, f.y)).toBeCloseTo(Math.cos(theta), 2)
+    })
+  }
+
+  it('matches the formula when re-solved locally from snapshot poses (the online lab)', () => {
+    const { world, theta, box } = restingRamp(20)
+    const view: ViewBody[] = world.bodyIds().map((id) => {
+      const p = world.getPosition(id)
+      const kind = world.getBodyType(id) === 'static' ? 0 : 2
+      const shape = toWireShape(world.getShape(id))
+      return { id, kind, shape, x: p.x, y: p.y, angle: world.getAngle(id), awake: false, grabColor: null }
+    })
+    const target = view.find((v) => v.id === box)!
+    const fb = computeFreeBody(box, probeContacts(target, view, { x: 0, y: -10 }))
+    expect(fb.source).toBe('probe')
+    expectInclinedPlane(fb, theta)
+  })
+})
