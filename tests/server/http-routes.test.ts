@@ -1,0 +1,61 @@
+import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { BotClient } from '../../server/bot-client.ts'
+import type { RunningServer } from '../../server/server.ts'
+import { startTestServer } from './test-server.ts'
+
+let server: RunningServer
+
+beforeAll(async () => {
+  server = await startTestServer()
+})
+afterAll(async () => {
+  await server.close()
+})
+
+describe('HTTP routes', { timeout: 20_000 }, () => {
+  it('probes answer, metrics are Prometheus text, and /rooms lists open rooms with player counts', async () => {
+    expect((await fetch(`${server.url}/healthz`)).status).toBe(200)
+    expect((await fetch(`${server.url}/readyz`)).status).toBe(200)
+    const bot = await BotClient.connect({ url: server.url, room: 'listed', name: 'x' })
+    const rooms = (await (await fetch(`${server.url}/rooms`)).json()) as Array<{
+      name: string
+      players: number
+    }>
+    expect(rooms.find((r) => r.name === 'listed')?.players).toBe(1)
+    expect(rooms.find((r) => r.name === 'lobby')?.players).toBe(0)
+    const metrics = await (await fetch(`${server.url}/metrics`)).text()
+    for (const name of [
+      'concord_rooms 2',
+      'concord_clients 1',
+      'concord_room_tick_seconds_bucket',
+      'concord_bytes_sent_total',
+    ]) {
+      expect(metrics).toContain(name)
+    }
+    await bot.close()
+  })
+
+  it('static files come only from the static directory', async () => {
+    const index = await fetch(`${server.url}/`)
+    expect(index.status).toBe(200)
+    expect(index.headers.get('content-type')).toContain('text/html')
+    expect(await index.text()).toContain('fixture')
+    expect((await fetch(`${server.url}/missing.js`)).status).toBe(404)
+    expect((await fetch(`${server.url}/%2e%2e/%2e%2e/package.json`)).status).toBe(404)
+    expect((await fetch(`${server.url}/healthz`, { method: 'POST' })).status).toBe(405)
+  })
+
+  it('upgrades only on /ws with a valid room name', async () => {
+    const bad = new BotClient({ url: server.url, room: 'no spaces allowed', name: 'x' })
+    await expect(bad.opened).rejects.toThrow()
+  })
+
+  it('an empty room is disposed after the idle time; the default room stays', async () => {
+    const bot = await BotClient.connect({ url: server.url, room: 'brief', name: 'x' })
+    const watcher = await BotClient.connect({ url: server.url, room: 'lobby', name: 'w' })
+    await bot.close()
+    await watcher.waitFor(() => !server.rooms.rooms.has('brief'), 'disposal')
+    expect(server.rooms.rooms.has('lobby')).toBe(true)
+    await watcher.close()
+  })
+})
