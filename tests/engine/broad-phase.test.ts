@@ -245,6 +245,19 @@ describe('BroadPhase', () => {
     h.bp.validateTree()
   })
 
+  it('reports a body with two proxies once per partner and never with itself', () => {
+    const bp = new BroadPhase()
+    bp.createProxy(0, 0, 1, 1, 2, false)
+    bp.createProxy(0.5, 0, 1.5, 1, 2, false) // a second shape of body 2, overlapping the first
+    bp.createProxy(0.8, 0.8, 2, 2, 1, false) // overlaps both shapes of body 2
+    const pairs = new PairBuffer()
+    expect(pairKeys(pairs, bp.updatePairs(pairs))).toEqual([1 * SCALE + 2])
+    expect(pairKeys(pairs, bp.allPairs(pairs))).toEqual([1 * SCALE + 2])
+    const out = new IdBuffer()
+    expect(bp.query(0.9, 0.9, 1, 1, out)).toBe(2)
+    expect(Array.from(out.ids.subarray(0, 2))).toEqual([1, 2])
+  })
+
   it('touchProxy makes the next updatePairs report exactly that proxy’s overlaps', () => {
     const h = randomScene(500, 7)
     const pairs = new PairBuffer()
