@@ -16,7 +16,9 @@
  * - fast non-bullet bodies: static bodies (as Box2D v3).
  * - bullets: static bodies, dynamic non-bullet bodies (using their own sweep, so a moving thin
  *   plank is caught), and other bullets: both bullets are moved back to the impact time.
- * A pair that already overlaps at the step start is left to the regular contact.
+ * A pair closer than the speculative distance at the step start is left to its regular contact,
+ * which exists by then and stops the approach speculatively; only the fast body's core (a small
+ * circle at its centre of mass) is swept for it, so its centre can never cross (see timeOfImpact).
  */
 import { type Body, DYNAMIC, STATIC } from './body.ts'
 import { type BroadPhase, IdBuffer } from './broad-phase.ts'
@@ -26,6 +28,8 @@ import type { Shape } from './shapes.ts'
 const TOI_TARGET = 0.005
 const TOI_TOLERANCE = 0.00125
 const MAX_ITERATIONS = 30
+/** Pairs closer than this at the start of the sweep are left to their contact: 4 x slop. */
+const START_SKIP_DISTANCE = 0.02
 
 const candidates = new IdBuffer()
 const pose = new Float64Array(4)
@@ -124,13 +128,25 @@ function boundaryDistance(p: Float64Array, pn: number, q: Float64Array, qn: numb
   return best
 }
 
-/** Signed distance between the shapes of a and b at sweep fraction t (negative when overlapping). */
-export function sweptDistance(a: Body, b: Body, t: number): number {
+/**
+ * Signed distance between the shapes of a and b at sweep fraction t (negative when overlapping).
+ * With `core` > 0, body a is replaced by its core: a circle of that radius at its centre of mass.
+ */
+export function sweptDistance(a: Body, b: Body, t: number, core = 0): number {
   poseAt(a, t)
-  const na = transformVertices(a.shape, verticesA)
+  let na: number
+  let ra: number
+  if (core > 0) {
+    verticesA[0] = pose[0] + pose[2] * a.localCenterX - pose[3] * a.localCenterY
+    verticesA[1] = pose[1] + pose[3] * a.localCenterX + pose[2] * a.localCenterY
+    na = 1
+    ra = core
+  } else {
+    na = transformVertices(a.shape, verticesA)
+    ra = a.shape.type === 'circle' ? a.shape.radius : 0
+  }
   poseAt(b, t)
   const nb = transformVertices(b.shape, verticesB)
-  const ra = a.shape.type === 'circle' ? a.shape.radius : 0
   const rb = b.shape.type === 'circle' ? b.shape.radius : 0
   if (na === 1 && nb === 1) {
     const dx = verticesB[0] - verticesA[0]
@@ -147,36 +163,56 @@ export function sweptDistance(a: Body, b: Body, t: number): number {
   return d - ra - rb
 }
 
-/** First sweep fraction in (0, 1) at which a and b come within the target gap, or 1 if none. */
+/**
+ * First sweep fraction in (0, 1) at which the fast body a comes within the target gap of b, or 1.
+ *
+ * A pair already closer than the speculative distance at the start has a contact, and a time of
+ * impact of 0 would freeze both bodies in place every step (Box2D's "pausing"). For such a pair
+ * only a's core, a circle of a quarter of its smallest extent at its centre of mass, is swept (as
+ * Box2D v3.1 does): the contact handles the surfaces, and the core stops a body that the contact
+ * failed to stop (a thin bar spun up by the impact and rotating through a wall) from crossing.
+ */
 export function timeOfImpact(a: Body, b: Body): number {
+  let d = sweptDistance(a, b, 0)
+  if (d >= START_SKIP_DISTANCE) return advance(a, b, d, 0, sweepArc(a) * a.maxExtent)
+  const core = 0.25 * a.minExtent
+  d = sweptDistance(a, b, 0, core)
+  if (d < START_SKIP_DISTANCE) return 1
+  // The core sits at the centre of mass: a's rotation does not move it.
+  return advance(a, b, d, core, 0)
+}
+
+/** Conservative advancement from distance d at t = 0; `spinA` bounds a's rotational speed. */
+function advance(a: Body, b: Body, d: number, core: number, spinA: number): number {
   const dax = a.awake ? a.cx - a.c0x : 0
   const day = a.awake ? a.cy - a.c0y : 0
   const dbx = b.awake ? b.cx - b.c0x : 0
   const dby = b.awake ? b.cy - b.c0y : 0
   const relative = Math.sqrt((dbx - dax) * (dbx - dax) + (dby - day) * (dby - day))
-  const mu = relative + sweepArc(a) * a.maxExtent + sweepArc(b) * b.maxExtent
+  const mu = relative + spinA + sweepArc(b) * b.maxExtent
   if (mu <= 0) return 1
   let t = 0
-  let d = sweptDistance(a, b, 0)
-  if (d < TOI_TARGET) return 1 // overlapping or touching at the start: the regular contact handles it
   for (let i = 0; i < MAX_ITERATIONS; i++) {
     if (d < TOI_TARGET + TOI_TOLERANCE) return t
     t += (d - TOI_TARGET) / mu
     if (t >= 1) return 1
-    d = sweptDistance(a, b, t)
+    d = sweptDistance(a, b, t, core)
   }
   return t
 }
 
 /**
- * Bound on how far a point at unit distance from the centre moves over the sweep: the chord of the
- * rotation, doubled for the nlerp (whose angular speed varies along the sweep).
+ * Bound on how fast (per unit sweep fraction) a point at unit distance from the centre moves:
+ * the nlerp q(t) = q0 + t (q1 - q0) moves at the chord length |q1 - q0|, and its normalised angle
+ * turns at most chord / |q(t)|^2 <= chord / cos^2(angle / 2) = 2 chord / (1 + cos angle). The
+ * denominator is floored so a half-turn in one step still gives a finite (very slow, safe) bound.
  */
 function sweepArc(b: Body): number {
   if (!b.awake) return 0
   const sinAngle = b.c * b.q0s - b.s * b.q0c
   const cosAngle = b.c * b.q0c + b.s * b.q0s
-  return 2 * Math.sqrt(sinAngle * sinAngle + (1 - cosAngle) * (1 - cosAngle))
+  const chord = Math.sqrt(sinAngle * sinAngle + (1 - cosAngle) * (1 - cosAngle))
+  return (2 * chord) / Math.max(1 + cosAngle, 0.05)
 }
 
 /** Moves a body to fraction t of its sweep. */
@@ -189,18 +225,21 @@ function advanceTo(b: Body, t: number): void {
   b.updateCenter()
 }
 
-/** Whether a body moved far enough this step to need a sweep. */
-function isFast(b: Body): boolean {
+/** How far a body's surface moved this step at most (m): centre travel plus the rotation's chord. */
+function travel(b: Body): number {
   const dx = b.cx - b.c0x
   const dy = b.cy - b.c0y
-  const rotation = Math.abs(b.c * b.q0s - b.s * b.q0c)
-  const travel = Math.sqrt(dx * dx + dy * dy) + rotation * b.maxExtent
-  return travel > 0.5 * b.minExtent
+  return Math.sqrt(dx * dx + dy * dy) + sweepArc(b) * b.maxExtent
 }
+
+/** Awake dynamic bodies that may have left their fat AABB this step, in id order (reused). */
+const movers: Body[] = []
+let moverCount = 0
 
 /**
  * Sweeps fast bodies and bullets (awake, in id order) and moves each back to its first impact.
- * Non-bullets go first so that bullets see the final sweeps of the bodies they may hit.
+ * Non-bullets go first (against static bodies only) so that bullets see the final sweeps of the
+ * bodies they may hit.
  */
 export function solveContinuous(
   awake: Body[],
@@ -209,15 +248,46 @@ export function solveContinuous(
   bodies: Map<number, Body>,
   canCollide: (a: Body, b: Body) => boolean,
 ): void {
-  for (let pass = 0; pass < 2; pass++) {
-    for (let i = 0; i < count; i++) {
-      const b = awake[i]
-      if (b.type !== DYNAMIC || b.bullet !== (pass === 1) || !isFast(b)) continue
+  moverCount = 0
+  let bullets = 0
+  for (let i = 0; i < count; i++) {
+    const b = awake[i]
+    if (b.type !== DYNAMIC) continue
+    if (b.bullet) bullets++
+    const d = travel(b)
+    if (d > broadPhase.margin) movers[moverCount++] = b
+    if (!b.bullet && d > 0.5 * b.minExtent) sweepBody(b, broadPhase, bodies, canCollide)
+  }
+  if (bullets === 0) return
+  for (let i = 0; i < count; i++) {
+    const b = awake[i]
+    if (b.type === DYNAMIC && b.bullet && travel(b) > 0.5 * b.minExtent) {
       sweepBody(b, broadPhase, bodies, canCollide)
     }
   }
 }
 
+// The earliest impact found by sweepBody so far, and the dynamic body hit there.
+let minT = 1
+let hitBody: Body | null = null
+
+function sweepAgainst(b: Body, other: Body, canCollide: (a: Body, b: Body) => boolean): void {
+  if (other === b) return
+  const sweepable = other.type === STATIC || (b.bullet && other.type === DYNAMIC)
+  if (!sweepable || !canCollide(b, other)) return
+  const t = timeOfImpact(b, other)
+  if (t < minT) {
+    minT = t
+    hitBody = other.type === DYNAMIC && other.awake ? other : null
+  }
+}
+
+/**
+ * Sweeps one body against the broadphase candidates around its swept box and, for a bullet, also
+ * against every body that moved farther than the fat-AABB margin (its proxy may not show where it
+ * went). At the earliest impact the body, and a dynamic body it hit, are moved back to that time:
+ * both keep their velocities, so the next step's speculative contact resolves the collision.
+ */
 function sweepBody(
   b: Body,
   broadPhase: BroadPhase,
@@ -225,30 +295,28 @@ function sweepBody(
   canCollide: (a: Body, b: Body) => boolean,
 ): void {
   const r = b.maxExtent
-  const x0 = b.c0x
-  const y0 = b.c0y
-  const n = broadPhase.query(
-    Math.min(x0, b.cx) - r,
-    Math.min(y0, b.cy) - r,
-    Math.max(x0, b.cx) + r,
-    Math.max(y0, b.cy) + r,
-    candidates,
-  )
-  let minT = 1
-  let hitBullet: Body | null = null
+  const minX = Math.min(b.c0x, b.cx) - r
+  const minY = Math.min(b.c0y, b.cy) - r
+  const maxX = Math.max(b.c0x, b.cx) + r
+  const maxY = Math.max(b.c0y, b.cy) + r
+  const n = broadPhase.query(minX, minY, maxX, maxY, candidates)
+  minT = 1
+  hitBody = null
   for (let k = 0; k < n; k++) {
     const other = bodies.get(candidates.ids[k])
-    if (other === undefined || other === b) continue
-    const sweepable = other.type === STATIC || (b.bullet && other.type === DYNAMIC)
-    if (!sweepable || !canCollide(b, other)) continue
-    const t = timeOfImpact(b, other)
-    if (t < minT) {
-      minT = t
-      hitBullet = other.bullet && other.awake ? other : null
+    if (other !== undefined) sweepAgainst(b, other, canCollide)
+  }
+  if (b.bullet) {
+    for (let k = 0; k < moverCount; k++) {
+      const other = movers[k]
+      const ro = other.maxExtent
+      if (Math.min(other.c0x, other.cx) - ro > maxX || Math.max(other.c0x, other.cx) + ro < minX) continue
+      if (Math.min(other.c0y, other.cy) - ro > maxY || Math.max(other.c0y, other.cy) + ro < minY) continue
+      sweepAgainst(b, other, canCollide)
     }
   }
   if (minT < 1) {
     advanceTo(b, minT)
-    if (hitBullet !== null) advanceTo(hitBullet, minT)
+    if (hitBody !== null) advanceTo(hitBody, minT)
   }
 }

@@ -1,10 +1,16 @@
 /*
  * Distance joint (Box2D v3 distance_joint.c): keeps the anchors `length` apart.
- * - Rod: minLength = maxLength = length: a rigid, softly corrected axial constraint.
- * - Rope: minLength = 0 < maxLength: only the upper limit acts, so it pulls and never pushes.
+ * - Rod: hertz = 0 and minLength = maxLength = length: a rigid, softly corrected axial constraint.
+ * - Rope: hertz = 0 and minLength < maxLength: only the limits act. With minLength = 0 the lower
+ *   limit is not solved at all, so a rope pulls and never pushes, not even speculatively.
  * - Spring: hertz > 0: a soft spring toward `length` (implicit, stable at any stiffness), plus the
- *   min/max limits when they differ from the length.
+ *   min/max limits when minLength < maxLength (the defaults, min = max = length, mean no limits).
  * Limits are speculative (close at most the remaining gap) and soft once violated, like contacts.
+ *
+ * The spring is the physics, not an error correction, so it acts in the relax pass as well. Its
+ * equilibrium is exact: at rest the accumulated impulse P per sub-step balances the load, and the
+ * update is zero when massScale * k * biasRate * C = -impulseScale * P, which with Catto's
+ * coefficients gives C = -P / (h * m * omega^2), i.e. the static deflection g / omega^2.
  */
 import type { Joint, JointStepContext } from './joint.ts'
 import { Softness } from './softness.ts'
@@ -53,10 +59,16 @@ export function prepareDistance(joint: Joint, ctx: JointStepContext): void {
   joint.springBiasRate = springSoftness.biasRate
   joint.springMassScale = springSoftness.massScale
   joint.springImpulseScale = springSoftness.impulseScale
-  if (joint.minLength === joint.maxLength) {
+  if (!hasLimits(joint)) {
     joint.lowerImpulse = 0
     joint.upperImpulse = 0
   }
+  if (joint.hertz === 0 && joint.minLength < joint.maxLength) joint.impulse = 0
+}
+
+/** Whether the min/max limits act: only when they span a range (a rod is rigid instead). */
+function hasLimits(joint: Joint): boolean {
+  return joint.minLength < joint.maxLength
 }
 
 function applyAxial(joint: Joint, impulse: number): void {
@@ -89,8 +101,8 @@ function axialSpeed(joint: Joint): number {
 /** One iteration of a distance joint. */
 export function solveDistance(joint: Joint, ctx: JointStepContext, useBias: boolean): void {
   computeAxis(joint)
-  const rigid = joint.minLength === joint.maxLength
-  if (joint.hertz > 0 && !rigid) {
+  const limits = hasLimits(joint)
+  if (joint.hertz > 0) {
     // Soft spring toward the rest length (always biased: the spring is the physics, not correction).
     const C = currentLength - joint.length
     const bias = joint.springBiasRate * C
@@ -99,7 +111,7 @@ export function solveDistance(joint: Joint, ctx: JointStepContext, useBias: bool
       -joint.springMassScale * joint.axialMass * (cdot + bias) - joint.springImpulseScale * joint.impulse
     joint.impulse += impulse
     applyAxial(joint, impulse)
-  } else if (rigid) {
+  } else if (!limits) {
     const C = currentLength - joint.length
     let bias = 0
     let massScale = 1
@@ -114,8 +126,8 @@ export function solveDistance(joint: Joint, ctx: JointStepContext, useBias: bool
     joint.impulse += impulse
     applyAxial(joint, impulse)
   }
-  if (!rigid) {
-    solveLimit(joint, ctx, useBias, currentLength - joint.minLength, 1)
+  if (limits) {
+    if (joint.minLength > 0) solveLimit(joint, ctx, useBias, currentLength - joint.minLength, 1)
     solveLimit(joint, ctx, useBias, joint.maxLength - currentLength, -1)
   }
 }

@@ -2,7 +2,8 @@
  * Revolute (pin) joint: the anchors of A and B coincide; optional angle limits and a motor
  * (Box2D v3 revolute_joint.c). The point constraint is a soft 2x2 block; the limits are speculative
  * (they let the joint close exactly the remaining gap) and soft once violated; the motor's
- * accumulated impulse is clamped to maxMotorTorque * h so its torque never exceeds the cap.
+ * accumulated impulse is clamped to maxMotorTorque * h so its torque never exceeds the cap, and its
+ * target speed is clamped by the limits so that no motor torque can push the joint through them.
  */
 
 import { type Joint, type JointStepContext, relativeAngle, solve22, solved2x, solved2y } from './joint.ts'
@@ -96,6 +97,27 @@ function solveLimits(joint: Joint, ctx: JointStepContext, useBias: boolean): voi
   }
 }
 
+/**
+ * The motor's target speed, clamped so that the motor alone never drives the joint past a limit:
+ * within one sub-step it may close at most the remaining gap (a speculative target, like the limit
+ * itself). Without this a motor with a huge torque cap overpowers the soft limit, whose restoring
+ * impulse is only axialMass * h * omega^2 * error per sub-step (60 Hz joint stiffness): a 500 N m
+ * motor pushed a 0.1 kg arm 0.4 rad past its stop. With it the limit only carries external loads.
+ * The net torque on the bodies is unchanged at rest (the motor holds instead of the stop).
+ */
+function motorTarget(joint: Joint, ctx: JointStepContext): number {
+  let speed = joint.motorSpeed
+  if (!joint.enableLimit) return speed
+  const a = joint.bodyA
+  const b = joint.bodyB
+  const jointAngle = unwind(joint.deltaAngle + relativeAngle(b.dqc, b.dqs, a.dqc, a.dqs))
+  const maxSpeed = (joint.upperAngle - jointAngle) * ctx.invH
+  const minSpeed = (joint.lowerAngle - jointAngle) * ctx.invH
+  if (speed > maxSpeed) speed = maxSpeed
+  if (speed < minSpeed) speed = minSpeed
+  return speed
+}
+
 /** One iteration of a revolute joint: motor, limits, then the point constraint. */
 export function solveRevolute(joint: Joint, ctx: JointStepContext, useBias: boolean): void {
   const a = joint.bodyA
@@ -107,7 +129,7 @@ export function solveRevolute(joint: Joint, ctx: JointStepContext, useBias: bool
   const fixedRotation = iA + iB === 0
 
   if (joint.enableMotor && !fixedRotation) {
-    const cdot = b.w - a.w - joint.motorSpeed
+    const cdot = b.w - a.w - motorTarget(joint, ctx)
     let impulse = -joint.axialMass * cdot
     const old = joint.motorImpulse
     const maxImpulse = ctx.h * joint.maxMotorTorque
