@@ -22,7 +22,7 @@
  * `contactHertz` (twice that against static bodies), limited to `maxContactPushSpeed`.
  * Friction is a Coulomb cone: the tangent impulse is clamped to friction * normal impulse.
  */
-import type { Contact, ContactPoint } from './contact.ts'
+import type { Contact } from './contact.ts'
 import type { Softness } from './softness.ts'
 
 /** Numbers per body in the solver state: vx, vy, w, dpx, dpy, dqc, dqs, (unused). */
@@ -79,27 +79,24 @@ export class ContactConstraints {
   }
 }
 
-function preparePoint(
-  d: Float64Array,
-  o: number,
-  cp: ContactPoint,
-  c: Contact,
-  mA: number,
-  iA: number,
-  mB: number,
-  iB: number,
-): void {
+/** Fills point record `o` of constraint `oc` from the contact's point j (0 or 1). */
+function preparePoint(d: Float64Array, oc: number, o: number, c: Contact, j: number): void {
   const nx = c.normalX
   const ny = c.normalY
-  const rAx = cp.anchorAx
-  const rAy = cp.anchorAy
-  const rBx = cp.anchorBx
-  const rBy = cp.anchorBy
+  const rAx = j === 0 ? c.anchorAx0 : c.anchorAx1
+  const rAy = j === 0 ? c.anchorAy0 : c.anchorAy1
+  const rBx = j === 0 ? c.anchorBx0 : c.anchorBx1
+  const rBy = j === 0 ? c.anchorBy0 : c.anchorBy1
+  const mA = d[oc + M_A]
+  const iA = d[oc + I_A]
+  const mB = d[oc + M_B]
+  const iB = d[oc + I_B]
   d[o + RAX] = rAx
   d[o + RAY] = rAy
   d[o + RBX] = rBx
   d[o + RBY] = rBy
-  d[o + BASE_SEPARATION] = cp.separation - ((rBx - rAx) * nx + (rBy - rAy) * ny)
+  const separation = j === 0 ? c.separation0 : c.separation1
+  d[o + BASE_SEPARATION] = separation - ((rBx - rAx) * nx + (rBy - rAy) * ny)
   const rnA = rAx * ny - rAy * nx
   const rnB = rBx * ny - rBy * nx
   const kNormal = mA + mB + iA * rnA * rnA + iB * rnB * rnB
@@ -109,8 +106,8 @@ function preparePoint(
   const rtB = -rBx * nx - rBy * ny
   const kTangent = mA + mB + iA * rtA * rtA + iB * rtB * rtB
   d[o + TANGENT_MASS] = kTangent > 0 ? 1 / kTangent : 0
-  d[o + NORMAL_IMPULSE] = cp.normalImpulse
-  d[o + TANGENT_IMPULSE] = cp.tangentImpulse
+  d[o + NORMAL_IMPULSE] = j === 0 ? c.normalImpulse0 : c.normalImpulse1
+  d[o + TANGENT_IMPULSE] = j === 0 ? c.tangentImpulse0 : c.tangentImpulse1
   d[o + TOTAL_NORMAL] = 0
   d[o + TOTAL_TANGENT] = 0
   const a = c.bodyA
@@ -155,8 +152,8 @@ export function prepareContacts(
     d[o + BIAS_RATE] = soft.biasRate
     d[o + MASS_SCALE] = soft.massScale
     d[o + IMPULSE_SCALE] = soft.impulseScale
-    preparePoint(d, o + POINTS, c.p0, c, mA, iA, mB, iB)
-    if (c.pointCount > 1) preparePoint(d, o + POINTS + POINT_STRIDE, c.p1, c, mA, iA, mB, iB)
+    preparePoint(d, o, o + POINTS, c, 0)
+    if (c.pointCount > 1) preparePoint(d, o, o + POINTS + POINT_STRIDE, c, 1)
   }
 }
 
@@ -371,15 +368,17 @@ export function storeImpulses(k: ContactConstraints, contacts: Contact[]): void 
   const d = k.data
   for (let i = 0; i < k.count; i++) {
     const c = contacts[i]
-    const o = i * CONSTRAINT_STRIDE + POINTS
-    storePoint(d, o, c.p0)
-    if (k.pointCount[i] > 1) storePoint(d, o + POINT_STRIDE, c.p1)
+    const p = i * CONSTRAINT_STRIDE + POINTS
+    c.normalImpulse0 = d[p + NORMAL_IMPULSE]
+    c.tangentImpulse0 = d[p + TANGENT_IMPULSE]
+    c.totalNormalImpulse0 = d[p + TOTAL_NORMAL]
+    c.totalTangentImpulse0 = d[p + TOTAL_TANGENT]
+    if (k.pointCount[i] > 1) {
+      const q = p + POINT_STRIDE
+      c.normalImpulse1 = d[q + NORMAL_IMPULSE]
+      c.tangentImpulse1 = d[q + TANGENT_IMPULSE]
+      c.totalNormalImpulse1 = d[q + TOTAL_NORMAL]
+      c.totalTangentImpulse1 = d[q + TOTAL_TANGENT]
+    }
   }
-}
-
-function storePoint(d: Float64Array, p: number, cp: ContactPoint): void {
-  cp.normalImpulse = d[p + NORMAL_IMPULSE]
-  cp.tangentImpulse = d[p + TANGENT_IMPULSE]
-  cp.totalNormalImpulse = d[p + TOTAL_NORMAL]
-  cp.totalTangentImpulse = d[p + TOTAL_TANGENT]
 }

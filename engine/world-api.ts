@@ -317,12 +317,11 @@ export class WorldApi extends WorldStore {
       if (!c.touching) continue
       const points = []
       for (let j = 0; j < c.pointCount; j++) {
-        const cp = j === 0 ? c.p0 : c.p1
         points.push({
-          point: { x: cp.px, y: cp.py },
-          separation: cp.separation,
-          normalImpulse: cp.totalNormalImpulse,
-          tangentImpulse: cp.totalTangentImpulse,
+          point: { x: j === 0 ? c.px0 : c.px1, y: j === 0 ? c.py0 : c.py1 },
+          separation: j === 0 ? c.separation0 : c.separation1,
+          normalImpulse: j === 0 ? c.totalNormalImpulse0 : c.totalNormalImpulse1,
+          tangentImpulse: j === 0 ? c.totalTangentImpulse0 : c.totalTangentImpulse1,
         })
       }
       out.push({ bodyA: c.bodyA.id, bodyB: c.bodyB.id, normal: { x: c.normalX, y: c.normalY }, points })

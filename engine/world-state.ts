@@ -15,7 +15,7 @@
  * The hash is FNV-1a of the payload: it covers exactly the state that a save captures.
  */
 import { Body } from './body.ts'
-import { Contact, type ContactPoint } from './contact.ts'
+import { CONTACT_POINT_FIELDS, Contact } from './contact.ts'
 import { Joint } from './joint.ts'
 import { box, circle, polygon, type Shape } from './shapes.ts'
 
@@ -242,19 +242,9 @@ const BODY_MATERIAL_FIELDS = [
   'gravityScale',
 ] as const
 const POINT_FIELDS = [
-  'id',
-  'anchorAx',
-  'anchorAy',
-  'anchorBx',
-  'anchorBy',
-  'separation',
-  'px',
-  'py',
-  'normalImpulse',
-  'tangentImpulse',
-  'totalNormalImpulse',
-  'totalTangentImpulse',
-] as const
+  CONTACT_POINT_FIELDS.map((f) => `${f}0` as const),
+  CONTACT_POINT_FIELDS.map((f) => `${f}1` as const),
+]
 const JOINT_FIELDS = [
   'localAnchorAx',
   'localAnchorAy',
@@ -316,8 +306,7 @@ export function writeContact(w: ByteWriter, c: Contact): void {
   w.f64(c.normalX)
   w.f64(c.normalY)
   for (let j = 0; j < c.pointCount; j++) {
-    const cp = j === 0 ? c.p0 : c.p1
-    for (const f of POINT_FIELDS) w.f64(cp[f])
+    for (const f of POINT_FIELDS[j]) w.f64(c[f])
   }
 }
 
@@ -334,8 +323,7 @@ export function readContact(r: ByteReader, lookup: (id: number) => Body): Contac
   c.normalX = r.num('contact normal')
   c.normalY = r.num('contact normal')
   for (let j = 0; j < c.pointCount; j++) {
-    const cp: ContactPoint = j === 0 ? c.p0 : c.p1
-    for (const f of POINT_FIELDS) cp[f] = r.num(`contact point ${f}`)
+    for (const f of POINT_FIELDS[j]) c[f] = r.num(`contact point ${f}`)
   }
   return c
 }
