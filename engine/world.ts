@@ -30,6 +30,14 @@ import {
 } from './contact-solver.ts'
 import { solveContinuous } from './continuous.ts'
 import { type Joint, prepareJoints, solveJoints, warmStartJoints } from './joint.ts'
+import {
+  integratePositions,
+  integrateVelocities,
+  jointBodiesToStates,
+  loadSolverStates,
+  statesToJointBodies,
+  stateToBody,
+} from './solver-bodies.ts'
 import type { WorldDef } from './types.ts'
 import { WorldApi } from './world-api.ts'
 import {
@@ -49,7 +57,6 @@ import {
 } from './world-state.ts'
 import {
   DEFAULT_WORLD_DEF,
-  MAX_LINEAR_SPEED,
   type ResolvedWorldDef,
   SPECULATIVE_DISTANCE,
   STEP_SECONDS,
@@ -99,7 +106,7 @@ export class World extends WorldApi {
   private readonly newContacts: Contact[] = []
   private readonly contactPool: Contact[] = []
   /** Solver state of the awake bodies (STATE_STRIDE numbers each, slot 0 static) and the constraints. */
-  private state = new Float64Array(64 * STATE_STRIDE)
+  private state: Float64Array = new Float64Array(64 * STATE_STRIDE)
   private readonly constraints = new ContactConstraints()
   private readonly fatAABB = new Float64Array(4)
 
@@ -303,7 +310,7 @@ export class World extends WorldApi {
     const joints = this.activeJoints
     const jointCount = this.activeJointCount
     const hasJoints = jointCount > 0
-    this.loadSolverStates()
+    this.state = loadSolverStates(this.awake, this.awakeCount, this.state)
     prepareJoints(joints, jointCount, ctx)
     prepareContacts(
       k,
@@ -314,123 +321,29 @@ export class World extends WorldApi {
     )
     const state = this.state
     for (let i = 0; i < subSteps; i++) {
-      this.integrateVelocities(h)
+      integrateVelocities(this.awake, this.awakeCount, state, this.gravityX, this.gravityY, h)
       if (hasJoints) {
-        this.statesToJointBodies()
+        statesToJointBodies(state, joints, jointCount)
         warmStartJoints(joints, jointCount)
-        this.jointBodiesToStates()
+        jointBodiesToStates(state, joints, jointCount)
       }
       warmStartContacts(k, state)
       if (hasJoints) {
-        this.statesToJointBodies()
+        statesToJointBodies(state, joints, jointCount)
         solveJoints(joints, jointCount, ctx, true)
-        this.jointBodiesToStates()
+        jointBodiesToStates(state, joints, jointCount)
       }
       solveContacts(k, state, invH, s.maxContactPushSpeed, true)
-      this.integratePositions(h)
+      integratePositions(state, this.awakeCount, h)
       if (hasJoints) {
-        this.statesToJointBodies()
+        statesToJointBodies(state, joints, jointCount)
         solveJoints(joints, jointCount, ctx, false)
-        this.jointBodiesToStates()
+        jointBodiesToStates(state, joints, jointCount)
       }
       solveContacts(k, state, invH, s.maxContactPushSpeed, false)
     }
     applyRestitution(k, state, s.restitutionThreshold)
     storeImpulses(k, this.activeContacts)
-  }
-
-  /** Copies awake bodies' velocities into the solver state; zero deltas. Slot 0 is the static state. */
-  private loadSolverStates(): void {
-    const n = this.awakeCount
-    if (this.state.length < (n + 1) * STATE_STRIDE) this.state = new Float64Array((n + 1) * 2 * STATE_STRIDE)
-    const state = this.state
-    state.fill(0, 0, STATE_STRIDE)
-    state[5] = 1
-    for (let i = 0; i < n; i++) {
-      const b = this.awake[i]
-      const o = (i + 1) * STATE_STRIDE
-      state[o] = b.vx
-      state[o + 1] = b.vy
-      state[o + 2] = b.w
-      state[o + 3] = 0
-      state[o + 4] = 0
-      state[o + 5] = 1
-      state[o + 6] = 0
-    }
-  }
-
-  /** Joints work on Body fields: copy the solver state of jointed awake bodies into them. */
-  private statesToJointBodies(): void {
-    const state = this.state
-    for (let i = 0; i < this.activeJointCount; i++) {
-      const j = this.activeJoints[i]
-      stateToBody(state, j.bodyA)
-      stateToBody(state, j.bodyB)
-    }
-  }
-
-  /** And back, after the joints have been solved. */
-  private jointBodiesToStates(): void {
-    const state = this.state
-    for (let i = 0; i < this.activeJointCount; i++) {
-      const j = this.activeJoints[i]
-      bodyToState(state, j.bodyA)
-      bodyToState(state, j.bodyB)
-    }
-  }
-
-  /** Gravity and damping for awake dynamic bodies, semi-implicit Euler. */
-  private integrateVelocities(h: number): void {
-    const gx = this.gravityX * h
-    const gy = this.gravityY * h
-    const maxAngularSpeed = (0.25 * Math.PI) / h
-    const state = this.state
-    for (let i = 0; i < this.awakeCount; i++) {
-      const b = this.awake[i]
-      if (b.type !== DYNAMIC) continue
-      const o = (i + 1) * STATE_STRIDE
-      let vx = state[o]
-      let vy = state[o + 1]
-      let w = state[o + 2]
-      if (b.linearDamping > 0) {
-        const damp = 1 / (1 + h * b.linearDamping)
-        vx *= damp
-        vy *= damp
-      }
-      if (b.angularDamping > 0) w *= 1 / (1 + h * b.angularDamping)
-      vx += b.gravityScale * gx
-      vy += b.gravityScale * gy
-      const speedSquared = vx * vx + vy * vy
-      if (speedSquared > MAX_LINEAR_SPEED * MAX_LINEAR_SPEED) {
-        const scale = MAX_LINEAR_SPEED / Math.sqrt(speedSquared)
-        vx *= scale
-        vy *= scale
-      }
-      if (w * w > maxAngularSpeed * maxAngularSpeed) w = w > 0 ? maxAngularSpeed : -maxAngularSpeed
-      state[o] = vx
-      state[o + 1] = vy
-      state[o + 2] = w
-    }
-  }
-
-  /** Accumulates the sub-step position and rotation deltas. */
-  private integratePositions(h: number): void {
-    const state = this.state
-    const end = (this.awakeCount + 1) * STATE_STRIDE
-    for (let o = STATE_STRIDE; o < end; o += STATE_STRIDE) {
-      state[o + 3] += h * state[o]
-      state[o + 4] += h * state[o + 1]
-      // Integrate the rotation and renormalize (Box2D v3 b2IntegrateRotation).
-      const da = h * state[o + 2]
-      const c = state[o + 5]
-      const s = state[o + 6]
-      const qc = c - da * s
-      const qs = s + da * c
-      const mag = Math.sqrt(qc * qc + qs * qs)
-      const inv = mag > 0 ? 1 / mag : 0
-      state[o + 5] = qc * inv
-      state[o + 6] = qs * inv
-    }
   }
 
   /** Folds the deltas into the transforms and updates sleep timers. */
@@ -523,30 +436,6 @@ export function shouldCollide(a: Body, b: Body): boolean {
     if ((j.bodyA === a && j.bodyB === b) || (j.bodyA === b && j.bodyB === a)) return false
   }
   return true
-}
-
-function stateToBody(state: Float64Array, b: Body): void {
-  if (b.solverIndex < 0) return
-  const o = (b.solverIndex + 1) * STATE_STRIDE
-  b.vx = state[o]
-  b.vy = state[o + 1]
-  b.w = state[o + 2]
-  b.dpx = state[o + 3]
-  b.dpy = state[o + 4]
-  b.dqc = state[o + 5]
-  b.dqs = state[o + 6]
-}
-
-function bodyToState(state: Float64Array, b: Body): void {
-  if (b.solverIndex < 0) return
-  const o = (b.solverIndex + 1) * STATE_STRIDE
-  state[o] = b.vx
-  state[o + 1] = b.vy
-  state[o + 2] = b.w
-  state[o + 3] = b.dpx
-  state[o + 4] = b.dpy
-  state[o + 5] = b.dqc
-  state[o + 6] = b.dqs
 }
 
 /** Merges sorted `fresh` contacts into the sorted `contacts` array in place, O(n + k). */
