@@ -68,6 +68,8 @@ export function computeFreeBody(bodyId: number, data: LabData): FreeBody {
   return { mass: data.mass, gravity, contacts, net, source: data.source }
 }
 
+/** Longest arrow drawn (m). */
+const MAX_ARROW = 6
 const fmt = (v: number): string => v.toFixed(2)
 const len = (v: Vec2): number => Math.sqrt(v.x * v.x + v.y * v.y)
 
@@ -92,10 +94,12 @@ export function drawFreeBody(ctx: CanvasRenderingContext2D, origin: Vec2, fb: Fr
   // Arrows are 2 m per (m g): a body's weight is always two metres long whatever its mass.
   const unit = 2 / Math.max(1e-6, len(fb.gravity))
   const arrow = (from: Vec2, f: Vec2, color: string): void => {
-    const tx = from.x + f.x * unit
-    const ty = from.y + f.y * unit
-    const l = len(f) * unit
+    // Forces of many body weights (a block under a stack) are drawn at most MAX_ARROW long.
+    const l = Math.min(len(f) * unit, MAX_ARROW)
     if (l < 1e-4) return
+    const k = l / len(f)
+    const tx = from.x + f.x * k
+    const ty = from.y + f.y * k
     const head = Math.min(0.25, l * 0.4)
     const ux = (tx - from.x) / l
     const uy = (ty - from.y) / l

@@ -31,6 +31,11 @@ function boot(): App {
   return new App(sandbox, httpBase, room)
 }
 
-const app = boot()
-// A handle for the browser tests and for poking at the sandbox from the console.
-;(window as unknown as { concord: App }).concord = app
+declare global {
+  interface Window {
+    /** The running page, for the browser tests and for poking at the sandbox from the console. */
+    concord: App
+  }
+}
+
+window.concord = boot()

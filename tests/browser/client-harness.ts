@@ -65,7 +65,7 @@ export async function openSandbox(
   const errors = collectErrors(page)
   await page.goto(url)
   await page.waitForFunction(() => {
-    const c = (window as any).concord
+    const c = window.concord
     return c && c.sandbox.bodies().length > 0 && c.fps.value > 0
   })
   return { context, page, errors }
@@ -83,7 +83,7 @@ export interface PageBody {
 /** The page's bodies this frame. */
 export function bodies(page: Page): Promise<PageBody[]> {
   return page.evaluate(() =>
-    (window as any).concord.sandbox
+    window.concord.sandbox
       .bodies()
       .map((b: PageBody) => ({ id: b.id, kind: b.kind, shape: b.shape, x: b.x, y: b.y })),
   )
@@ -93,7 +93,7 @@ export function bodies(page: Page): Promise<PageBody[]> {
 export function screenOf(page: Page, x: number, y: number): Promise<{ x: number; y: number }> {
   return page.evaluate(
     ([wx, wy]) => {
-      const app = (window as any).concord
+      const app = window.concord
       const r = app.renderer.canvas.getBoundingClientRect()
       const p = app.camera.toScreen(wx, wy)
       return { x: p.x + r.left, y: p.y + r.top }
@@ -118,7 +118,7 @@ export async function waitForBody(
 ): Promise<void> {
   await page.waitForFunction(
     ([bodyId, test]) => {
-      const b = (window as any).concord.sandbox.bodies().find((v: { id: number }) => v.id === bodyId)
+      const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === bodyId)
       return b ? new Function('b', `return ${test}`)(b) : false
     },
     [id, predicate] as const,
@@ -134,7 +134,7 @@ export async function pickTool(page: Page, tool: string): Promise<void> {
 /** Count canvas pixels (device px) that differ from the background colour. */
 export function paintedPixels(page: Page): Promise<{ painted: number; total: number }> {
   return page.evaluate(() => {
-    const canvas = (window as any).concord.renderer.canvas as HTMLCanvasElement
+    const canvas = window.concord.renderer.canvas as HTMLCanvasElement
     const ctx = canvas.getContext('2d')!
     const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data
     let painted = 0
@@ -148,7 +148,7 @@ export function paintedPixels(page: Page): Promise<{ painted: number; total: num
 export function pixelAt(page: Page, x: number, y: number): Promise<[number, number, number]> {
   return page.evaluate(
     ([sx, sy]) => {
-      const canvas = (window as any).concord.renderer.canvas as HTMLCanvasElement
+      const canvas = window.concord.renderer.canvas as HTMLCanvasElement
       const r = canvas.getBoundingClientRect()
       const k = canvas.width / r.width
       const d = canvas.getContext('2d')!.getImageData((sx - r.left) * k, (sy - r.top) * k, 1, 1).data

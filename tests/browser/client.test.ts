@@ -47,7 +47,7 @@ afterAll(async () => {
 describe('online', () => {
   it('loads without console errors, joins the room and draws the pyramid on the canvas', async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=first`)
-    await page.waitForFunction(() => (window as any).concord.sandbox.status().state === 'connected')
+    await page.waitForFunction(() => window.concord.sandbox.status().state === 'connected')
     const all = await bodies(page)
     expect(all.filter((b) => b.kind === 2)).toHaveLength(210)
     expect(await page.textContent('#hud')).toContain('room first')
@@ -73,12 +73,12 @@ describe('online', () => {
   it('shares one room between two players: a spawned box appears for both, a drag moves it for both', async () => {
     const a = await openSandbox(browser, `${base}/?room=duo&name=alice`)
     const b = await openSandbox(browser, `${base}/?room=duo&name=bob`)
-    await b.page.waitForFunction(() => (window as any).concord.sandbox.stats().players === 2)
+    await b.page.waitForFunction(() => window.concord.sandbox.stats().players === 2)
     const before = new Set((await bodies(a.page)).map((v) => v.id))
     await pickTool(a.page, 'box')
     const drop = await screenOf(a.page, 14, 2)
     await a.page.mouse.click(drop.x, drop.y)
-    await a.page.waitForFunction((n) => (window as any).concord.sandbox.bodies().length > n, before.size)
+    await a.page.waitForFunction((n) => window.concord.sandbox.bodies().length > n, before.size)
     const spawned = (await bodies(a.page)).find((v) => !before.has(v.id))!
     expect(spawned.shape).toMatchObject({ type: 'box', hw: 0.5 })
     await waitForBody(b.page, spawned.id, "b.shape.type === 'box' && Math.abs(b.x - 14) < 0.6")
@@ -95,7 +95,7 @@ describe('online', () => {
     await waitForBody(a.page, spawned.id, lifted)
     await waitForBody(b.page, spawned.id, lifted)
     // Bob sees Alice's cursor and her colour on the grabbed body.
-    const seen = await b.page.evaluate(() => (window as any).concord.sandbox.cursors())
+    const seen = await b.page.evaluate(() => window.concord.sandbox.cursors())
     expect(seen.some((c: { name: string }) => c.name === 'alice')).toBe(true)
     await b.page.screenshot({ path: `${ARTIFACTS}/two-players.png` })
     await a.page.mouse.up()
@@ -110,7 +110,7 @@ describe('online', () => {
     await t.page.tap('[data-tool="circle"]')
     const drop = await screenOf(t.page, -14, 1)
     await t.page.touchscreen.tap(drop.x, drop.y)
-    await t.page.waitForFunction((n) => (window as any).concord.sandbox.bodies().length > n, before)
+    await t.page.waitForFunction((n) => window.concord.sandbox.bodies().length > n, before)
     const circle = (await bodies(t.page)).find((v) => v.shape.type === 'circle')!
     expect(Math.abs(circle.x + 14)).toBeLessThan(0.6)
 
@@ -127,8 +127,8 @@ describe('online', () => {
   it('shows the free-body diagram on the ramp: normal = m g cos(theta), friction = m g sin(theta)', async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=lab`)
     await page.selectOption('#scene', 'ramp')
-    await page.waitForFunction(() => (window as any).concord.sandbox.scene() === 'ramp')
-    await page.waitForFunction(() => (window as any).concord.sandbox.bodies().length === 3)
+    await page.waitForFunction(() => window.concord.sandbox.scene() === 'ramp')
+    await page.waitForFunction(() => window.concord.sandbox.bodies().length === 3)
     await pickTool(page, 'inspect')
     const box = await screenOfBody(page, 3)
     await page.mouse.click(box.x, box.y)
@@ -148,8 +148,8 @@ describe('online', () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=gallery`)
     for (const scene of ['pile', 'tower', 'heavy-on-light', 'pyramid']) {
       await page.selectOption('#scene', scene)
-      await page.waitForFunction((s) => (window as any).concord.sandbox.scene() === s, scene)
-      await page.waitForFunction(() => (window as any).concord.sandbox.stats().snapshotHz > 0)
+      await page.waitForFunction((s) => window.concord.sandbox.scene() === s, scene)
+      await page.waitForFunction(() => (window.concord.sandbox.stats().snapshotHz ?? 0) > 0)
       await page.screenshot({ path: `${ARTIFACTS}/scene-${scene}.png` })
       const { painted } = await paintedPixels(page)
       expect(painted).toBeGreaterThan(1000)
@@ -206,7 +206,7 @@ describe('offline, with the server stopped', () => {
     page.on('pageerror', (e) => errors.push(e.message))
     page.on('console', (m) => m.type() === 'error' && errors.push(m.text()))
     await page.goto('http://offline.test/?offline&scene=ramp')
-    await page.waitForFunction(() => (window as any).concord?.sandbox.bodies().length === 3)
+    await page.waitForFunction(() => window.concord?.sandbox.bodies().length === 3)
     expect(await page.textContent('#hud')).toContain('offline')
     await pickTool(page, 'inspect')
     await page.mouse.click(...(Object.values(await screenOfBody(page, 3)) as [number, number]))
@@ -219,7 +219,7 @@ describe('offline, with the server stopped', () => {
     await pickTool(page, 'box')
     const drop = await screenOf(page, -12, 12)
     await page.mouse.click(drop.x, drop.y)
-    await page.waitForFunction(() => (window as any).concord.sandbox.bodies().length === 4)
+    await page.waitForFunction(() => window.concord.sandbox.bodies().length === 4)
     await waitForBody(page, 4, 'b.y < 3') // it falls past the ramp's end: the engine steps in the page
     await page.screenshot({ path: `${ARTIFACTS}/offline-ramp.png` })
     expect(errors).toEqual([])

@@ -8,7 +8,7 @@ import { describe, expect, it } from 'vitest'
 import { computeFreeBody } from '../../client/lab.ts'
 import { probeContacts } from '../../client/lab-probe.ts'
 import type { ViewBody } from '../../client/sandbox.ts'
-import { buildScene, createWorld, rampScene } from '../../engine/index.ts'
+import { buildScene, createWorld, rampScene, towerScene, type World } from '../../engine/index.ts'
 import { toWireShape } from '../../shared/index.ts'
 
 function restingRamp(degrees: number) {
@@ -17,6 +17,15 @@ function restingRamp(degrees: number) {
   const [, ramp, box] = buildScene(world, rampScene(theta))
   for (let i = 0; i < 120; i++) world.step()
   return { world, ramp, box, theta }
+}
+
+function viewOf(world: World): ViewBody[] {
+  return world.bodyIds().map((id) => {
+    const p = world.getPosition(id)
+    const kind = world.getBodyType(id) === 'static' ? 0 : 2
+    const shape = toWireShape(world.getShape(id))
+    return { id, kind, shape, x: p.x, y: p.y, angle: world.getAngle(id), awake: false, grabColor: null }
+  })
 }
 
 function expectInclinedPlane(fb: ReturnType<typeof computeFreeBody>, theta: number) {
@@ -50,15 +59,36 @@ describe('free-body diagram', () => {
 
   it('matches the formula when re-solved locally from snapshot poses (the online lab)', () => {
     const { world, theta, box } = restingRamp(20)
-    const view: ViewBody[] = world.bodyIds().map((id) => {
-      const p = world.getPosition(id)
-      const kind = world.getBodyType(id) === 'static' ? 0 : 2
-      const shape = toWireShape(world.getShape(id))
-      return { id, kind, shape, x: p.x, y: p.y, angle: world.getAngle(id), awake: false, grabColor: null }
-    })
+    const view = viewOf(world)
     const target = view.find((v) => v.id === box)!
     const fb = computeFreeBody(box, probeContacts(target, view, { x: 0, y: -10 }))
     expect(fb.source).toBe('probe')
     expectInclinedPlane(fb, theta)
+  })
+
+  it('carries the weight of the boxes above in a tower, from the world and from the probe', () => {
+    // A block with k blocks above it is pushed up by (k + 1) m g and down by k m g.
+    const world = createWorld()
+    const ids = buildScene(world, towerScene(8, false))
+    for (let i = 0; i < 240; i++) world.step()
+    const mg = 10
+    for (const index of [1, 3, 6]) {
+      const id = ids[index]
+      const above = 8 - index
+      const sources = [
+        { contacts: world.contacts(), mass: 1, gravity: { x: 0, y: -10 }, source: 'world' as const },
+        probeContacts(viewOf(world).find((v) => v.id === id)!, viewOf(world), { x: 0, y: -10 }),
+      ]
+      for (const data of sources) {
+        const fb = computeFreeBody(id, data)
+        const up = fb.contacts.filter((c) => c.normal.y > 0).reduce((sum, c) => sum + c.normalN, 0)
+        const down = fb.contacts.filter((c) => c.normal.y < 0).reduce((sum, c) => sum + c.normalN, 0)
+        expect(Math.abs(up / ((above + 1) * mg) - 1), `${data.source} under block ${index}`).toBeLessThan(
+          0.05,
+        )
+        if (above > 0)
+          expect(Math.abs(down / (above * mg) - 1), `${data.source} on block ${index}`).toBeLessThan(0.05)
+      }
+    }
   })
 })
