@@ -22,9 +22,9 @@ const PROBE_STEPS = 30
 /** Extra distance (m) within which a supporting neighbour is included. */
 const MARGIN = 0.2
 /** Distance (m) within which bodies at the body's height or above are included as load. */
-const LOAD_RADIUS = 12
+const LOAD_RADIUS = 40
 /** Most bodies a probe simulates. */
-const MAX_BODIES = 160
+const MAX_BODIES = 120
 
 /** Contact data for `target` by local re-solve among `bodies` (see the file comment). */
 export function probeContacts(

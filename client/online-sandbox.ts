@@ -81,7 +81,8 @@ export class OnlineSandbox implements Sandbox {
   private statusValue: SandboxStatus = { state: 'connecting' }
   private ownGrab = 0
   private readonly pose: Pose = { x: 0, y: 0, angle: 0, awake: true }
-  private probe: { body: number; at: number; data: LabData } | null = null
+  private probe: { body: number; at: number; x: number; y: number; angle: number; data: LabData } | null =
+    null
   /** Server-reported problems (refused inputs), newest last, for a toast. */
   readonly notices: string[] = []
 
@@ -253,7 +254,7 @@ export class OnlineSandbox implements Sandbox {
   }
 
   contacts(): readonly ContactInfo[] | null {
-    const fresh = this.probe && performance.now() - this.probe.at < 500
+    const fresh = this.probe && performance.now() - this.probe.at < 2500
     return fresh ? this.probe!.data.contacts : null
   }
 
@@ -322,11 +323,21 @@ export class OnlineSandbox implements Sandbox {
   lab(bodyId: number): LabData | null {
     const target = this.viewById.get(bodyId)
     if (target?.kind !== 2) return null
+    // A probe costs a short simulation of the neighbourhood: rerun it only when the body moved
+    // (more than 5 mm or 0.01 rad) or every two seconds for a resting body whose load may change.
     const now = performance.now()
-    if (!this.probe || this.probe.body !== bodyId || now - this.probe.at > 250) {
-      this.probe = { body: bodyId, at: now, data: probeContacts(target, this.view, this.gravity()) }
+    const p = this.probe
+    const moved =
+      !p ||
+      p.body !== bodyId ||
+      Math.abs(p.x - target.x) > 0.005 ||
+      Math.abs(p.y - target.y) > 0.005 ||
+      Math.abs(p.angle - target.angle) > 0.01
+    if (moved || now - p.at > 2000) {
+      const data = probeContacts(target, this.view, this.gravity())
+      this.probe = { body: bodyId, at: now, x: target.x, y: target.y, angle: target.angle, data }
     }
-    return this.probe.data
+    return this.probe!.data
   }
 
   /** Reconnect immediately. */
