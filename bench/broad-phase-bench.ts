@@ -467,7 +467,9 @@ for (const [name, r] of Object.entries(worldPile)) {
 const report = {
   benchmark: 'broad-phase',
   scene:
-    'pile-like: 0.4-0.9 m boxes in a ~1.25 sqrt(n) m container, 4 huge statics; 30% of bodies move per frame',
+    'pile-like: 0.4-0.9 m boxes in a ~1.25 sqrt(n) m container, 4 huge statics; each frame a random 30% of ' +
+    'the bodies move one 1/60 s step at a random-walk velocity of at most 3 m/s; tree = moveProxy for all ' +
+    'dynamic bodies + updatePairs, brute force = the same fat-box update + the O(n^2) pair loop',
   margin: MARGIN,
   method: `best of ${TRIALS} trials by median (the machine is shared with other jobs: load only adds time)`,
   machine: {
