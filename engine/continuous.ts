@@ -174,16 +174,78 @@ export function sweptDistance(a: Body, b: Body, t: number, core = 0): number {
  */
 export function timeOfImpact(a: Body, b: Body): number {
   let d = sweptDistance(a, b, 0)
-  if (d >= START_SKIP_DISTANCE) return advance(a, b, d, 0, sweepArc(a) * a.maxExtent)
+  if (d >= START_SKIP_DISTANCE) return advance(a, b, d, 0, sweepArc(a) * a.maxExtent, TOI_TARGET)
   const core = 0.25 * a.minExtent
   d = sweptDistance(a, b, 0, core)
-  if (d < START_SKIP_DISTANCE) return 1
-  // The core sits at the centre of mass: a's rotation does not move it.
-  return advance(a, b, d, core, 0)
+  if (d <= 0) return 1
+  // The core sits at the centre of mass: a's rotation does not move it. It may close at most half
+  // of its remaining gap per step, so it never crosses and never freezes completely.
+  const t = advance(a, b, d, core, 0, Math.min(TOI_TARGET, 0.5 * d))
+  coreHit = t < 1
+  return t
+}
+
+/** Whether the last timeOfImpact that found a hit found it with the core sweep. */
+let coreHit = false
+
+/**
+ * After a core hit on a static body: removes the centre's velocity into that body (along the
+ * direction from its nearest point to the centre). The contact failed to stop the centre (or the
+ * core would not have been needed), so without this the body would press on, be held back again
+ * every step, and finally slip through.
+ */
+function stopCore(b: Body, other: Body): void {
+  poseAt(other, 1)
+  const n = transformVertices(other.shape, verticesB)
+  let nx = b.cx - verticesB[0]
+  let ny = b.cy - verticesB[1]
+  if (n > 1) {
+    verticesA[0] = b.cx
+    verticesA[1] = b.cy
+    if (maxEdgeSeparation(verticesB, n, verticesA, 1) <= 0) return
+    nearestOnBoundary(verticesB, n, b.cx, b.cy)
+    nx = b.cx - nearestX
+    ny = b.cy - nearestY
+  }
+  const len = Math.sqrt(nx * nx + ny * ny)
+  if (len === 0) return
+  nx /= len
+  ny /= len
+  const vn = b.vx * nx + b.vy * ny
+  if (vn < 0) {
+    b.vx -= vn * nx
+    b.vy -= vn * ny
+  }
+}
+
+let nearestX = 0
+let nearestY = 0
+
+/** Sets (nearestX, nearestY) to the point of polygon p's boundary nearest to (px, py). */
+function nearestOnBoundary(p: Float64Array, pn: number, px: number, py: number): void {
+  let best = Number.POSITIVE_INFINITY
+  for (let i = 0; i < pn; i++) {
+    const j = i + 1 === pn ? 0 : i + 1
+    const ax = p[2 * i]
+    const ay = p[2 * i + 1]
+    const ex = p[2 * j] - ax
+    const ey = p[2 * j + 1] - ay
+    const len2 = ex * ex + ey * ey
+    let t = len2 > 0 ? ((px - ax) * ex + (py - ay) * ey) / len2 : 0
+    t = Math.max(0, Math.min(1, t))
+    const qx = ax + t * ex
+    const qy = ay + t * ey
+    const d = (px - qx) * (px - qx) + (py - qy) * (py - qy)
+    if (d < best) {
+      best = d
+      nearestX = qx
+      nearestY = qy
+    }
+  }
 }
 
 /** Conservative advancement from distance d at t = 0; `spinA` bounds a's rotational speed. */
-function advance(a: Body, b: Body, d: number, core: number, spinA: number): number {
+function advance(a: Body, b: Body, d: number, core: number, spinA: number, target: number): number {
   const dax = a.awake ? a.cx - a.c0x : 0
   const day = a.awake ? a.cy - a.c0y : 0
   const dbx = b.awake ? b.cx - b.c0x : 0
@@ -193,8 +255,8 @@ function advance(a: Body, b: Body, d: number, core: number, spinA: number): numb
   if (mu <= 0) return 1
   let t = 0
   for (let i = 0; i < MAX_ITERATIONS; i++) {
-    if (d < TOI_TARGET + TOI_TOLERANCE) return t
-    t += (d - TOI_TARGET) / mu
+    if (d < target + TOI_TOLERANCE * (target / TOI_TARGET)) return t
+    t += (d - target) / mu
     if (t >= 1) return 1
     d = sweptDistance(a, b, t, core)
   }
@@ -270,15 +332,19 @@ export function solveContinuous(
 // The earliest impact found by sweepBody so far, and the dynamic body hit there.
 let minT = 1
 let hitBody: Body | null = null
+/** The static body whose core hit is the earliest, if it is. */
+let coreStop: Body | null = null
 
 function sweepAgainst(b: Body, other: Body, canCollide: (a: Body, b: Body) => boolean): void {
   if (other === b) return
   const sweepable = other.type === STATIC || (b.bullet && other.type === DYNAMIC)
   if (!sweepable || !canCollide(b, other)) return
+  coreHit = false
   const t = timeOfImpact(b, other)
   if (t < minT) {
     minT = t
     hitBody = other.type === DYNAMIC && other.awake ? other : null
+    coreStop = coreHit && other.type === STATIC ? other : null
   }
 }
 
@@ -302,6 +368,7 @@ function sweepBody(
   const n = broadPhase.query(minX, minY, maxX, maxY, candidates)
   minT = 1
   hitBody = null
+  coreStop = null
   for (let k = 0; k < n; k++) {
     const other = bodies.get(candidates.ids[k])
     if (other !== undefined) sweepAgainst(b, other, canCollide)
@@ -318,5 +385,6 @@ function sweepBody(
   if (minT < 1) {
     advanceTo(b, minT)
     if (hitBody !== null) advanceTo(hitBody, minT)
+    if (coreStop !== null) stopCore(b, coreStop)
   }
 }
