@@ -6,6 +6,7 @@
  * renderer's draw call alone:
  *   render:  the world paused, so a frame is interpolation-free drawing of 1,000 bodies
  *   running: the engine stepping 1,000 bodies in the page as well (offline mode's real load)
+ * A baseline run of the empty scene first shows what the machine gives any page at that moment.
  * Run: npx tsx bench/client-bench.ts [--seconds 10]; saves bench/results/client.json.
  */
 import { readFile } from 'node:fs/promises'
@@ -92,6 +93,11 @@ async function main(): Promise<void> {
   const port = (http.address() as AddressInfo).port
   const browser = await launchBrowser()
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1 })
+  // Baseline: the same page with only the ground, i.e. what this machine's headless Chromium gives
+  // any page (the machine is shared; compare the 1,000-body numbers with this, not with 60).
+  await page.goto(`http://127.0.0.1:${port}/?offline&scene=empty`)
+  await page.waitForFunction('window.concord?.sandbox.bodies().length > 0')
+  const baseline = await measure(page, SECONDS / 2)
   await page.goto(`http://127.0.0.1:${port}/?offline&scene=pile`)
   await page.waitForFunction('window.concord?.sandbox.bodies().length > 300')
   await page.evaluate(`(() => {
@@ -122,6 +128,7 @@ async function main(): Promise<void> {
       appJsGzipBytes: size.gzipBytes,
       indexHtmlGzipBytes: size.htmlGzipBytes,
     },
+    baselineEmptyScene: baseline,
     render1000: render,
     running1000: running,
   }
