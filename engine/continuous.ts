@@ -14,11 +14,19 @@
  *
  * Who is swept against what:
  * - fast non-bullet bodies: static bodies (as Box2D v3).
- * - bullets: static bodies, dynamic non-bullet bodies (using their own sweep, so a moving thin
- *   plank is caught), and other bullets: both bullets are moved back to the impact time.
+ * - bullets: static bodies, and dynamic bodies (bullets or not) along their own sweeps: the
+ *   broadphase candidates around the bullet's swept box, plus every body that moved farther than
+ *   the fat-AABB margin this step (its proxy no longer shows where it went, e.g. a plank crossing
+ *   the bullet's path sideways). At the impact both the bullet and the body it hit are moved back
+ *   to the impact time, so the next step's contact sees them in their true order (moving only the
+ *   bullet left a fast plank already past it).
  * A pair closer than the speculative distance at the step start is left to its regular contact,
  * which exists by then and stops the approach speculatively; only the fast body's core (a small
  * circle at its centre of mass) is swept for it, so its centre can never cross (see timeOfImpact).
+ *
+ * What remains is in engine/README.md: kinematic bodies are never swept against, a non-bullet
+ * fast body passes through thin dynamic bodies, and a rotation over ~half a turn in one step is
+ * swept along the shorter arc.
  */
 import { type Body, DYNAMIC, STATIC } from './body.ts'
 import { type BroadPhase, IdBuffer } from './broad-phase.ts'

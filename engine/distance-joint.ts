@@ -11,6 +11,13 @@
  * equilibrium is exact: at rest the accumulated impulse P per sub-step balances the load, and the
  * update is zero when massScale * k * biasRate * C = -impulseScale * P, which with Catto's
  * coefficients gives C = -P / (h * m * omega^2), i.e. the static deflection g / omega^2.
+ *
+ * The oscillation is not exact: each sub-step is a linear map of (position, velocity, impulse)
+ * (warm start, biased solve, integrate, relax solve), and its complex eigenvalue turns by less
+ * than h * omega per sub-step. The frequency comes out low by about 0.45 (h omega)^2 (h = 1/240 s:
+ * -0.03 % at 1 Hz, -0.8 % at 5 Hz, -3 % at 10 Hz, -20 % at 30 Hz; measured and predicted agree to
+ * 0.1 %), and the implicit spring loses energy like a damping ratio of about h omega even when the
+ * user asks for 0. That is the price of being stable at any stiffness.
  */
 import type { Joint, JointStepContext } from './joint.ts'
 import { Softness } from './softness.ts'
