@@ -13,10 +13,12 @@ interface BotArgs {
   room: string
   count: number
   seconds: number
+  /** Spread the bots over this many rooms, named ROOM-1 ... ROOM-K (1 = just ROOM). */
+  rooms: number
 }
 
 function parseArgs(argv: string[]): BotArgs {
-  const args: BotArgs = { url: 'ws://127.0.0.1:8080', room: 'lobby', count: 4, seconds: 0 }
+  const args: BotArgs = { url: 'ws://127.0.0.1:8080', room: 'lobby', count: 4, seconds: 0, rooms: 1 }
   for (let i = 0; i < argv.length; i += 2) {
     const [flag, value] = [argv[i], argv[i + 1]]
     if (value === undefined) throw new Error(`${flag} needs a value`)
@@ -24,7 +26,8 @@ function parseArgs(argv: string[]): BotArgs {
     else if (flag === '--room') args.room = value
     else if (flag === '--count') args.count = Number.parseInt(value, 10)
     else if (flag === '--seconds') args.seconds = Number(value)
-    else throw new Error(`unknown option ${flag}; use --url, --room, --count, --seconds`)
+    else if (flag === '--rooms') args.rooms = Number.parseInt(value, 10)
+    else throw new Error(`unknown option ${flag}; use --url, --room, --count, --seconds, --rooms`)
   }
   if (!(args.count >= 1 && args.count <= 1000)) throw new Error('--count must be 1..1000')
   return args
@@ -61,9 +64,12 @@ async function main(): Promise<void> {
   const args = parseArgs(process.argv.slice(2))
   const url = args.url.replace(/^ws/, 'http')
   const bots: BotClient[] = []
-  for (let i = 0; i < args.count; i++)
-    bots.push(await BotClient.connect({ url, room: args.room, name: `bot ${i + 1}` }))
-  process.stdout.write(`${bots.length} bots joined room ${args.room}\n`)
+  const roomOf = (i: number): string => (args.rooms > 1 ? `${args.room}-${(i % args.rooms) + 1}` : args.room)
+  for (let i = 0; i < args.count; i++) {
+    bots.push(await BotClient.connect({ url, room: roomOf(i), name: `bot ${i + 1}` }))
+  }
+  const where = args.rooms > 1 ? `${args.rooms} rooms ${args.room}-1..${args.rooms}` : `room ${args.room}`
+  process.stdout.write(`${bots.length} bots joined ${where}\n`)
   const prngs = bots.map((_, i) => new Prng(i + 1))
   let step = 0
   const drive = setInterval(() => {
@@ -78,13 +84,21 @@ async function main(): Promise<void> {
     const now = performance.now()
     const seconds = (now - last) / 1000
     last = now
+    const rates = bots.map((b, i) => (b.bytesReceived - lastBytes[i]) / seconds)
     const lines = bots.map((b, i) => {
       b.ping()
-      const rate = (b.bytesReceived - lastBytes[i]) / seconds
-      return `bot ${i + 1}: rtt ${b.rtt.toFixed(1)} ms, ${(rate / 1000).toFixed(2)} kB/s, bodies ${b.mirror.bodies.size}`
+      return `bot ${i + 1}: rtt ${b.rtt.toFixed(1)} ms, ${(rates[i] / 1000).toFixed(2)} kB/s, bodies ${b.mirror.bodies.size}`
     })
     lastBytes = bots.map((b) => b.bytesReceived)
-    process.stdout.write(`${lines.join('\n')}\n`)
+    if (bots.length <= 10) process.stdout.write(`${lines.join('\n')}\n`)
+    else {
+      const rtts = bots.map((b) => b.rtt).filter((r) => !Number.isNaN(r))
+      const mean = (xs: number[]): number => xs.reduce((a, b) => a + b, 0) / Math.max(1, xs.length)
+      process.stdout.write(
+        `${bots.length} bots: rtt mean ${mean(rtts).toFixed(1)} ms max ${Math.max(0, ...rtts).toFixed(1)} ms, ` +
+          `received mean ${(mean(rates) / 1000).toFixed(2)} kB/s per bot\n`,
+      )
+    }
   }, 1000)
   const stop = async (): Promise<void> => {
     clearInterval(drive)

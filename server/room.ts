@@ -17,7 +17,7 @@
  * (paused ticks do not step, a scene load starts a new world).
  */
 import type { Logger } from 'pino'
-import { buildScene, createWorld, SCENES, type World } from '../engine/index.ts'
+import { buildScene, createWorld, SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
 import {
   ByteWriter,
   type Command,
@@ -110,8 +110,12 @@ export class Room {
   }
 
   private makeWorld(scene: string): World {
+    return this.worldFrom(SCENES[scene].make())
+  }
+
+  private worldFrom(blueprint: SceneBlueprint): World {
     const world = createWorld()
-    buildScene(world, SCENES[scene].make())
+    buildScene(world, blueprint)
     return world
   }
 
@@ -237,8 +241,13 @@ export class Room {
     this.roomChanged = true
   }
 
-  /** Replace the world with a fresh copy of a scene and send everyone the new full state. */
+  /** Replace the world with a fresh copy of a named scene (SCENES) and send everyone the new full state. */
   loadScene(name: string): void {
+    this.loadBlueprint(name, SCENES[name].make())
+  }
+
+  /** Replace the world with a scene blueprint (benchmarks use sizes SCENES does not list). */
+  loadBlueprint(name: string, blueprint: SceneBlueprint): void {
     for (const s of this.sessions.values()) {
       s.grab = null
       s.cursorDirty = true
@@ -247,7 +256,7 @@ export class Room {
     this.userJoints.clear()
     this.events = { add: [], remove: [], jadd: [], jremove: [] }
     this.scene = name
-    this.world = this.makeWorld(name)
+    this.world = this.worldFrom(blueprint)
     const frame = new QuantizedFrame()
     fillFrame(this.world, frame)
     const bytes = encodeMessage({

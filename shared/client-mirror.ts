@@ -147,14 +147,22 @@ export class ClientMirror {
   private applySnapshot(tick: number, base: number, data: Uint8Array, cursors: number[]): AckMessage | null {
     const applied = this.history.apply(tick, base, data)
     if (!applied) return null
+    // Refresh every body from the full state at this tick, not only the listed ones: a body can
+    // return to its baseline pose (and so be left out) after an unacknowledged snapshot moved it.
     const frame = applied.frame
-    for (const id of applied.updated) {
+    for (let i = 0; i < frame.count; i++) {
+      const id = frame.ids[i]
       const body = this.bodies.get(id)
       if (!body) continue
-      body.x = dequantizePosition(frame.x[id])
-      body.y = dequantizePosition(frame.y[id])
-      body.angle = dequantizeAngle(frame.a[id])
-      body.awake = (frame.flags[id] & FRAME_AWAKE) !== 0
+      const x = dequantizePosition(frame.x[id])
+      const y = dequantizePosition(frame.y[id])
+      const angle = dequantizeAngle(frame.a[id])
+      const awake = (frame.flags[id] & FRAME_AWAKE) !== 0
+      if (x === body.x && y === body.y && angle === body.angle && awake === body.awake) continue
+      body.x = x
+      body.y = y
+      body.angle = angle
+      body.awake = awake
       body.tick = tick
     }
     for (let i = 0; i + 3 < cursors.length; i += 4) {

@@ -17,6 +17,9 @@ import type { ByteWriter } from './byte-io.ts'
 import { FRAME_AWAKE, QuantizedFrame } from './quantized-frame.ts'
 import { updateSize, writeUpdates } from './snapshot-codec.ts'
 
+/** Distinct priority levels told apart when choosing; higher ones count as the top level. */
+const PRIORITY_BUCKETS = 4096
+
 /** Sent snapshots remembered per client, waiting for acks. */
 const MAX_PENDING = 64
 
@@ -46,6 +49,8 @@ export class SnapshotEncoder {
   private priority = new Float64Array(64)
   private waitingSince = new Int32Array(64).fill(-1)
   private candidates = new Int32Array(64)
+  private sizes = new Int32Array(64)
+  private readonly histogram = new Int32Array(PRIORITY_BUCKETS)
   private chosen = new Int32Array(64)
 
   /** Start over from a full state the client received (welcome or state message). */
@@ -68,13 +73,15 @@ export class SnapshotEncoder {
     }
     if (this.candidates.length < count) {
       this.candidates = new Int32Array(count)
+      this.sizes = new Int32Array(count)
       this.chosen = new Int32Array(count)
     }
   }
 
   /**
    * Write the snapshot of `frame` at `tick` into `out` within `budget` bytes of updates.
-   * `weight(id)` is the extra priority of a body (0 for ordinary ones, more for grabbed ones).
+   * `weight(id)` is the extra priority of a body: 0 for ordinary ones, more for
+   * grabbed ones.
    */
   encode(
     out: ByteWriter,
@@ -97,13 +104,16 @@ export class SnapshotEncoder {
       if (this.waitingSince[id] < 0) this.waitingSince[id] = tick
       const awake = (frame.flags[id] & FRAME_AWAKE) !== 0
       this.priority[id] += 1 + (awake ? 1 : 0) + (ref.has(id) ? 0 : 4) + (weight ? weight(id) : 0)
-      this.candidates[n++] = id
-      bytes += updateSize(frame, ref, id)
+      const size = updateSize(frame, ref, id)
+      this.candidates[n] = id
+      this.sizes[n] = size
+      n++
+      bytes += size
     }
     let count = n
     let ids = this.candidates
     if (bytes > budget) {
-      count = this.choose(frame, n, budget)
+      count = this.choose(n, budget)
       ids = this.chosen
     }
     let maxStaleness = 0
@@ -113,28 +123,54 @@ export class SnapshotEncoder {
       maxStaleness = Math.max(maxStaleness, tick - this.waitingSince[id])
       this.waitingSince[id] = tick
       this.priority[id] = 0
-      updates.set([id, frame.x[id], frame.y[id], frame.a[id], frame.flags[id]], i * 5)
+      const k = i * 5
+      updates[k] = id
+      updates[k + 1] = frame.x[id]
+      updates[k + 2] = frame.y[id]
+      updates[k + 3] = frame.a[id]
+      updates[k + 4] = frame.flags[id]
     }
     writeUpdates(out, frame, ref, ids, count)
     this.remember(tick, updates)
     return { candidates: n, sent: count, maxStaleness }
   }
 
-  /** Pick the highest-priority candidates that fit the budget into `chosen`, ascending ids. */
-  private choose(frame: QuantizedFrame, n: number, budget: number): number {
-    const order = Array.from(this.candidates.subarray(0, n))
-    const priority = this.priority
-    order.sort((p, q) => priority[q] - priority[p] || p - q)
-    let count = 0
+  /**
+   * Pick the highest-priority candidates that fit the budget into `chosen`, in ascending id order.
+   * Priorities are small integers, so a histogram of bytes per priority finds the cut-off in one
+   * pass (a counting sort, no comparison sort): every candidate above the cut-off priority is
+   * sent, and those at it are sent while bytes remain.
+   */
+  private choose(n: number, budget: number): number {
+    const histogram = this.histogram
+    histogram.fill(0)
+    for (let i = 0; i < n; i++) histogram[this.bucket(this.candidates[i])] += this.sizes[i]
     let bytes = 0
-    for (const id of order) {
-      const size = updateSize(frame, this.reference, id)
-      if (bytes + size > budget) continue
-      bytes += size
-      this.chosen[count++] = id
+    let cutoff = 0
+    for (let b = PRIORITY_BUCKETS - 1; b >= 0; b--) {
+      if (bytes + histogram[b] > budget) {
+        cutoff = b
+        break
+      }
+      bytes += histogram[b]
     }
-    this.chosen.subarray(0, count).sort()
+    let remaining = budget - bytes
+    let count = 0
+    for (let i = 0; i < n; i++) {
+      const id = this.candidates[i]
+      const b = this.bucket(id)
+      if (b > cutoff) {
+        this.chosen[count++] = id
+      } else if (b === cutoff && this.sizes[i] <= remaining) {
+        remaining -= this.sizes[i]
+        this.chosen[count++] = id
+      }
+    }
     return count
+  }
+
+  private bucket(id: number): number {
+    return Math.min(PRIORITY_BUCKETS - 1, Math.floor(this.priority[id]))
   }
 
   private remember(tick: number, updates: Int32Array): void {

@@ -18,7 +18,7 @@ function documentedFields(): Map<string, { all: string[]; optional: string[] }> 
       continue
     }
     if (line.startsWith('#')) current = null
-    const row = /^\| `(\w+)` \|[^|]*\|(.*)\|$/.exec(line)
+    const row = /^\|\s*`(\w+)`\s*\|[^|]*\|(.*)\|$/.exec(line)
     if (current && row) {
       current.all.push(row[1])
       if (row[2].trim().startsWith('optional')) current.optional.push(row[1])
