@@ -26,11 +26,11 @@ export const CHROMIUM_ARGS = [
   '--disable-sync',
 ]
 
-/** Build the client and start a server that serves it. */
-export async function startClientServer(): Promise<RunningServer> {
+/** Build the client and start a server that serves it (on `port`, or any free port). */
+export async function startClientServer(port = 0): Promise<RunningServer> {
   await mkdir(ARTIFACTS, { recursive: true })
-  await buildClient(DIST)
-  const config = loadConfig([], {}, { port: 0, staticDir: DIST, logLevel: 'silent', heartbeatMs: 60_000 })
+  if (port === 0) await buildClient(DIST)
+  const config = loadConfig([], {}, { port, staticDir: DIST, logLevel: 'silent', heartbeatMs: 60_000 })
   return startServer(config, { processMetrics: false })
 }
 
@@ -193,6 +193,30 @@ export class Finger {
     await this.cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] })
     await this.cdp.detach()
   }
+}
+
+/** Two fingers placed `from` px apart horizontally about `center`, spread to `to` px apart. */
+export async function pinch(
+  page: Page,
+  center: { x: number; y: number },
+  from: number,
+  to: number,
+): Promise<void> {
+  const cdp = await page.context().newCDPSession(page)
+  const points = (d: number) => [
+    { x: center.x - d / 2, y: center.y, id: 1 },
+    { x: center.x + d / 2, y: center.y, id: 2 },
+  ]
+  await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: points(from) })
+  for (let i = 1; i <= 10; i++) {
+    await cdp.send('Input.dispatchTouchEvent', {
+      type: 'touchMove',
+      touchPoints: points(from + ((to - from) * i) / 10),
+    })
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => r(null))))
+  }
+  await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] })
+  await cdp.detach()
 }
 
 /** The lab panel's numbers: normal and friction of the first contact, and the net force (N). */

@@ -7,7 +7,7 @@
  * test-results/browser-client/ as artifacts.
  */
 import { copyFile, readFile } from 'node:fs/promises'
-import type { Browser } from 'playwright-core'
+import type { Browser, BrowserContext, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
 import { CLOSE_CODES, encodeMessage } from '../../shared/index.ts'
@@ -20,6 +20,7 @@ import {
   openSandbox,
   paintedPixels,
   pickTool,
+  pinch,
   pixelAt,
   screenOf,
   screenOfBody,
@@ -104,7 +105,7 @@ describe('online', () => {
     await b.context.close()
   })
 
-  it('works with touch: a tap spawns a circle, a finger drag grabs and moves a body', async () => {
+  it('works with touch: a tap spawns a circle, a finger drag grabs and moves a body, a pinch zooms', async () => {
     const t = await openSandbox(browser, `${base}/?room=touch`, { touch: true })
     const before = (await bodies(t.page)).length
     await t.page.tap('[data-tool="circle"]')
@@ -120,6 +121,11 @@ describe('online', () => {
     await finger.moveTo(await screenOf(t.page, -18, 3))
     await waitForBody(t.page, circle.id, 'b.x < -16.5')
     await finger.up()
+
+    // Two fingers moving apart zoom in about their midpoint.
+    const scale = await t.page.evaluate(() => window.concord.camera.scale)
+    await pinch(t.page, { x: 500, y: 400 }, 40, 160)
+    expect(await t.page.evaluate(() => window.concord.camera.scale)).toBeGreaterThan(scale * 3)
     expect(t.errors).toEqual([])
     await t.context.close()
   })
@@ -189,10 +195,24 @@ describe('online', () => {
   })
 })
 
-describe('offline, with the server stopped', () => {
+describe('with the server stopped', () => {
+  let watcher: { context: BrowserContext; page: Page } | null = null
+
+  it('tells a connected player the server went away, then that it cannot be reached', async () => {
+    const { context, page } = await openSandbox(browser, `${base}/?room=phoenix`)
+    watcher = { context, page }
+    await page.waitForFunction(() => window.concord.sandbox.status().state === 'connected')
+    await server.close()
+    await page.waitForFunction(() => /restarting/.test(document.getElementById('banner-text')!.textContent!))
+    await page.waitForFunction(() =>
+      /Cannot reach the server/.test(document.getElementById('banner-text')!.textContent!),
+    )
+    expect(await page.textContent('#banner-text')).toMatch(/Retrying in \d/)
+    expect(await page.isVisible('#go-offline')).toBe(true)
+  })
+
   it('runs the engine in the page with the same tools and lab', async () => {
     const files = `${ARTIFACTS}/dist`
-    await server.close()
     const context = await browser.newContext({ viewport: { width: 1000, height: 700 } })
     // Serve the page from disk under a made-up origin: no game server anywhere.
     await context.route('http://offline.test/**', async (route) => {
@@ -226,22 +246,16 @@ describe('offline, with the server stopped', () => {
     await context.close()
   })
 
-  it('says the server cannot be reached and keeps retrying', async () => {
-    const context = await browser.newContext({ viewport: { width: 800, height: 600 } })
-    await context.route('http://offline.test/**', async (route) => {
-      const path = new URL(route.request().url()).pathname
-      const file = path === '/' ? 'index.html' : path.slice(1)
-      const type = file.endsWith('.js') ? 'text/javascript' : 'text/html'
-      await route.fulfill({ body: await readFile(`${ARTIFACTS}/dist/${file}`), contentType: type })
+  it('reconnects by itself when the server is back on the same port', async () => {
+    server = await startClientServer(server.port)
+    const page = watcher!.page
+    await page.waitForFunction(() => window.concord.sandbox.status().state === 'connected', undefined, {
+      timeout: 20_000,
     })
-    const page = await context.newPage()
-    await page.goto(`http://offline.test/?room=nobody&server=ws://127.0.0.1:${server.port}/ws`)
-    await page.waitForFunction(() =>
-      /Cannot reach the server/.test(document.getElementById('banner-text')!.textContent!),
-    )
-    expect(await page.textContent('#banner-text')).toMatch(/Retrying in \d/)
-    expect(await page.isVisible('#go-offline')).toBe(true)
-    await context.close()
+    await page.waitForFunction(() => window.concord.sandbox.bodies().length > 200)
+    expect(await page.isHidden('#banner')).toBe(true)
+    expect(await page.textContent('#hud')).toContain('room phoenix')
+    await watcher!.context.close()
   })
 })
 
