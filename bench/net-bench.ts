@@ -35,6 +35,7 @@ async function newServer(overrides = {}): Promise<RunningServer> {
       logLevel: 'silent',
       defaultScene: 'empty',
       maxBodies: 5000,
+      maxClientsPerRoom: 100,
       inputsPerTick: 1000,
       ...overrides,
     },

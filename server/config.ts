@@ -4,6 +4,11 @@
  * message naming the setting, never silently replaced.
  */
 
+import { SCENES } from '../engine/index.ts'
+import { ROOM_NAME_PATTERN } from '../shared/index.ts'
+
+const LOG_LEVELS = ['fatal', 'error', 'warn', 'info', 'debug', 'trace', 'silent']
+
 /** Everything the server can be configured with. */
 export interface ServerConfig {
   port: number
@@ -318,6 +323,17 @@ export function loadConfig(
   const result = config as unknown as ServerConfig
   if (60 % result.snapshotRate !== 0)
     throw new Error(`snapshot rate must divide 60, got ${result.snapshotRate}`)
+  if (!ROOM_NAME_PATTERN.test(result.defaultRoom)) {
+    throw new Error(`default room must be 1-32 letters, digits, "-" or "_", got "${result.defaultRoom}"`)
+  }
+  if (!Object.hasOwn(SCENES, result.defaultScene)) {
+    throw new Error(
+      `default scene must be one of ${Object.keys(SCENES).join(', ')}, got "${result.defaultScene}"`,
+    )
+  }
+  if (!LOG_LEVELS.includes(result.logLevel)) {
+    throw new Error(`log level must be one of ${LOG_LEVELS.join(', ')}, got "${result.logLevel}"`)
+  }
   return result
 }
 

@@ -1,0 +1,45 @@
+import { describe, expect, it } from 'vitest'
+import { defaultConfig, loadConfig, SETTINGS } from '../../server/config.ts'
+
+describe('server configuration', () => {
+  it('flags beat environment variables, which beat defaults', () => {
+    expect(loadConfig([], {}).port).toBe(8080)
+    expect(loadConfig([], { PORT: '9000' }).port).toBe(9000)
+    expect(loadConfig(['--port', '9100'], { PORT: '9000' }).port).toBe(9100)
+    expect(loadConfig(['--port=9200'], {}).port).toBe(9200)
+    expect(loadConfig(['--room-controls', 'false'], {}).roomControls).toBe(false)
+    expect(loadConfig(['--room-controls'], {}).roomControls).toBe(true)
+    expect(loadConfig([], { HOST: '0.0.0.0', SNAPSHOT_RATE: '60' })).toMatchObject({
+      host: '0.0.0.0',
+      snapshotRate: 60,
+    })
+  })
+
+  it('every setting has a flag, an environment variable and a default', () => {
+    const defaults = defaultConfig() as unknown as Record<string, unknown>
+    for (const s of SETTINGS) {
+      expect(s.flag).toMatch(/^--[a-z-]+$/)
+      expect(s.env).toMatch(/^[A-Z_]+$/)
+      expect(defaults[s.key]).toBe(s.fallback)
+    }
+  })
+
+  const bad: Array<[string, string[], Record<string, string>]> = [
+    ['a non-numeric port', ['--port', 'http'], {}],
+    ['a port out of range', [], { PORT: '70000' }],
+    ['a snapshot rate that does not divide 60', ['--snapshot-rate', '7'], {}],
+    ['an unknown flag', ['--prot', '1'], {}],
+    ['a flag without a value', ['--port'], {}],
+    ['an unknown scene', ['--default-scene', 'nope'], {}],
+    ['a bad room name', [], { DEFAULT_ROOM: '../x' }],
+    ['an unknown log level', ['--log-level', 'loud'], {}],
+    ['a non-boolean', ['--room-controls', 'maybe'], {}],
+  ]
+  for (const [what, argv, env] of bad) {
+    it(`refuses ${what} with a message naming the setting`, () => {
+      expect(() => loadConfig(argv, env)).toThrow(
+        /port|snapshot|unknown option|needs a value|scene|room|log level|room-controls/i,
+      )
+    })
+  }
+})
