@@ -212,8 +212,8 @@ function stopCore(b: Body, other: Body): void {
     verticesA[1] = b.cy
     if (maxEdgeSeparation(verticesB, n, verticesA, 1) <= 0) return
     nearestOnBoundary(verticesB, n, b.cx, b.cy)
-    nx = b.cx - nearestX
-    ny = b.cy - nearestY
+    nx = b.cx - nearest[0]
+    ny = b.cy - nearest[1]
   }
   const len = Math.sqrt(nx * nx + ny * ny)
   if (len === 0) return
@@ -226,10 +226,10 @@ function stopCore(b: Body, other: Body): void {
   }
 }
 
-let nearestX = 0
-let nearestY = 0
+/** The nearest point found by nearestOnBoundary (x, y). */
+const nearest = new Float64Array(2)
 
-/** Sets (nearestX, nearestY) to the point of polygon p's boundary nearest to (px, py). */
+/** Sets `nearest` to the point of polygon p's boundary nearest to (px, py). */
 function nearestOnBoundary(p: Float64Array, pn: number, px: number, py: number): void {
   let best = Number.POSITIVE_INFINITY
   for (let i = 0; i < pn; i++) {
@@ -246,8 +246,8 @@ function nearestOnBoundary(p: Float64Array, pn: number, px: number, py: number):
     const d = (px - qx) * (px - qx) + (py - qy) * (py - qy)
     if (d < best) {
       best = d
-      nearestX = qx
-      nearestY = qy
+      nearest[0] = qx
+      nearest[1] = qy
     }
   }
 }
@@ -338,7 +338,8 @@ export function solveContinuous(
 }
 
 // The earliest impact found by sweepBody so far, and the dynamic body hit there.
-let minT = 1
+/** [0]: the earliest impact fraction found so far (typed: a module-level double would allocate). */
+const earliest = new Float64Array(1)
 let hitBody: Body | null = null
 /** The static body whose core hit is the earliest, if it is. */
 let coreStop: Body | null = null
@@ -349,8 +350,8 @@ function sweepAgainst(b: Body, other: Body, canCollide: (a: Body, b: Body) => bo
   if (!sweepable || !canCollide(b, other)) return
   coreHit = false
   const t = timeOfImpact(b, other)
-  if (t < minT) {
-    minT = t
+  if (t < earliest[0]) {
+    earliest[0] = t
     hitBody = other.type === DYNAMIC && other.awake ? other : null
     coreStop = coreHit && other.type === STATIC ? other : null
   }
@@ -374,7 +375,7 @@ function sweepBody(
   const maxX = Math.max(b.c0x, b.cx) + r
   const maxY = Math.max(b.c0y, b.cy) + r
   const n = broadPhase.query(minX, minY, maxX, maxY, candidates)
-  minT = 1
+  earliest[0] = 1
   hitBody = null
   coreStop = null
   for (let k = 0; k < n; k++) {
@@ -390,6 +391,7 @@ function sweepBody(
       sweepAgainst(b, other, canCollide)
     }
   }
+  const minT = earliest[0]
   if (minT < 1) {
     advanceTo(b, minT)
     if (hitBody !== null) advanceTo(hitBody, minT)

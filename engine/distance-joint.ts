@@ -24,31 +24,39 @@ import { Softness } from './softness.ts'
 
 const springSoftness = new Softness()
 
-// Current axis and length, from the sub-step deltas (set by computeAxis).
-let axisX = 0
-let axisY = 0
-let currentLength = 0
-let rAx = 0
-let rAy = 0
-let rBx = 0
-let rBy = 0
+// Current axis, length and arms from the sub-step deltas, set by computeAxis (a typed array: a
+// module-level double would allocate a heap number on every write in V8).
+const geometry = new Float64Array(7)
+const AXIS_X = 0
+const AXIS_Y = 1
+const LENGTH = 2
+const RA_X = 3
+const RA_Y = 4
+const RB_X = 5
+const RB_Y = 6
 
 function computeAxis(joint: Joint): void {
   const a = joint.bodyA
   const b = joint.bodyB
-  rAx = a.dqc * joint.anchorAx - a.dqs * joint.anchorAy
-  rAy = a.dqs * joint.anchorAx + a.dqc * joint.anchorAy
-  rBx = b.dqc * joint.anchorBx - b.dqs * joint.anchorBy
-  rBy = b.dqs * joint.anchorBx + b.dqc * joint.anchorBy
+  const g = geometry
+  const rAx = a.dqc * joint.anchorAx - a.dqs * joint.anchorAy
+  const rAy = a.dqs * joint.anchorAx + a.dqc * joint.anchorAy
+  const rBx = b.dqc * joint.anchorBx - b.dqs * joint.anchorBy
+  const rBy = b.dqs * joint.anchorBx + b.dqc * joint.anchorBy
+  g[RA_X] = rAx
+  g[RA_Y] = rAy
+  g[RB_X] = rBx
+  g[RB_Y] = rBy
   const dx = b.dpx - a.dpx + joint.deltaCenterX + rBx - rAx
   const dy = b.dpy - a.dpy + joint.deltaCenterY + rBy - rAy
-  currentLength = Math.sqrt(dx * dx + dy * dy)
-  if (currentLength > 1e-12) {
-    axisX = dx / currentLength
-    axisY = dy / currentLength
+  const length = Math.sqrt(dx * dx + dy * dy)
+  g[LENGTH] = length
+  if (length > 1e-12) {
+    g[AXIS_X] = dx / length
+    g[AXIS_Y] = dy / length
   } else {
-    axisX = 1
-    axisY = 0
+    g[AXIS_X] = 1
+    g[AXIS_Y] = 0
   }
 }
 
@@ -58,8 +66,9 @@ export function prepareDistance(joint: Joint, ctx: JointStepContext): void {
   computeAxis(joint)
   const a = joint.bodyA
   const b = joint.bodyB
-  const crA = rAx * axisY - rAy * axisX
-  const crB = rBx * axisY - rBy * axisX
+  const g = geometry
+  const crA = g[RA_X] * g[AXIS_Y] - g[RA_Y] * g[AXIS_X]
+  const crB = g[RB_X] * g[AXIS_Y] - g[RB_Y] * g[AXIS_X]
   const k = a.invMass + b.invMass + a.invInertia * crA * crA + b.invInertia * crB * crB
   joint.axialMass = k > 0 ? 1 / k : 0
   springSoftness.set(joint.hertz, joint.dampingRatio, ctx.h)
@@ -81,14 +90,15 @@ function hasLimits(joint: Joint): boolean {
 function applyAxial(joint: Joint, impulse: number): void {
   const a = joint.bodyA
   const b = joint.bodyB
-  const px = impulse * axisX
-  const py = impulse * axisY
+  const g = geometry
+  const px = impulse * g[AXIS_X]
+  const py = impulse * g[AXIS_Y]
   a.vx -= a.invMass * px
   a.vy -= a.invMass * py
-  a.w -= a.invInertia * (rAx * py - rAy * px)
+  a.w -= a.invInertia * (g[RA_X] * py - g[RA_Y] * px)
   b.vx += b.invMass * px
   b.vy += b.invMass * py
-  b.w += b.invInertia * (rBx * py - rBy * px)
+  b.w += b.invInertia * (g[RB_X] * py - g[RB_Y] * px)
 }
 
 /** Applies the accumulated impulses of a distance joint. */
@@ -100,9 +110,10 @@ export function warmStartDistance(joint: Joint): void {
 function axialSpeed(joint: Joint): number {
   const a = joint.bodyA
   const b = joint.bodyB
-  const vx = b.vx - b.w * rBy - (a.vx - a.w * rAy)
-  const vy = b.vy + b.w * rBx - (a.vy + a.w * rAx)
-  return vx * axisX + vy * axisY
+  const g = geometry
+  const vx = b.vx - b.w * g[RB_Y] - (a.vx - a.w * g[RA_Y])
+  const vy = b.vy + b.w * g[RB_X] - (a.vy + a.w * g[RA_X])
+  return vx * g[AXIS_X] + vy * g[AXIS_Y]
 }
 
 /** One iteration of a distance joint. */
@@ -111,7 +122,7 @@ export function solveDistance(joint: Joint, ctx: JointStepContext, useBias: bool
   const limits = hasLimits(joint)
   if (joint.hertz > 0) {
     // Soft spring toward the rest length (always biased: the spring is the physics, not correction).
-    const C = currentLength - joint.length
+    const C = geometry[LENGTH] - joint.length
     const bias = joint.springBiasRate * C
     const cdot = axialSpeed(joint)
     const impulse =
@@ -119,7 +130,7 @@ export function solveDistance(joint: Joint, ctx: JointStepContext, useBias: bool
     joint.impulse += impulse
     applyAxial(joint, impulse)
   } else if (!limits) {
-    const C = currentLength - joint.length
+    const C = geometry[LENGTH] - joint.length
     let bias = 0
     let massScale = 1
     let impulseScale = 0
@@ -134,8 +145,8 @@ export function solveDistance(joint: Joint, ctx: JointStepContext, useBias: bool
     applyAxial(joint, impulse)
   }
   if (limits) {
-    if (joint.minLength > 0) solveLimit(joint, ctx, useBias, currentLength - joint.minLength, 1)
-    solveLimit(joint, ctx, useBias, joint.maxLength - currentLength, -1)
+    if (joint.minLength > 0) solveLimit(joint, ctx, useBias, geometry[LENGTH] - joint.minLength, 1)
+    solveLimit(joint, ctx, useBias, joint.maxLength - geometry[LENGTH], -1)
   }
 }
 

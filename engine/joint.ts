@@ -161,13 +161,12 @@ export function relativeAngle(bc: number, bs: number, ac: number, as: number): n
   return atan2(bs * ac - bc * as, bc * ac + bs * as)
 }
 
-/** Solves the symmetric 2x2 system [k11 k12; k12 k22] x = (bx, by) into solved2x/y (Cramer's rule). */
+/** Solves the symmetric 2x2 system [k11 k12; k12 k22] x = (bx, by) into `solved2` (Cramer's rule). */
 export function solve22(k11: number, k12: number, k22: number, bx: number, by: number): void {
   let det = k11 * k22 - k12 * k12
   if (det !== 0) det = 1 / det
-  solved2x = det * (k22 * bx - k12 * by)
-  solved2y = det * (k11 * by - k12 * bx)
+  solved2[0] = det * (k22 * bx - k12 * by)
+  solved2[1] = det * (k11 * by - k12 * bx)
 }
-/** Output of solve22. */
-export let solved2x = 0
-export let solved2y = 0
+/** Output of solve22 (a typed array: a module-level double would allocate on every write in V8). */
+export const solved2 = new Float64Array(2)

@@ -4,7 +4,7 @@
  * body cannot be driven through walls or launched. Several mouse joints may act on one body (one
  * per player); each has its own accumulated impulse and cap. Body A is the world.
  */
-import { type Joint, type JointStepContext, solve22, solved2x, solved2y } from './joint.ts'
+import { type Joint, type JointStepContext, solve22, solved2 } from './joint.ts'
 import { Softness } from './softness.ts'
 
 const softness = new Softness()
@@ -47,8 +47,8 @@ export function solveMouse(joint: Joint, ctx: JointStepContext): void {
   solve22(k11, k12, k22, cdotX + joint.springBiasRate * sepX, cdotY + joint.springBiasRate * sepY)
   const oldX = joint.linearImpulseX
   const oldY = joint.linearImpulseY
-  let ix = oldX - joint.springMassScale * solved2x - joint.springImpulseScale * oldX
-  let iy = oldY - joint.springMassScale * solved2y - joint.springImpulseScale * oldY
+  let ix = oldX - joint.springMassScale * solved2[0] - joint.springImpulseScale * oldX
+  let iy = oldY - joint.springMassScale * solved2[1] - joint.springImpulseScale * oldY
   const maxImpulse = joint.maxForce * ctx.h
   const lengthSquared = ix * ix + iy * iy
   if (lengthSquared > maxImpulse * maxImpulse) {

@@ -6,7 +6,7 @@
  * target speed is clamped by the limits so that no motor torque can push the joint through them.
  */
 
-import { type Joint, type JointStepContext, relativeAngle, solve22, solved2x, solved2y } from './joint.ts'
+import { type Joint, type JointStepContext, relativeAngle, solve22, solved2 } from './joint.ts'
 import { PI, TWO_PI } from './math.ts'
 
 /** Unwinds an angle into [-pi, pi]. */
@@ -164,8 +164,8 @@ export function solveRevolute(joint: Joint, ctx: JointStepContext, useBias: bool
   const k12 = -rAy * rAx * iA - rBy * rBx * iB
   const k22 = mA + mB + rAx * rAx * iA + rBx * rBx * iB
   solve22(k11, k12, k22, cdotX + biasX, cdotY + biasY)
-  const ix = -massScale * solved2x - impulseScale * joint.linearImpulseX
-  const iy = -massScale * solved2y - impulseScale * joint.linearImpulseY
+  const ix = -massScale * solved2[0] - impulseScale * joint.linearImpulseX
+  const iy = -massScale * solved2[1] - impulseScale * joint.linearImpulseY
   joint.linearImpulseX += ix
   joint.linearImpulseY += iy
   a.vx -= mA * ix
