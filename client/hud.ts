@@ -19,7 +19,7 @@ export function hudText(s: SandboxStats, fps: number, mode: 'online' | 'offline'
     lines.push(`snapshots ${n(s.snapshotHz, 0, ' Hz')}`)
     lines.push(`down ${n(s.downKBs, 1, ' kB/s')}  up ${n(s.upKBs, 1, ' kB/s')}`)
   }
-  lines.push(`step ${n(s.stepMs, 2, ' ms')}${mode === 'online' && s.stepMs !== null ? ' (server)' : ''}`)
+  lines.push(mode === 'online' ? `server tick ${n(s.stepMs, 2, ' ms')}` : `step ${n(s.stepMs, 2, ' ms')}`)
   return lines.join('\n')
 }
 

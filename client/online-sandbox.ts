@@ -30,6 +30,7 @@ import type {
   ViewCursor,
   ViewJoint,
 } from './sandbox.ts'
+import { ServerStats } from './server-stats.ts'
 
 /** Where and how to join. */
 export interface OnlineOptions {
@@ -85,9 +86,11 @@ export class OnlineSandbox implements Sandbox {
     null
   /** Server-reported problems (refused inputs), newest last, for a toast. */
   readonly notices: string[] = []
+  private readonly serverStats: ServerStats
 
   constructor(private readonly options: OnlineOptions) {
     const url = `${options.url}?room=${encodeURIComponent(options.room)}`
+    this.serverStats = new ServerStats(options.url.replace(/^ws/, 'http').replace(/\/ws$/, ''))
     this.connection = new Connection(url, () => this.joinMessage(), {
       message: (m, bytes) => this.receive(m, bytes),
       status: (text, retrying, fatal) => {
@@ -172,6 +175,7 @@ export class OnlineSandbox implements Sandbox {
       this.lastPing = nowMs
       this.up.add(this.connection.send({ t: 'ping', id: ++this.pingId, time: nowMs }), nowMs)
     }
+    if (this.connection.isJoined) this.serverStats.poll(nowMs)
     this.down.tick(nowMs)
     this.up.tick(nowMs)
     this.snaps.tick(nowMs)
@@ -300,7 +304,7 @@ export class OnlineSandbox implements Sandbox {
       upKBs: this.up.value / 1000,
       awake,
       total: this.mirror.bodies.size,
-      stepMs: null,
+      stepMs: this.serverStats.tickMs,
     }
   }
 

@@ -52,6 +52,10 @@ describe('online', () => {
     const all = await bodies(page)
     expect(all.filter((b) => b.kind === 2)).toHaveLength(210)
     expect(await page.textContent('#hud')).toContain('room first')
+    // The HUD's numbers arrive: ping from pong, the server's tick time from its /metrics.
+    await page.waitForFunction(() =>
+      /ping \d+ ms[\s\S]*server tick \d/.test(document.getElementById('hud')!.textContent!),
+    )
     // Pixels, not DOM: the pyramid's bottom-middle box is drawn in the awake or asleep body colour,
     // and a point well above the pyramid is background.
     const bottom = all
