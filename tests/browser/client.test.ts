@@ -245,6 +245,24 @@ describe('with the server stopped', () => {
     await page.mouse.click(drop.x, drop.y)
     await page.waitForFunction(() => window.concord.sandbox.bodies().length === 4)
     await waitForBody(page, 4, 'b.y < 3') // it falls past the ramp's end: the engine steps in the page
+
+    // Rope from the ramp's box to empty space above it (the world), then pin the box where it is.
+    await pickTool(page, 'rope')
+    const boxAt = await screenOfBody(page, 3)
+    const sky = await screenOf(page, 0, 12)
+    await page.mouse.move(boxAt.x, boxAt.y)
+    await page.mouse.down()
+    await page.mouse.move(sky.x, sky.y, { steps: 5 })
+    await page.mouse.up()
+    await page.waitForFunction(() => window.concord.sandbox.joints().some((j) => j.kind === 'rope'))
+    await pickTool(page, 'pin')
+    await page.mouse.click(boxAt.x, boxAt.y)
+    await page.waitForFunction(() => window.concord.sandbox.joints().some((j) => j.kind === 'pin'))
+    // Delete removes the fallen box.
+    await pickTool(page, 'delete')
+    const fallen = await screenOfBody(page, 4)
+    await page.mouse.click(fallen.x, fallen.y)
+    await page.waitForFunction(() => window.concord.sandbox.bodies().length === 3)
     await page.screenshot({ path: `${ARTIFACTS}/offline-ramp.png` })
     expect(errors).toEqual([])
     await context.close()
