@@ -465,3 +465,32 @@ describe('joints, islands and sleep', () => {
     expect(world.getPosition(bottom).y).toBeLessThan(3)
   })
 })
+
+describe('joint read-back for drawing', () => {
+  it('reports type, bodies (null for the world), world anchors and the mouse target', () => {
+    const world = createWorld({ gravity: { x: 0, y: 0 } })
+    const a = world.createBody({ position: { x: 0, y: 0 }, shape: box(0.5, 0.5), angularVelocity: 1 })
+    const b = world.createBody({ position: { x: 3, y: 0 }, shape: circle(0.5) })
+    const pin = world.createJoint({ type: 'revolute', bodyA: null, bodyB: a, anchor: { x: 0.5, y: 0.5 } })
+    const rod = world.createJoint({
+      type: 'distance',
+      bodyA: a,
+      bodyB: b,
+      anchorA: { x: 0, y: 0 },
+      anchorB: { x: 3, y: 0 },
+    })
+    const grab = world.createJoint({ type: 'mouse', body: b, target: { x: 3, y: 0.25 } })
+    world.setJointTarget(grab, { x: 4, y: 1 })
+    for (let i = 0; i < 30; i++) world.step()
+    const [p, r, m] = world.joints()
+    expect([p.id, p.type, p.bodyA, p.bodyB]).toEqual([pin, 'revolute', null, a])
+    expect([r.id, r.type, r.bodyA, r.bodyB]).toEqual([rod, 'distance', a, b])
+    expect([m.id, m.type, m.bodyA, m.bodyB]).toEqual([grab, 'mouse', null, b])
+    // The pin's two anchors coincide (within the joint's softness); the rod's are 3 m apart.
+    expect(Math.hypot(p.anchorA.x - p.anchorB.x, p.anchorA.y - p.anchorB.y)).toBeLessThan(0.005)
+    expect(p.anchorA).toEqual({ x: 0.5, y: 0.5 })
+    expect(Math.hypot(r.anchorB.x - r.anchorA.x, r.anchorB.y - r.anchorA.y)).toBeCloseTo(3, 2)
+    expect(m.anchorA).toEqual({ x: 4, y: 1 })
+    expect(() => world.setJointTarget(pin, { x: 0, y: 0 })).toThrow(RangeError)
+  })
+})
