@@ -53,11 +53,11 @@ export function collectErrors(page: Page): string[] {
 export async function openSandbox(
   browser: Browser,
   url: string,
-  options: { touch?: boolean } = {},
+  options: { touch?: boolean; pixelRatio?: number } = {},
 ): Promise<{ context: BrowserContext; page: Page; errors: string[] }> {
   const context = await browser.newContext({
     viewport: { width: 1000, height: 700 },
-    deviceScaleFactor: 1,
+    deviceScaleFactor: options.pixelRatio ?? 1,
     hasTouch: options.touch ?? false,
     isMobile: false,
   })

@@ -110,7 +110,12 @@ describe('online', () => {
   })
 
   it('works with touch: a tap spawns a circle, a finger drag grabs and moves a body, a pinch zooms', async () => {
-    const t = await openSandbox(browser, `${base}/?room=touch`, { touch: true })
+    const t = await openSandbox(browser, `${base}/?room=touch`, { touch: true, pixelRatio: 2 })
+    // HiDPI: the backing store has two device pixels per CSS pixel, and follows a resize.
+    const size = () => t.page.evaluate(() => [window.concord.renderer.canvas.width, window.innerWidth])
+    expect(await size()).toEqual([2000, 1000])
+    await t.page.setViewportSize({ width: 900, height: 700 })
+    await t.page.waitForFunction(() => window.concord.renderer.canvas.width === 1800)
     const before = (await bodies(t.page)).length
     await t.page.tap('[data-tool="circle"]')
     const drop = await screenOf(t.page, -14, 1)
