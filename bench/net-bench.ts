@@ -11,7 +11,9 @@
  *
  * Part 2, capacity: the server in this process on its real 60 Hz clock, 10 rooms x 10 bots (a
  * child process running server/bots.ts), every room tick timed; reports p50/p99 tick time and
- * overruns. Also reports the snapshot encode cost per client measured in part 1.
+ * overruns, once in empty rooms (bots' own shapes only) and once in the default pyramid scene.
+ * Part 1 also reports the snapshot encode cost per client.
+ * Flags: --quick (shorter runs, fewer clients), --capacity (part 2 only).
  */
 import { spawn } from 'node:child_process'
 import { mkdirSync, writeFileSync } from 'node:fs'
@@ -150,8 +152,8 @@ async function bandwidth(): Promise<Record<string, unknown>> {
   return results
 }
 
-async function capacity(): Promise<Record<string, unknown>> {
-  const server = await newServer({ defaultScene: 'pyramid', inputsPerTick: 8 })
+async function capacity(scene: string): Promise<Record<string, unknown>> {
+  const server = await newServer({ defaultScene: scene, inputsPerTick: 8, maxClientsPerRoom: 32 })
   const samples: number[] = []
   const roomCount = 10
   const botsPerRoom = 10
@@ -165,34 +167,27 @@ async function capacity(): Promise<Record<string, unknown>> {
     }
   }
   const seconds = quick ? 8 : 20
-  const child = spawn(
-    process.execPath,
-    [
-      '--import',
-      'tsx',
-      'server/bots.ts',
-      '--url',
-      server.url,
-      '--room',
-      'load',
-      '--rooms',
-      String(roomCount),
-      '--count',
-      String(roomCount * botsPerRoom),
-      '--seconds',
-      String(seconds),
-    ],
-    { stdio: ['ignore', 'pipe', 'inherit'] },
+  const args = ['--import', 'tsx', 'server/bots.ts', '--url', server.url, '--room', 'load']
+  args.push(
+    '--rooms',
+    String(roomCount),
+    '--count',
+    String(roomCount * botsPerRoom),
+    '--seconds',
+    String(seconds),
   )
-  let lastLine = ''
+  const child = spawn(process.execPath, args, { stdio: ['ignore', 'pipe', 'inherit'] })
+  const lines: string[] = []
   child.stdout.on('data', (d: Buffer) => {
-    lastLine = d.toString().trim().split('\n').pop() ?? lastLine
+    for (const line of d.toString().split('\n'))
+      if (line.startsWith(`${roomCount * botsPerRoom} bots:`)) lines.push(line)
   })
   await new Promise((resolve) => child.once('exit', resolve))
   await server.close()
   const sorted = samples.slice(samples.length / 4).sort((a, b) => a - b)
   const q = (p: number): number => sorted[Math.min(sorted.length - 1, Math.floor(p * sorted.length))]
   const result = {
+    scene,
     rooms: roomCount,
     botsPerRoom,
     roomTicks: sorted.length,
@@ -200,23 +195,25 @@ async function capacity(): Promise<Record<string, unknown>> {
     tickMsP99: q(0.99),
     tickMsMax: sorted[sorted.length - 1],
     overruns: server.rooms.clock.overruns,
-    bots: lastLine,
+    bots: lines[Math.floor(lines.length / 2)] ?? '',
   }
   console.log(
-    `capacity ${roomCount} rooms x ${botsPerRoom} bots: room tick p50 ${result.tickMsP50.toFixed(3)} ms, p99 ${result.tickMsP99.toFixed(3)} ms, max ${result.tickMsMax.toFixed(2)} ms, overruns ${result.overruns}`,
+    `capacity ${roomCount} rooms x ${botsPerRoom} bots, scene ${scene}: room tick p50 ${result.tickMsP50.toFixed(3)} ms, p99 ${result.tickMsP99.toFixed(3)} ms, max ${result.tickMsMax.toFixed(2)} ms, dropped ticks ${result.overruns}`,
   )
-  console.log(`  bots: ${lastLine}`)
+  console.log(`  bots (median second): ${result.bots}`)
   return result
 }
 
 const started = new Date().toISOString()
+const onlyCapacity = process.argv.includes('--capacity')
 const results = {
   started,
   node: process.version,
   quick,
-  bandwidth: await bandwidth(),
-  capacity: await capacity(),
+  bandwidth: onlyCapacity ? null : await bandwidth(),
+  capacity: [await capacity('empty'), await capacity('pyramid')],
 }
+const file = `bench/results/net${quick ? '-quick' : ''}${onlyCapacity ? '-capacity' : ''}.json`
 mkdirSync('bench/results', { recursive: true })
-writeFileSync(`bench/results/net${quick ? '-quick' : ''}.json`, `${JSON.stringify(results, null, 2)}\n`)
-console.log(`saved bench/results/net${quick ? '-quick' : ''}.json`)
+writeFileSync(file, `${JSON.stringify(results, null, 2)}\n`)
+console.log(`saved ${file}`)

@@ -33,8 +33,12 @@ export class ClientSession {
   readonly encoder = new SnapshotEncoder()
   /** Inputs queued for the current tick. */
   inputsThisTick = 0
+  /** Index in the room queue of this player's move for the current tick, or -1. */
+  queuedMove = -1
   /** Invalid messages since the last heartbeat. */
   strikes = 0
+  /** Room tick of the last strike for exceeding the input budget (one strike per tick at most). */
+  budgetStrikeTick = -1
   /** Room tick since which the send buffer has been over budget, or -1. */
   behindSince = -1
   /** Answered the last heartbeat ping. */

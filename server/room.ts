@@ -146,6 +146,8 @@ export class Room {
       state: fullState(this.world, this.tick, this.scene, this.paused, this.userJoints.values()),
     })
     this.broadcast({ t: 'players', players: this.roster() })
+    // The newcomer learns every cursor from the next snapshot.
+    for (const s of this.sessions.values()) s.cursorDirty = true
     this.log.info({ room: this.name, player: session.id, name: session.name }, 'player joined')
     return null
   }
@@ -171,12 +173,23 @@ export class Room {
     return [...this.sessions.values()].map((s) => ({ id: s.id, name: s.name, color: s.color }))
   }
 
-  /** Queue an input for the next tick; returns an error reason when over the per-tick budget. */
+  /**
+   * Queue an input for the next tick; returns an error reason when over the per-tick budget. A
+   * move replaces the same player's move already queued for this tick (only the latest cursor
+   * position matters), so fast mice never use up the budget.
+   */
   queueInput(session: ClientSession, seq: number, cmd: Command): string | null {
+    if (cmd.k === 'move' && session.queuedMove >= 0) {
+      const queued = this.queue[session.queuedMove]
+      queued.seq = seq
+      queued.cmd = cmd
+      return null
+    }
     if (session.inputsThisTick >= this.config.inputsPerTick) {
       return `input budget exceeded: at most ${this.config.inputsPerTick} inputs per tick`
     }
     session.inputsThisTick++
+    if (cmd.k === 'move') session.queuedMove = this.queue.length
     this.queue.push({ session, seq, cmd })
     return null
   }
@@ -190,7 +203,10 @@ export class Room {
       const error = applyCommand(this, input.session, input.cmd)
       if (error) input.session.sendError('refused', error, input.seq)
     }
-    for (const s of this.sessions.values()) s.inputsThisTick = 0
+    for (const s of this.sessions.values()) {
+      s.inputsThisTick = 0
+      s.queuedMove = -1
+    }
     if (!this.paused || this.stepRequested) this.world.step()
     this.stepRequested = false
     this.tick++

@@ -108,6 +108,19 @@ export class Transport {
     session.sendError(code, reason)
   }
 
+  /**
+   * Over the per-tick input budget: the input is dropped, but it counts as a strike only once per
+   * tick, so a burst after a network hiccup costs little while a sustained flood is disconnected.
+   */
+  private overBudget(session: ClientSession, tick: number, reason: string): void {
+    if (session.budgetStrikeTick === tick) {
+      this.metrics.rejected.inc({ reason: 'input-budget' })
+      return
+    }
+    session.budgetStrikeTick = tick
+    this.reject(session, 'input-budget', reason)
+  }
+
   private receive(session: ClientSession, data: RawData, isBinary: boolean): void {
     this.metrics.messagesReceived.inc()
     if (!isBinary) {
@@ -150,7 +163,7 @@ export class Transport {
     switch (message.t) {
       case 'input': {
         const error = room.queueInput(session, message.seq, message.cmd)
-        if (error) this.reject(session, 'input-budget', error)
+        if (error) this.overBudget(session, room.tick, error)
         return
       }
       case 'ack':
@@ -159,7 +172,7 @@ export class Transport {
       case 'ping':
         // Pings share the input budget, so they cannot be used to amplify traffic.
         if (++session.inputsThisTick > this.config.inputsPerTick) {
-          this.reject(session, 'input-budget', 'too many pings')
+          this.overBudget(session, room.tick, 'too many pings')
           return
         }
         session.send({

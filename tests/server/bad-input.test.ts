@@ -95,13 +95,38 @@ describe('bad input', { timeout: 20_000 }, () => {
   it('an input flood is refused beyond the per-tick budget and the flooder is disconnected', async () => {
     const bystander = await BotClient.connect({ url: server.url, room: 'target', name: 'bystander' })
     const flooder = await BotClient.connect({ url: server.url, room: 'target', name: 'flood' })
-    for (let i = 0; i < 300; i++) flooder.command({ k: 'move', x: i, y: i })
+    // A sustained flood: 50 inputs for every snapshot received, far over 8 per tick.
+    flooder.onServerMessage = (m) => {
+      if (m.t === 'snap') for (let i = 0; i < 50; i++) flooder.command({ k: 'release' })
+    }
+    flooder.command({ k: 'release' })
     await flooder.closed
     expect(flooder.closeCode).toBe(1008)
     expect(flooder.mirror.errors.some((e) => e.code === 'input-budget')).toBe(true)
     await snapshotsLater(bystander, 3)
     expect(worldIsFinite('target')).toBe(true)
     await bystander.close()
+  })
+
+  it('moves coalesce to the latest per tick, so a fast mouse never exceeds the budget', async () => {
+    const mouse = await BotClient.connect({ url: server.url, room: 'target', name: 'mouse' })
+    for (let i = 0; i <= 200; i++) mouse.command({ k: 'move', x: i / 10, y: 1 })
+    const watcher = await BotClient.connect({ url: server.url, room: 'target', name: 'watch' })
+    await watcher.waitFor(
+      () => watcher.mirror.cursors.get(mouse.mirror.clientId)?.x === 20,
+      'the last cursor position',
+    )
+    expect(mouse.mirror.errors).toEqual([])
+    await Promise.all([mouse.close(), watcher.close()])
+  })
+
+  it('a short burst over the input budget drops the excess but keeps the client', async () => {
+    const bursty = await BotClient.connect({ url: server.url, room: 'target', name: 'bursty' })
+    for (let i = 0; i < 40; i++) bursty.command({ k: 'release' })
+    await snapshotsLater(bursty, 3)
+    expect(bursty.mirror.errors.some((e) => e.code === 'input-budget')).toBe(true)
+    expect(bursty.ws.readyState).toBe(bursty.ws.OPEN)
+    await bursty.close()
   })
 
   it('a frame over the size limit closes the socket with 1009', async () => {
