@@ -80,7 +80,7 @@ export class App {
     $('go-offline').addEventListener('click', () => {
       location.href = `?offline&scene=${this.sandbox.scene() || 'pyramid'}`
     })
-    $('retry').addEventListener('click', () => (this.sandbox as { retry?: () => void }).retry?.())
+    $('retry').addEventListener('click', () => this.sandbox.retry())
     $('create-room').addEventListener('click', () => {
       const name = cleanRoomName($<HTMLInputElement>('new-room').value)
       if (name) location.href = roomLink(name)
@@ -235,11 +235,11 @@ export class App {
       $('banner-text').textContent = status.message
       $('retry').hidden = !status.retrying
     }
-    const notices = (s as { notices?: string[] }).notices
-    if (notices && notices.length !== this.lastToastCount) {
-      this.lastToastCount = notices.length
+    const notices = s.notices()
+    if (notices.count !== this.lastToastCount) {
+      this.lastToastCount = notices.count
       $('toast').hidden = false
-      $('toast').textContent = notices[notices.length - 1] ?? ''
+      $('toast').textContent = notices.latest ?? ''
       setTimeout(() => ($('toast').hidden = true), 3000)
     }
   }

@@ -319,6 +319,12 @@ export class OfflineSandbox implements Sandbox {
     return { contacts: this.contacts(), mass: w.getMass(bodyId), gravity: w.getGravity(), source: 'world' }
   }
 
+  notices(): { count: number; latest: string | null } {
+    return { count: 0, latest: null }
+  }
+
+  retry(): void {}
+
   dispose(): void {}
 }
 

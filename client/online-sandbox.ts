@@ -84,8 +84,7 @@ export class OnlineSandbox implements Sandbox {
   private readonly pose: Pose = { x: 0, y: 0, angle: 0, awake: true }
   private probe: { body: number; at: number; x: number; y: number; angle: number; data: LabData } | null =
     null
-  /** Server-reported problems (refused inputs), newest last, for a toast. */
-  readonly notices: string[] = []
+  private readonly notice = { count: 0, latest: null as string | null }
   private readonly serverStats: ServerStats
 
   constructor(private readonly options: OnlineOptions) {
@@ -127,8 +126,8 @@ export class OnlineSandbox implements Sandbox {
       return
     }
     if (message.t === 'error' && message.code === 'refused') {
-      this.notices.push(message.reason)
-      if (this.notices.length > 5) this.notices.shift()
+      this.notice.count++
+      this.notice.latest = message.reason
     }
     const ack = this.mirror.handle(message)
     switch (message.t) {
@@ -344,7 +343,10 @@ export class OnlineSandbox implements Sandbox {
     return this.probe!.data
   }
 
-  /** Reconnect immediately. */
+  notices(): { count: number; latest: string | null } {
+    return this.notice
+  }
+
   retry(): void {
     this.connection.retryNow()
   }

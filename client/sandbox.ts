@@ -97,6 +97,10 @@ export interface Sandbox {
   gravity(): { x: number; y: number }
   /** Free-body data for one body, or null when it does not exist. */
   lab(bodyId: number): LabData | null
+  /** Problems the server reported about this player's inputs: how many so far and the newest. */
+  notices(): { count: number; latest: string | null }
+  /** Reconnect now instead of waiting for the backoff (no-op offline). */
+  retry(): void
   /** Close sockets and timers. */
   dispose(): void
 }
