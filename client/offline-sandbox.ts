@@ -1,6 +1,8 @@
 /*
  * Offline mode: the engine runs in the page. Frames are turned into whole 1/60 s steps by the
- * engine's FixedStepper (never a variable step), and the same protocol commands the server would
+ * engine's FixedStepper (never a variable step) and drawn between the last two steps by the
+ * stepper's leftover fraction (alpha), so motion is smooth at any display rate; the same protocol
+ * commands the server would
  * receive are applied to the local world here, so every tool behaves as it does online. The lab
  * reads world.contacts() directly: the impulses of the step that was just taken.
  */
@@ -35,6 +37,13 @@ import type {
 } from './sandbox.ts'
 
 const KIND = { static: 0, kinematic: 1, dynamic: 2 } as const
+
+/** A drawn body with its pose before the last step (for interpolation by the stepper's alpha). */
+interface StepViewBody extends ViewBody {
+  px: number
+  py: number
+  pa: number
+}
 const OWN_COLOR = '#ff9f1c'
 const clamp = (v: number, limit: number): number => Math.min(limit, Math.max(-limit, v))
 
@@ -58,8 +67,8 @@ export class OfflineSandbox implements Sandbox {
   private readonly stepper = new FixedStepper()
   private lastNow = Number.NaN
   private readonly shapes = new Map<number, WireShape>()
-  private readonly view: ViewBody[] = []
-  private readonly viewById = new Map<number, ViewBody>()
+  private readonly view: StepViewBody[] = []
+  private readonly viewById = new Map<number, StepViewBody>()
   private readonly joints_ = new Map<JointId, LocalJoint>()
   private grab: { joint: JointId; body: number } | null = null
   private stepMs = 0
@@ -89,32 +98,54 @@ export class OfflineSandbox implements Sandbox {
     this.stepOnce = false
     if (steps > 0) {
       const start = performance.now()
-      for (let i = 0; i < steps; i++) this.world.step()
+      for (let i = 0; i < steps - 1; i++) this.world.step()
+      this.capturePrevious()
+      this.world.step()
       this.stepMs += ((performance.now() - start) / steps - this.stepMs) * 0.1
       this.contactCache = null
     }
-    this.refreshView()
+    this.refreshView(this.isPaused ? 1 : this.stepper.alpha)
   }
 
-  private refreshView(): void {
-    const w = this.world
-    const ids = w.bodyIds()
-    if (ids.length !== this.view.length) {
-      this.view.length = 0
-      for (const id of ids) this.view.push(this.viewBody(id))
+  private syncView(): void {
+    const ids = this.world.bodyIds()
+    if (ids.length === this.view.length) return
+    this.view.length = 0
+    for (const id of ids) this.view.push(this.viewBody(id))
+  }
+
+  /** Remember every body's pose before the step about to be taken. */
+  private capturePrevious(): void {
+    this.syncView()
+    const p = { x: 0, y: 0 }
+    for (const v of this.view) {
+      this.world.getPosition(v.id, p)
+      v.px = p.x
+      v.py = p.y
+      v.pa = this.world.getAngle(v.id)
     }
+  }
+
+  /** Draw poses between the previous and the current step: alpha 0 is previous, 1 current. */
+  private refreshView(alpha: number): void {
+    const w = this.world
+    this.syncView()
     const p = { x: 0, y: 0 }
     for (const v of this.view) {
       w.getPosition(v.id, p)
-      v.x = p.x
-      v.y = p.y
-      v.angle = w.getAngle(v.id)
+      const angle = w.getAngle(v.id)
+      let turn = angle - v.pa
+      if (turn > Math.PI) turn -= 2 * Math.PI
+      else if (turn < -Math.PI) turn += 2 * Math.PI
+      v.x = v.px + (p.x - v.px) * alpha
+      v.y = v.py + (p.y - v.py) * alpha
+      v.angle = v.pa + turn * alpha
       v.awake = w.isAwake(v.id)
       v.grabColor = this.grab?.body === v.id ? OWN_COLOR : null
     }
   }
 
-  private viewBody(id: number): ViewBody {
+  private viewBody(id: number): StepViewBody {
     let v = this.viewById.get(id)
     if (!v) {
       let shape = this.shapes.get(id)
@@ -123,7 +154,21 @@ export class OfflineSandbox implements Sandbox {
         this.shapes.set(id, shape)
       }
       const kind = KIND[this.world.getBodyType(id)]
-      v = { id, kind, shape, x: 0, y: 0, angle: 0, awake: true, grabColor: null }
+      const p = this.world.getPosition(id)
+      const angle = this.world.getAngle(id)
+      v = {
+        id,
+        kind,
+        shape,
+        x: p.x,
+        y: p.y,
+        angle,
+        awake: true,
+        grabColor: null,
+        px: p.x,
+        py: p.y,
+        pa: angle,
+      }
       this.viewById.set(id, v)
     }
     return v
