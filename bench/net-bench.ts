@@ -49,6 +49,8 @@ const turn = (): Promise<void> => new Promise((resolve) => setImmediate(resolve)
 
 interface Measure {
   seconds: number
+  /** Most bodies awake at once during the run. */
+  peakAwake: number
   bytesPerClient: number
   worstStalenessMs: number
   encodeMicrosPerClient: number
@@ -63,6 +65,7 @@ async function driveTicks(
 ): Promise<Measure> {
   const startBytes = bots.map((b) => b.bytesReceived)
   let worst = 0
+  let peakAwake = 0
   let encodeMs = 0
   let encodes = 0
   for (const s of room.sessions.values()) {
@@ -79,6 +82,7 @@ async function driveTicks(
   for (let i = 0; i < ticks; i++) {
     room.runTick()
     worst = Math.max(worst, room.lastMaxStaleness)
+    peakAwake = Math.max(peakAwake, room.world.awakeBodyCount())
     if (room.tick % (60 / server.config.snapshotRate) === 0) {
       await Promise.all(bots.map((b) => b.waitFor(() => b.mirror.tick >= room.tick)))
       // Let the acks reach the server before the next snapshot.
@@ -90,6 +94,7 @@ async function driveTicks(
   const seconds = ticks / 60
   return {
     seconds,
+    peakAwake,
     bytesPerClient: bytes.reduce((a, b) => a + b, 0) / bots.length / seconds,
     worstStalenessMs: (worst * 1000) / 60,
     encodeMicrosPerClient: encodes ? (encodeMs * 1000) / encodes : 0,
@@ -117,7 +122,7 @@ async function withRoom<T>(
 }
 
 const fmt = (m: Measure): string =>
-  `${(m.bytesPerClient / 1000).toFixed(2)} kB/s = ${((m.bytesPerClient * 8) / 1000).toFixed(1)} kbit/s per client, worst staleness ${m.worstStalenessMs.toFixed(0)} ms, encode ${m.encodeMicrosPerClient.toFixed(1)} us/client/snapshot`
+  `${m.peakAwake} awake at peak, ${(m.bytesPerClient / 1000).toFixed(2)} kB/s = ${((m.bytesPerClient * 8) / 1000).toFixed(1)} kbit/s per client, worst staleness ${m.worstStalenessMs.toFixed(0)} ms, encode ${m.encodeMicrosPerClient.toFixed(1)} us/client/snapshot`
 
 async function bandwidth(): Promise<Record<string, unknown>> {
   const results: Record<string, unknown> = {}

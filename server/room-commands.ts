@@ -29,6 +29,9 @@ const clampPoint = (x: number, y: number): Vec2 => ({
   y: clampTo(y, WORLD_HALF_EXTENT),
 })
 
+/** Ticks between scene loads or resets in one room: building a scene is the costliest command. */
+const MIN_TICKS_BETWEEN_LOADS = 10
+
 const CONTROLS = new Set(['scene', 'pause', 'step', 'reset', 'gravity'])
 
 /** Apply one command from a player at the current tick; returns a reason when refused. */
@@ -75,9 +78,13 @@ function dispatch(room: Room, session: ClientSession, cmd: Command): string | nu
       return null
     case 'scene':
       if (!Object.hasOwn(SCENES, cmd.name)) return `unknown scene "${cmd.name}"`
+      if (room.tick - room.lastLoadTick < MIN_TICKS_BETWEEN_LOADS)
+        return 'scene loads are limited to 6 per second'
       room.loadScene(cmd.name)
       return null
     case 'reset':
+      if (room.tick - room.lastLoadTick < MIN_TICKS_BETWEEN_LOADS)
+        return 'scene loads are limited to 6 per second'
       room.loadScene(room.scene)
       return null
     case 'pause':

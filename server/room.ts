@@ -68,6 +68,8 @@ export class Room {
   nextPlayerId = 1
   /** Room tick at which the last player left (for disposal), or -1 while occupied. */
   emptySince = 0
+  /** Room tick of the last scene load or reset (they are rate limited). */
+  lastLoadTick = Number.NEGATIVE_INFINITY
   /** Recorder hook. */
   onCommand: CommandListener | null = null
   /** Largest staleness (ticks) of a body write in the last snapshot round, for the benchmark. */
@@ -264,6 +266,7 @@ export class Room {
 
   /** Replace the world with a scene blueprint (benchmarks use sizes SCENES does not list). */
   loadBlueprint(name: string, blueprint: SceneBlueprint): void {
+    this.lastLoadTick = this.tick
     for (const s of this.sessions.values()) {
       s.grab = null
       s.cursorDirty = true
