@@ -24,6 +24,7 @@
  */
 import type { Contact } from './contact.ts'
 import type { Softness } from './softness.ts'
+import type { StepContext } from './step-context.ts'
 
 /** Numbers per body in the solver state: vx, vy, w, dpx, dpy, dqc, dqs, (unused). */
 export const STATE_STRIDE = 8
@@ -204,10 +205,11 @@ export function warmStartContacts(k: ContactConstraints, state: Float64Array): v
 export function solveContacts(
   k: ContactConstraints,
   state: Float64Array,
-  invH: number,
-  maxPushSpeed: number,
+  ctx: StepContext,
   useBias: boolean,
 ): void {
+  const invH = ctx.invH
+  const maxPushSpeed = ctx.maxPushSpeed
   const d = k.data
   for (let i = 0; i < k.count; i++) {
     const o = i * CONSTRAINT_STRIDE
@@ -308,7 +310,8 @@ export function solveContacts(
 }
 
 /** Restitution after the sub-steps: bounce contacts that closed faster than the threshold (m/s). */
-export function applyRestitution(k: ContactConstraints, state: Float64Array, threshold: number): void {
+export function applyRestitution(k: ContactConstraints, state: Float64Array, ctx: StepContext): void {
+  const threshold = ctx.restitutionThreshold
   const d = k.data
   for (let i = 0; i < k.count; i++) {
     const o = i * CONSTRAINT_STRIDE

@@ -7,9 +7,13 @@ export { atan2, cos, PI, sin, TWO_PI, type Vec2, wrapAngle } from './math.ts'
 export { Prng } from './prng.ts'
 export {
   buildScene,
+  cardHouseScene,
+  chainBridgeScene,
   emptyScene,
   groundDef,
   heavyOnLightScene,
+  jointsScene,
+  newtonsCradleScene,
   pileScene,
   pyramidScene,
   rampScene,
@@ -17,6 +21,7 @@ export {
   SCENES,
   type SceneBlueprint,
   towerScene,
+  wreckingBallScene,
 } from './scenes.ts'
 export {
   box,

@@ -14,7 +14,7 @@ import { prepareDistance, solveDistance, warmStartDistance } from './distance-jo
 import { atan2 } from './math.ts'
 import { prepareMouse, solveMouse, warmStartMouse } from './mouse-joint.ts'
 import { prepareRevolute, solveRevolute, warmStartRevolute } from './revolute-joint.ts'
-import type { Softness } from './softness.ts'
+import type { StepContext } from './step-context.ts'
 
 /** Joint kind codes. */
 export const REVOLUTE = 0
@@ -23,16 +23,8 @@ export const MOUSE = 2
 /** Kind names in code order. */
 export const JOINT_TYPE_NAMES = ['revolute', 'distance', 'mouse'] as const
 
-/** Per-step values shared by all joints. */
-export interface JointStepContext {
-  /** Sub-step (s) and its inverse. */
-  h: number
-  invH: number
-  /** Softness of rigid joint constraints (position error correction). */
-  jointSoftness: Softness
-  /** Whether the world's warm starting is on. */
-  enableWarmStarting: boolean
-}
+/** Per-step values the joints read (the solver's StepContext). */
+export type JointStepContext = StepContext
 
 /** A joint. Engine-internal; the public API addresses joints by id. */
 export class Joint {

@@ -17,16 +17,31 @@ export const MAX_POLYGON_VERTICES = 8
 /** Smallest allowed circle radius or polygon edge (m). */
 export const MIN_SHAPE_EXTENT = 0.001
 
+/*
+ * Every shape object has every field, in the same order (type, radius, count, vertices, normals,
+ * centroid, box), so all shapes share one hidden class in V8 and the engine's shape reads stay
+ * monomorphic: a polymorphic load of `radius` was measured to allocate in the step.
+ */
+
 /** A circle centred on the body origin. */
 export interface CircleShape {
   readonly type: 'circle'
   /** Radius (m). */
   readonly radius: number
+  /** Always 0, [] and [] for circles (uniform layout). */
+  readonly count: 0
+  readonly vertices: readonly Vec2[]
+  readonly normals: readonly Vec2[]
+  /** Always the origin. */
+  readonly centroid: Vec2
+  readonly box: null
 }
 
 /** A convex polygon in the body frame, counter-clockwise, with outward unit edge normals. */
 export interface PolygonShape {
   readonly type: 'polygon'
+  /** Always 0 for polygons (uniform layout; no rounded polygons). */
+  readonly radius: 0
   /** Number of vertices, 3..8. */
   readonly count: number
   /** Vertices in the body frame (m), counter-clockwise. */
@@ -61,7 +76,7 @@ function checkFinitePositive(what: string, value: number): void {
 /** A circle of the given radius (m) centred on the body origin. */
 export function circle(radius: number): CircleShape {
   checkFinitePositive('circle radius', radius)
-  return { type: 'circle', radius }
+  return { type: 'circle', radius, count: 0, vertices: [], normals: [], centroid: { x: 0, y: 0 }, box: null }
 }
 
 /** An axis-aligned box (in the body frame) of the given half extents (m), centred on the origin. */
@@ -82,6 +97,7 @@ export function box(halfWidth: number, halfHeight: number): PolygonShape {
   ]
   return {
     type: 'polygon',
+    radius: 0,
     count: 4,
     vertices,
     normals,
@@ -134,9 +150,11 @@ export function polygon(points: readonly Vec2[]): PolygonShape {
     const cur = ccw[i]
     const next = ccw[(i + 1) % n]
     const turn = cross3(prev, cur, next)
-    const scale =
-      Math.sqrt((cur.x - prev.x) ** 2 + (cur.y - prev.y) ** 2) *
-      Math.sqrt((next.x - cur.x) ** 2 + (next.y - cur.y) ** 2)
+    const ex = cur.x - prev.x
+    const ey = cur.y - prev.y
+    const fx = next.x - cur.x
+    const fy = next.y - cur.y
+    const scale = Math.sqrt(ex * ex + ey * ey) * Math.sqrt(fx * fx + fy * fy)
     if (turn <= 1e-9 * scale) {
       const what = Math.abs(turn) <= 1e-9 * scale ? 'collinear (degenerate)' : 'concave'
       throw new RangeError(`polygon is not strictly convex: vertex ${i} (${cur.x}, ${cur.y}) is ${what}`)
@@ -166,7 +184,7 @@ export function polygon(points: readonly Vec2[]): PolygonShape {
     normals.push({ x: ey / len, y: -ex / len })
   }
   const mass = polygonMass(ccw, 1)
-  return { type: 'polygon', count: n, vertices: ccw, normals, centroid: mass.center, box: null }
+  return { type: 'polygon', radius: 0, count: n, vertices: ccw, normals, centroid: mass.center, box: null }
 }
 
 /** Mass properties of a convex polygon at a density (kg/m^2), by a triangle fan from vertex 0. */

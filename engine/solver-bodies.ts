@@ -8,6 +8,7 @@
 import { type Body, DYNAMIC } from './body.ts'
 import { STATE_STRIDE } from './contact-solver.ts'
 import type { Joint } from './joint.ts'
+import type { StepContext } from './step-context.ts'
 import { MAX_LINEAR_SPEED } from './world-store.ts'
 
 /** Copies awake bodies' velocities into the solver state (grown if needed) with zero deltas. */
@@ -45,17 +46,11 @@ export function jointBodiesToStates(state: Float64Array, joints: Joint[], count:
   }
 }
 
-/** Gravity (m/s^2) and damping for awake dynamic bodies over sub-step h (s), semi-implicit Euler. */
-export function integrateVelocities(
-  awake: Body[],
-  n: number,
-  state: Float64Array,
-  gravityX: number,
-  gravityY: number,
-  h: number,
-): void {
-  const gx = gravityX * h
-  const gy = gravityY * h
+/** Gravity and damping for awake dynamic bodies over one sub-step, semi-implicit Euler. */
+export function integrateVelocities(awake: Body[], n: number, state: Float64Array, ctx: StepContext): void {
+  const h = ctx.h
+  const gx = ctx.gravityX * h
+  const gy = ctx.gravityY * h
   const maxAngularSpeed = (0.25 * Math.PI) / h
   for (let i = 0; i < n; i++) {
     const b = awake[i]
@@ -85,8 +80,9 @@ export function integrateVelocities(
   }
 }
 
-/** Accumulates the sub-step position and rotation deltas of n awake bodies over h (s). */
-export function integratePositions(state: Float64Array, n: number, h: number): void {
+/** Accumulates the sub-step position and rotation deltas of n awake bodies. */
+export function integratePositions(state: Float64Array, n: number, ctx: StepContext): void {
+  const h = ctx.h
   const end = (n + 1) * STATE_STRIDE
   for (let o = STATE_STRIDE; o < end; o += STATE_STRIDE) {
     state[o + 3] += h * state[o]

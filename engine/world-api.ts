@@ -387,9 +387,13 @@ export class WorldApi extends WorldStore {
     pa: Vec2,
     pb: Vec2,
   ): void {
-    const current = Math.sqrt((pb.x - pa.x) ** 2 + (pb.y - pa.y) ** 2)
+    const dx = pb.x - pa.x
+    const dy = pb.y - pa.y
+    const current = Math.sqrt(dx * dx + dy * dy)
     joint.length = inRange('length', def.length ?? current, 0.001, 1e6)
-    joint.minLength = inRange('minLength', def.minLength ?? joint.length, 0, joint.length)
+    // A def that gives only maxLength (and no spring) is a rope: it must never push.
+    const ropeDefault = def.maxLength !== undefined && def.hertz === undefined ? 0 : joint.length
+    joint.minLength = inRange('minLength', def.minLength ?? ropeDefault, 0, joint.length)
     joint.maxLength = inRange('maxLength', def.maxLength ?? joint.length, joint.length, 1e6)
     joint.hertz = inRange('hertz', def.hertz ?? 0, 0, 1e6)
     joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? (joint.hertz > 0 ? 0.7 : 0), 0, 1e6)

@@ -7,9 +7,10 @@ import { Body, STATIC } from './body.ts'
 import { BroadPhase, PairBuffer } from './broad-phase.ts'
 import type { Contact } from './contact.ts'
 import { IslandBuilder } from './island.ts'
-import type { Joint, JointStepContext } from './joint.ts'
+import type { Joint } from './joint.ts'
 import { circle } from './shapes.ts'
 import { Softness } from './softness.ts'
+import { StepContext } from './step-context.ts'
 import type { WorldDef } from './types.ts'
 
 /** The fixed step (s). */
@@ -77,12 +78,8 @@ export class WorldStore {
   protected readonly pairBuffer = new PairBuffer()
   protected readonly contactSoftness = new Softness()
   protected readonly staticSoftness = new Softness()
-  protected readonly jointContext: JointStepContext = {
-    h: 0,
-    invH: 0,
-    jointSoftness: new Softness(),
-    enableWarmStarting: true,
-  }
+  /** The solver's per-step scalars (joints read them too). */
+  protected readonly stepContext = new StepContext()
   /** Tight AABB scratch: minX, minY, maxX, maxY. */
   protected readonly aabb = new Float64Array(4)
 
@@ -91,6 +88,26 @@ export class WorldStore {
     this.gravityX = settings.gravity.x
     this.gravityY = settings.gravity.y
     this.ground.awake = false
+    this.configureSolver()
+  }
+
+  /**
+   * Sets the per-step solver scalars and softness from the settings, once: the settings never
+   * change, and recomputing them each step would box doubles in calls V8 does not inline.
+   */
+  private configureSolver(): void {
+    const s = this.settings
+    const ctx = this.stepContext
+    const h = STEP_SECONDS / s.subSteps
+    ctx.h = h
+    ctx.invH = 1 / h
+    ctx.maxPushSpeed = s.maxContactPushSpeed
+    ctx.restitutionThreshold = s.restitutionThreshold
+    // Contact stiffness is clamped to a quarter of the sub-step rate; static contacts are twice as stiff.
+    const contactHertz = Math.min(s.contactHertz, 0.25 * ctx.invH)
+    this.contactSoftness.set(contactHertz, s.contactDampingRatio, h)
+    this.staticSoftness.set(2 * contactHertz, s.contactDampingRatio, h)
+    ctx.jointSoftness.set(2 * contactHertz, 2, h)
   }
 
   /** Computes a body's tight AABB (plus the speculative margin for moving bodies) into `aabb`. */

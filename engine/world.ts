@@ -295,17 +295,9 @@ export class World extends WorldApi {
   private solve(): void {
     const s = this.settings
     const subSteps = s.subSteps
-    const h = STEP_SECONDS / subSteps
-    const invH = 1 / h
-    const ctx = this.jointContext
-    ctx.h = h
-    ctx.invH = invH
-    // Contact stiffness is clamped to a quarter of the sub-step rate; static contacts are twice as stiff.
-    const contactHertz = Math.min(s.contactHertz, 0.25 * invH)
-    this.contactSoftness.set(contactHertz, s.contactDampingRatio, h)
-    this.staticSoftness.set(2 * contactHertz, s.contactDampingRatio, h)
-    ctx.jointSoftness.set(2 * contactHertz, 2, h)
-
+    const ctx = this.stepContext
+    ctx.gravityX = this.gravityX
+    ctx.gravityY = this.gravityY
     const k = this.constraints
     const joints = this.activeJoints
     const jointCount = this.activeJointCount
@@ -321,7 +313,7 @@ export class World extends WorldApi {
     )
     const state = this.state
     for (let i = 0; i < subSteps; i++) {
-      integrateVelocities(this.awake, this.awakeCount, state, this.gravityX, this.gravityY, h)
+      integrateVelocities(this.awake, this.awakeCount, state, ctx)
       if (hasJoints) {
         statesToJointBodies(state, joints, jointCount)
         warmStartJoints(joints, jointCount)
@@ -333,16 +325,16 @@ export class World extends WorldApi {
         solveJoints(joints, jointCount, ctx, true)
         jointBodiesToStates(state, joints, jointCount)
       }
-      solveContacts(k, state, invH, s.maxContactPushSpeed, true)
-      integratePositions(state, this.awakeCount, h)
+      solveContacts(k, state, ctx, true)
+      integratePositions(state, this.awakeCount, ctx)
       if (hasJoints) {
         statesToJointBodies(state, joints, jointCount)
         solveJoints(joints, jointCount, ctx, false)
         jointBodiesToStates(state, joints, jointCount)
       }
-      solveContacts(k, state, invH, s.maxContactPushSpeed, false)
+      solveContacts(k, state, ctx, false)
     }
-    applyRestitution(k, state, s.restitutionThreshold)
+    applyRestitution(k, state, ctx)
     storeImpulses(k, this.activeContacts)
   }
 

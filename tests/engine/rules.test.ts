@@ -178,9 +178,7 @@ describe('engine/ follows the determinism rules', () => {
     expect(found).toEqual([])
   })
 
-  // Measured 2026-11-22: `x ** 2` remains in engine/shapes.ts (hull validation, 2 uses) and
-  // engine/world-api.ts (distance joint default length). Unskip once they are written as x * x.
-  it.skip('never uses ** (it is Math.pow, which engines may round differently)', () => {
+  it('never uses ** (it is Math.pow, which engines may round differently)', () => {
     const found: string[] = []
     for (const file of files) {
       for (const v of violations(readFileSync(file, 'utf8'))) {
