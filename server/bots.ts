@@ -87,7 +87,7 @@ async function main(): Promise<void> {
     const rates = bots.map((b, i) => (b.bytesReceived - lastBytes[i]) / seconds)
     const lines = bots.map((b, i) => {
       b.ping()
-      return `bot ${i + 1}: rtt ${b.rtt.toFixed(1)} ms, ${(rates[i] / 1000).toFixed(2)} kB/s, bodies ${b.mirror.bodies.size}`
+      return `bot ${i + 1}: rtt ${Number.isNaN(b.rtt) ? '-' : b.rtt.toFixed(1)} ms, ${(rates[i] / 1000).toFixed(2)} kB/s, bodies ${b.mirror.bodies.size}`
     })
     lastBytes = bots.map((b) => b.bytesReceived)
     if (bots.length <= 10) process.stdout.write(`${lines.join('\n')}\n`)

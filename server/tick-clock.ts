@@ -51,9 +51,18 @@ export class TickClock {
   }
 
   private wake(): void {
-    const now = performance.now()
-    this.accumulator += (now - this.last) / 1000
-    this.last = now
+    this.pump(performance.now())
+    if (this.timer) this.schedule()
+  }
+
+  /**
+   * Account for wall time up to `nowMs` and run the whole ticks it covers (at most MAX_CATCH_UP;
+   * the rest are dropped and counted). Returns the ticks run. Called by the timer; tests call it
+   * with made-up times.
+   */
+  pump(nowMs: number): number {
+    this.accumulator += (nowMs - this.last) / 1000
+    this.last = nowMs
     let steps = Math.floor(this.accumulator / this.stepSeconds)
     this.accumulator -= steps * this.stepSeconds
     if (steps > MAX_CATCH_UP) {
@@ -65,6 +74,12 @@ export class TickClock {
       this.ticks++
       this.onTick()
     }
-    if (this.timer) this.schedule()
+    return steps
+  }
+
+  /** Start counting from `nowMs` without a timer (tests drive pump() themselves). */
+  reset(nowMs: number): void {
+    this.last = nowMs
+    this.accumulator = 0
   }
 }

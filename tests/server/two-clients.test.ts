@@ -39,8 +39,24 @@ describe('two clients in one room', { timeout: 20_000 }, () => {
     await a.waitFor(() => a.mirror.bodies.get(id)!.x > 5, 'drag seen by a')
     await b.waitFor(() => b.mirror.bodies.get(id)!.x > 5, 'drag seen by b')
     await b.waitFor(() => b.mirror.cursors.get(a.mirror.clientId)?.body === id, 'cursor of a seen by b')
+    // Several players can pull one body: each grab is that player's own mouse joint.
+    b.command({ k: 'grab', body: id, lx: 0.2, ly: 0 })
+    b.command({ k: 'move', x: 6, y: 8 })
+    await a.waitFor(() => a.mirror.cursors.get(b.mirror.clientId)?.body === id, 'grab of b seen by a')
+    expect(
+      server.rooms.rooms
+        .get('shared')!
+        .world.joints()
+        .filter((j) => j.type === 'mouse'),
+    ).toHaveLength(2)
     a.command({ k: 'release' })
     await b.waitFor(() => b.mirror.cursors.get(a.mirror.clientId)?.body === 0, 'release seen by b')
+    expect(
+      server.rooms.rooms
+        .get('shared')!
+        .world.joints()
+        .filter((j) => j.type === 'mouse'),
+    ).toHaveLength(1)
     await Promise.all([a.close(), b.close()])
   })
 
