@@ -94,6 +94,15 @@ describe('client message validation', () => {
     }
   })
 
+  it('deeply nested arrays and msgpackr extensions are rejections, not crashes', () => {
+    expect(decodeClientMessage(new Uint8Array(4000).fill(0x91)).ok).toBe(false)
+    // A timestamp extension (-1) where a tick belongs.
+    const withDate = new Uint8Array([
+      0x82, 0xa1, 0x74, 0xa3, 0x61, 0x63, 0x6b, 0xa4, 0x74, 0x69, 0x63, 0x6b, 0xd6, 0xff, 0, 0, 0, 1,
+    ])
+    expect(decodeClientMessage(withDate).ok).toBe(false)
+  })
+
   it('malformed MessagePack is a rejection, not an exception', () => {
     for (const bytes of [[], [0xc1], [0x92, 0x01], [0xdd, 0xff, 0xff, 0xff, 0xff], [0xd9, 0x40, 0x41]]) {
       const r = decodeClientMessage(new Uint8Array(bytes))
