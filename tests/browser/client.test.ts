@@ -164,7 +164,9 @@ describe('online', () => {
     for (const scene of ['pile', 'tower', 'heavy-on-light', 'pyramid']) {
       await page.selectOption('#scene', scene)
       await page.waitForFunction((s) => window.concord.sandbox.scene() === s, scene)
-      await page.waitForFunction(() => (window.concord.sandbox.stats().snapshotHz ?? 0) > 0)
+      // Rooms accept one scene load per 10 ticks: wait 12 server ticks before the next one.
+      const loadedAt = await page.evaluate(() => window.concord.sandbox.stats().tick)
+      await page.waitForFunction((t) => window.concord.sandbox.stats().tick > t + 12, loadedAt)
       await page.screenshot({ path: `${ARTIFACTS}/scene-${scene}.png` })
       const { painted } = await paintedPixels(page)
       expect(painted).toBeGreaterThan(1000)
