@@ -1,8 +1,9 @@
 // Build with esbuild: the server (server/main.ts -> dist/server.js, Node, runtime packages left
-// external) and, when the browser client exists, client/main.ts -> dist/client/app.js plus
-// client/index.html. Usage: node scripts/build.mjs [--watch is not supported; rerun it]
-import { copyFile, mkdir, stat } from 'node:fs/promises'
+// external), the bots, and, when the browser client exists, the minified client
+// (scripts/build-client.mjs). Usage: node scripts/build.mjs
+import { stat } from 'node:fs/promises'
 import { build } from 'esbuild'
+import { buildClient } from './build-client.mjs'
 
 const exists = (path) =>
   stat(path).then(
@@ -33,17 +34,4 @@ await build({
   logLevel: 'warning',
 })
 
-if (await exists('client/main.ts')) {
-  await mkdir('dist/client', { recursive: true })
-  await build({
-    entryPoints: ['client/main.ts'],
-    outfile: 'dist/client/app.js',
-    bundle: true,
-    platform: 'browser',
-    target: 'es2022',
-    format: 'esm',
-    sourcemap: true,
-    logLevel: 'warning',
-  })
-  if (await exists('client/index.html')) await copyFile('client/index.html', 'dist/client/index.html')
-}
+if (await exists('client/main.ts')) await buildClient()
