@@ -21,6 +21,9 @@ import { DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 const BODY_SCALE = 67108864
 const FLAG_STATIC = 1
 const FLAG_MOVED = 2
+/** How many steps of displacement a re-fattened proxy reaches ahead (Box2D v2.4 uses 4). */
+export const DISPLACEMENT_MULTIPLIER = 4
+
 /** Default fat AABB margin (m). */
 export const AABB_MARGIN = 0.1
 
@@ -162,6 +165,31 @@ export class BroadPhase {
     b[o + 1] = minY - r
     b[o + 2] = maxX + r
     b[o + 3] = maxY + r
+    tree.reinsertLeaf(proxy)
+    this.bufferMove(proxy)
+    return true
+  }
+
+  /**
+   * moveProxy with motion prediction (Box2D v2.4's b2_aabbMultiplier): `box` holds the tight AABB
+   * (minX, minY, maxX, maxY) and this step's displacement (dx, dy). When the proxy must be re-fattened,
+   * its fat AABB also reaches DISPLACEMENT_MULTIPLIER displacements ahead along the motion, so a
+   * falling or thrown body is re-inserted every few steps instead of every step. Pair semantics are
+   * unchanged: the fat AABB still contains the tight one.
+   */
+  moveProxyPredicted(proxy: number, box: Float64Array): boolean {
+    const tree = this.tree
+    const b = tree.bounds
+    const o = 4 * proxy
+    if (b[o] <= box[0] && b[o + 1] <= box[1] && box[2] <= b[o + 2] && box[3] <= b[o + 3]) return false
+    if (tree.height[proxy] !== 0) throw new Error(`BroadPhase: ${proxy} is not a live proxy`)
+    const r = (tree.flags[proxy] & FLAG_STATIC) !== 0 ? 0 : this.margin
+    const dx = DISPLACEMENT_MULTIPLIER * box[4]
+    const dy = DISPLACEMENT_MULTIPLIER * box[5]
+    b[o] = box[0] - r + (dx < 0 ? dx : 0)
+    b[o + 1] = box[1] - r + (dy < 0 ? dy : 0)
+    b[o + 2] = box[2] + r + (dx > 0 ? dx : 0)
+    b[o + 3] = box[3] + r + (dy > 0 ? dy : 0)
     tree.reinsertLeaf(proxy)
     this.bufferMove(proxy)
     return true

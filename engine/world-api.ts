@@ -247,7 +247,7 @@ export class WorldApi extends WorldStore {
     b.c = cos(angle)
     b.s = sin(angle)
     b.updateCenter()
-    this.moveProxy(b)
+    this.moveProxy(b, false)
     this.broadPhase.touchProxy(b.proxy)
     this.islands.wake(b)
     if (b.type === STATIC) this.wakeTouching(b)

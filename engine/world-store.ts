@@ -80,8 +80,8 @@ export class WorldStore {
   protected readonly staticSoftness = new Softness()
   /** The solver's per-step scalars (joints read them too). */
   protected readonly stepContext = new StepContext()
-  /** Tight AABB scratch: minX, minY, maxX, maxY. */
-  protected readonly aabb = new Float64Array(4)
+  /** Tight AABB scratch: minX, minY, maxX, maxY, then the step's displacement dx, dy. */
+  protected readonly aabb = new Float64Array(6)
 
   constructor(settings: ResolvedWorldDef) {
     this.settings = settings
@@ -150,11 +150,16 @@ export class WorldStore {
     b.proxy = this.broadPhase.createProxy(a[0], a[1], a[2], a[3], b.id, isStatic)
   }
 
-  /** Updates a body's proxy after it moved; enlarged proxies are paired at the next step. */
-  protected moveProxy(b: Body): void {
+  /**
+   * Updates a body's proxy after it moved; enlarged proxies are paired at the next step. After a
+   * step (`predict`), the fat AABB also reaches ahead along the step's displacement.
+   */
+  protected moveProxy(b: Body, predict: boolean): void {
     this.computeAABB(b, b.type === STATIC ? 0 : SPECULATIVE_DISTANCE)
     const a = this.aabb
-    this.broadPhase.moveProxy(b.proxy, a[0], a[1], a[2], a[3])
+    a[4] = predict ? b.cx - b.c0x : 0
+    a[5] = predict ? b.cy - b.c0y : 0
+    this.broadPhase.moveProxyPredicted(b.proxy, a)
   }
 
   /** Removes a contact from the pair map and from both bodies' lists (not from `contacts`). */

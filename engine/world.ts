@@ -374,7 +374,7 @@ export class World extends WorldApi {
 
   /** Moves the fat AABBs of awake bodies in the broadphase. */
   private updateBroadPhase(): void {
-    for (let i = 0; i < this.awakeCount; i++) this.moveProxy(this.awake[i])
+    for (let i = 0; i < this.awakeCount; i++) this.moveProxy(this.awake[i], true)
   }
 }
 

@@ -46,11 +46,17 @@ globalThis.gc()
 globalThis.gc()
 await new Promise((r) => setTimeout(r, 10))
 kinds.length = 0
-const before = process.memoryUsage().heapUsed
-for (let i = 0; i < ${STEPS}; i++) world.step()
-const after = process.memoryUsage().heapUsed
+// Three rounds; the least growth is reported: late JIT work (code, feedback) lands in one round on
+// a busy machine, while an allocation in the step shows in every round. Collections are counted
+// over all rounds.
+let heapGrowth = Number.POSITIVE_INFINITY
+for (let round = 0; round < 3; round++) {
+  const before = process.memoryUsage().heapUsed
+  for (let i = 0; i < ${STEPS}; i++) world.step()
+  heapGrowth = Math.min(heapGrowth, process.memoryUsage().heapUsed - before)
+}
 await new Promise((r) => setTimeout(r, 10))
-const result = { steps: ${STEPS}, bodies: world.bodyCount, contacts: world.contacts().length, gcCount: kinds.length, gcKinds: kinds, heapGrowth: after - before, allocators: [] }
+const result = { steps: ${STEPS}, bodies: world.bodyCount, contacts: world.contacts().length, gcCount: kinds.length, gcKinds: kinds, heapGrowth, allocators: [] }
 if (result.gcCount > 0 || result.heapGrowth > 64 * ${STEPS}) {
   const session = new Session()
   session.connect()
@@ -109,7 +115,7 @@ describe('allocation', () => {
     })
     const result = JSON.parse(stdout.trim().split('\n').pop() ?? '{}')
     console.log(
-      `allocation: ${result.gcCount} collections, heap growth ${result.heapGrowth} bytes over ${result.steps} steps ` +
+      `allocation: ${result.gcCount} collections, heap growth ${result.heapGrowth} bytes over ${result.steps} steps (least of 3 rounds) ` +
         `(${(result.heapGrowth / result.steps).toFixed(2)} bytes/step), ${result.bodies} bodies, ${result.contacts} contacts` +
         (result.allocators.length ? `; allocating: ${JSON.stringify(result.allocators)}` : ''),
     )

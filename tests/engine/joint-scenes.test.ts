@@ -176,4 +176,4 @@ describe('determinism with every joint type and a bullet', () => {
   })
 })
 
-const GOLDEN = 943258457
+const GOLDEN = 428304217
