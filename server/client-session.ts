@@ -30,6 +30,8 @@ export class ClientSession {
   cursorY = 0
   cursorDirty = false
   grab: Grab | null = null
+  /** Body whose contacts follow each snapshot (the lab), or 0. */
+  inspect = 0
   readonly encoder = new SnapshotEncoder()
   /** Inputs queued for the current tick. */
   inputsThisTick = 0

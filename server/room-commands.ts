@@ -37,6 +37,8 @@ const CONTROLS = new Set(['scene', 'pause', 'step', 'reset', 'gravity'])
 /** Apply one command from a player at the current tick; returns a reason when refused. */
 export function applyCommand(room: Room, session: ClientSession, cmd: Command): string | null {
   if (CONTROLS.has(cmd.k) && !room.rules.controls) return `room controls are disabled in room ${room.name}`
+  // Inspecting only chooses what this player is sent: the world does not change, nothing is recorded.
+  if (cmd.k === 'inspect') return inspect(room, session, cmd.body)
   room.onCommand?.(room.tick, session.id, cmd)
   try {
     return dispatch(room, session, cmd)
@@ -94,12 +96,20 @@ function dispatch(room: Room, session: ClientSession, cmd: Command): string | nu
     case 'step':
       room.stepRequested = true
       return null
+    case 'inspect':
+      return inspect(room, session, cmd.body)
     case 'gravity':
       world.setGravity({ x: cmd.x, y: cmd.y })
       for (const id of world.bodyIds()) if (world.getBodyType(id) === 'dynamic') world.setAwake(id, true)
       room.markRoomChanged()
       return null
   }
+}
+
+function inspect(room: Room, session: ClientSession, body: number): string | null {
+  if (body !== 0 && !isMovable(room, body)) return `body ${body} does not exist or is static`
+  session.inspect = body
+  return null
 }
 
 function isMovable(room: Room, id: number): boolean {

@@ -1,12 +1,16 @@
 /*
  * Turning a room's world into wire data: the quantized frame of moving bodies (built once per
  * snapshot tick and shared by every client), body descriptions with shapes for events and full
- * states. The frame and the full state quantize the same world values with the same functions, so
+ * states, and the contacts of inspected bodies (one world.contacts() per snapshot tick, and only
+ * when someone inspects, shared by every inspector; one encoded message per inspected body). The frame and the full state quantize the same world values with the same functions, so
  * a client's first baseline (built from the full state) equals the server's.
  */
-import type { World } from '../engine/index.ts'
+import type { ContactInfo, World } from '../engine/index.ts'
 import {
+  type ContactsMessage,
+  encodeMessage,
   type FullState,
+  MAX_INSPECT_CONTACTS,
   type QuantizedFrame,
   quantizeAngle,
   quantizePosition,
@@ -66,4 +70,55 @@ export function fullState(
     bodies: world.bodyIds().map((id) => wireBody(world, id)),
     joints: [...joints],
   }
+}
+
+/** Total normal impulse of a contact (N s). */
+const normalImpulse = (c: ContactInfo): number => c.points.reduce((sum, p) => sum + p.normalImpulse, 0)
+
+/** The `contacts` message for `body` from its touching contacts: the largest ones by normal impulse. */
+export function contactsMessage(
+  world: World,
+  tick: number,
+  body: number,
+  touching: ContactInfo[],
+): ContactsMessage {
+  const kept =
+    touching.length > MAX_INSPECT_CONTACTS
+      ? [...touching].sort((a, b) => normalImpulse(b) - normalImpulse(a)).slice(0, MAX_INSPECT_CONTACTS)
+      : touching
+  return {
+    t: 'contacts',
+    tick,
+    body,
+    mass: world.getMass(body),
+    total: touching.length,
+    contacts: kept.map((c) => ({
+      a: c.bodyA,
+      b: c.bodyB,
+      nx: c.normal.x,
+      ny: c.normal.y,
+      points: c.points.map((p) => ({ x: p.point.x, y: p.point.y, n: p.normalImpulse, t: p.tangentImpulse })),
+    })),
+  }
+}
+
+/**
+ * Encoded `contacts` messages for the bodies in `inspected` (body id -> bytes), from one
+ * world.contacts() call; empty without reading contacts when nobody inspects.
+ */
+export function encodeInspections(
+  world: World,
+  tick: number,
+  inspected: ReadonlySet<number>,
+): Map<number, Uint8Array> {
+  const out = new Map<number, Uint8Array>()
+  if (inspected.size === 0) return out
+  const touching = new Map<number, ContactInfo[]>()
+  for (const id of inspected) if (world.hasBody(id)) touching.set(id, [])
+  for (const c of world.contacts()) {
+    touching.get(c.bodyA)?.push(c)
+    touching.get(c.bodyB)?.push(c)
+  }
+  for (const [id, list] of touching) out.set(id, encodeMessage(contactsMessage(world, tick, id, list)))
+  return out
 }

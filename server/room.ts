@@ -9,8 +9,9 @@
  *   3. advance the room tick; send the tick's events (bodies and joints created or removed, room
  *      settings) to everyone, encoded once
  *   4. on snapshot ticks: quantize the world once into a shared frame, then write each client's
- *      delta against its own acknowledged baseline within its byte budget; a client whose send
- *      buffer is full is skipped, and closed if it stays behind
+ *      delta against its own acknowledged baseline within its byte budget, followed by the
+ *      contacts of the body it inspects, if any; a client whose send buffer is full is skipped,
+ *      and closed if it stays behind
  *   5. every second: a state hash checkpoint, housekeeping (out-of-bounds bodies, reconnect window)
  *
  * Room ticks count loop iterations and never reset; world.tick counts steps of the current world
@@ -38,7 +39,7 @@ import type { ServerConfig } from './config.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { applyCommand } from './room-commands.ts'
 import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
-import { fillFrame, fullState } from './room-wire.ts'
+import { encodeInspections, fillFrame, fullState } from './room-wire.ts'
 
 /** A queued input: who sent it, its sequence number and the validated command. */
 interface QueuedInput {
@@ -158,6 +159,7 @@ export class Room {
   leave(session: ClientSession): void {
     if (this.sessions.get(session.id) !== session) return
     applyCommand(this, session, { k: 'release' })
+    session.inspect = 0
     this.sessions.delete(session.id)
     this.departed.set(session.token, {
       id: session.id,
@@ -235,6 +237,7 @@ export class Room {
         s.grab = null
         s.cursorDirty = true
       }
+      if (s.inspect === id) s.inspect = 0
       s.encoder.removeBody(id)
     }
     this.grabCounts.delete(id)
@@ -269,6 +272,7 @@ export class Room {
     this.lastLoadTick = this.tick
     for (const s of this.sessions.values()) {
       s.grab = null
+      s.inspect = 0
       s.cursorDirty = true
     }
     this.grabCounts.clear()
@@ -325,13 +329,21 @@ export class Room {
       cursors.push(s.id, quantizePosition(s.cursorX), quantizePosition(s.cursorY), s.grab ? s.grab.body : 0)
       s.cursorDirty = false
     }
+    const inspected = new Set<number>()
+    for (const s of this.sessions.values()) if (s.inspect !== 0) inspected.add(s.inspect)
+    const contacts = encodeInspections(this.world, this.tick, inspected)
     let staleness = 0
-    for (const s of this.sessions.values()) staleness = Math.max(staleness, this.sendSnapshot(s, cursors))
+    for (const s of this.sessions.values()) {
+      staleness = Math.max(staleness, this.sendSnapshot(s, cursors, contacts.get(s.inspect)))
+    }
     this.lastMaxStaleness = staleness
   }
 
-  /** Send one client its snapshot, or skip it when its send buffer is full; returns staleness. */
-  private sendSnapshot(session: ClientSession, cursors: number[]): number {
+  /**
+   * Send one client its snapshot and, when it inspects a body, that body's contacts; or skip both
+   * when its send buffer is full. Returns the snapshot's staleness.
+   */
+  private sendSnapshot(session: ClientSession, cursors: number[], contacts: Uint8Array | undefined): number {
     const buffered = session.ws.bufferedAmount
     if (buffered > this.config.sendBufferBytes) {
       this.metrics.snapshotsSkipped.inc()
@@ -356,6 +368,7 @@ export class Room {
     const stats = session.encoder.encode(this.writer, this.frame, this.tick, this.budget, this.weight)
     const data = this.writer.bytes.subarray(0, this.writer.length)
     session.sendBytes(encodeMessage({ t: 'snap', tick: this.tick, base, data, cursors }))
+    if (contacts) session.sendBytes(contacts)
     return stats.maxStaleness
   }
 

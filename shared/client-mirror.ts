@@ -8,6 +8,7 @@
  */
 import type {
   AckMessage,
+  ContactsMessage,
   FullState,
   RoomRules,
   ServerMessage,
@@ -62,6 +63,8 @@ export class ClientMirror {
   lastHash: { tick: number; step: number; hash: number } | null = null
   /** The last snapshot applied (its frame is reused by the history; copy to keep). */
   lastSnapshot: AppliedSnapshot | null = null
+  /** The latest contacts of the body this client inspects (null when none, or after a new world). */
+  inspected: ContactsMessage | null = null
   /** Error messages received. */
   readonly errors: Array<{ code: string; reason: string }> = []
 
@@ -104,12 +107,16 @@ export class ClientMirror {
       case 'error':
         this.errors.push({ code: message.code, reason: message.reason })
         return null
+      case 'contacts':
+        this.inspected = message
+        return null
       default:
         return null
     }
   }
 
   private loadState(state: FullState): void {
+    this.inspected = null
     this.bodies.clear()
     this.joints.clear()
     this.scene = state.scene
@@ -139,6 +146,7 @@ export class ClientMirror {
   }
 
   private removeBody(id: number): void {
+    if (this.inspected?.body === id) this.inspected = null
     this.bodies.delete(id)
     this.history.removeBody(id)
     for (const [jid, j] of this.joints) if (j.a === id || j.b === id) this.joints.delete(jid)

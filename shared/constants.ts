@@ -48,6 +48,9 @@ export const MAX_GRAVITY = 100
 /** Largest rope length (m). */
 export const MAX_ROPE_LENGTH = 100
 
+/** Most contacts one `contacts` message carries (each has at most 2 points): about 2 kB. */
+export const MAX_INSPECT_CONTACTS = 16
+
 /** Largest reconnect token length (characters). */
 export const MAX_TOKEN_LENGTH = 64
 

@@ -160,6 +160,15 @@ export interface GravityCommand {
   y: number
 }
 
+/**
+ * Choose the body whose contacts the server streams to this player (the lab's free-body
+ * diagram); 0 clears the choice. It changes nothing in the world and is not recorded.
+ */
+export interface InspectCommand {
+  k: 'inspect'
+  body: number
+}
+
 /** Every input command a client may send. */
 export type Command =
   | SpawnCommand
@@ -175,6 +184,7 @@ export type Command =
   | StepCommand
   | ResetCommand
   | GravityCommand
+  | InspectCommand
 
 /** First message on a socket: join a room (the URL's ?room= when `room` is empty). */
 export interface JoinMessage {
@@ -282,6 +292,40 @@ export interface ErrorMessage {
   seq?: number
 }
 
+/** One contact point: world position (m) and the impulses of the last step (N s). */
+export interface WireContactPoint {
+  x: number
+  y: number
+  /** Normal impulse, along +normal on body b and -normal on body a. */
+  n: number
+  /** Friction impulse along the tangent (ny, -nx), with the same sign rule. */
+  t: number
+}
+
+/** A touching contact between bodies a and b (a < b as the engine orders them), normal from a to b. */
+export interface WireContact {
+  a: number
+  b: number
+  nx: number
+  ny: number
+  points: WireContactPoint[]
+}
+
+/**
+ * The contacts touching the body this player inspects, sent right after each of its snapshots
+ * while it inspects one (at most MAX_INSPECT_CONTACTS of them, the largest normal impulses).
+ */
+export interface ContactsMessage {
+  t: 'contacts'
+  tick: number
+  body: number
+  /** The body's mass (kg). */
+  mass: number
+  /** Touching contacts of the body in all, sent or not. */
+  total: number
+  contacts: WireContact[]
+}
+
 /** Every message the server sends. */
 export type ServerMessage =
   | WelcomeMessage
@@ -293,3 +337,4 @@ export type ServerMessage =
   | PongMessage
   | HashMessage
   | ErrorMessage
+  | ContactsMessage

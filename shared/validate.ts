@@ -193,6 +193,8 @@ function validateCommand(value: unknown): Command {
     }
     case 'unjoint':
       return { k, joint: id(f(['joint']).joint, 'joint') }
+    case 'inspect':
+      return { k, body: bodyOrWorld(f(['body']).body, 'body') }
     case 'scene':
       return { k, name: str(f(['name']).name, 'scene name', 32) }
     case 'pause':
@@ -285,6 +287,7 @@ const SERVER_FIELDS: Record<ServerMessage['t'], readonly string[]> = {
   pong: ['id', 'time', 'tick'],
   hash: ['tick', 'step', 'hash'],
   error: ['code', 'reason'],
+  contacts: ['tick', 'body', 'mass', 'total', 'contacts'],
 }
 
 /** Check a decoded server message's type tag and required fields. */
@@ -299,6 +302,9 @@ export function validateServerMessage(value: unknown): DecodeResult<ServerMessag
   }
   if (t === 'snap' && !((value as Fields).data instanceof Uint8Array)) {
     return { ok: false, code: 'invalid', reason: 'snap data must be binary' }
+  }
+  if (t === 'contacts' && !Array.isArray((value as Fields).contacts)) {
+    return { ok: false, code: 'invalid', reason: 'contacts must be a list' }
   }
   return { ok: true, value: value as unknown as ServerMessage }
 }

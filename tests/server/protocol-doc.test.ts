@@ -79,6 +79,10 @@ describe('PROTOCOL.md', { timeout: 20_000 }, () => {
     bot.command({ k: 'spawn', shape: { type: 'box', hw: 0.5, hh: 0.5 }, x: 3, y: 2 })
     await bot.waitFor(() => bot.mirror.bodies.size > 21)
     const box = [...bot.mirror.bodies.values()].find((b) => b.kind === 2 && b.x > 2)!
+    // The tower's lowest block touches the ground and the block above: contacts with points.
+    const lowest = [...bot.mirror.bodies.values()].filter((b) => b.kind === 2).sort((a, b) => a.y - b.y)[0]
+    bot.command({ k: 'inspect', body: lowest.id })
+    await bot.waitFor(() => bot.mirror.inspected !== null, 'contacts')
     bot.command({ k: 'pin', a: 0, b: box.id, x: 3, y: 2.5 })
     bot.command({ k: 'grab', body: box.id, lx: 0, ly: 0 })
     bot.command({ k: 'pause', paused: true })
@@ -106,7 +110,18 @@ describe('PROTOCOL.md', { timeout: 20_000 }, () => {
         if (!documented!.optional.includes(key)) expect(keys, `${section}.${key} present`).toContain(key)
       }
     }
-    for (const type of ['welcome', 'state', 'events', 'room', 'players', 'snap', 'pong', 'hash', 'error']) {
+    for (const type of [
+      'welcome',
+      'state',
+      'events',
+      'room',
+      'players',
+      'snap',
+      'pong',
+      'hash',
+      'error',
+      'contacts',
+    ]) {
       const messages = byType.get(type)
       expect(messages, `a ${type} message was received`).toBeDefined()
       for (const m of messages!) checkFields(type, m)
@@ -120,6 +135,19 @@ describe('PROTOCOL.md', { timeout: 20_000 }, () => {
     const joints = byType.get('events')!.flatMap((e) => e.jadd as Record<string, unknown>[])
     expect(joints.length).toBeGreaterThan(0)
     for (const j of joints) checkFields('Joint', j)
+    const contacts = byType.get('contacts')!.flatMap((m) => m.contacts as Record<string, unknown>[])
+    expect(contacts.length).toBeGreaterThan(0)
+    for (const c of contacts) {
+      checkFields('Contact', c)
+      for (const p of c.points as Record<string, unknown>[]) checkFields('ContactPoint', p)
+    }
+    // contacts follow this player's snapshot of the same tick.
+    const order = bot.frames.map((f) => decode(f) as Record<string, unknown>)
+    for (let i = 0; i < order.length; i++) {
+      if (order[i].t !== 'contacts') continue
+      expect(order[i - 1].t).toBe('snap')
+      expect(order[i].tick).toBe(order[i - 1].tick)
+    }
     // The snapshot payload parses with the documented layout, and absolute entries match the mirror.
     let entries = 0
     for (const snap of byType.get('snap')!) {

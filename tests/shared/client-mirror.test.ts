@@ -81,4 +81,25 @@ describe('client mirror', () => {
     expect(mirror.history.get(10)).toBeUndefined()
     expect(mirror.history.get(20)!.has(2)).toBe(true)
   })
+
+  it('keeps the latest contacts of the inspected body until it is removed or a new world starts', () => {
+    const mirror = new ClientMirror()
+    mirror.handle({ t: 'state', state })
+    const contacts = (tick: number): ServerMessage => ({
+      t: 'contacts',
+      tick,
+      body: 2,
+      mass: 0.785,
+      total: 1,
+      contacts: [{ a: 1, b: 2, nx: 0, ny: 1, points: [{ x: 1, y: 1.5, n: 0.13, t: 0 }] }],
+    })
+    mirror.handle(contacts(11))
+    mirror.handle(contacts(12))
+    expect(mirror.inspected?.tick).toBe(12)
+    mirror.handle({ t: 'events', tick: 13, add: [], remove: [2], jadd: [], jremove: [] })
+    expect(mirror.inspected).toBeNull()
+    mirror.handle(contacts(14))
+    mirror.handle({ t: 'state', state: { ...state, tick: 20 } })
+    expect(mirror.inspected).toBeNull()
+  })
 })

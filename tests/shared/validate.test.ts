@@ -27,6 +27,8 @@ const good: ClientMessage[] = [
   { t: 'input', seq: 13, cmd: { k: 'step' } },
   { t: 'input', seq: 14, cmd: { k: 'reset' } },
   { t: 'input', seq: 15, cmd: { k: 'gravity', x: 0, y: -9.81 } },
+  { t: 'input', seq: 16, cmd: { k: 'inspect', body: 3 } },
+  { t: 'input', seq: 17, cmd: { k: 'inspect', body: 0 } },
   { t: 'ack', tick: 120 },
   { t: 'ping', id: 1, time: 12345.678 },
 ]
@@ -76,6 +78,18 @@ describe('client message validation', () => {
     ['a long name', { t: 'join', v: PROTOCOL_VERSION, room: 'a', name: 'x'.repeat(100), mode: 'snapshot' }],
     ['a Date from an extension', { t: 'ack', tick: new Date() }],
     ['gravity beyond the cap', { t: 'input', seq: 1, cmd: { k: 'gravity', x: 0, y: -1e6 } }],
+    ['an inspect without a body', { t: 'input', seq: 1, cmd: { k: 'inspect' } }],
+    ['an inspect of a negative body', { t: 'input', seq: 1, cmd: { k: 'inspect', body: -1 } }],
+    ['an inspect of a fractional body', { t: 'input', seq: 1, cmd: { k: 'inspect', body: 2.5 } }],
+    ['an inspect of a NaN body', { t: 'input', seq: 1, cmd: { k: 'inspect', body: Number.NaN } }],
+    [
+      'an inspect of an infinite body',
+      { t: 'input', seq: 1, cmd: { k: 'inspect', body: Number.POSITIVE_INFINITY } },
+    ],
+    ['an inspect of a body past 2^53', { t: 'input', seq: 1, cmd: { k: 'inspect', body: 2 ** 53 } }],
+    ['an inspect of a string body', { t: 'input', seq: 1, cmd: { k: 'inspect', body: '3' } }],
+    ['an inspect with an extra field', { t: 'input', seq: 1, cmd: { k: 'inspect', body: 3, x: 1 } }],
+    ['an inspect with an unknown field', { t: 'input', seq: 1, cmd: { k: 'inspect', body: 3, all: true } }],
   ]
   for (const [what, value] of bad) {
     it(`rejects ${what}`, () => {
