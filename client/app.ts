@@ -183,6 +183,7 @@ export class App {
       this.syncScenePicker()
     }
     const selected = this.selectedBody()
+    s.inspect(selected?.id ?? 0)
     const lab = selected ? s.lab(selected.id) : null
     this.freeBody = selected && lab ? computeFreeBody(selected.id, lab) : null
     this.renderer.draw({
@@ -228,7 +229,13 @@ export class App {
     $('pause').textContent = s.paused() ? 'Play' : 'Pause'
     if ($<HTMLSelectElement>('scene').value !== s.scene()) this.syncScenePicker()
     $('lab').hidden = !selected
-    if (selected && this.freeBody) $('lab-text').textContent = describeFreeBody(selected.id, this.freeBody)
+    if (selected) {
+      $('lab-text').textContent = this.freeBody
+        ? describeFreeBody(selected.id, this.freeBody)
+        : selected.kind === 2
+          ? `body ${selected.id}\nwaiting for the server's contacts`
+          : `body ${selected.id}\nnot a dynamic body: no free-body diagram`
+    }
     const status = s.status()
     $('banner').hidden = status.state !== 'error'
     if (status.state === 'error') {

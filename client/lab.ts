@@ -5,11 +5,16 @@
  * contact's impulses act on body B along +normal and +tangent (tangent = (ny, -nx)) and on body A
  * with the opposite sign, exactly as the solver applies them.
  *
+ * Offline the contacts come from the world stepping in the page; online from the room's server,
+ * which streams the contacts of the body this player inspects after each snapshot (a `contacts`
+ * message: the same impulses, read from the server's own world).
+ *
  * On a box resting on a ramp of angle theta this gives normal = m g cos(theta) and friction =
  * m g sin(theta), and the net force is about zero: the browser test checks those numbers.
  */
 import { STEP_SECONDS, type Vec2 } from '../engine/index.ts'
-import type { LabData } from './sandbox.ts'
+import type { ContactsMessage } from '../shared/index.ts'
+import type { LabContact, LabData } from './sandbox.ts'
 
 /** One contact's forces on the selected body (N), applied at the mean contact point (m). */
 export interface ContactForce {
@@ -29,6 +34,17 @@ export interface FreeBody {
   contacts: ContactForce[]
   net: Vec2
   source: LabData['source']
+}
+
+/** Lab data from the server's `contacts` message for the inspected body. */
+export function labFromServer(message: ContactsMessage, gravity: Vec2): LabData {
+  const contacts: LabContact[] = message.contacts.map((c) => ({
+    bodyA: c.a,
+    bodyB: c.b,
+    normal: { x: c.nx, y: c.ny },
+    points: c.points.map((p) => ({ point: { x: p.x, y: p.y }, normalImpulse: p.n, tangentImpulse: p.t })),
+  }))
+  return { contacts, mass: message.mass, gravity, source: 'server' }
 }
 
 /** Forces on `bodyId` from the lab data (see the file comment for the sign conventions). */
@@ -84,7 +100,7 @@ export function describeFreeBody(bodyId: number, fb: FreeBody): string {
   lines.push(
     fb.source === 'world'
       ? 'source: contact impulses of the last step / (1/60 s)'
-      : 'source: local re-solve of the snapshot pose (server sends no contacts)',
+      : "source: the server's contact impulses of the last step / (1/60 s)",
   )
   return lines.join('\n')
 }

@@ -9,7 +9,6 @@
 import {
   buildScene,
   type ContactInfo,
-  computeMass,
   createWorld,
   FixedStepper,
   type JointId,
@@ -358,6 +357,8 @@ export class OfflineSandbox implements Sandbox {
     return this.world.getGravity()
   }
 
+  inspect(_bodyId: number): void {}
+
   lab(bodyId: number): LabData | null {
     const w = this.world
     if (!w.hasBody(bodyId) || w.getBodyType(bodyId) !== 'dynamic') return null
@@ -371,9 +372,4 @@ export class OfflineSandbox implements Sandbox {
   retry(): void {}
 
   dispose(): void {}
-}
-
-/** Mass (kg) of a wire shape at density 1, as the server's rooms spawn and build scenes. */
-export function wireShapeMass(shape: WireShape): number {
-  return computeMass(fromWireShape(shape), 1).mass
 }

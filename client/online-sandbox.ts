@@ -4,12 +4,14 @@
  * into the SnapshotTimeline, which draws bodies a little in the past between two snapshots. Inputs
  * go out as protocol commands; cursor moves are coalesced to at most one per animation frame so a
  * 1000 Hz mouse never exceeds the room's per-tick input budget. Ping/pong once a second measures
- * the round trip. Byte counters give the HUD its kB/s.
+ * the round trip. Byte counters give the HUD its kB/s. The lab asks the server to inspect the
+ * selected body (re-asked after a reconnect or a new world, which clear it on the server) and
+ * shows the contacts the server streams back.
  */
-import type { ContactInfo } from '../engine/index.ts'
 import {
   ClientMirror,
   type Command,
+  type ContactsMessage,
   type JoinMessage,
   type MirrorBody,
   PROTOCOL_VERSION,
@@ -19,9 +21,10 @@ import {
 } from '../shared/index.ts'
 import { Connection } from './connection.ts'
 import { type Pose, SnapshotTimeline } from './interpolation.ts'
-import { probeContacts } from './lab-probe.ts'
+import { labFromServer } from './lab.ts'
 import { toWorld } from './picking.ts'
 import type {
+  LabContact,
   LabData,
   Sandbox,
   SandboxStats,
@@ -82,8 +85,9 @@ export class OnlineSandbox implements Sandbox {
   private statusValue: SandboxStatus = { state: 'connecting' }
   private ownGrab = 0
   private readonly pose: Pose = { x: 0, y: 0, angle: 0, awake: true }
-  private probe: { body: number; at: number; x: number; y: number; angle: number; data: LabData } | null =
-    null
+  /** The body this player inspects (0 for none), and the lab data last built for it. */
+  private inspected = 0
+  private labCache: { message: ContactsMessage; data: LabData } | null = null
   private readonly notice = { count: 0, latest: null as string | null }
   private readonly serverStats: ServerStats
 
@@ -137,10 +141,12 @@ export class OnlineSandbox implements Sandbox {
         } catch {}
         this.ownGrab = 0
         this.resetTimeline(message.state.tick, now, message.rules)
+        this.reinspect(now)
         break
       case 'state':
         this.ownGrab = 0
         this.resetTimeline(message.state.tick, now, this.mirror.rules)
+        this.reinspect(now)
         break
       case 'events':
         this.viewDirty = true
@@ -155,6 +161,14 @@ export class OnlineSandbox implements Sandbox {
         break
       }
     }
+  }
+
+  /** A new session or a new world cleared the server's inspection: ask again if a body is still selected. */
+  private reinspect(now: number): void {
+    if (!this.inspected) return
+    if (this.mirror.bodies.get(this.inspected)?.kind === 2)
+      this.transmit({ k: 'inspect', body: this.inspected }, now)
+    else this.inspected = 0
   }
 
   private resetTimeline(tick: number, now: number, rules: RoomRules | null): void {
@@ -256,9 +270,8 @@ export class OnlineSandbox implements Sandbox {
     return out
   }
 
-  contacts(): readonly ContactInfo[] | null {
-    const fresh = this.probe && performance.now() - this.probe.at < 2500
-    return fresh ? this.probe!.data.contacts : null
+  contacts(): readonly LabContact[] | null {
+    return this.inspected ? (this.lab(this.inspected)?.contacts ?? null) : null
   }
 
   send(cmd: Command): void {
@@ -323,24 +336,21 @@ export class OnlineSandbox implements Sandbox {
     return { x: this.mirror.gravity[0], y: this.mirror.gravity[1] }
   }
 
+  inspect(bodyId: number): void {
+    const body = this.mirror.bodies.get(bodyId)
+    const id = body?.kind === 2 ? bodyId : 0
+    if (id === this.inspected) return
+    this.inspected = id
+    if (this.connection.isJoined) this.transmit({ k: 'inspect', body: id }, performance.now())
+  }
+
   lab(bodyId: number): LabData | null {
-    const target = this.viewById.get(bodyId)
-    if (target?.kind !== 2) return null
-    // A probe costs a short simulation of the neighbourhood: rerun it only when the body moved
-    // (more than 5 mm or 0.01 rad) or every two seconds for a resting body whose load may change.
-    const now = performance.now()
-    const p = this.probe
-    const moved =
-      !p ||
-      p.body !== bodyId ||
-      Math.abs(p.x - target.x) > 0.005 ||
-      Math.abs(p.y - target.y) > 0.005 ||
-      Math.abs(p.angle - target.angle) > 0.01
-    if (moved || now - p.at > 2000) {
-      const data = probeContacts(target, this.view, this.gravity())
-      this.probe = { body: bodyId, at: now, x: target.x, y: target.y, angle: target.angle, data }
+    const message = this.mirror.inspected
+    if (!message || message.body !== bodyId || bodyId !== this.inspected) return null
+    if (this.labCache?.message !== message) {
+      this.labCache = { message, data: labFromServer(message, this.gravity()) }
     }
-    return this.probe!.data
+    return this.labCache.data
   }
 
   notices(): { count: number; latest: string | null } {

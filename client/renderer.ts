@@ -6,11 +6,11 @@
  * bodies (in their player's colour) and overlays are drawn one by one. Text (names, ids) is drawn
  * in screen space so it is never mirrored by the y-up transform.
  */
-import type { ContactInfo, Vec2 } from '../engine/index.ts'
+import type { Vec2 } from '../engine/index.ts'
 import type { Camera } from './camera.ts'
 import { drawFreeBody, type FreeBody } from './lab.ts'
 import { shapeRadius, shapeVertices, toWorld } from './picking.ts'
-import type { ViewBody, ViewCursor, ViewJoint } from './sandbox.ts'
+import type { LabContact, ViewBody, ViewCursor, ViewJoint } from './sandbox.ts'
 
 /** Which debug layers are on. */
 export interface DebugLayers {
@@ -38,7 +38,7 @@ export interface DrawFrame {
   bodies: readonly ViewBody[]
   joints: readonly ViewJoint[]
   cursors: readonly ViewCursor[]
-  contacts: readonly ContactInfo[] | null
+  contacts: readonly LabContact[] | null
   layers: DebugLayers
   overlay: ToolOverlay
   selected: ViewBody | null
@@ -269,7 +269,7 @@ export class Renderer {
     ctx.stroke()
   }
 
-  private drawContacts(contacts: readonly ContactInfo[]): void {
+  private drawContacts(contacts: readonly LabContact[]): void {
     const ctx = this.ctx
     const size = this.lineWidth(4)
     ctx.fillStyle = '#ff5050'

@@ -4,7 +4,7 @@
  * protocol's Command type, so every tool produces the same commands whichever side applies them,
  * and both hand the renderer the same view: bodies with poses for this frame, joints, cursors.
  */
-import type { ContactInfo } from '../engine/index.ts'
+import type { Vec2 } from '../engine/index.ts'
 import type { Command, RoomRules, WireShape } from '../shared/index.ts'
 
 /** A body as drawn this frame. */
@@ -57,13 +57,24 @@ export interface SandboxStats {
   stepMs: number | null
 }
 
+/**
+ * A touching contact as the lab and the debug layer need it: the engine's ContactInfo without the
+ * separations. Normal from A to B; impulses of the last step (N s), tangent (normal.y, -normal.x).
+ */
+export interface LabContact {
+  bodyA: number
+  bodyB: number
+  normal: Vec2
+  points: ReadonlyArray<{ point: Vec2; normalImpulse: number; tangentImpulse: number }>
+}
+
 /** Contact data for the lab, with where it came from. */
 export interface LabData {
-  contacts: ContactInfo[]
+  contacts: readonly LabContact[]
   mass: number
   gravity: { x: number; y: number }
-  /** 'world' when read from the stepping world, 'probe' when re-solved locally from a snapshot. */
-  source: 'world' | 'probe'
+  /** 'world' when read from the world stepping in the page, 'server' when the room's server sent it. */
+  source: 'world' | 'server'
 }
 
 /** Connection status shown to the user. */
@@ -84,7 +95,7 @@ export interface Sandbox {
   /** Other players' cursors (not this player's own). */
   cursors(): readonly ViewCursor[]
   /** Touching contacts for the debug layer, when this mode has them. */
-  contacts(): readonly ContactInfo[] | null
+  contacts(): readonly LabContact[] | null
   /** Apply or send one command. */
   send(cmd: Command): void
   /** This player's colour. */
@@ -95,7 +106,9 @@ export interface Sandbox {
   scene(): string
   paused(): boolean
   gravity(): { x: number; y: number }
-  /** Free-body data for one body, or null when it does not exist. */
+  /** Choose the body the lab shows (0 for none); online, the server then streams its contacts. */
+  inspect(bodyId: number): void
+  /** Free-body data for one body, or null when it does not exist or its data has not arrived. */
   lab(bodyId: number): LabData | null
   /** Problems the server reported about this player's inputs: how many so far and the newest. */
   notices(): { count: number; latest: string | null }

@@ -2,7 +2,7 @@
  * The browser client in real headless Chromium against a real server on 127.0.0.1: it loads
  * cleanly and draws the scene (read back from the canvas pixels), two players share one room
  * (spawn and drag seen by both), touch works for grab and spawn, the lab's free-body numbers on
- * the ramp match m g cos(theta) and m g sin(theta), the connection problems get clear messages,
+ * the ramp (the server's own contact impulses) match m g cos(theta) and m g sin(theta), the connection problems get clear messages,
  * and offline mode runs with the server stopped. Screenshots of the main scenes are saved under
  * test-results/browser-client/ as artifacts.
  */
@@ -154,6 +154,8 @@ describe('online', () => {
     expect(lab.friction).toBeGreaterThan(M_G * Math.sin(THETA) * 0.97)
     expect(lab.friction).toBeLessThan(M_G * Math.sin(THETA) * 1.03)
     expect(lab.net).toBeLessThan(0.3)
+    // The numbers are the server's own contact impulses, not a local approximation.
+    expect(lab.text).toContain("source: the server's contact impulses")
     await page.screenshot({ path: `${ARTIFACTS}/scene-ramp-lab.png` })
     expect(errors).toEqual([])
     await context.close()

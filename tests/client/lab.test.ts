@@ -1,15 +1,14 @@
 /*
  * The lab's free-body diagram against the inclined-plane formula: a box of mass m resting on a
  * ramp of angle theta feels normal = m g cos(theta) and friction = m g sin(theta), and no net
- * force. Checked for both sources: the stepping world's contacts (offline) and the local re-solve
- * from snapshot poses (online).
+ * force. Checked for both sources: the stepping world's contacts (offline) and the server's
+ * `contacts` message, built by the server's own function and sent through the codec (online).
  */
 import { describe, expect, it } from 'vitest'
-import { computeFreeBody } from '../../client/lab.ts'
-import { probeContacts } from '../../client/lab-probe.ts'
-import type { ViewBody } from '../../client/sandbox.ts'
+import { computeFreeBody, describeFreeBody, labFromServer } from '../../client/lab.ts'
 import { buildScene, createWorld, rampScene, towerScene, type World } from '../../engine/index.ts'
-import { toWireShape } from '../../shared/index.ts'
+import { contactsMessage } from '../../server/room-wire.ts'
+import { type ContactsMessage, decodeServerMessage, encodeMessage } from '../../shared/index.ts'
 
 function restingRamp(degrees: number) {
   const theta = (degrees * Math.PI) / 180
@@ -19,13 +18,12 @@ function restingRamp(degrees: number) {
   return { world, ramp, box, theta }
 }
 
-function viewOf(world: World): ViewBody[] {
-  return world.bodyIds().map((id) => {
-    const p = world.getPosition(id)
-    const kind = world.getBodyType(id) === 'static' ? 0 : 2
-    const shape = toWireShape(world.getShape(id))
-    return { id, kind, shape, x: p.x, y: p.y, angle: world.getAngle(id), awake: false, grabColor: null }
-  })
+/** What the server sends about `body` in `world`, after a trip through the codec. */
+function serverLab(world: World, body: number) {
+  const touching = world.contacts().filter((c) => c.bodyA === body || c.bodyB === body)
+  const decoded = decodeServerMessage(encodeMessage(contactsMessage(world, world.tick, body, touching)))
+  if (!decoded.ok) throw new Error(decoded.reason)
+  return labFromServer(decoded.value as ContactsMessage, world.getGravity())
 }
 
 function expectInclinedPlane(fb: ReturnType<typeof computeFreeBody>, theta: number) {
@@ -57,16 +55,16 @@ describe('free-body diagram', () => {
     })
   }
 
-  it('matches the formula when re-solved locally from snapshot poses (the online lab)', () => {
+  it("matches the formula from the server's contacts message (the online lab)", () => {
     const { world, theta, box } = restingRamp(20)
-    const view = viewOf(world)
-    const target = view.find((v) => v.id === box)!
-    const fb = computeFreeBody(box, probeContacts(target, view, { x: 0, y: -10 }))
-    expect(fb.source).toBe('probe')
+    const fb = computeFreeBody(box, serverLab(world, box))
+    expect(fb.source).toBe('server')
+    expect(fb.mass).toBe(world.getMass(box))
     expectInclinedPlane(fb, theta)
+    expect(describeFreeBody(box, fb)).toContain("source: the server's contact impulses")
   })
 
-  it('carries the weight of the boxes above in a tower, from the world and from the probe', () => {
+  it("carries the weight of the boxes above in a tower, from the world and from the server's message", () => {
     // A block with k blocks above it is pushed up by (k + 1) m g and down by k m g.
     const world = createWorld()
     const ids = buildScene(world, towerScene(8, false))
@@ -77,7 +75,7 @@ describe('free-body diagram', () => {
       const above = 8 - index
       const sources = [
         { contacts: world.contacts(), mass: 1, gravity: { x: 0, y: -10 }, source: 'world' as const },
-        probeContacts(viewOf(world).find((v) => v.id === id)!, viewOf(world), { x: 0, y: -10 }),
+        serverLab(world, id),
       ]
       for (const data of sources) {
         const fb = computeFreeBody(id, data)
