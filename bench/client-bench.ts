@@ -14,7 +14,7 @@ import { createServer } from 'node:http'
 import type { AddressInfo } from 'node:net'
 import type { Page } from 'playwright-core'
 import { buildClient } from '../scripts/build-client.mjs'
-import { launchBrowser } from '../tests/browser/client-harness.ts'
+import { launchBrowser } from '../tests/browser/chromium.ts'
 import { machineInfo, saveResults, summarize } from './stats.ts'
 
 const OUT = 'test-results/client-bench-dist'

@@ -11,27 +11,19 @@ const exists = (path) =>
     () => false,
   )
 
-await build({
-  entryPoints: ['server/main.ts'],
-  outfile: 'dist/server.js',
-  bundle: true,
-  platform: 'node',
-  target: 'node20',
-  format: 'esm',
-  sourcemap: true,
-  external: ['ws', 'msgpackr', 'pino', 'prom-client'],
-  logLevel: 'warning',
-})
-await build({
-  entryPoints: ['server/bots.ts'],
-  outfile: 'dist/bots.js',
-  bundle: true,
-  platform: 'node',
-  target: 'node20',
-  format: 'esm',
-  sourcemap: true,
-  external: ['ws', 'msgpackr', 'pino', 'prom-client'],
-  logLevel: 'warning',
-})
+// The server and the bots: Node bundles, runtime packages left external.
+for (const name of ['main', 'bots']) {
+  await build({
+    entryPoints: [`server/${name}.ts`],
+    outfile: name === 'main' ? 'dist/server.js' : 'dist/bots.js',
+    bundle: true,
+    platform: 'node',
+    target: 'node20',
+    format: 'esm',
+    sourcemap: true,
+    external: ['ws', 'msgpackr', 'pino', 'prom-client'],
+    logLevel: 'warning',
+  })
+}
 
 if (await exists('client/main.ts')) await buildClient()

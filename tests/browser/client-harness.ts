@@ -5,7 +5,7 @@
  * mouse and touch input.
  */
 import { mkdir } from 'node:fs/promises'
-import { type Browser, type BrowserContext, type CDPSession, chromium, type Page } from 'playwright-core'
+import type { Browser, BrowserContext, CDPSession, Page } from 'playwright-core'
 import { buildClient } from '../../scripts/build-client.mjs'
 import { loadConfig } from '../../server/config.ts'
 import { type RunningServer, startServer } from '../../server/server.ts'
@@ -14,29 +14,12 @@ import { type RunningServer, startServer } from '../../server/server.ts'
 export const ARTIFACTS = 'test-results/browser-client'
 const DIST = 'test-results/browser-client/dist'
 
-/** Chromium flags for this machine (no sandbox, no GPU, no network side traffic). */
-export const CHROMIUM_ARGS = [
-  '--headless',
-  '--no-sandbox',
-  '--disable-gpu',
-  '--disable-quic',
-  '--no-first-run',
-  '--disable-background-networking',
-  '--disable-component-update',
-  '--disable-sync',
-]
-
 /** Build the client and start a server that serves it (on `port`, or any free port). */
 export async function startClientServer(port = 0): Promise<RunningServer> {
   await mkdir(ARTIFACTS, { recursive: true })
   if (port === 0) await buildClient(DIST)
   const config = loadConfig([], {}, { port, staticDir: DIST, logLevel: 'silent', heartbeatMs: 60_000 })
   return startServer(config, { processMetrics: false })
-}
-
-/** Launch the one browser the suite shares. */
-export function launchBrowser(): Promise<Browser> {
-  return chromium.launch({ executablePath: '/usr/bin/chromium', args: CHROMIUM_ARGS })
 }
 
 /** Console errors and page errors seen by a page. */

@@ -11,12 +11,12 @@ import type { Browser, BrowserContext, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
 import { CLOSE_CODES, encodeMessage } from '../../shared/index.ts'
+import { launchBrowser } from './chromium.ts'
 import {
   ARTIFACTS,
   bodies,
   Finger,
   labNumbers,
-  launchBrowser,
   openSandbox,
   paintedPixels,
   pickTool,

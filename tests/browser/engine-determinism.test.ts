@@ -9,21 +9,11 @@
  * test prints on how many of the inputs they do (the reason the engine carries its own trig).
  */
 import { build } from 'esbuild'
-import { type Browser, chromium, type Page } from 'playwright-core'
+import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { GOLDEN_HASH, hex } from '../engine/determinism-fixtures.ts'
+import { launchBrowser } from './chromium.ts'
 import { type EngineCheck, runGolden, trigReport } from './engine-page.ts'
-
-const CHROMIUM_ARGS = [
-  '--headless',
-  '--no-sandbox',
-  '--disable-gpu',
-  '--disable-quic',
-  '--no-first-run',
-  '--disable-background-networking',
-  '--disable-component-update',
-  '--disable-sync',
-]
 
 let browser: Browser
 let page: Page
@@ -37,7 +27,7 @@ beforeAll(async () => {
     target: 'es2022',
     write: false,
   })
-  browser = await chromium.launch({ executablePath: '/usr/bin/chromium', args: CHROMIUM_ARGS })
+  browser = await launchBrowser()
   page = await browser.newPage()
   const errors: string[] = []
   page.on('pageerror', (e) => errors.push(e.message))
