@@ -5,32 +5,15 @@
  * a player's command) can never put a NaN, an infinity or a dangling id into the simulation.
  */
 import { Body, DYNAMIC, STATIC } from './body.ts'
-import { DISTANCE, JOINT_TYPE_NAMES, Joint, MOUSE, REVOLUTE } from './joint.ts'
+import { finite, finiteVec, inRange } from './def-checks.ts'
+import { JOINT_TYPE_NAMES, type Joint, MOUSE } from './joint.ts'
+import { buildJoint, jointInfo, localPoint } from './joint-defs.ts'
 import { atan2, cos, sin, type Vec2 } from './math.ts'
 import { computeMass, type Shape } from './shapes.ts'
 import type { BodyDef, BodyId, BodyType, ContactInfo, JointDef, JointId, JointInfo } from './types.ts'
 import { STEP_SECONDS, WorldStore } from './world-store.ts'
 
 const BODY_TYPES: readonly BodyType[] = ['static', 'kinematic', 'dynamic']
-
-function finite(what: string, value: number): number {
-  if (typeof value !== 'number' || !Number.isFinite(value))
-    throw new RangeError(`${what} must be a finite number, got ${value}`)
-  return value
-}
-
-function finiteVec(what: string, v: Vec2): Vec2 {
-  if (v === null || typeof v !== 'object') throw new RangeError(`${what} must be a {x, y} vector, got ${v}`)
-  finite(`${what}.x`, v.x)
-  finite(`${what}.y`, v.y)
-  return v
-}
-
-function inRange(what: string, value: number, lo: number, hi: number): number {
-  finite(what, value)
-  if (value < lo || value > hi) throw new RangeError(`${what} must be in [${lo}, ${hi}], got ${value}`)
-  return value
-}
 
 function checkShape(shape: Shape): Shape {
   if (shape === null || typeof shape !== 'object' || (shape.type !== 'circle' && shape.type !== 'polygon')) {
@@ -225,10 +208,7 @@ export class WorldApi extends WorldStore {
 
   /** A world point in the body's local frame (m). */
   getLocalPoint(id: BodyId, p: Vec2): Vec2 {
-    const b = this.body(id)
-    const dx = p.x - b.x
-    const dy = p.y - b.y
-    return { x: b.c * dx + b.s * dy, y: -b.s * dx + b.c * dy }
+    return localPoint(this.body(id), p)
   }
 
   /** A local point of the body in world space (m). */
@@ -331,72 +311,11 @@ export class WorldApi extends WorldStore {
 
   /** Creates a joint; ids are handed out 1, 2, 3... and never reused. Wakes both bodies. */
   createJoint(def: JointDef): JointId {
-    let joint: Joint
-    if (def.type === 'mouse') {
-      const b = this.body(def.body)
-      const target = finiteVec('target', def.target)
-      joint = new Joint(this.nextJointId, MOUSE, this.ground, b)
-      const local = def.localAnchor
-        ? finiteVec('localAnchor', def.localAnchor)
-        : this.getLocalPoint(b.id, target)
-      joint.localAnchorBx = local.x
-      joint.localAnchorBy = local.y
-      joint.targetX = target.x
-      joint.targetY = target.y
-      const g = Math.sqrt(this.gravityX * this.gravityX + this.gravityY * this.gravityY) || 10
-      joint.maxForce = inRange('maxForce', def.maxForce ?? 1000 * b.mass * g, 0, 1e12)
-      joint.hertz = inRange('hertz', def.hertz ?? 5, 0, 1000)
-      joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? 0.7, 0, 1000)
-    } else {
-      const a = def.bodyA === null ? this.ground : this.body(def.bodyA)
-      const b = this.body(def.bodyB)
-      if (a === b) throw new RangeError(`a joint needs two different bodies, got ${b.id} twice`)
-      const anchorA = finiteVec('anchor', def.type === 'revolute' ? def.anchor : def.anchorA)
-      const anchorB = def.type === 'revolute' ? anchorA : finiteVec('anchorB', def.anchorB)
-      joint = new Joint(this.nextJointId, def.type === 'revolute' ? REVOLUTE : DISTANCE, a, b)
-      const la = localPoint(a, anchorA)
-      const lb = localPoint(b, anchorB)
-      joint.localAnchorAx = la.x
-      joint.localAnchorAy = la.y
-      joint.localAnchorBx = lb.x
-      joint.localAnchorBy = lb.y
-      if (def.type === 'revolute') this.configureRevolute(joint, def)
-      else this.configureDistance(joint, def, anchorA, anchorB)
-    }
+    const g = Math.sqrt(this.gravityX * this.gravityX + this.gravityY * this.gravityY) || 10
+    const joint = buildJoint(def, this.nextJointId, (id) => this.body(id), this.ground, g)
     this.nextJointId++
     this.addJoint(joint)
     return joint.id
-  }
-
-  private configureRevolute(joint: Joint, def: Extract<JointDef, { type: 'revolute' }>): void {
-    joint.referenceAngle = atan2(
-      joint.bodyB.s * joint.bodyA.c - joint.bodyB.c * joint.bodyA.s,
-      joint.bodyB.c * joint.bodyA.c + joint.bodyB.s * joint.bodyA.s,
-    )
-    joint.enableLimit = def.enableLimit === true
-    joint.lowerAngle = inRange('lowerAngle', def.lowerAngle ?? 0, -Math.PI, Math.PI)
-    joint.upperAngle = inRange('upperAngle', def.upperAngle ?? 0, joint.lowerAngle, Math.PI)
-    joint.enableMotor = def.enableMotor === true
-    joint.motorSpeed = finite('motorSpeed', def.motorSpeed ?? 0)
-    joint.maxMotorTorque = inRange('maxMotorTorque', def.maxMotorTorque ?? 0, 0, 1e12)
-  }
-
-  private configureDistance(
-    joint: Joint,
-    def: Extract<JointDef, { type: 'distance' }>,
-    pa: Vec2,
-    pb: Vec2,
-  ): void {
-    const dx = pb.x - pa.x
-    const dy = pb.y - pa.y
-    const current = Math.sqrt(dx * dx + dy * dy)
-    joint.length = inRange('length', def.length ?? current, 0.001, 1e6)
-    // A def that gives only maxLength (and no spring) is a rope: it must never push.
-    const ropeDefault = def.maxLength !== undefined && def.hertz === undefined ? 0 : joint.length
-    joint.minLength = inRange('minLength', def.minLength ?? ropeDefault, 0, joint.length)
-    joint.maxLength = inRange('maxLength', def.maxLength ?? joint.length, joint.length, 1e6)
-    joint.hertz = inRange('hertz', def.hertz ?? 0, 0, 1e6)
-    joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? (joint.hertz > 0 ? 0.7 : 0), 0, 1e6)
   }
 
   /** Inserts a joint in id order, links it to its bodies, removes their contact, and wakes them. */
@@ -457,43 +376,5 @@ export class WorldApi extends WorldStore {
     // Joint impulses accumulate per sub-step, so force = impulse / h.
     const scale = this.settings.subSteps / STEP_SECONDS
     return this.jointList.map((j) => jointInfo(j, scale))
-  }
-}
-
-function localPoint(b: Body, p: Vec2): Vec2 {
-  const dx = p.x - b.x
-  const dy = p.y - b.y
-  return { x: b.c * dx + b.s * dy, y: -b.s * dx + b.c * dy }
-}
-
-function worldPoint(b: Body, lx: number, ly: number): Vec2 {
-  return { x: b.x + b.c * lx - b.s * ly, y: b.y + b.s * lx + b.c * ly }
-}
-
-function jointInfo(j: Joint, impulseToForce: number): JointInfo {
-  const type = JOINT_TYPE_NAMES[j.type]
-  const anchorB = worldPoint(j.bodyB, j.localAnchorBx, j.localAnchorBy)
-  const anchorA =
-    j.type === MOUSE ? { x: j.targetX, y: j.targetY } : worldPoint(j.bodyA, j.localAnchorAx, j.localAnchorAy)
-  let fx = j.linearImpulseX
-  let fy = j.linearImpulseY
-  if (j.type === DISTANCE) {
-    const dx = anchorB.x - anchorA.x
-    const dy = anchorB.y - anchorA.y
-    const len = Math.sqrt(dx * dx + dy * dy) || 1
-    const axial = j.impulse + j.lowerImpulse - j.upperImpulse
-    fx = (axial * dx) / len
-    fy = (axial * dy) / len
-  }
-  const torque = j.type === REVOLUTE ? j.motorImpulse + j.lowerImpulse - j.upperImpulse : 0
-  return {
-    id: j.id,
-    type,
-    bodyA: j.bodyA.id === 0 ? null : j.bodyA.id,
-    bodyB: j.bodyB.id,
-    anchorA,
-    anchorB,
-    force: { x: fx * impulseToForce, y: fy * impulseToForce },
-    torque: torque * impulseToForce,
   }
 }

@@ -1,0 +1,124 @@
+/*
+ * Joints from their public definitions, and joints back to their public read-back (JointInfo).
+ * Every value of a definition is checked here, with a RangeError naming it, before the joint
+ * reaches the solver. Anchors are given in world space at creation and stored in each body's frame.
+ */
+import type { Body } from './body.ts'
+import { finite, finiteVec, inRange } from './def-checks.ts'
+import { DISTANCE, JOINT_TYPE_NAMES, Joint, MOUSE, REVOLUTE } from './joint.ts'
+import { atan2, type Vec2 } from './math.ts'
+import type { BodyId, JointDef, JointInfo } from './types.ts'
+
+/**
+ * Builds joint `id` from a definition. `bodyOf` resolves (or rejects) body ids, `ground` is the
+ * fixed world frame for `bodyA: null`, and `gravity` (m/s^2) scales the mouse joint's default
+ * force cap (1000 m |g|).
+ */
+export function buildJoint(
+  def: JointDef,
+  id: number,
+  bodyOf: (id: BodyId) => Body,
+  ground: Body,
+  gravity: number,
+): Joint {
+  if (def.type === 'mouse') {
+    const b = bodyOf(def.body)
+    const target = finiteVec('target', def.target)
+    const joint = new Joint(id, MOUSE, ground, b)
+    const local = def.localAnchor ? finiteVec('localAnchor', def.localAnchor) : localPoint(b, target)
+    joint.localAnchorBx = local.x
+    joint.localAnchorBy = local.y
+    joint.targetX = target.x
+    joint.targetY = target.y
+    joint.maxForce = inRange('maxForce', def.maxForce ?? 1000 * b.mass * gravity, 0, 1e12)
+    joint.hertz = inRange('hertz', def.hertz ?? 5, 0, 1000)
+    joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? 0.7, 0, 1000)
+    return joint
+  }
+  const a = def.bodyA === null ? ground : bodyOf(def.bodyA)
+  const b = bodyOf(def.bodyB)
+  if (a === b) throw new RangeError(`a joint needs two different bodies, got ${b.id} twice`)
+  const anchorA = finiteVec('anchor', def.type === 'revolute' ? def.anchor : def.anchorA)
+  const anchorB = def.type === 'revolute' ? anchorA : finiteVec('anchorB', def.anchorB)
+  const joint = new Joint(id, def.type === 'revolute' ? REVOLUTE : DISTANCE, a, b)
+  const la = localPoint(a, anchorA)
+  const lb = localPoint(b, anchorB)
+  joint.localAnchorAx = la.x
+  joint.localAnchorAy = la.y
+  joint.localAnchorBx = lb.x
+  joint.localAnchorBy = lb.y
+  if (def.type === 'revolute') configureRevolute(joint, def)
+  else configureDistance(joint, def, anchorA, anchorB)
+  return joint
+}
+
+function configureRevolute(joint: Joint, def: Extract<JointDef, { type: 'revolute' }>): void {
+  joint.referenceAngle = atan2(
+    joint.bodyB.s * joint.bodyA.c - joint.bodyB.c * joint.bodyA.s,
+    joint.bodyB.c * joint.bodyA.c + joint.bodyB.s * joint.bodyA.s,
+  )
+  joint.enableLimit = def.enableLimit === true
+  joint.lowerAngle = inRange('lowerAngle', def.lowerAngle ?? 0, -Math.PI, Math.PI)
+  joint.upperAngle = inRange('upperAngle', def.upperAngle ?? 0, joint.lowerAngle, Math.PI)
+  joint.enableMotor = def.enableMotor === true
+  joint.motorSpeed = finite('motorSpeed', def.motorSpeed ?? 0)
+  joint.maxMotorTorque = inRange('maxMotorTorque', def.maxMotorTorque ?? 0, 0, 1e12)
+}
+
+function configureDistance(
+  joint: Joint,
+  def: Extract<JointDef, { type: 'distance' }>,
+  pa: Vec2,
+  pb: Vec2,
+): void {
+  const dx = pb.x - pa.x
+  const dy = pb.y - pa.y
+  const current = Math.sqrt(dx * dx + dy * dy)
+  joint.length = inRange('length', def.length ?? current, 0.001, 1e6)
+  // A def that gives only maxLength (and no spring) is a rope: it must never push.
+  const ropeDefault = def.maxLength !== undefined && def.hertz === undefined ? 0 : joint.length
+  joint.minLength = inRange('minLength', def.minLength ?? ropeDefault, 0, joint.length)
+  joint.maxLength = inRange('maxLength', def.maxLength ?? joint.length, joint.length, 1e6)
+  joint.hertz = inRange('hertz', def.hertz ?? 0, 0, 1e6)
+  joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? (joint.hertz > 0 ? 0.7 : 0), 0, 1e6)
+}
+
+/** A world point in a body's frame, relative to its origin (m). */
+export function localPoint(b: Body, p: Vec2): Vec2 {
+  const dx = p.x - b.x
+  const dy = p.y - b.y
+  return { x: b.c * dx + b.s * dy, y: -b.s * dx + b.c * dy }
+}
+
+function worldPoint(b: Body, lx: number, ly: number): Vec2 {
+  return { x: b.x + b.c * lx - b.s * ly, y: b.y + b.s * lx + b.c * ly }
+}
+
+/** A joint's read-back; `impulseToForce` is sub-steps per second (impulses accumulate per sub-step). */
+export function jointInfo(j: Joint, impulseToForce: number): JointInfo {
+  const type = JOINT_TYPE_NAMES[j.type]
+  const anchorB = worldPoint(j.bodyB, j.localAnchorBx, j.localAnchorBy)
+  const anchorA =
+    j.type === MOUSE ? { x: j.targetX, y: j.targetY } : worldPoint(j.bodyA, j.localAnchorAx, j.localAnchorAy)
+  let fx = j.linearImpulseX
+  let fy = j.linearImpulseY
+  if (j.type === DISTANCE) {
+    const dx = anchorB.x - anchorA.x
+    const dy = anchorB.y - anchorA.y
+    const len = Math.sqrt(dx * dx + dy * dy) || 1
+    const axial = j.impulse + j.lowerImpulse - j.upperImpulse
+    fx = (axial * dx) / len
+    fy = (axial * dy) / len
+  }
+  const torque = j.type === REVOLUTE ? j.motorImpulse + j.lowerImpulse - j.upperImpulse : 0
+  return {
+    id: j.id,
+    type,
+    bodyA: j.bodyA.id === 0 ? null : j.bodyA.id,
+    bodyB: j.bodyB.id,
+    anchorA,
+    anchorB,
+    force: { x: fx * impulseToForce, y: fy * impulseToForce },
+    torque: torque * impulseToForce,
+  }
+}
