@@ -1,0 +1,225 @@
+/*
+ * Shapes, mass properties, body types and island sleep, against hand computations:
+ * - polygon(): hull and winding validated, bad input rejected with a message naming it;
+ * - mass, centroid and inertia against the closed forms for a rectangle, a circle and a triangle;
+ * - kinematic bodies move by their velocity only and push dynamic bodies;
+ * - sleep is per island, a touch wakes a sleeping island, destroying a body wakes what it touched.
+ */
+import { describe, expect, it } from 'vitest'
+import { box, buildScene, circle, computeMass, createWorld, polygon, towerScene } from '../../engine/index.ts'
+
+describe('shapes', () => {
+  it('polygon() stores either winding counter-clockwise with outward unit normals', () => {
+    const cw = polygon([
+      { x: 0, y: 0 },
+      { x: 0, y: 1 },
+      { x: 2, y: 1 },
+      { x: 2, y: 0 },
+    ])
+    let area2 = 0
+    for (let i = 0; i < cw.count; i++) {
+      const a = cw.vertices[i]
+      const b = cw.vertices[(i + 1) % cw.count]
+      area2 += a.x * b.y - a.y * b.x
+      const n = cw.normals[i]
+      expect(Math.hypot(n.x, n.y)).toBeCloseTo(1, 15)
+      // outward: the centroid is behind every edge
+      expect(n.x * (cw.centroid.x - a.x) + n.y * (cw.centroid.y - a.y)).toBeLessThan(0)
+    }
+    expect(area2).toBeCloseTo(4, 12) // twice the area, positive: counter-clockwise
+  })
+
+  it.each([
+    [
+      'a concave vertex',
+      [
+        { x: 0, y: 0 },
+        { x: 2, y: 0 },
+        { x: 1, y: 0.5 },
+        { x: 2, y: 2 },
+        { x: 0, y: 2 },
+      ],
+      /convex/,
+    ],
+    [
+      'collinear vertices',
+      [
+        { x: 0, y: 0 },
+        { x: 1, y: 0 },
+        { x: 2, y: 0 },
+        { x: 1, y: 1 },
+      ],
+      /convex|collinear/,
+    ],
+    [
+      'a repeated point',
+      [
+        { x: 0, y: 0 },
+        { x: 0, y: 0 },
+        { x: 1, y: 1 },
+      ],
+      /degenerate/,
+    ],
+    [
+      'two vertices',
+      [
+        { x: 0, y: 0 },
+        { x: 1, y: 0 },
+      ],
+      /3 to 8 vertices, got 2/,
+    ],
+    ['nine vertices', Array.from({ length: 9 }, (_, i) => ({ x: Math.cos(i), y: Math.sin(i) })), /got 9/],
+    [
+      'a NaN vertex',
+      [
+        { x: 0, y: 0 },
+        { x: Number.NaN, y: 0 },
+        { x: 1, y: 1 },
+      ],
+      /vertex 1/,
+    ],
+    [
+      'a self-intersecting star',
+      [0, 2, 4, 1, 3].map((k) => ({
+        x: Math.cos((2 * Math.PI * k) / 5),
+        y: Math.sin((2 * Math.PI * k) / 5),
+      })),
+      /convex/,
+    ],
+  ])('polygon() rejects %s with a message naming it', (_name, points, message) => {
+    expect(() => polygon(points)).toThrow(message)
+  })
+
+  it('circle() and box() reject zero, negative and non-finite sizes, naming the value', () => {
+    expect(() => circle(0)).toThrow(/radius.*0/)
+    expect(() => circle(Number.POSITIVE_INFINITY)).toThrow(/radius/)
+    expect(() => box(-1, 1)).toThrow(/halfWidth.*-1/)
+  })
+
+  it('mass properties match the closed forms (rectangle, circle, right triangle)', () => {
+    // Rectangle w x h at density 2: m = 2 w h, I = m (w^2 + h^2) / 12 about the centre.
+    const rect = computeMass(box(1.5, 0.25), 2)
+    expect(rect.mass).toBeCloseTo(2 * 3 * 0.5, 12)
+    expect(rect.inertia).toBeCloseTo((rect.mass * (9 + 0.25)) / 12, 12)
+    // Circle r at density 3: m = 3 pi r^2, I = m r^2 / 2.
+    const disc = computeMass(circle(0.4), 3)
+    expect(disc.mass).toBeCloseTo(3 * Math.PI * 0.16, 12)
+    expect(disc.inertia).toBeCloseTo((disc.mass * 0.16) / 2, 12)
+    // Right triangle with legs a (x) and b (y) at the origin: centroid (a/3, b/3),
+    // I about the centroid = m (a^2 + b^2) / 18.
+    const a = 3
+    const b = 2
+    const tri = computeMass(
+      polygon([
+        { x: 0, y: 0 },
+        { x: a, y: 0 },
+        { x: 0, y: b },
+      ]),
+      1,
+    )
+    expect(tri.mass).toBeCloseTo((a * b) / 2, 12)
+    expect(tri.center.x).toBeCloseTo(a / 3, 12)
+    expect(tri.center.y).toBeCloseTo(b / 3, 12)
+    expect(tri.inertia).toBeCloseTo((tri.mass * (a * a + b * b)) / 18, 12)
+  })
+
+  it('an off-centre polygon rotates about its centroid, not its origin', () => {
+    const world = createWorld({ gravity: { x: 0, y: 0 } })
+    const shape = polygon([
+      { x: 2, y: 0 },
+      { x: 4, y: 0 },
+      { x: 4, y: 2 },
+      { x: 2, y: 2 },
+    ])
+    const id = world.createBody({ position: { x: 0, y: 0 }, shape, angularVelocity: 1 })
+    for (let i = 0; i < 60; i++) world.step()
+    const c = world.getWorldCenter(id)
+    expect(c.x).toBeCloseTo(3, 9)
+    expect(c.y).toBeCloseTo(1, 9)
+  })
+})
+
+describe('body types', () => {
+  it('a kinematic body moves exactly by its velocity, ignores gravity, and pushes a dynamic box', () => {
+    const world = createWorld()
+    world.createBody({ type: 'static', position: { x: 0, y: -1 }, shape: box(50, 1) })
+    const pusher = world.createBody({
+      type: 'kinematic',
+      position: { x: -3, y: 0.5 },
+      shape: box(0.5, 0.5),
+      linearVelocity: { x: 1, y: 0 },
+    })
+    const crate = world.createBody({ position: { x: 0, y: 0.5 }, shape: box(0.5, 0.5) })
+    for (let i = 0; i < 240; i++) world.step()
+    const p = world.getPosition(pusher)
+    expect(p.x).toBeCloseTo(-3 + 4, 9) // 4 s at 1 m/s, untouched by the crate it pushes
+    expect(p.y).toBe(0.5)
+    expect(world.getLinearVelocity(pusher)).toEqual({ x: 1, y: 0 })
+    expect(world.getMass(pusher)).toBe(0)
+    // The crate is pushed ahead of the kinematic box, face to face.
+    const q = world.getPosition(crate)
+    expect(q.x).toBeGreaterThan(p.x + 0.98)
+    expect(q.x).toBeLessThan(p.x + 1.05)
+  })
+
+  it('a static body never moves and is never awake', () => {
+    const world = createWorld()
+    const ground = world.createBody({ type: 'static', position: { x: 0, y: -1 }, shape: box(5, 1) })
+    world.createBody({ position: { x: 0, y: 3 }, shape: circle(0.5) })
+    for (let i = 0; i < 120; i++) world.step()
+    expect(world.getPosition(ground)).toEqual({ x: 0, y: -1 })
+    expect(world.isAwake(ground)).toBe(false)
+  })
+})
+
+describe('islands and sleep', () => {
+  it('sleep is per island: a resting box sleeps while a separate box keeps falling', () => {
+    const world = createWorld()
+    world.createBody({ type: 'static', position: { x: 0, y: -1 }, shape: box(50, 1) })
+    const resting = world.createBody({ position: { x: -10, y: 0.5 }, shape: box(0.5, 0.5) })
+    const falling = world.createBody({ position: { x: 10, y: 30 }, shape: box(0.5, 0.5) })
+    for (let i = 0; i < 60; i++) world.step()
+    expect(world.isAwake(resting)).toBe(false)
+    expect(world.isAwake(falling)).toBe(true)
+  })
+
+  it('a body dropped on a sleeping tower wakes the whole tower (its island), not other islands', () => {
+    const world = createWorld()
+    const ids = buildScene(world, towerScene(5, false))
+    const loner = world.createBody({ position: { x: 20, y: 0.5 }, shape: box(0.5, 0.5) })
+    for (let i = 0; i < 120; i++) world.step()
+    for (const id of [...ids.slice(1), loner]) expect(world.isAwake(id)).toBe(false)
+    world.createBody({ position: { x: 0, y: 8 }, shape: box(0.5, 0.5), linearVelocity: { x: 0, y: -5 } })
+    let woke = false
+    for (let i = 0; i < 60 && !woke; i++) {
+      world.step()
+      woke = ids.slice(1).every((id) => world.isAwake(id))
+    }
+    expect(woke).toBe(true)
+    expect(world.isAwake(loner)).toBe(false)
+  })
+
+  it('destroying the bottom box of a sleeping stack wakes the boxes above, which then fall', () => {
+    const world = createWorld()
+    const ids = buildScene(world, towerScene(3, false))
+    for (let i = 0; i < 120; i++) world.step()
+    expect(world.isAwake(ids[3])).toBe(false)
+    world.destroyBody(ids[1])
+    expect(world.isAwake(ids[2])).toBe(true)
+    expect(world.isAwake(ids[3])).toBe(true)
+    for (let i = 0; i < 120; i++) world.step()
+    expect(world.getPosition(ids[2]).y).toBeCloseTo(0.5, 2)
+    expect(world.getPosition(ids[3]).y).toBeCloseTo(1.5, 2)
+    expect(world.hasBody(ids[1])).toBe(false)
+  })
+
+  it('an impulse on a sleeping body wakes it and its island', () => {
+    const world = createWorld()
+    const ids = buildScene(world, towerScene(2, false))
+    for (let i = 0; i < 120; i++) world.step()
+    expect(world.isAwake(ids[1])).toBe(false)
+    world.applyLinearImpulse(ids[2], { x: 0.1, y: 0 }, world.getPosition(ids[2]))
+    expect(world.isAwake(ids[1])).toBe(true)
+    expect(world.isAwake(ids[2])).toBe(true)
+  })
+})
