@@ -16,13 +16,19 @@ import {
   type World,
 } from '../engine/index.ts'
 import {
+  addUserJoint,
   type Command,
-  fromWireShape,
-  MAX_SPAWN_SPEED,
+  deleteBody,
+  grabBody,
+  grabRefusal,
+  moveGrab,
   type RoomRules,
+  removeJoint,
+  setWorldGravity,
+  spawnBody,
   toWireShape,
+  type WireJoint,
   type WireShape,
-  WORLD_HALF_EXTENT,
 } from '../shared/index.ts'
 import { toWorld } from './picking.ts'
 import type {
@@ -44,17 +50,6 @@ interface StepViewBody extends ViewBody {
   pa: number
 }
 const OWN_COLOR = '#ff9f1c'
-const clamp = (v: number, limit: number): number => Math.min(limit, Math.max(-limit, v))
-
-interface LocalJoint {
-  kind: 'pin' | 'rope'
-  a: number
-  b: number
-  ax: number
-  ay: number
-  bx: number
-  by: number
-}
 
 /** The sandbox with the engine in the page. */
 export class OfflineSandbox implements Sandbox {
@@ -68,7 +63,7 @@ export class OfflineSandbox implements Sandbox {
   private readonly shapes = new Map<number, WireShape>()
   private readonly view: StepViewBody[] = []
   private readonly viewById = new Map<number, StepViewBody>()
-  private readonly joints_ = new Map<JointId, LocalJoint>()
+  private readonly joints_ = new Map<JointId, WireJoint>()
   private grab: { joint: JointId; body: number } | null = null
   private stepMs = 0
   private contactCache: ContactInfo[] | null = null
@@ -199,64 +194,48 @@ export class OfflineSandbox implements Sandbox {
     return this.contactCache
   }
 
-  /** Apply a command to the local world, as a room would (refused commands are ignored). */
+  /**
+   * Apply a command to the local world through shared/world-commands.ts, as a room would, with the
+   * same clamps and caps; refused commands are ignored (they never throw).
+   */
   send(cmd: Command): void {
-    try {
-      this.apply(cmd)
-    } catch {
-      // Engine preconditions (degenerate shapes or joints) refuse the command, as online.
-    }
+    this.apply(cmd)
   }
 
   private apply(cmd: Command): void {
     const w = this.world
-    const movable = (id: number): boolean => w.hasBody(id) && w.getBodyType(id) !== 'static'
     switch (cmd.k) {
       case 'spawn':
-        w.createBody({
-          shape: fromWireShape(cmd.shape),
-          position: { x: clamp(cmd.x, WORLD_HALF_EXTENT), y: clamp(cmd.y, WORLD_HALF_EXTENT) },
-          angle: cmd.angle ?? 0,
-          linearVelocity: { x: clamp(cmd.vx ?? 0, MAX_SPAWN_SPEED), y: clamp(cmd.vy ?? 0, MAX_SPAWN_SPEED) },
-          angularVelocity: clamp(cmd.w ?? 0, MAX_SPAWN_SPEED),
-          friction: 0.6,
-        })
+        spawnBody(w, cmd)
         return
       case 'grab': {
-        if (!movable(cmd.body) || w.getBodyType(cmd.body) !== 'dynamic') return
+        if (grabRefusal(w, cmd.body)) return
         this.release()
-        const local = { x: cmd.lx, y: cmd.ly }
-        const target = w.getWorldPoint(cmd.body, local)
-        const maxForce = 1000 * w.getMass(cmd.body)
-        const joint = w.createJoint({ type: 'mouse', body: cmd.body, target, localAnchor: local, maxForce })
-        this.grab = { joint, body: cmd.body }
+        const grabbed = grabBody(w, cmd.body, cmd.lx, cmd.ly)
+        if (grabbed.ok) this.grab = { joint: grabbed.value.joint, body: cmd.body }
         return
       }
       case 'move':
-        if (this.grab && w.hasJoint(this.grab.joint)) {
-          w.setJointTarget(this.grab.joint, {
-            x: clamp(cmd.x, WORLD_HALF_EXTENT),
-            y: clamp(cmd.y, WORLD_HALF_EXTENT),
-          })
-        }
+        moveGrab(w, this.grab?.joint ?? null, cmd.x, cmd.y)
         return
       case 'release':
         this.release()
         return
       case 'delete':
-        if (!movable(cmd.body)) return
+        if (deleteBody(w, cmd.body)) return
         if (this.grab?.body === cmd.body) this.grab = null
         for (const [id, j] of this.joints_) if (j.a === cmd.body || j.b === cmd.body) this.joints_.delete(id)
-        w.destroyBody(cmd.body)
         this.viewById.delete(cmd.body)
         this.view.length = 0
         return
       case 'pin':
-      case 'rope':
-        this.joint(cmd)
+      case 'rope': {
+        const added = addUserJoint(w, cmd)
+        if (added.ok) this.joints_.set(added.value.id, added.value)
         return
+      }
       case 'unjoint':
-        if (this.joints_.has(cmd.joint)) w.destroyJoint(cmd.joint)
+        if (this.joints_.has(cmd.joint)) removeJoint(w, cmd.joint)
         this.joints_.delete(cmd.joint)
         return
       case 'scene':
@@ -274,47 +253,14 @@ export class OfflineSandbox implements Sandbox {
         this.stepOnce = true
         return
       case 'gravity':
-        w.setGravity({ x: cmd.x, y: cmd.y })
-        for (const id of w.bodyIds()) if (w.getBodyType(id) === 'dynamic') w.setAwake(id, true)
+        setWorldGravity(w, cmd.x, cmd.y)
         return
     }
   }
 
   private release(): void {
-    if (this.grab && this.world.hasJoint(this.grab.joint)) this.world.destroyJoint(this.grab.joint)
+    if (this.grab) removeJoint(this.world, this.grab.joint)
     this.grab = null
-  }
-
-  private joint(cmd: Extract<Command, { k: 'pin' | 'rope' }>): void {
-    const w = this.world
-    if (!w.hasBody(cmd.b) || w.getBodyType(cmd.b) === 'static' || cmd.a === cmd.b) return
-    if (cmd.a !== 0 && !w.hasBody(cmd.a)) return
-    const bodyA = cmd.a === 0 ? null : cmd.a
-    const local = (body: number | null, x: number, y: number) =>
-      body === null ? { x, y } : w.getLocalPoint(body, { x, y })
-    if (cmd.k === 'pin') {
-      const id = w.createJoint({ type: 'revolute', bodyA, bodyB: cmd.b, anchor: { x: cmd.x, y: cmd.y } })
-      const la = local(bodyA, cmd.x, cmd.y)
-      const lb = local(cmd.b, cmd.x, cmd.y)
-      this.joints_.set(id, { kind: 'pin', a: cmd.a, b: cmd.b, ax: la.x, ay: la.y, bx: lb.x, by: lb.y })
-      return
-    }
-    const anchorA = { x: cmd.ax, y: cmd.ay }
-    const anchorB = { x: cmd.bx, y: cmd.by }
-    const length = Math.hypot(anchorB.x - anchorA.x, anchorB.y - anchorA.y)
-    const id = w.createJoint({
-      type: 'distance',
-      bodyA,
-      bodyB: cmd.b,
-      anchorA,
-      anchorB,
-      length,
-      minLength: 0,
-      maxLength: length,
-    })
-    const la = local(bodyA, cmd.ax, cmd.ay)
-    const lb = local(cmd.b, cmd.bx, cmd.by)
-    this.joints_.set(id, { kind: 'rope', a: cmd.a, b: cmd.b, ax: la.x, ay: la.y, bx: lb.x, by: lb.y })
   }
 
   color(): string {

@@ -29,3 +29,20 @@ export { readUpdates, UPDATE_ABSOLUTE, UPDATE_AWAKE, updateSize, writeUpdates } 
 export { type EncodeStats, SnapshotEncoder } from './snapshot-encoder.ts'
 export { type AppliedSnapshot, SnapshotHistory } from './snapshot-history.ts'
 export { validateClientMessage, validateServerMessage } from './validate.ts'
+export {
+  addUserJoint,
+  type CreatedGrab,
+  clampToWorld,
+  deleteBody,
+  GRAB_FORCE_PER_KG,
+  grabBody,
+  grabRefusal,
+  isMovable,
+  jointRefusal,
+  MAX_GRAB_FORCE,
+  moveGrab,
+  removeJoint,
+  setWorldGravity,
+  spawnBody,
+  type WorldResult,
+} from './world-commands.ts'

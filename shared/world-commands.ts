@@ -1,0 +1,174 @@
+/*
+ * The world-level half of applying a command: what a spawn, grab, move, pin, rope, delete, unjoint
+ * or gravity change does to an engine World, with every clamp and cap the protocol promises
+ * (positions to WORLD_HALF_EXTENT, spawn speeds to MAX_SPAWN_SPEED, grab force per kg, grab
+ * anchors to the body's outline, rope length to MAX_ROPE_LENGTH). The server's rooms and the
+ * offline sandbox both call these, so the two cannot drift apart. What is not the world's stays
+ * with the caller: sessions, recorders, per-room limits and events on the server; views and the
+ * page's own grab on the client. A refusal comes back as a reason; nothing here throws (an engine
+ * precondition failure becomes "<command> refused: <message>").
+ */
+import type { BodyId, JointId, Vec2, World } from '../engine/index.ts'
+import { MAX_ROPE_LENGTH, MAX_SPAWN_SPEED, WORLD_HALF_EXTENT } from './constants.ts'
+import type { PinCommand, RopeCommand, SpawnCommand, WireJoint } from './messages.ts'
+import { fromWireShape } from './shape-wire.ts'
+
+/** Grab force cap per kg of the grabbed body (N/kg): 1000 as in Box2D's samples. */
+export const GRAB_FORCE_PER_KG = 1000
+/** Absolute grab force cap (N), 1e7. */
+export const MAX_GRAB_FORCE = 1e7
+
+/** What a world command did: its result, or the reason it was refused. */
+export type WorldResult<T> = { ok: true; value: T } | { ok: false; reason: string }
+
+/** A grab just created: the mouse joint and its starting target (world m). */
+export interface CreatedGrab {
+  joint: JointId
+  target: Vec2
+}
+
+const clampTo = (v: number, limit: number): number => Math.min(limit, Math.max(-limit, v))
+const refused = <T>(reason: string): WorldResult<T> => ({ ok: false, reason })
+
+/** A point clamped into the world square [-WORLD_HALF_EXTENT, WORLD_HALF_EXTENT]^2 (m). */
+export function clampToWorld(x: number, y: number): Vec2 {
+  return { x: clampTo(x, WORLD_HALF_EXTENT), y: clampTo(y, WORLD_HALF_EXTENT) }
+}
+
+/** Whether a body exists and is not static (the bodies players may delete, pin or inspect). */
+export function isMovable(world: World, id: number): boolean {
+  return world.hasBody(id) && world.getBodyType(id) !== 'static'
+}
+
+/** Run an engine call that may throw on a precondition; the error becomes a refusal. */
+function guarded<T>(command: string, create: () => T): WorldResult<T> {
+  try {
+    return { ok: true, value: create() }
+  } catch (error) {
+    return refused(`${command} refused: ${(error as Error).message}`)
+  }
+}
+
+/** Create the dynamic body a spawn command asks for: position and speeds clamped, friction 0.6. */
+export function spawnBody(world: World, cmd: SpawnCommand): WorldResult<BodyId> {
+  return guarded('spawn', () =>
+    world.createBody({
+      type: 'dynamic',
+      shape: fromWireShape(cmd.shape),
+      position: clampToWorld(cmd.x, cmd.y),
+      angle: cmd.angle ?? 0,
+      linearVelocity: { x: clampTo(cmd.vx ?? 0, MAX_SPAWN_SPEED), y: clampTo(cmd.vy ?? 0, MAX_SPAWN_SPEED) },
+      angularVelocity: clampTo(cmd.w ?? 0, MAX_SPAWN_SPEED),
+      friction: 0.6,
+    }),
+  )
+}
+
+/** Why a body cannot be grabbed (it is missing or not dynamic), or null when it can. */
+export function grabRefusal(world: World, body: number): string | null {
+  if (!world.hasBody(body) || world.getBodyType(body) !== 'dynamic') return `body ${body} cannot be grabbed`
+  return null
+}
+
+/** Largest distance of the shape's outline from the body origin (m). */
+function shapeReach(world: World, id: BodyId): number {
+  const shape = world.getShape(id)
+  if (shape.type === 'circle') return shape.radius
+  let r = 0
+  for (const v of shape.vertices) r = Math.max(r, Math.sqrt(v.x * v.x + v.y * v.y))
+  return r
+}
+
+/**
+ * Grab a dynamic body at a local point (m) with a mouse joint: the anchor is pulled in to the
+ * shape's reach, the target starts at the anchor's world position, the force is capped at
+ * min(MAX_GRAB_FORCE, GRAB_FORCE_PER_KG * mass). The caller releases any earlier grab first.
+ */
+export function grabBody(world: World, body: number, lx: number, ly: number): WorldResult<CreatedGrab> {
+  const refusal = grabRefusal(world, body)
+  if (refusal) return refused(refusal)
+  return guarded('grab', () => {
+    const reach = shapeReach(world, body)
+    const length = Math.sqrt(lx * lx + ly * ly)
+    const scale = length > reach ? reach / length : 1
+    const localAnchor = { x: lx * scale, y: ly * scale }
+    const target = world.getWorldPoint(body, localAnchor)
+    const maxForce = Math.min(MAX_GRAB_FORCE, GRAB_FORCE_PER_KG * world.getMass(body))
+    const joint = world.createJoint({ type: 'mouse', body, target, localAnchor, maxForce })
+    return { joint, target }
+  })
+}
+
+/** Move a grab's target to a point clamped to the world (if the joint still exists); returns the point. */
+export function moveGrab(world: World, joint: JointId | null, x: number, y: number): Vec2 {
+  const p = clampToWorld(x, y)
+  if (joint !== null && world.hasJoint(joint)) world.setJointTarget(joint, p)
+  return p
+}
+
+/** Destroy a joint if it still exists (a grab's mouse joint, or a pin or rope). */
+export function removeJoint(world: World, joint: JointId): void {
+  if (world.hasJoint(joint)) world.destroyJoint(joint)
+}
+
+/** Destroy a movable body and its joints; refused for a missing or static body. */
+export function deleteBody(world: World, body: number): string | null {
+  if (!isMovable(world, body)) return `body ${body} does not exist or is static`
+  world.destroyBody(body)
+  return null
+}
+
+/** Why a pin or rope cannot join its bodies (b missing or static, a missing, a = b), or null. */
+export function jointRefusal(world: World, cmd: PinCommand | RopeCommand): string | null {
+  if (!isMovable(world, cmd.b)) return `body ${cmd.b} does not exist or is static`
+  if (cmd.a !== 0 && !world.hasBody(cmd.a)) return `body ${cmd.a} does not exist`
+  if (cmd.a === cmd.b) return 'a joint needs two different bodies'
+  return null
+}
+
+/**
+ * Create a pin (revolute joint at a world point) or a rope (distance joint between two world
+ * points, slack allowed, at most MAX_ROPE_LENGTH) with anchors clamped to the world; returns the
+ * joint as it travels, anchors in each body's frame (the world frame when a = 0).
+ */
+export function addUserJoint(world: World, cmd: PinCommand | RopeCommand): WorldResult<WireJoint> {
+  const refusal = jointRefusal(world, cmd)
+  if (refusal) return refused(refusal)
+  const bodyA = cmd.a === 0 ? null : cmd.a
+  const local = (body: number | null, p: Vec2): Vec2 => (body === null ? p : world.getLocalPoint(body, p))
+  const wire = (id: JointId, anchorA: Vec2, anchorB: Vec2, length: number): WireJoint => {
+    const la = local(bodyA, anchorA)
+    const lb = local(cmd.b, anchorB)
+    return { id, kind: cmd.k, a: cmd.a, b: cmd.b, ax: la.x, ay: la.y, bx: lb.x, by: lb.y, length }
+  }
+  if (cmd.k === 'pin') {
+    const anchor = clampToWorld(cmd.x, cmd.y)
+    return guarded('pin', () => {
+      const id = world.createJoint({ type: 'revolute', bodyA, bodyB: cmd.b, anchor })
+      return wire(id, anchor, anchor, 0)
+    })
+  }
+  const anchorA = clampToWorld(cmd.ax, cmd.ay)
+  const anchorB = clampToWorld(cmd.bx, cmd.by)
+  const length = Math.sqrt((anchorB.x - anchorA.x) ** 2 + (anchorB.y - anchorA.y) ** 2)
+  if (length > MAX_ROPE_LENGTH) return refused(`rope longer than ${MAX_ROPE_LENGTH} m`)
+  return guarded('rope', () => {
+    const id = world.createJoint({
+      type: 'distance',
+      bodyA,
+      bodyB: cmd.b,
+      anchorA,
+      anchorB,
+      length,
+      minLength: 0,
+      maxLength: length,
+    })
+    return wire(id, anchorA, anchorB, length)
+  })
+}
+
+/** Set the world's gravity (m/s^2) and wake every dynamic body so the change is felt at once. */
+export function setWorldGravity(world: World, x: number, y: number): void {
+  world.setGravity({ x, y })
+  for (const id of world.bodyIds()) if (world.getBodyType(id) === 'dynamic') world.setAwake(id, true)
+}
