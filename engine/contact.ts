@@ -127,23 +127,21 @@ function inherit(id: number): void {
 }
 const found = new Float64Array(2)
 
+/**
+ * Marks a contact as not touching without running the narrowphase, for bodies whose bounding
+ * circles are already farther apart than the speculative distance (what the narrowphase would say).
+ */
+export function clearContact(c: Contact): void {
+  c.pointCount = 0
+  c.normalX = 0
+  c.normalY = 0
+  c.touching = false
+}
+
 /** Recomputes a contact's manifold at the bodies' current transforms; returns whether it touches. */
 export function updateContact(c: Contact, speculativeDistance: number): boolean {
   const a = c.bodyA
   const b = c.bodyB
-  // Bounding circles about the centres of mass farther apart than the speculative distance cannot
-  // produce a point: skip the separating-axis test (many broadphase pairs are near, not touching).
-  // The 1e-4 relative slack keeps borderline pairs on the exact path, so results are unchanged.
-  const dx = b.cx - a.cx
-  const dy = b.cy - a.cy
-  const reach = a.maxExtent + b.maxExtent + speculativeDistance
-  if (dx * dx + dy * dy > 1.0001 * reach * reach) {
-    c.pointCount = 0
-    c.normalX = 0
-    c.normalY = 0
-    c.touching = false
-    return false
-  }
   collideShapes(a.shape, a.x, a.y, a.c, a.s, b.shape, b.x, b.y, b.c, b.s, speculativeDistance, scratch)
   old[0] = c.id0
   old[1] = c.id1
