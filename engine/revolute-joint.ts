@@ -54,47 +54,34 @@ function solveLimits(joint: Joint, ctx: JointStepContext, useBias: boolean): voi
   const a = joint.bodyA
   const b = joint.bodyB
   const jointAngle = unwind(joint.deltaAngle + relativeAngle(b.dqc, b.dqs, a.dqc, a.dqs))
+  solveLimit(joint, ctx, useBias, jointAngle - joint.lowerAngle, 1)
+  // Upper limit: the sign of everything flips.
+  solveLimit(joint, ctx, useBias, joint.upperAngle - jointAngle, -1)
+}
+
+/** One-sided angle limit with error C (rad, positive = inside); sign +1 is the lower, -1 the upper. */
+function solveLimit(joint: Joint, ctx: JointStepContext, useBias: boolean, C: number, sign: number): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
   const soft = ctx.jointSoftness
-  // Lower limit
-  {
-    const C = jointAngle - joint.lowerAngle
-    let bias = 0
-    let massScale = 1
-    let impulseScale = 0
-    if (C > 0) bias = C * ctx.invH
-    else if (useBias) {
-      bias = soft.biasRate * C
-      massScale = soft.massScale
-      impulseScale = soft.impulseScale
-    }
-    const cdot = b.w - a.w
-    let impulse = -joint.axialMass * massScale * (cdot + bias) - impulseScale * joint.lowerImpulse
-    const newImpulse = Math.max(joint.lowerImpulse + impulse, 0)
-    impulse = newImpulse - joint.lowerImpulse
-    joint.lowerImpulse = newImpulse
-    a.w -= a.invInertia * impulse
-    b.w += b.invInertia * impulse
+  let bias = 0
+  let massScale = 1
+  let impulseScale = 0
+  if (C > 0) bias = C * ctx.invH
+  else if (useBias) {
+    bias = soft.biasRate * C
+    massScale = soft.massScale
+    impulseScale = soft.impulseScale
   }
-  // Upper limit: the sign of everything flips
-  {
-    const C = joint.upperAngle - jointAngle
-    let bias = 0
-    let massScale = 1
-    let impulseScale = 0
-    if (C > 0) bias = C * ctx.invH
-    else if (useBias) {
-      bias = soft.biasRate * C
-      massScale = soft.massScale
-      impulseScale = soft.impulseScale
-    }
-    const cdot = a.w - b.w
-    let impulse = -joint.axialMass * massScale * (cdot + bias) - impulseScale * joint.upperImpulse
-    const newImpulse = Math.max(joint.upperImpulse + impulse, 0)
-    impulse = newImpulse - joint.upperImpulse
-    joint.upperImpulse = newImpulse
-    a.w += a.invInertia * impulse
-    b.w -= b.invInertia * impulse
-  }
+  const accumulated = sign > 0 ? joint.lowerImpulse : joint.upperImpulse
+  const cdot = sign * (b.w - a.w)
+  let impulse = -joint.axialMass * massScale * (cdot + bias) - impulseScale * accumulated
+  const newImpulse = Math.max(accumulated + impulse, 0)
+  impulse = newImpulse - accumulated
+  if (sign > 0) joint.lowerImpulse = newImpulse
+  else joint.upperImpulse = newImpulse
+  a.w -= a.invInertia * (sign * impulse)
+  b.w += b.invInertia * (sign * impulse)
 }
 
 /**
