@@ -31,7 +31,7 @@ describe('client mirror', () => {
     const mirror = new ClientMirror()
     mirror.handle({
       t: 'welcome',
-      v: 1,
+      v: 2,
       id: 7,
       token: 't',
       room: 'r',
