@@ -44,6 +44,7 @@ export type {
   JointDef,
   JointId,
   JointInfo,
+  JointReaction,
   MouseJointDef,
   RevoluteJointDef,
   WorldDef,

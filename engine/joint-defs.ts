@@ -7,7 +7,7 @@ import type { Body } from './body.ts'
 import { finite, finiteVec, inRange } from './def-checks.ts'
 import { DISTANCE, JOINT_TYPE_NAMES, Joint, MOUSE, REVOLUTE } from './joint.ts'
 import { atan2, type Vec2 } from './math.ts'
-import type { BodyId, JointDef, JointInfo } from './types.ts'
+import type { BodyId, JointDef, JointInfo, JointReaction } from './types.ts'
 
 /**
  * Builds joint `id` from a definition. `bodyOf` resolves (or rejects) body ids, `ground` is the
@@ -41,6 +41,9 @@ export function buildJoint(
   const anchorA = finiteVec('anchor', def.type === 'revolute' ? def.anchor : def.anchorA)
   const anchorB = def.type === 'revolute' ? anchorA : finiteVec('anchorB', def.anchorB)
   const joint = new Joint(id, def.type === 'revolute' ? REVOLUTE : DISTANCE, a, b)
+  // A pin usually lies inside both bodies, so they must not collide; a rope, rod or spring keeps
+  // its bodies apart only along its axis, so they collide like any two bodies.
+  joint.collideConnected = flag('collideConnected', def.collideConnected, def.type === 'distance')
   const la = localPoint(a, anchorA)
   const lb = localPoint(b, anchorB)
   joint.localAnchorAx = la.x
@@ -83,6 +86,12 @@ function configureDistance(
   joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? (joint.hertz > 0 ? 0.7 : 0), 0, 1e6)
 }
 
+function flag(name: string, value: boolean | undefined, fallback: boolean): boolean {
+  if (value === undefined) return fallback
+  if (typeof value !== 'boolean') throw new RangeError(`${name} must be a boolean, got ${String(value)}`)
+  return value
+}
+
 /** A world point in a body's frame, relative to its origin (m). */
 export function localPoint(b: Body, p: Vec2): Vec2 {
   const dx = p.x - b.x
@@ -94,31 +103,46 @@ function worldPoint(b: Body, lx: number, ly: number): Vec2 {
   return { x: b.x + b.c * lx - b.s * ly, y: b.y + b.s * lx + b.c * ly }
 }
 
-/** A joint's read-back; `impulseToForce` is sub-steps per second (impulses accumulate per sub-step). */
-export function jointInfo(j: Joint, impulseToForce: number): JointInfo {
-  const type = JOINT_TYPE_NAMES[j.type]
-  const anchorB = worldPoint(j.bodyB, j.localAnchorBx, j.localAnchorBy)
-  const anchorA =
-    j.type === MOUSE ? { x: j.targetX, y: j.targetY } : worldPoint(j.bodyA, j.localAnchorAx, j.localAnchorAy)
+/**
+ * A joint's reaction over the last step: the force on body B at its anchor (N) and the pure torque
+ * on B (N m); body A gets the opposite. `impulseToForce` is sub-steps per second: the impulses are
+ * accumulated per sub-step, so impulse / h is the mean force of the last sub-step.
+ */
+export function jointReaction(j: Joint, impulseToForce: number): JointReaction {
   let fx = j.linearImpulseX
   let fy = j.linearImpulseY
   if (j.type === DISTANCE) {
+    const anchorA = worldPoint(j.bodyA, j.localAnchorAx, j.localAnchorAy)
+    const anchorB = worldPoint(j.bodyB, j.localAnchorBx, j.localAnchorBy)
     const dx = anchorB.x - anchorA.x
     const dy = anchorB.y - anchorA.y
-    const len = Math.sqrt(dx * dx + dy * dy) || 1
+    const len = Math.sqrt(dx * dx + dy * dy)
+    // The solver pushes along +x when the anchors coincide (distance-joint.ts computeAxis).
+    const ux = len > 1e-12 ? dx / len : 1
+    const uy = len > 1e-12 ? dy / len : 0
     const axial = j.impulse + j.lowerImpulse - j.upperImpulse
-    fx = (axial * dx) / len
-    fy = (axial * dy) / len
+    fx = axial * ux
+    fy = axial * uy
   }
   const torque = j.type === REVOLUTE ? j.motorImpulse + j.lowerImpulse - j.upperImpulse : 0
+  return { force: { x: fx * impulseToForce, y: fy * impulseToForce }, torque: torque * impulseToForce }
+}
+
+/** A joint's read-back; `impulseToForce` is sub-steps per second (see jointReaction). */
+export function jointInfo(j: Joint, impulseToForce: number): JointInfo {
+  const anchorB = worldPoint(j.bodyB, j.localAnchorBx, j.localAnchorBy)
+  const anchorA =
+    j.type === MOUSE ? { x: j.targetX, y: j.targetY } : worldPoint(j.bodyA, j.localAnchorAx, j.localAnchorAy)
+  const { force, torque } = jointReaction(j, impulseToForce)
   return {
     id: j.id,
-    type,
+    type: JOINT_TYPE_NAMES[j.type],
     bodyA: j.bodyA.id === 0 ? null : j.bodyA.id,
     bodyB: j.bodyB.id,
     anchorA,
     anchorB,
-    force: { x: fx * impulseToForce, y: fy * impulseToForce },
-    torque: torque * impulseToForce,
+    collideConnected: j.collideConnected,
+    force,
+    torque,
   }
 }

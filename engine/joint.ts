@@ -37,6 +37,8 @@ export class Joint {
   localAnchorAy = 0
   localAnchorBx = 0
   localAnchorBy = 0
+  /** Whether the two bodies collide with each other (Box2D's collideConnected). */
+  collideConnected = false
   /** Revolute: angleB - angleA at creation (rad). */
   referenceAngle = 0
   // Revolute settings

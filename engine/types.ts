@@ -81,6 +81,8 @@ export interface RevoluteJointDef {
   bodyB: BodyId
   /** World anchor at creation (m). */
   anchor: Vec2
+  /** Whether the two bodies collide with each other, usually false (the pin lies inside both). */
+  collideConnected?: boolean
   enableLimit?: boolean
   /** Lower and upper limits of angleB - angleA relative to creation (rad). */
   lowerAngle?: number
@@ -100,6 +102,8 @@ export interface DistanceJointDef {
   /** World anchors at creation (m). */
   anchorA: Vec2
   anchorB: Vec2
+  /** Whether the two bodies collide with each other, usually true (a rope never lets them pass through). */
+  collideConnected?: boolean
   /** Rest length (m); defaults to the anchors' current distance. */
   length?: number
   /** Limits on the length (m); a rope is minLength 0, maxLength = length. */
@@ -157,8 +161,18 @@ export interface JointInfo {
   /** Current world anchors (m); for a mouse joint anchorA is the target. */
   anchorA: Vec2
   anchorB: Vec2
-  /** Reaction force on body B in the last step (N). */
+  /** Whether the two bodies collide with each other (a mouse joint's world frame never collides). */
+  collideConnected: boolean
+  /** Reaction force on body B in the last step, applied at anchorB (N); body A gets -force at anchorA. */
   force: Vec2
-  /** Reaction torque on body B in the last step (N m). */
+  /** Reaction torque on body B in the last step, besides the force's moment (N m); body A gets -torque. */
+  torque: number
+}
+
+/** The force and torque a joint applied over the last step (mean over its sub-steps). */
+export interface JointReaction {
+  /** Force on body B at anchorB (N); body A gets -force at anchorA. */
+  force: Vec2
+  /** Pure torque on body B (N m), besides the force's moment; body A gets -torque. */
   torque: number
 }

@@ -7,10 +7,19 @@
 import { Body, DYNAMIC, STATIC } from './body.ts'
 import { finite, finiteVec, inRange } from './def-checks.ts'
 import { JOINT_TYPE_NAMES, type Joint, MOUSE } from './joint.ts'
-import { buildJoint, jointInfo, localPoint } from './joint-defs.ts'
+import { buildJoint, jointInfo, jointReaction, localPoint } from './joint-defs.ts'
 import { atan2, cos, sin, type Vec2 } from './math.ts'
 import { computeMass, type Shape } from './shapes.ts'
-import type { BodyDef, BodyId, BodyType, ContactInfo, JointDef, JointId, JointInfo } from './types.ts'
+import type {
+  BodyDef,
+  BodyId,
+  BodyType,
+  ContactInfo,
+  JointDef,
+  JointId,
+  JointInfo,
+  JointReaction,
+} from './types.ts'
 import { STEP_SECONDS, WorldStore } from './world-store.ts'
 
 const BODY_TYPES: readonly BodyType[] = ['static', 'kinematic', 'dynamic']
@@ -318,7 +327,7 @@ export class WorldApi extends WorldStore {
     return joint.id
   }
 
-  /** Inserts a joint in id order, links it to its bodies, removes their contact, and wakes them. */
+  /** Inserts a joint in id order, links it to its bodies, removes their contact unless they may collide, and wakes them. */
   protected addJoint(joint: Joint): void {
     this.jointList.push(joint)
     this.jointMap.set(joint.id, joint)
@@ -329,7 +338,7 @@ export class WorldApi extends WorldStore {
     const lo = Math.min(joint.bodyA.id, joint.bodyB.id)
     const hi = Math.max(joint.bodyA.id, joint.bodyB.id)
     const contact = this.contactMap.get(lo * 67108864 + hi)
-    if (contact !== undefined && joint.type !== MOUSE) {
+    if (contact !== undefined && !joint.collideConnected) {
       this.unlinkContact(contact)
       this.contactArray.splice(this.contactArray.indexOf(contact), 1)
     }
@@ -345,7 +354,7 @@ export class WorldApi extends WorldStore {
     bodyB.joints.splice(bodyB.joints.indexOf(joint), 1)
     this.islands.wake(bodyA)
     this.islands.wake(bodyB)
-    // Jointed bodies had no contact; let the broadphase pair them again.
+    // Bodies that may now collide get a contact from the broadphase again.
     if (bodyA.proxy >= 0) this.broadPhase.touchProxy(bodyA.proxy)
     if (bodyB.proxy >= 0) this.broadPhase.touchProxy(bodyB.proxy)
   }
@@ -373,8 +382,13 @@ export class WorldApi extends WorldStore {
 
   /** Every joint's anchors and last reaction, for drawing, in id order. */
   joints(): JointInfo[] {
-    // Joint impulses accumulate per sub-step, so force = impulse / h.
     const scale = this.settings.subSteps / STEP_SECONDS
     return this.jointList.map((j) => jointInfo(j, scale))
+  }
+
+  /** The force (N) and torque (N m) a joint applied to body B over the last step; A gets the opposite. */
+  getJointReaction(id: JointId): JointReaction {
+    // Joint impulses accumulate per sub-step, so force = impulse / h.
+    return jointReaction(this.joint(id), this.settings.subSteps / STEP_SECONDS)
   }
 }

@@ -334,7 +334,7 @@ export function writeJoint(w: ByteWriter, j: Joint): void {
   w.u8(j.type)
   w.f64(j.bodyA.id)
   w.f64(j.bodyB.id)
-  w.u8((j.enableLimit ? 1 : 0) | (j.enableMotor ? 2 : 0))
+  w.u8((j.enableLimit ? 1 : 0) | (j.enableMotor ? 2 : 0) | (j.collideConnected ? 4 : 0))
   for (const f of JOINT_FIELDS) w.f64(j[f])
 }
 
@@ -349,6 +349,7 @@ export function readJoint(r: ByteReader, lookup: (id: number) => Body): Joint {
   const flags = r.u8('joint flags')
   j.enableLimit = (flags & 1) !== 0
   j.enableMotor = (flags & 2) !== 0
+  j.collideConnected = (flags & 4) !== 0
   for (const f of JOINT_FIELDS) j[f] = r.num(`joint ${id} ${f}`)
   return j
 }

@@ -426,12 +426,13 @@ export function loadWorld(bytes: Uint8Array): World {
   return World.fromBytes(bytes)
 }
 
-/** Whether two bodies should get a contact: one must be dynamic, and no joint may connect them. */
+/** Whether two bodies should get a contact: one must be dynamic, and no joint between them may forbid it. */
 export function shouldCollide(a: Body, b: Body): boolean {
   if (a.type !== DYNAMIC && b.type !== DYNAMIC) return false
   const joints = a.joints.length < b.joints.length ? a.joints : b.joints
   for (let i = 0; i < joints.length; i++) {
     const j: Joint = joints[i]
+    if (j.collideConnected) continue
     if ((j.bodyA === a && j.bodyB === b) || (j.bodyA === b && j.bodyB === a)) return false
   }
   return true

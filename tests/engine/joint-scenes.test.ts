@@ -176,4 +176,4 @@ describe('determinism with every joint type and a bullet', () => {
   })
 })
 
-const GOLDEN = 428304217
+const GOLDEN = 2273380573
