@@ -1,5 +1,5 @@
 // Build with esbuild: the server (server/main.ts -> dist/server.js, Node, runtime packages left
-// external), the bots, and, when the browser client exists, the minified client
+// external), the bots, the container health check, and, when the browser client exists, the minified client
 // (scripts/build-client.mjs). Usage: node scripts/build.mjs
 import { stat } from 'node:fs/promises'
 import { build } from 'esbuild'
@@ -11,11 +11,12 @@ const exists = (path) =>
     () => false,
   )
 
-// The server and the bots: Node bundles, runtime packages left external.
-for (const name of ['main', 'bots']) {
+// The server, the bots and the container health check: Node bundles, runtime packages left external.
+const OUTPUTS = { main: 'dist/server.js', bots: 'dist/bots.js', healthcheck: 'dist/healthcheck.js' }
+for (const [name, outfile] of Object.entries(OUTPUTS)) {
   await build({
     entryPoints: [`server/${name}.ts`],
-    outfile: name === 'main' ? 'dist/server.js' : 'dist/bots.js',
+    outfile,
     bundle: true,
     platform: 'node',
     target: 'node20',
