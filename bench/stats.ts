@@ -15,13 +15,16 @@ import os from 'node:os'
 import { dirname } from 'node:path'
 import { PerformanceObserver } from 'node:perf_hooks'
 import type { SceneBlueprint } from '../engine/scenes.ts'
+import type { BodyDef } from '../engine/types.ts'
 
 /** One engine's world, built from a scene blueprint, as the benchmark drives it. */
 export interface PeerWorld {
-  /** Engine name as printed: 'concord', 'planck' or 'box2d-wasm'. */
+  /** Engine name as printed: 'concord', 'planck', 'box2d-wasm', ... */
   readonly engine: string
   /** Advances exactly 1/60 s. */
   step(): void
+  /** Adds one body after the build (scenes whose bodies arrive over time); it reads back after the rest. */
+  addBody(def: BodyDef): void
   /** Per blueprint body, in blueprint order: x, y (body origin, m), vx, vy (m/s); 4 numbers each. */
   readBodies(): Float64Array
   /** Bodies currently awake (dynamic and kinematic). */

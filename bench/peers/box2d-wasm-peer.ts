@@ -18,7 +18,7 @@ import { createRequire } from 'node:module'
 import { dirname, join } from 'node:path'
 import type { SceneBlueprint } from '../../engine/scenes.ts'
 import type { Shape as ConcordShape } from '../../engine/shapes.ts'
-import type { BodyDef, BodyType } from '../../engine/types.ts'
+import type { BodyDef, BodyType, JointDef } from '../../engine/types.ts'
 import type { PeerWorld } from '../stats.ts'
 
 /** Box2D 2.4 velocity iterations per step. */
@@ -116,11 +116,12 @@ export class Box2DWasmPeer implements PeerWorld {
   private readonly leaks: Box2D.LeakMitigator
   private readonly bodies: Box2D.b2Body[]
   private world: Box2D.b2World | null
+  private ground: Box2D.b2Body | null = null
 
   private constructor(
     private readonly b2: Box2DModule,
     blueprint: SceneBlueprint,
-    enableSleep: boolean,
+    private readonly enableSleep: boolean,
   ) {
     this.leaks = new b2.LeakMitigator()
     const gravity = new b2.b2Vec2(blueprint.gravity.x, blueprint.gravity.y)
@@ -131,6 +132,36 @@ export class Box2DWasmPeer implements PeerWorld {
     this.bodies = blueprint.bodies.map((def) =>
       this.leaks.recordLeak(createBody(b2, world, def, enableSleep)),
     )
+    for (const def of blueprint.joints ?? []) this.addJoint(world, def)
+  }
+
+  addBody(def: BodyDef): void {
+    if (this.world === null) throw new Error('box2d-wasm world used after dispose')
+    this.bodies.push(this.leaks.recordLeak(createBody(this.b2, this.world, def, this.enableSleep)))
+  }
+
+  /** A revolute joint at the world anchor (angle zero at creation); the world frame is a static body. */
+  private addJoint(world: Box2D.b2World, def: JointDef): void {
+    if (def.type !== 'revolute')
+      throw new Error(`box2d-wasm peer builds revolute joints only, got ${def.type}`)
+    const b2 = this.b2
+    if (this.ground === null) {
+      const bd = new b2.b2BodyDef()
+      this.ground = this.leaks.recordLeak(world.CreateBody(bd))
+      b2.destroy(bd)
+    }
+    const jd = new b2.b2RevoluteJointDef()
+    const anchor = new b2.b2Vec2(def.anchor.x, def.anchor.y)
+    jd.Initialize(def.bodyA === null ? this.ground : this.bodies[def.bodyA], this.bodies[def.bodyB], anchor)
+    jd.set_enableLimit(def.enableLimit ?? false)
+    jd.set_lowerAngle(def.lowerAngle ?? 0)
+    jd.set_upperAngle(def.upperAngle ?? 0)
+    jd.set_enableMotor(def.enableMotor ?? false)
+    jd.set_motorSpeed(def.motorSpeed ?? 0)
+    jd.set_maxMotorTorque(def.maxMotorTorque ?? 0)
+    this.leaks.recordLeak(world.CreateJoint(jd))
+    b2.destroy(anchor)
+    b2.destroy(jd)
   }
 
   /** Loads the module if needed and builds the blueprint in a new world. */

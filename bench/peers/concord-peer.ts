@@ -2,7 +2,14 @@
  * Concord's own engine as a benchmark peer: createWorld({ enableSleep }), buildScene, step().
  * Every other world setting keeps its default (4 sub-steps, contact hertz 30, continuous on).
  */
-import { type BodyId, buildScene, createWorld, type SceneBlueprint, type World } from '../../engine/index.ts'
+import {
+  type BodyDef,
+  type BodyId,
+  buildScene,
+  createWorld,
+  type SceneBlueprint,
+  type World,
+} from '../../engine/index.ts'
 import type { PeerWorld } from '../stats.ts'
 
 /** A Concord world holding the blueprint, sleeping on or off. */
@@ -14,6 +21,10 @@ export class ConcordPeer implements PeerWorld {
   constructor(blueprint: SceneBlueprint, enableSleep: boolean) {
     this.world = createWorld({ gravity: { x: blueprint.gravity.x, y: blueprint.gravity.y }, enableSleep })
     this.ids = buildScene(this.world, blueprint)
+  }
+
+  addBody(def: BodyDef): void {
+    this.ids.push(this.world.createBody(def))
   }
 
   step(): void {

@@ -8,10 +8,10 @@
  * planck's default 8 velocity and 3 position iterations, warm starting and continuous collision on,
  * as in Box2D 2.4; sleeping is switched per run.
  */
-import { type Body, BoxShape, CircleShape, PolygonShape, type Shape, World } from 'planck'
+import { type Body, BoxShape, CircleShape, PolygonShape, RevoluteJoint, type Shape, World } from 'planck'
 import type { SceneBlueprint } from '../../engine/scenes.ts'
 import type { Shape as ConcordShape } from '../../engine/shapes.ts'
-import type { BodyDef } from '../../engine/types.ts'
+import type { BodyDef, JointDef } from '../../engine/types.ts'
 import type { PeerWorld } from '../stats.ts'
 
 /** Box2D 2.x velocity iterations per step (planck's default). */
@@ -55,13 +55,48 @@ export class PlanckPeer implements PeerWorld {
   readonly engine = 'planck'
   private readonly world: World
   private readonly bodies: Body[]
+  private ground: Body | null = null
 
-  constructor(blueprint: SceneBlueprint, enableSleep: boolean) {
+  constructor(
+    blueprint: SceneBlueprint,
+    private readonly enableSleep: boolean,
+  ) {
     this.world = new World({
       gravity: { x: blueprint.gravity.x, y: blueprint.gravity.y },
       allowSleep: enableSleep,
     })
     this.bodies = blueprint.bodies.map((def) => createBody(this.world, def, enableSleep))
+    for (const def of blueprint.joints ?? []) this.addJoint(def)
+  }
+
+  /** Builds the blueprint (the same signature as the wasm peers' create). */
+  static async create(blueprint: SceneBlueprint, enableSleep: boolean): Promise<PlanckPeer> {
+    return new PlanckPeer(blueprint, enableSleep)
+  }
+
+  addBody(def: BodyDef): void {
+    this.bodies.push(createBody(this.world, def, this.enableSleep))
+  }
+
+  /** A revolute joint at the world anchor (angle zero at creation); the world frame is a static body. */
+  private addJoint(def: JointDef): void {
+    if (def.type !== 'revolute') throw new Error(`planck peer builds revolute joints only, got ${def.type}`)
+    this.ground ??= this.world.createBody()
+    const a = def.bodyA === null ? this.ground : this.bodies[def.bodyA]
+    const joint = new RevoluteJoint(
+      {
+        enableLimit: def.enableLimit ?? false,
+        lowerAngle: def.lowerAngle ?? 0,
+        upperAngle: def.upperAngle ?? 0,
+        enableMotor: def.enableMotor ?? false,
+        motorSpeed: def.motorSpeed ?? 0,
+        maxMotorTorque: def.maxMotorTorque ?? 0,
+      },
+      a,
+      this.bodies[def.bodyB],
+      { x: def.anchor.x, y: def.anchor.y },
+    )
+    this.world.createJoint(joint)
   }
 
   step(): void {

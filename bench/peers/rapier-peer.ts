@@ -121,6 +121,8 @@ export class RapierPeer implements PeerWorld {
     const joint = this.live().createImpulseJoint(data, a, b, true) as InstanceType<
       Rapier['RevoluteImpulseJoint']
     >
+    // Box2D and Concord never collide two bodies a joint links; Rapier does unless told.
+    joint.setContactsEnabled(false)
     const offset = b.rotation() - a.rotation()
     if (def.enableLimit) joint.setLimits((def.lowerAngle ?? 0) + offset, (def.upperAngle ?? 0) + offset)
     if (def.enableMotor) {
