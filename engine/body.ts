@@ -11,7 +11,7 @@
  */
 import type { Contact } from './contact.ts'
 import type { Joint } from './joint.ts'
-import type { Shape } from './shapes.ts'
+import { computeMass, type Shape } from './shapes.ts'
 
 /** Body type codes, in the order of BodyType. */
 export const STATIC = 0
@@ -112,4 +112,35 @@ export class Body {
     this.cx = this.x + (this.c * this.localCenterX - this.s * this.localCenterY)
     this.cy = this.y + (this.s * this.localCenterX + this.c * this.localCenterY)
   }
+}
+
+/** Sets mass, inertia, centre of mass and extents from the shape and density. */
+export function updateMassData(body: Body): void {
+  const shape = body.shape
+  const md = computeMass(shape, body.density)
+  body.localCenterX = md.center.x
+  body.localCenterY = md.center.y
+  if (body.type === DYNAMIC) {
+    body.mass = md.mass
+    body.invMass = 1 / md.mass
+    body.inertia = body.fixedRotation ? 0 : md.inertia
+    body.invInertia = body.fixedRotation ? 0 : 1 / md.inertia
+  }
+  if (shape.type === 'circle') {
+    body.maxExtent = shape.radius
+    body.minExtent = shape.radius
+    return
+  }
+  let maxExtent = 0
+  let minExtent = Number.POSITIVE_INFINITY
+  for (let i = 0; i < shape.count; i++) {
+    const v = shape.vertices[i]
+    const dx = v.x - md.center.x
+    const dy = v.y - md.center.y
+    maxExtent = Math.max(maxExtent, Math.sqrt(dx * dx + dy * dy))
+    const n = shape.normals[i]
+    minExtent = Math.min(minExtent, n.x * dx + n.y * dy)
+  }
+  body.maxExtent = maxExtent
+  body.minExtent = minExtent
 }

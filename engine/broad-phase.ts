@@ -15,17 +15,13 @@
  * with itself: the order depends only on the operations and the coordinates, never on memory.
  * Keys are sorted in place in a reusable Float64Array (no allocation once the buffers are warm).
  */
+import { AABB_MARGIN, DISPLACEMENT_MULTIPLIER } from './constants.ts'
 import { DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 
 /** Body ids are below 2^26, so a * 2^26 + b is an exact integer key for a pair. */
 const BODY_SCALE = 67108864
 const FLAG_STATIC = 1
 const FLAG_MOVED = 2
-/** How many steps of displacement a re-fattened proxy reaches ahead (Box2D v2.4 uses 4). */
-export const DISPLACEMENT_MULTIPLIER = 4
-
-/** Default fat AABB margin (m). */
-export const AABB_MARGIN = 0.1
 
 /** Pairs of body ids (a < b) in parallel arrays that grow by doubling. */
 export class PairBuffer {

@@ -28,12 +28,11 @@
  * in a module-level `let`, so the transforms are copied once into the `frame` array and the
  * internal helpers pass only integers, booleans and objects, returning doubles through `found`.
  */
+import { LINEAR_SLOP, MAX_POLYGON_VERTICES } from './constants.ts'
 import type { Manifold, ManifoldPoint } from './manifold.ts'
 import { makeFeatureId } from './manifold.ts'
 import type { CircleShape, PolygonShape, Shape } from './shapes.ts'
 
-/** Collision tolerance the narrowphase tolerances derive from (m), Box2D's linear slop 0.005. */
-const LINEAR_SLOP = 0.005
 /** How much more separated B's best face must be than A's to be the reference face (m), 0.0005. */
 export const REFERENCE_FACE_TOLERANCE = 0.1 * LINEAR_SLOP
 /** Distances below this are treated as zero when a direction must be normalized (m). */
@@ -42,7 +41,7 @@ const TINY_DISTANCE = 1e-12
 const PARALLEL_TOLERANCE = 1e-12
 
 // Scratch polygons in A's shifted frame: vertex x at [i], vertex y at [VY + i], normal at [NX + i], [NY + i].
-const MAX_VERTICES = 8
+const MAX_VERTICES = MAX_POLYGON_VERTICES
 const VY = MAX_VERTICES
 const NX = 2 * MAX_VERTICES
 const NY = 3 * MAX_VERTICES
@@ -89,72 +88,6 @@ export function collideShapes(
   }
 }
 
-/**
- * Circle against circle. Coincident centres (closer than 1e-12 m) use the fixed world normal (1, 0),
- * so the result is defined and deterministic; otherwise the normal is the centre-to-centre direction.
- */
-export function collideCircles(
-  circleA: CircleShape,
-  ax: number,
-  ay: number,
-  ac: number,
-  as: number,
-  circleB: CircleShape,
-  bx: number,
-  by: number,
-  bc: number,
-  bs: number,
-  speculativeDistance: number,
-  out: Manifold,
-): void {
-  setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
-  circlesInFrame(circleA, circleB, out)
-}
-
-/**
- * Polygon A against circle B (Box2D v3 b2CollidePolygonAndCircle): the face of greatest separation
- * from the centre, then the vertex region if the centre lies outside past an end of that face.
- */
-export function collidePolygonAndCircle(
-  polygonA: PolygonShape,
-  ax: number,
-  ay: number,
-  ac: number,
-  as: number,
-  circleB: CircleShape,
-  bx: number,
-  by: number,
-  bc: number,
-  bs: number,
-  speculativeDistance: number,
-  out: Manifold,
-): void {
-  setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
-  polygonAndCircleInFrame(polygonA, circleB, false, out)
-}
-
-/**
- * Polygon against polygon (Box2D v3 b2CollidePolygons): SAT over both polygons' edge normals,
- * reference face with a tolerance favouring A, incident edge clipped to the reference side planes.
- */
-export function collidePolygons(
-  polygonA: PolygonShape,
-  ax: number,
-  ay: number,
-  ac: number,
-  as: number,
-  polygonB: PolygonShape,
-  bx: number,
-  by: number,
-  bc: number,
-  bs: number,
-  speculativeDistance: number,
-  out: Manifold,
-): void {
-  setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
-  polygonsInFrame(polygonA, polygonB, out)
-}
-
 function setFrame(
   ax: number,
   ay: number,
@@ -184,7 +117,11 @@ function setEmpty(out: Manifold): void {
   out.pointCount = 0
 }
 
-/** Circles in `frame`. The formulas are exactly mirror-symmetric when A and B are swapped. */
+/**
+ * Circles in `frame`. The formulas are exactly mirror-symmetric when A and B are swapped. Coincident
+ * centres (closer than 1e-12 m) use the fixed world normal (1, 0), so the result is defined and
+ * deterministic; otherwise the normal is the centre-to-centre direction.
+ */
 function circlesInFrame(circleA: CircleShape, circleB: CircleShape, out: Manifold): void {
   const ax = frame[AX]
   const ay = frame[AY]
@@ -216,7 +153,11 @@ function circlesInFrame(circleA: CircleShape, circleB: CircleShape, out: Manifol
   p.id = 0
 }
 
-/** Polygon against circle in `frame`; `swapped` means the polygon is B and the circle A. */
+/**
+ * Polygon against circle in `frame` (Box2D v3 b2CollidePolygonAndCircle): the face of greatest
+ * separation from the centre, then the vertex region if the centre lies outside past an end of that
+ * face. `swapped` means the polygon is B and the circle A.
+ */
 function polygonAndCircleInFrame(
   poly: PolygonShape,
   circle: CircleShape,
@@ -286,7 +227,11 @@ function polygonAndCircleInFrame(
   p.id = 0
 }
 
-/** Polygons in `frame`: SAT, reference and incident edges, then vertex-vertex or clipping. */
+/**
+ * Polygons in `frame` (Box2D v3 b2CollidePolygons): SAT over both polygons' edge normals, reference
+ * face with a tolerance favouring A, then vertex-vertex or the incident edge clipped to the
+ * reference side planes.
+ */
 function polygonsInFrame(polygonA: PolygonShape, polygonB: PolygonShape, out: Manifold): void {
   const countA = polygonA.count
   const countB = polygonB.count

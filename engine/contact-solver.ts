@@ -10,8 +10,8 @@
  *   storeImpulses     copy the accumulated impulses back to the contacts for the next step
  *
  * Data layout: constraints live in one Float64Array (CONSTRAINT_STRIDE numbers each) and bodies'
- * solver state in another (STATE_STRIDE numbers per awake body; slot 0 is a shared, never-moving
- * state for static bodies), so the thirteen passes per step stream through contiguous memory
+ * solver state in another (body-state.ts: named offsets per awake body; record 0 is a shared,
+ * never-moving state for static bodies), so the thirteen passes per step stream through contiguous memory
  * instead of chasing objects (the layout of Box2D v3's b2ContactConstraint and b2BodyState).
  *
  * Within a sub-step the separation is not recomputed by the narrowphase: it is the step-start
@@ -22,12 +22,10 @@
  * `contactHertz` (twice that against static bodies), limited to `maxContactPushSpeed`.
  * Friction is a Coulomb cone: the tangent impulse is clamped to friction * normal impulse.
  */
+import { DPX, DPY, DQC, DQS, stateOffset, VX, VY, W } from './body-state.ts'
 import type { Contact } from './contact.ts'
 import type { Softness } from './softness.ts'
 import type { StepContext } from './step-context.ts'
-
-/** Numbers per body in the solver state: vx, vy, w, dpx, dpy, dqc, dqs, (unused). */
-export const STATE_STRIDE = 8
 
 // Constraint record layout
 const M_A = 0
@@ -57,7 +55,7 @@ const TOTAL_TANGENT = 10
 const RELATIVE_VELOCITY = 11
 const POINT_STRIDE = 12
 /** Numbers per constraint record. */
-export const CONSTRAINT_STRIDE = POINTS + 2 * POINT_STRIDE
+const CONSTRAINT_STRIDE = POINTS + 2 * POINT_STRIDE
 
 /** Flat storage of the step's contact constraints. */
 export class ContactConstraints {
@@ -138,8 +136,8 @@ export function prepareContacts(
     const mB = b.invMass
     const iB = b.invInertia
     const o = i * CONSTRAINT_STRIDE
-    out.stateA[i] = (a.solverIndex + 1) * STATE_STRIDE
-    out.stateB[i] = (b.solverIndex + 1) * STATE_STRIDE
+    out.stateA[i] = stateOffset(a)
+    out.stateB[i] = stateOffset(b)
     out.pointCount[i] = c.pointCount
     const soft = mA === 0 || mB === 0 ? staticSoftness : contactSoftness
     d[o + M_A] = mA
@@ -171,12 +169,12 @@ export function warmStartContacts(k: ContactConstraints, state: Float64Array): v
     const iB = d[o + I_B]
     const nx = d[o + NX]
     const ny = d[o + NY]
-    let vAx = state[sa]
-    let vAy = state[sa + 1]
-    let wA = state[sa + 2]
-    let vBx = state[sb]
-    let vBy = state[sb + 1]
-    let wB = state[sb + 2]
+    let vAx = state[sa + VX]
+    let vAy = state[sa + VY]
+    let wA = state[sa + W]
+    let vBx = state[sb + VX]
+    let vBy = state[sb + VY]
+    let wB = state[sb + W]
     const end = o + POINTS + k.pointCount[i] * POINT_STRIDE
     for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
       const ni = d[p + NORMAL_IMPULSE]
@@ -192,12 +190,12 @@ export function warmStartContacts(k: ContactConstraints, state: Float64Array): v
       vBx += mB * px
       vBy += mB * py
     }
-    state[sa] = vAx
-    state[sa + 1] = vAy
-    state[sa + 2] = wA
-    state[sb] = vBx
-    state[sb + 1] = vBy
-    state[sb + 2] = wB
+    state[sa + VX] = vAx
+    state[sa + VY] = vAy
+    state[sa + W] = wA
+    state[sb + VX] = vBx
+    state[sb + VY] = vBy
+    state[sb + W] = wB
   }
 }
 
@@ -219,18 +217,18 @@ export function solveContacts(
     const iA = d[o + I_A]
     const mB = d[o + M_B]
     const iB = d[o + I_B]
-    let vAx = state[sa]
-    let vAy = state[sa + 1]
-    let wA = state[sa + 2]
-    let vBx = state[sb]
-    let vBy = state[sb + 1]
-    let wB = state[sb + 2]
-    const dpx = state[sb + 3] - state[sa + 3]
-    const dpy = state[sb + 4] - state[sa + 4]
-    const qAc = state[sa + 5]
-    const qAs = state[sa + 6]
-    const qBc = state[sb + 5]
-    const qBs = state[sb + 6]
+    let vAx = state[sa + VX]
+    let vAy = state[sa + VY]
+    let wA = state[sa + W]
+    let vBx = state[sb + VX]
+    let vBy = state[sb + VY]
+    let wB = state[sb + W]
+    const dpx = state[sb + DPX] - state[sa + DPX]
+    const dpy = state[sb + DPY] - state[sa + DPY]
+    const qAc = state[sa + DQC]
+    const qAs = state[sa + DQS]
+    const qBc = state[sb + DQC]
+    const qBs = state[sb + DQS]
     const nx = d[o + NX]
     const ny = d[o + NY]
     const end = o + POINTS + k.pointCount[i] * POINT_STRIDE
@@ -300,12 +298,12 @@ export function solveContacts(
       vBy += mB * py
       wB += iB * (rBx * py - rBy * px)
     }
-    state[sa] = vAx
-    state[sa + 1] = vAy
-    state[sa + 2] = wA
-    state[sb] = vBx
-    state[sb + 1] = vBy
-    state[sb + 2] = wB
+    state[sa + VX] = vAx
+    state[sa + VY] = vAy
+    state[sa + W] = wA
+    state[sb + VX] = vBx
+    state[sb + VY] = vBy
+    state[sb + W] = wB
   }
 }
 
@@ -325,12 +323,12 @@ export function applyRestitution(k: ContactConstraints, state: Float64Array, ctx
     const iB = d[o + I_B]
     const nx = d[o + NX]
     const ny = d[o + NY]
-    let vAx = state[sa]
-    let vAy = state[sa + 1]
-    let wA = state[sa + 2]
-    let vBx = state[sb]
-    let vBy = state[sb + 1]
-    let wB = state[sb + 2]
+    let vAx = state[sa + VX]
+    let vAy = state[sa + VY]
+    let wA = state[sa + W]
+    let vBx = state[sb + VX]
+    let vBy = state[sb + VY]
+    let wB = state[sb + W]
     const end = o + POINTS + k.pointCount[i] * POINT_STRIDE
     for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
       // Skip slow contacts and speculative points that never pushed.
@@ -357,12 +355,12 @@ export function applyRestitution(k: ContactConstraints, state: Float64Array, ctx
       vBy += mB * py
       wB += iB * (rBx * py - rBy * px)
     }
-    state[sa] = vAx
-    state[sa + 1] = vAy
-    state[sa + 2] = wA
-    state[sb] = vBx
-    state[sb + 1] = vBy
-    state[sb + 2] = wB
+    state[sa + VX] = vAx
+    state[sa + VY] = vAy
+    state[sa + W] = wA
+    state[sb + VX] = vBx
+    state[sb + VY] = vBy
+    state[sb + W] = wB
   }
 }
 

@@ -3,8 +3,17 @@
  * this folder. See engine/README.md for the rules and the contract.
  */
 
+export {
+  LINEAR_SLOP,
+  MAX_LINEAR_SPEED,
+  MAX_POLYGON_VERTICES,
+  MAX_ROTATION,
+  SPECULATIVE_DISTANCE,
+  STEP_SECONDS,
+} from './constants.ts'
 export { atan2, cos, PI, sin, TWO_PI, type Vec2, wrapAngle } from './math.ts'
 export { Prng } from './prng.ts'
+export { SAVE_FORMAT_VERSION, WorldLoadError } from './save-format.ts'
 export {
   buildScene,
   cardHouseScene,
@@ -28,7 +37,6 @@ export {
   type CircleShape,
   circle,
   computeMass,
-  MAX_POLYGON_VERTICES,
   type MassData,
   type PolygonShape,
   polygon,
@@ -49,6 +57,5 @@ export type {
   RevoluteJointDef,
   WorldDef,
 } from './types.ts'
-export { createWorld, loadWorld, resolveWorldDef, World } from './world.ts'
-export { SAVE_FORMAT_VERSION, WorldLoadError } from './world-state.ts'
-export { DEFAULT_WORLD_DEF, LINEAR_SLOP, SPECULATIVE_DISTANCE, STEP_SECONDS } from './world-store.ts'
+export { createWorld, loadWorld, World } from './world.ts'
+export { DEFAULT_WORLD_DEF, resolveWorldDef } from './world-store.ts'

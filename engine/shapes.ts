@@ -10,12 +10,8 @@
  * Mass, centroid and rotational inertia come from density by the polygon triangle-fan formulas
  * (Box2D's b2ComputePolygonMass; Ericson, "Real-Time Collision Detection" 2.6).
  */
+import { MAX_POLYGON_VERTICES, MIN_SHAPE_EXTENT } from './constants.ts'
 import { PI, type Vec2 } from './math.ts'
-
-/** Most vertices a polygon may have. */
-export const MAX_POLYGON_VERTICES = 8
-/** Smallest allowed circle radius or polygon edge (m). */
-export const MIN_SHAPE_EXTENT = 0.001
 
 /*
  * Every shape object has every field, in the same order (type, radius, count, vertices, normals,
@@ -225,9 +221,4 @@ export function computeMass(shape: Shape, density: number): MassData {
     return { mass, center: { x: 0, y: 0 }, inertia: 0.5 * mass * r * r }
   }
   return polygonMass(shape.vertices, density)
-}
-
-/** Area of a shape (m^2). */
-export function shapeArea(shape: Shape): number {
-  return computeMass(shape, 1).mass
 }

@@ -5,7 +5,7 @@
  * pause cannot trigger a spiral of death. `alpha` is the fraction of a step left in the
  * accumulator, for interpolating the rendered state between the last two steps.
  */
-import { STEP_SECONDS } from './world-store.ts'
+import { STEP_SECONDS } from './constants.ts'
 
 /** Accumulates frame time into whole fixed steps. */
 export class FixedStepper {

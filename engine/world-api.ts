@@ -4,12 +4,13 @@
  * boundary and a bad one throws a RangeError that names the value, so a caller (the server applying
  * a player's command) can never put a NaN, an infinity or a dangling id into the simulation.
  */
-import { Body, DYNAMIC, STATIC } from './body.ts'
+import { Body, DYNAMIC, STATIC, updateMassData } from './body.ts'
+import { STEP_SECONDS } from './constants.ts'
 import { finite, finiteVec, inRange } from './def-checks.ts'
 import { JOINT_TYPE_NAMES, type Joint, MOUSE } from './joint.ts'
 import { buildJoint, jointInfo, jointReaction, localPoint } from './joint-defs.ts'
 import { atan2, cos, sin, type Vec2 } from './math.ts'
-import { computeMass, type Shape } from './shapes.ts'
+import type { Shape } from './shapes.ts'
 import type {
   BodyDef,
   BodyId,
@@ -20,7 +21,7 @@ import type {
   JointInfo,
   JointReaction,
 } from './types.ts'
-import { STEP_SECONDS, WorldStore } from './world-store.ts'
+import { WorldStore } from './world-store.ts'
 
 const BODY_TYPES: readonly BodyType[] = ['static', 'kinematic', 'dynamic']
 
@@ -60,7 +61,7 @@ export class WorldApi extends WorldStore {
     body.enableSleep = def.enableSleep !== false
     body.fixedRotation = def.fixedRotation === true
     this.nextBodyId++
-    this.updateMass(body)
+    updateMassData(body)
     body.x = position.x
     body.y = position.y
     body.c = cos(angle)
@@ -77,37 +78,6 @@ export class WorldApi extends WorldStore {
     this.bodyMap.set(body.id, body)
     this.createProxy(body)
     return body.id
-  }
-
-  /** Sets mass, inertia, centre of mass and extents from the shape and density. */
-  protected updateMass(body: Body): void {
-    const shape = body.shape
-    const md = computeMass(shape, body.density)
-    body.localCenterX = md.center.x
-    body.localCenterY = md.center.y
-    if (body.type === DYNAMIC) {
-      body.mass = md.mass
-      body.invMass = 1 / md.mass
-      body.inertia = body.fixedRotation ? 0 : md.inertia
-      body.invInertia = body.fixedRotation ? 0 : 1 / md.inertia
-    }
-    if (shape.type === 'circle') {
-      body.maxExtent = shape.radius
-      body.minExtent = shape.radius
-      return
-    }
-    let maxExtent = 0
-    let minExtent = Number.POSITIVE_INFINITY
-    for (let i = 0; i < shape.count; i++) {
-      const v = shape.vertices[i]
-      const dx = v.x - md.center.x
-      const dy = v.y - md.center.y
-      maxExtent = Math.max(maxExtent, Math.sqrt(dx * dx + dy * dy))
-      const n = shape.normals[i]
-      minExtent = Math.min(minExtent, n.x * dx + n.y * dy)
-    }
-    body.maxExtent = maxExtent
-    body.minExtent = minExtent
   }
 
   /** Destroys a body, its contacts and its joints, and wakes everything it touched. */

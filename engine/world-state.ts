@@ -6,181 +6,30 @@
  * every contact with its manifold and accumulated impulses (warm starting), and every joint with
  * its accumulated impulses. The broadphase tree is rebuilt from the saved fat AABBs: the pairs it
  * reports are sorted and depend only on the boxes, so its shape does not matter. A world loaded
- * from these bytes steps bit-identically to the original.
- *
- * Format (little-endian): "CNCW" magic, u16 format version, u16 reserved, u32 payload length,
- * u32 FNV-1a checksum of the payload, then the payload. Truncated, corrupted or other-version
- * bytes throw a WorldLoadError naming what is wrong; nothing half-built is returned.
+ * from these bytes steps bit-identically to the original. The container (header, checksum) is in
+ * save-format.ts.
  *
  * The hash is FNV-1a of the payload: it covers exactly the state that a save captures.
  */
-import { Body } from './body.ts'
+import { Body, STATIC, updateMassData } from './body.ts'
 import { CONTACT_POINT_FIELDS, Contact } from './contact.ts'
 import { Joint } from './joint.ts'
+import {
+  type ByteReader,
+  type ByteWriter,
+  beginSave,
+  fnv1a,
+  HEADER_BYTES,
+  openSave,
+  sealSave,
+  WorldLoadError,
+} from './save-format.ts'
 import { box, circle, polygon, type Shape } from './shapes.ts'
-
-/** Bumped whenever the payload layout changes. */
-export const SAVE_FORMAT_VERSION = 1
-const MAGIC = 0x57434e43 // "CNCW" little-endian
-const HEADER_BYTES = 16
-
-/** Thrown by loadWorld for bytes that are not a valid saved world of this version. */
-export class WorldLoadError extends Error {
-  override name = 'WorldLoadError'
-}
-
-/** A growable little-endian byte writer. */
-export class ByteWriter {
-  bytes = new Uint8Array(1024)
-  view = new DataView(this.bytes.buffer)
-  length = 0
-
-  private reserve(n: number): void {
-    if (this.length + n <= this.bytes.length) return
-    let size = this.bytes.length * 2
-    while (size < this.length + n) size *= 2
-    const next = new Uint8Array(size)
-    next.set(this.bytes.subarray(0, this.length))
-    this.bytes = next
-    this.view = new DataView(next.buffer)
-  }
-
-  f64(v: number): void {
-    this.reserve(8)
-    this.view.setFloat64(this.length, v, true)
-    this.length += 8
-  }
-
-  u32(v: number): void {
-    this.reserve(4)
-    this.view.setUint32(this.length, v, true)
-    this.length += 4
-  }
-
-  u8(v: number): void {
-    this.reserve(1)
-    this.view.setUint8(this.length, v)
-    this.length += 1
-  }
-}
-
-/** A bounds-checked little-endian reader that names what it was reading when bytes run out. */
-export class ByteReader {
-  private readonly view: DataView
-  private offset: number
-  private readonly end: number
-
-  constructor(bytes: Uint8Array, offset: number, end: number) {
-    this.view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength)
-    this.offset = offset
-    this.end = end
-  }
-
-  private need(n: number, what: string): void {
-    if (this.offset + n > this.end) throw new WorldLoadError(`saved world is truncated while reading ${what}`)
-  }
-
-  f64(what: string): number {
-    this.need(8, what)
-    const v = this.view.getFloat64(this.offset, true)
-    this.offset += 8
-    return v
-  }
-
-  /** A finite f64. */
-  num(what: string): number {
-    const v = this.f64(what)
-    if (!Number.isFinite(v)) throw new WorldLoadError(`saved world has a non-finite ${what}: ${v}`)
-    return v
-  }
-
-  u32(what: string): number {
-    this.need(4, what)
-    const v = this.view.getUint32(this.offset, true)
-    this.offset += 4
-    return v
-  }
-
-  u8(what: string): number {
-    this.need(1, what)
-    const v = this.view.getUint8(this.offset)
-    this.offset += 1
-    return v
-  }
-
-  /** Throws unless every byte was consumed. */
-  finish(): void {
-    if (this.offset !== this.end)
-      throw new WorldLoadError(`saved world has ${this.end - this.offset} unexpected trailing bytes`)
-  }
-}
-
-/** FNV-1a over bytes [start, end). */
-export function fnv1a(bytes: Uint8Array, start: number, end: number): number {
-  let h = 0x811c9dc5
-  for (let i = start; i < end; i++) {
-    h ^= bytes[i]
-    h = Math.imul(h, 0x01000193)
-  }
-  return h >>> 0
-}
-
-/** Writes the header in front of a payload written at [HEADER_BYTES, length). */
-export function sealSave(w: ByteWriter): Uint8Array {
-  const payloadLength = w.length - HEADER_BYTES
-  w.view.setUint32(0, MAGIC, true)
-  w.view.setUint16(4, SAVE_FORMAT_VERSION, true)
-  w.view.setUint16(6, 0, true)
-  w.view.setUint32(8, payloadLength, true)
-  w.view.setUint32(12, fnv1a(w.bytes, HEADER_BYTES, w.length), true)
-  return w.bytes.slice(0, w.length)
-}
-
-/** Starts a save: reserves the header. */
-export function beginSave(w: ByteWriter): void {
-  w.length = 0
-  w.u32(0)
-  w.u32(0)
-  w.u32(0)
-  w.u32(0)
-}
-
-/** Checks the header and checksum; returns a reader over the payload. */
-export function openSave(bytes: Uint8Array): ByteReader {
-  if (!(bytes instanceof Uint8Array)) throw new WorldLoadError('saved world must be a Uint8Array')
-  if (bytes.length < HEADER_BYTES)
-    throw new WorldLoadError(`saved world is truncated: ${bytes.length} bytes, header needs ${HEADER_BYTES}`)
-  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength)
-  if (view.getUint32(0, true) !== MAGIC)
-    throw new WorldLoadError('bytes are not a saved Concord world (bad magic)')
-  const version = view.getUint16(4, true)
-  if (version !== SAVE_FORMAT_VERSION) {
-    throw new WorldLoadError(
-      `saved world has format version ${version}; this engine reads version ${SAVE_FORMAT_VERSION}`,
-    )
-  }
-  if (view.getUint16(6, true) !== 0)
-    throw new WorldLoadError('saved world header is corrupted: reserved bytes are not zero')
-  const length = view.getUint32(8, true)
-  if (HEADER_BYTES + length > bytes.length) {
-    throw new WorldLoadError(
-      `saved world is truncated: payload needs ${length} bytes, ${bytes.length - HEADER_BYTES} present`,
-    )
-  }
-  if (HEADER_BYTES + length < bytes.length) {
-    throw new WorldLoadError(
-      `saved world has ${bytes.length - HEADER_BYTES - length} trailing bytes after the payload`,
-    )
-  }
-  const checksum = view.getUint32(12, true)
-  if (fnv1a(bytes, HEADER_BYTES, HEADER_BYTES + length) !== checksum) {
-    throw new WorldLoadError('saved world is corrupted: checksum mismatch')
-  }
-  return new ByteReader(bytes, HEADER_BYTES, HEADER_BYTES + length)
-}
+import type { WorldDef } from './types.ts'
+import { type ResolvedWorldDef, resolveWorldDef, SETTINGS_NUMBERS, type WorldStore } from './world-store.ts'
 
 /** Writes a shape. */
-export function writeShape(w: ByteWriter, shape: Shape): void {
+function writeShape(w: ByteWriter, shape: Shape): void {
   if (shape.type === 'circle') {
     w.u8(0)
     w.f64(shape.radius)
@@ -199,7 +48,7 @@ export function writeShape(w: ByteWriter, shape: Shape): void {
 }
 
 /** Reads a shape, rebuilding it with the same constructors (so the same validation applies). */
-export function readShape(r: ByteReader): Shape {
+function readShape(r: ByteReader): Shape {
   const kind = r.u8('shape kind')
   try {
     if (kind === 0) return circle(r.num('circle radius'))
@@ -272,7 +121,7 @@ const JOINT_FIELDS = [
 ] as const
 
 /** Writes a body's definition and state (fat AABB comes separately). */
-export function writeBody(w: ByteWriter, b: Body): void {
+function writeBody(w: ByteWriter, b: Body): void {
   w.f64(b.id)
   w.u8(b.type)
   writeShape(w, b.shape)
@@ -282,7 +131,7 @@ export function writeBody(w: ByteWriter, b: Body): void {
 }
 
 /** Reads a body written by writeBody (mass properties are recomputed by the caller). */
-export function readBody(r: ByteReader): Body {
+function readBody(r: ByteReader): Body {
   const id = r.num('body id')
   const type = r.u8('body type')
   if (type > 2) throw new WorldLoadError(`saved world has body ${id} of unknown type ${type}`)
@@ -298,7 +147,7 @@ export function readBody(r: ByteReader): Body {
 }
 
 /** Writes a contact (bodies by id). */
-export function writeContact(w: ByteWriter, c: Contact): void {
+function writeContact(w: ByteWriter, c: Contact): void {
   w.f64(c.bodyA.id)
   w.f64(c.bodyB.id)
   w.u8(c.touching ? 1 : 0)
@@ -311,7 +160,7 @@ export function writeContact(w: ByteWriter, c: Contact): void {
 }
 
 /** Reads a contact written by writeContact. */
-export function readContact(r: ByteReader, lookup: (id: number) => Body): Contact {
+function readContact(r: ByteReader, lookup: (id: number) => Body): Contact {
   const a = lookup(r.num('contact body A'))
   const b = lookup(r.num('contact body B'))
   if (a.id >= b.id)
@@ -329,7 +178,7 @@ export function readContact(r: ByteReader, lookup: (id: number) => Body): Contac
 }
 
 /** Writes a joint (bodies by id; the world frame is id 0). */
-export function writeJoint(w: ByteWriter, j: Joint): void {
+function writeJoint(w: ByteWriter, j: Joint): void {
   w.f64(j.id)
   w.u8(j.type)
   w.f64(j.bodyA.id)
@@ -339,7 +188,7 @@ export function writeJoint(w: ByteWriter, j: Joint): void {
 }
 
 /** Reads a joint written by writeJoint. */
-export function readJoint(r: ByteReader, lookup: (id: number) => Body): Joint {
+function readJoint(r: ByteReader, lookup: (id: number) => Body): Joint {
   const id = r.num('joint id')
   const type = r.u8('joint type')
   if (type > 2) throw new WorldLoadError(`saved world has joint ${id} of unknown type ${type}`)
@@ -352,4 +201,125 @@ export function readJoint(r: ByteReader, lookup: (id: number) => Body): Joint {
   j.collideConnected = (flags & 4) !== 0
   for (const f of JOINT_FIELDS) j[f] = r.num(`joint ${id} ${f}`)
   return j
+}
+
+/** Writes the whole world's payload (after the header) into `w`. */
+function writeWorld(w: ByteWriter, world: WorldStore): void {
+  beginSave(w)
+  const s = world.settings
+  w.f64(world.gravityX)
+  w.f64(world.gravityY)
+  w.u32(s.subSteps)
+  w.u8((s.enableSleep ? 1 : 0) | (s.enableContinuous ? 2 : 0))
+  for (const key of SETTINGS_NUMBERS) w.f64(s[key])
+  w.f64(world.tickCount)
+  w.f64(world.nextBodyId)
+  w.f64(world.nextJointId)
+  w.u32(world.bodies.length)
+  for (const b of world.bodies) {
+    writeBody(w, b)
+    world.broadPhase.getFatAABB(b.proxy, fatAABB)
+    for (let i = 0; i < 4; i++) w.f64(fatAABB[i])
+  }
+  w.u32(world.contactArray.length)
+  for (const c of world.contactArray) writeContact(w, c)
+  w.u32(world.jointList.length)
+  for (const j of world.jointList) writeJoint(w, j)
+}
+const fatAABB = new Float64Array(4)
+
+/** The world's saved bytes: header, checksum and payload. */
+export function saveWorld(w: ByteWriter, world: WorldStore): Uint8Array {
+  writeWorld(w, world)
+  return sealSave(w)
+}
+
+/** A 32-bit unsigned FNV-1a hash of the world's payload (what saveWorld writes). */
+export function hashWorld(w: ByteWriter, world: WorldStore): number {
+  writeWorld(w, world)
+  return fnv1a(w.bytes, HEADER_BYTES, w.length)
+}
+
+/** Rebuilds a world from saved bytes; `make` creates the empty world from its settings. */
+export function loadWorldState<T extends WorldStore>(
+  bytes: Uint8Array,
+  make: (settings: ResolvedWorldDef) => T,
+): T {
+  const r = openSave(bytes)
+  const gravity = { x: r.num('gravity'), y: r.num('gravity') }
+  const subSteps = r.u32('subSteps')
+  const flags = r.u8('world flags')
+  const def: WorldDef = {
+    gravity,
+    subSteps,
+    enableSleep: (flags & 1) !== 0,
+    enableContinuous: (flags & 2) !== 0,
+  }
+  for (const key of SETTINGS_NUMBERS) def[key] = r.num(key)
+  let world: T
+  try {
+    world = make(resolveWorldDef(def))
+  } catch (e) {
+    throw new WorldLoadError(`saved world has invalid settings: ${(e as Error).message}`)
+  }
+  world.tickCount = r.num('tick')
+  world.nextBodyId = r.num('next body id')
+  world.nextJointId = r.num('next joint id')
+  readBodies(r, world)
+  const lookup = (id: number): Body => {
+    const b = id === 0 ? world.ground : world.bodyMap.get(id)
+    if (b === undefined) throw new WorldLoadError(`saved world refers to missing body ${id}`)
+    return b
+  }
+  readContacts(r, world, lookup)
+  readJoints(r, world, lookup)
+  r.finish()
+  return world
+}
+
+function readBodies(r: ByteReader, world: WorldStore): void {
+  const count = r.u32('body count')
+  let lastId = 0
+  for (let i = 0; i < count; i++) {
+    const b = readBody(r)
+    if (!(b.id > lastId) || b.id >= world.nextBodyId || !Number.isInteger(b.id)) {
+      throw new WorldLoadError(`saved world has an invalid or out-of-order body id ${b.id}`)
+    }
+    lastId = b.id
+    updateMassData(b)
+    const box = [r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB')]
+    b.proxy = world.broadPhase.createProxyWithFatAABB(box[0], box[1], box[2], box[3], b.id, b.type === STATIC)
+    // Every proxy is queried at the next step; pairs that already have a contact are skipped.
+    world.broadPhase.touchProxy(b.proxy)
+    world.bodies.push(b)
+    world.bodyMap.set(b.id, b)
+  }
+}
+
+function readContacts(r: ByteReader, world: WorldStore, lookup: (id: number) => Body): void {
+  const contactCount = r.u32('contact count')
+  for (let i = 0; i < contactCount; i++) {
+    const c = readContact(r, lookup)
+    if (world.contactMap.has(c.key))
+      throw new WorldLoadError(`saved world has a duplicate contact ${c.bodyA.id}-${c.bodyB.id}`)
+    if (i > 0 && world.contactArray[i - 1].key > c.key)
+      throw new WorldLoadError('saved world has contacts out of order')
+    world.contactArray.push(c)
+    world.contactMap.set(c.key, c)
+    c.bodyA.contacts.push(c)
+    c.bodyB.contacts.push(c)
+  }
+}
+
+function readJoints(r: ByteReader, world: WorldStore, lookup: (id: number) => Body): void {
+  const jointCount = r.u32('joint count')
+  for (let i = 0; i < jointCount; i++) {
+    const j = readJoint(r, lookup)
+    if (world.jointMap.has(j.id) || j.id >= world.nextJointId)
+      throw new WorldLoadError(`saved world has an invalid joint id ${j.id}`)
+    world.jointList.push(j)
+    world.jointMap.set(j.id, j)
+    j.bodyA.joints.push(j)
+    j.bodyB.joints.push(j)
+  }
 }

@@ -5,6 +5,7 @@
  */
 import { Body, STATIC } from './body.ts'
 import { BroadPhase, PairBuffer } from './broad-phase.ts'
+import { SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
 import type { Contact } from './contact.ts'
 import { IslandBuilder } from './island.ts'
 import type { Joint } from './joint.ts'
@@ -12,15 +13,6 @@ import { circle } from './shapes.ts'
 import { Softness } from './softness.ts'
 import { StepContext } from './step-context.ts'
 import type { WorldDef } from './types.ts'
-
-/** The fixed step (s). */
-export const STEP_SECONDS = 1 / 60
-/** Collision tolerance (m). */
-export const LINEAR_SLOP = 0.005
-/** Contacts are created while shapes are closer than this (m): 4 x slop. */
-export const SPECULATIVE_DISTANCE = 4 * LINEAR_SLOP
-/** Fastest linear speed a body may reach (m/s). */
-export const MAX_LINEAR_SPEED = 400
 
 /** WorldDef with every field set. */
 export type ResolvedWorldDef = Required<WorldDef>
@@ -44,26 +36,61 @@ export const DEFAULT_WORLD_DEF: Readonly<ResolvedWorldDef> = {
   timeToSleep: 0.5,
 }
 
-/** Storage shared by the world's layers. */
+/** The numeric settings, in save order. */
+export const SETTINGS_NUMBERS = [
+  'contactHertz',
+  'contactDampingRatio',
+  'maxContactPushSpeed',
+  'restitutionThreshold',
+  'sleepThreshold',
+  'timeToSleep',
+] as const
+
+/** Validates a WorldDef and fills in the defaults; throws a RangeError naming a bad value. */
+export function resolveWorldDef(def: WorldDef): ResolvedWorldDef {
+  const d = { ...DEFAULT_WORLD_DEF, ...def }
+  const g = d.gravity
+  if (!g || !Number.isFinite(g.x) || !Number.isFinite(g.y))
+    throw new RangeError(`gravity must be a finite vector, got ${JSON.stringify(g)}`)
+  if (!Number.isInteger(d.subSteps) || d.subSteps < 1 || d.subSteps > 64) {
+    throw new RangeError(`subSteps must be an integer in [1, 64], got ${d.subSteps}`)
+  }
+  for (const key of SETTINGS_NUMBERS) {
+    const v = d[key]
+    if (typeof v !== 'number' || !Number.isFinite(v) || v < 0)
+      throw new RangeError(`${key} must be a finite number >= 0, got ${v}`)
+  }
+  return {
+    ...d,
+    gravity: { x: g.x, y: g.y },
+    enableSleep: d.enableSleep !== false,
+    enableContinuous: d.enableContinuous !== false,
+  }
+}
+
+/**
+ * Storage shared by the world's layers. Its fields are engine-internal (world-state.ts saves and
+ * loads them); code outside engine/ uses the World methods.
+ */
 export class WorldStore {
   readonly settings: ResolvedWorldDef
   gravityX: number
   gravityY: number
-  protected tickCount = 0
-  protected nextBodyId = 1
-  protected nextJointId = 1
+  tickCount = 0
+  nextBodyId = 1
+  nextJointId = 1
 
   /** Bodies in ascending id order. */
   readonly bodies: Body[] = []
-  protected readonly bodyMap = new Map<number, Body>()
+  readonly bodyMap = new Map<number, Body>()
   /** Contacts in ascending pair-key order. */
   readonly contactArray: Contact[] = []
-  protected readonly contactMap = new Map<number, Contact>()
+  readonly contactMap = new Map<number, Contact>()
   /** Joints in ascending id order. */
-  protected readonly jointList: Joint[] = []
-  protected readonly jointMap = new Map<number, Joint>()
+  readonly jointList: Joint[] = []
+  readonly jointMap = new Map<number, Joint>()
   /** The fixed world frame that joints with `bodyA: null` attach to (id 0, never in the broadphase). */
-  protected readonly ground = new Body(0, STATIC, circle(1))
+  readonly ground = new Body(0, STATIC, circle(1))
 
   // Solver sets of the current step, in id order
   protected readonly awake: Body[] = []

@@ -1,66 +1,60 @@
 /*
  * The world: bodies, contacts, joints, and the fixed 1/60 s step.
  *
- * World.step() reads like Box2D v3's solver stages:
+ * World.step() is Box2D v3's stage list (b2World_Step, solver.h), one call per stage:
  *
- *   updatePairs        broadphase: contacts for newly overlapping fat AABBs
- *   collide            narrowphase for every contact with an awake body; wake what gets touched
- *   buildSolverSets    awake bodies, active contacts and joints, all in id order
- *   prepareJoints / prepareContacts
- *   sub-steps:         integrateVelocities, warmStart, solve (biased), integratePositions, relax
- *   applyRestitution
- *   finalizeBodies     fold the sub-step deltas into transforms, sleep velocities, fat AABBs
- *   solveContinuous    time of impact for fast bodies and bullets
- *   sleepIslands
+ *   updatePairs          broadphase: contacts for newly overlapping fat AABBs
+ *   collide              narrowphase for every contact with an awake body; wake what gets touched
+ *   buildSolverSets      awake bodies, active contacts and joints, all in id order
+ *   prepareJoints        joint constraint data for the step
+ *   prepareContacts      flat contact constraint records
+ *   sub-steps:
+ *     integrateVelocities  gravity, damping, speed limits
+ *     warmStart            joints, then contacts: apply the accumulated impulses
+ *     solve                joints, then contacts, with bias (soft push-out)
+ *     integratePositions   accumulate the sub-step deltas
+ *     relax                joints, then contacts, without bias
+ *   applyRestitution     once, after the sub-steps
+ *   storeImpulses        back into the contacts for warm starting
+ *   finalizeBodies       fold the deltas into transforms, sleep velocities
+ *   solveContinuous      time of impact for fast bodies and bullets
+ *   updateBroadPhase     move the fat AABBs of awake bodies
+ *   sleepIslands         islands that rested long enough go to sleep
+ *
+ * The bodies' solver state lives in one array with named offsets (body-state.ts) that the contact
+ * and joint stages read and write by a body's solver index.
  *
  * Determinism: bodies live in an array sorted by id, contacts in an array sorted by body-id pair,
  * joints by id; maps are used only for lookups by id, never iterated. Nothing allocates per step
  * once the arrays have grown.
  */
 import { type Body, DYNAMIC, STATIC } from './body.ts'
+import {
+  integratePositions,
+  integrateVelocities,
+  jointBodiesToStates,
+  loadSolverStates,
+  STATE_STRIDE,
+  statesToJointBodies,
+  stateToBody,
+} from './body-state.ts'
+import { SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
 import { Contact, clearContact, KEY_SCALE, updateContact } from './contact.ts'
 import {
   applyRestitution,
   ContactConstraints,
   prepareContacts,
-  STATE_STRIDE,
   solveContacts,
   storeImpulses,
   warmStartContacts,
 } from './contact-solver.ts'
 import { solveContinuous } from './continuous.ts'
 import { type Joint, prepareJoints, solveJoints, warmStartJoints } from './joint.ts'
-import {
-  integratePositions,
-  integrateVelocities,
-  jointBodiesToStates,
-  loadSolverStates,
-  statesToJointBodies,
-  stateToBody,
-} from './solver-bodies.ts'
+import { ByteWriter } from './save-format.ts'
 import type { WorldDef } from './types.ts'
 import { WorldApi } from './world-api.ts'
-import {
-  type ByteReader,
-  ByteWriter,
-  beginSave,
-  fnv1a,
-  openSave,
-  readBody,
-  readContact,
-  readJoint,
-  sealSave,
-  WorldLoadError,
-  writeBody,
-  writeContact,
-  writeJoint,
-} from './world-state.ts'
-import {
-  DEFAULT_WORLD_DEF,
-  type ResolvedWorldDef,
-  SPECULATIVE_DISTANCE,
-  STEP_SECONDS,
-} from './world-store.ts'
+import { hashWorld, loadWorldState, saveWorld } from './world-state.ts'
+import { resolveWorldDef } from './world-store.ts'
 
 /** A simulation world. See engine/README.md for the public surface. */
 export class World extends WorldApi {
@@ -69,149 +63,41 @@ export class World extends WorldApi {
     this.updatePairs()
     this.collide()
     this.buildSolverSets()
-    this.solve()
+    this.prepareJoints()
+    this.prepareContacts()
+    for (let i = 0; i < this.settings.subSteps; i++) {
+      this.integrateVelocities()
+      this.warmStart()
+      this.solve()
+      this.integratePositions()
+      this.relax()
+    }
+    this.applyRestitution()
+    this.storeImpulses()
     this.finalizeBodies()
-    if (this.settings.enableContinuous) {
-      solveContinuous(this.awake, this.awakeCount, this.broadPhase, this.bodyMap, shouldCollide)
-    }
+    this.solveContinuous()
     this.updateBroadPhase()
-    if (this.settings.enableSleep) {
-      this.islands.sleepIslands(
-        this.awake,
-        this.awakeCount,
-        this.activeContacts,
-        this.activeContactCount,
-        this.activeJoints,
-        this.activeJointCount,
-        this.settings.timeToSleep,
-      )
-    }
+    this.sleepIslands()
     this.tickCount++
   }
 
   /** Everything that influences future steps, as versioned, checksummed bytes. */
   save(): Uint8Array {
-    this.writeState(this.writer)
-    return sealSave(this.writer)
+    return saveWorld(this.writer, this)
   }
 
   /** A 32-bit unsigned hash (FNV-1a) of the whole simulation state: the payload that save() writes. */
   hash(): number {
-    this.writeState(this.writer)
-    return fnv1a(this.writer.bytes, 16, this.writer.length)
+    return hashWorld(this.writer, this)
   }
 
   private readonly writer = new ByteWriter()
   /** Contacts created this step (sorted), and destroyed contacts kept for reuse. */
   private readonly newContacts: Contact[] = []
   private readonly contactPool: Contact[] = []
-  /** Solver state of the awake bodies (STATE_STRIDE numbers each, slot 0 static) and the constraints. */
+  /** Solver state of the awake bodies (body-state.ts; record 0 static) and the contact constraints. */
   private state: Float64Array = new Float64Array(64 * STATE_STRIDE)
   private readonly constraints = new ContactConstraints()
-  private readonly fatAABB = new Float64Array(4)
-
-  private writeState(w: ByteWriter): void {
-    beginSave(w)
-    const s = this.settings
-    w.f64(this.gravityX)
-    w.f64(this.gravityY)
-    w.u32(s.subSteps)
-    w.u8((s.enableSleep ? 1 : 0) | (s.enableContinuous ? 2 : 0))
-    for (const key of SETTINGS_NUMBERS) w.f64(s[key])
-    w.f64(this.tickCount)
-    w.f64(this.nextBodyId)
-    w.f64(this.nextJointId)
-    w.u32(this.bodies.length)
-    for (const b of this.bodies) {
-      writeBody(w, b)
-      this.broadPhase.getFatAABB(b.proxy, this.fatAABB)
-      for (let i = 0; i < 4; i++) w.f64(this.fatAABB[i])
-    }
-    w.u32(this.contactArray.length)
-    for (const c of this.contactArray) writeContact(w, c)
-    w.u32(this.jointList.length)
-    for (const j of this.jointList) writeJoint(w, j)
-  }
-
-  /** Rebuilds a world from saved bytes (see world-state.ts for the format). */
-  static fromBytes(bytes: Uint8Array): World {
-    const r = openSave(bytes)
-    const gravity = { x: r.num('gravity'), y: r.num('gravity') }
-    const subSteps = r.u32('subSteps')
-    const flags = r.u8('world flags')
-    const def: WorldDef = {
-      gravity,
-      subSteps,
-      enableSleep: (flags & 1) !== 0,
-      enableContinuous: (flags & 2) !== 0,
-    }
-    for (const key of SETTINGS_NUMBERS) def[key] = r.num(key)
-    let world: World
-    try {
-      world = new World(resolveWorldDef(def))
-    } catch (e) {
-      throw new WorldLoadError(`saved world has invalid settings: ${(e as Error).message}`)
-    }
-    world.tickCount = r.num('tick')
-    world.nextBodyId = r.num('next body id')
-    world.nextJointId = r.num('next joint id')
-    world.readBodies(r)
-    const lookup = (id: number): Body => {
-      const b = id === 0 ? world.ground : world.bodyMap.get(id)
-      if (b === undefined) throw new WorldLoadError(`saved world refers to missing body ${id}`)
-      return b
-    }
-    const contactCount = r.u32('contact count')
-    for (let i = 0; i < contactCount; i++) {
-      const c = readContact(r, lookup)
-      if (world.contactMap.has(c.key))
-        throw new WorldLoadError(`saved world has a duplicate contact ${c.bodyA.id}-${c.bodyB.id}`)
-      if (i > 0 && world.contactArray[i - 1].key > c.key)
-        throw new WorldLoadError('saved world has contacts out of order')
-      world.contactArray.push(c)
-      world.contactMap.set(c.key, c)
-      c.bodyA.contacts.push(c)
-      c.bodyB.contacts.push(c)
-    }
-    const jointCount = r.u32('joint count')
-    for (let i = 0; i < jointCount; i++) {
-      const j = readJoint(r, lookup)
-      if (world.jointMap.has(j.id) || j.id >= world.nextJointId)
-        throw new WorldLoadError(`saved world has an invalid joint id ${j.id}`)
-      world.jointList.push(j)
-      world.jointMap.set(j.id, j)
-      j.bodyA.joints.push(j)
-      j.bodyB.joints.push(j)
-    }
-    r.finish()
-    return world
-  }
-
-  private readBodies(r: ByteReader): void {
-    const count = r.u32('body count')
-    let lastId = 0
-    for (let i = 0; i < count; i++) {
-      const b = readBody(r)
-      if (!(b.id > lastId) || b.id >= this.nextBodyId || !Number.isInteger(b.id)) {
-        throw new WorldLoadError(`saved world has an invalid or out-of-order body id ${b.id}`)
-      }
-      lastId = b.id
-      this.updateMass(b)
-      const box = [r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB')]
-      b.proxy = this.broadPhase.createProxyWithFatAABB(
-        box[0],
-        box[1],
-        box[2],
-        box[3],
-        b.id,
-        b.type === STATIC,
-      )
-      // Every proxy is queried at the next step; pairs that already have a contact are skipped.
-      this.broadPhase.touchProxy(b.proxy)
-      this.bodies.push(b)
-      this.bodyMap.set(b.id, b)
-    }
-  }
 
   /** Creates contacts for pairs whose fat AABBs began to overlap, keeping pair-key order. */
   private updatePairs(): void {
@@ -267,7 +153,7 @@ export class World extends WorldApi {
     contacts.length = kept
   }
 
-  /** Collects awake bodies, touching contacts and joints with an awake body, in id order. */
+  /** Collects awake bodies (loading their solver state), touching contacts and joints with an awake body, in id order. */
   private buildSolverSets(): void {
     const bodies = this.bodies
     const awake = this.awake
@@ -296,53 +182,75 @@ export class World extends WorldApi {
       if (j.bodyA.awake || j.bodyB.awake) activeJoints[k++] = j
     }
     this.activeJointCount = k
+    this.state = loadSolverStates(this.awake, n, this.state)
+    this.stepContext.gravityX = this.gravityX
+    this.stepContext.gravityY = this.gravityY
   }
 
-  /** The soft step: prepare, then sub-steps of integrate, warm start, solve, integrate, relax. */
-  private solve(): void {
-    const s = this.settings
-    const subSteps = s.subSteps
-    const ctx = this.stepContext
-    ctx.gravityX = this.gravityX
-    ctx.gravityY = this.gravityY
-    const k = this.constraints
-    const joints = this.activeJoints
-    const jointCount = this.activeJointCount
-    const hasJoints = jointCount > 0
-    this.state = loadSolverStates(this.awake, this.awakeCount, this.state)
-    prepareJoints(joints, jointCount, ctx)
+  /** Prepares the active joints for the step. */
+  private prepareJoints(): void {
+    prepareJoints(this.activeJoints, this.activeJointCount, this.stepContext)
+  }
+
+  /** Copies the touching contacts into flat constraint records. */
+  private prepareContacts(): void {
     prepareContacts(
-      k,
+      this.constraints,
       this.activeContacts,
       this.activeContactCount,
       this.contactSoftness,
       this.staticSoftness,
     )
-    const state = this.state
-    for (let i = 0; i < subSteps; i++) {
-      integrateVelocities(this.awake, this.awakeCount, state, ctx)
-      if (hasJoints) {
-        statesToJointBodies(state, joints, jointCount)
-        warmStartJoints(joints, jointCount)
-        jointBodiesToStates(state, joints, jointCount)
-      }
-      warmStartContacts(k, state)
-      if (hasJoints) {
-        statesToJointBodies(state, joints, jointCount)
-        solveJoints(joints, jointCount, ctx, true)
-        jointBodiesToStates(state, joints, jointCount)
-      }
-      solveContacts(k, state, ctx, true)
-      integratePositions(state, this.awakeCount, ctx)
-      if (hasJoints) {
-        statesToJointBodies(state, joints, jointCount)
-        solveJoints(joints, jointCount, ctx, false)
-        jointBodiesToStates(state, joints, jointCount)
-      }
-      solveContacts(k, state, ctx, false)
+  }
+
+  /** Sub-step: gravity, damping and the speed limits. */
+  private integrateVelocities(): void {
+    integrateVelocities(this.awake, this.awakeCount, this.state, this.stepContext)
+  }
+
+  /** Sub-step: applies the accumulated joint and contact impulses. */
+  private warmStart(): void {
+    if (this.activeJointCount > 0) {
+      statesToJointBodies(this.state, this.activeJoints, this.activeJointCount)
+      warmStartJoints(this.activeJoints, this.activeJointCount)
+      jointBodiesToStates(this.state, this.activeJoints, this.activeJointCount)
     }
-    applyRestitution(k, state, ctx)
-    storeImpulses(k, this.activeContacts)
+    warmStartContacts(this.constraints, this.state)
+  }
+
+  /** Sub-step: one iteration over joints, then contacts, with bias (position error is pushed out). */
+  private solve(): void {
+    if (this.activeJointCount > 0) {
+      statesToJointBodies(this.state, this.activeJoints, this.activeJointCount)
+      solveJoints(this.activeJoints, this.activeJointCount, this.stepContext, true)
+      jointBodiesToStates(this.state, this.activeJoints, this.activeJointCount)
+    }
+    solveContacts(this.constraints, this.state, this.stepContext, true)
+  }
+
+  /** Sub-step: accumulates the position and rotation deltas. */
+  private integratePositions(): void {
+    integratePositions(this.state, this.awakeCount, this.stepContext)
+  }
+
+  /** Sub-step: one iteration over joints, then contacts, without bias (removes the push-out speed). */
+  private relax(): void {
+    if (this.activeJointCount > 0) {
+      statesToJointBodies(this.state, this.activeJoints, this.activeJointCount)
+      solveJoints(this.activeJoints, this.activeJointCount, this.stepContext, false)
+      jointBodiesToStates(this.state, this.activeJoints, this.activeJointCount)
+    }
+    solveContacts(this.constraints, this.state, this.stepContext, false)
+  }
+
+  /** Bounces contacts that closed faster than the restitution threshold, once per step. */
+  private applyRestitution(): void {
+    applyRestitution(this.constraints, this.state, this.stepContext)
+  }
+
+  /** Copies the accumulated contact impulses back for warm starting and read-back. */
+  private storeImpulses(): void {
+    storeImpulses(this.constraints, this.activeContacts)
   }
 
   /** Folds the deltas into the transforms and updates sleep timers. */
@@ -379,55 +287,44 @@ export class World extends WorldApi {
     }
   }
 
+  /** Time of impact for fast bodies and bullets (when continuous collision is on). */
+  private solveContinuous(): void {
+    if (!this.settings.enableContinuous) return
+    solveContinuous(this.awake, this.awakeCount, this.broadPhase, this.bodyMap, shouldCollide)
+  }
+
+  /** Puts islands to sleep that rested long enough (when sleeping is on). */
+  private sleepIslands(): void {
+    if (!this.settings.enableSleep) return
+    this.islands.sleepIslands(
+      this.awake,
+      this.awakeCount,
+      this.activeContacts,
+      this.activeContactCount,
+      this.activeJoints,
+      this.activeJointCount,
+      this.settings.timeToSleep,
+    )
+  }
+
   /** Moves the fat AABBs of awake bodies in the broadphase. */
   private updateBroadPhase(): void {
     for (let i = 0; i < this.awakeCount; i++) this.moveProxy(this.awake[i], true)
   }
 }
 
-const SETTINGS_NUMBERS = [
-  'contactHertz',
-  'contactDampingRatio',
-  'maxContactPushSpeed',
-  'restitutionThreshold',
-  'sleepThreshold',
-  'timeToSleep',
-] as const
-
 /** Creates a world; every setting not given takes its default (DEFAULT_WORLD_DEF). */
 export function createWorld(def: WorldDef = {}): World {
   return new World(resolveWorldDef(def))
 }
 
-/** Validates a WorldDef and fills in the defaults; throws a RangeError naming a bad value. */
-export function resolveWorldDef(def: WorldDef): ResolvedWorldDef {
-  const d = { ...DEFAULT_WORLD_DEF, ...def }
-  const g = d.gravity
-  if (!g || !Number.isFinite(g.x) || !Number.isFinite(g.y))
-    throw new RangeError(`gravity must be a finite vector, got ${JSON.stringify(g)}`)
-  if (!Number.isInteger(d.subSteps) || d.subSteps < 1 || d.subSteps > 64) {
-    throw new RangeError(`subSteps must be an integer in [1, 64], got ${d.subSteps}`)
-  }
-  for (const key of SETTINGS_NUMBERS) {
-    const v = d[key]
-    if (typeof v !== 'number' || !Number.isFinite(v) || v < 0)
-      throw new RangeError(`${key} must be a finite number >= 0, got ${v}`)
-  }
-  return {
-    ...d,
-    gravity: { x: g.x, y: g.y },
-    enableSleep: d.enableSleep !== false,
-    enableContinuous: d.enableContinuous !== false,
-  }
-}
-
 /** Builds a world from bytes made by World.save(); it steps bit-identically to the original. */
 export function loadWorld(bytes: Uint8Array): World {
-  return World.fromBytes(bytes)
+  return loadWorldState(bytes, (settings) => new World(settings))
 }
 
 /** Whether two bodies should get a contact: one must be dynamic, and no joint between them may forbid it. */
-export function shouldCollide(a: Body, b: Body): boolean {
+function shouldCollide(a: Body, b: Body): boolean {
   if (a.type !== DYNAMIC && b.type !== DYNAMIC) return false
   const joints = a.joints.length < b.joints.length ? a.joints : b.joints
   for (let i = 0; i < joints.length; i++) {

@@ -1,0 +1,155 @@
+/*
+ * The solver state of the awake bodies: one Float64Array, STATE_STRIDE numbers per body (Box2D v3's
+ * b2BodyState): velocity (VX, VY, W) and the sub-step deltas of position (DPX, DPY) and rotation as a
+ * unit pair (DQC, DQS). A body's record starts at stateOffset(body): awake bodies have solverIndex
+ * 0..n-1 for this step and records 1..n; static bodies (solverIndex -1) share record 0, which never
+ * moves and has zero velocity, so constraint code reads and writes both bodies without branching.
+ *
+ * Contacts and joints read and write these records by offset; the Body fields vx, vy, w hold the
+ * velocity only between steps (finalizeBodies copies it back). The integrators here run once per
+ * sub-step (b2IntegrateVelocities, b2IntegratePositions) and enforce the speed limits.
+ */
+import { type Body, DYNAMIC } from './body.ts'
+import { MAX_LINEAR_SPEED, MAX_ROTATION } from './constants.ts'
+import type { Joint } from './joint.ts'
+import type { StepContext } from './step-context.ts'
+
+/** Linear velocity x (m/s). */
+export const VX = 0
+/** Linear velocity y (m/s). */
+export const VY = 1
+/** Angular velocity (rad/s). */
+export const W = 2
+/** Position delta of the centre of mass since the step began, x (m). */
+export const DPX = 3
+/** Position delta, y (m). */
+export const DPY = 4
+/** Rotation delta since the step began, cosine. */
+export const DQC = 5
+/** Rotation delta, sine. */
+export const DQS = 6
+/** Numbers per body record (one spare keeps records 64-byte aligned). */
+export const STATE_STRIDE = 8
+
+/** Offset of a body's record in the state array: record 0 (static, never moving) for a body not being solved. */
+export function stateOffset(b: Body): number {
+  return (b.solverIndex + 1) * STATE_STRIDE
+}
+
+/** Copies awake bodies' velocities into the solver state (grown if needed) with zero deltas. */
+export function loadSolverStates(awake: Body[], n: number, state: Float64Array): Float64Array {
+  if (state.length < (n + 1) * STATE_STRIDE) state = new Float64Array((n + 1) * 2 * STATE_STRIDE)
+  state.fill(0, 0, STATE_STRIDE)
+  state[DQC] = 1
+  for (let i = 0; i < n; i++) {
+    const b = awake[i]
+    const o = (i + 1) * STATE_STRIDE
+    state[o + VX] = b.vx
+    state[o + VY] = b.vy
+    state[o + W] = b.w
+    state[o + DPX] = 0
+    state[o + DPY] = 0
+    state[o + DQC] = 1
+    state[o + DQS] = 0
+  }
+  return state
+}
+
+/** Copies the solver state of the jointed awake bodies into their Body fields. */
+export function statesToJointBodies(state: Float64Array, joints: Joint[], count: number): void {
+  for (let i = 0; i < count; i++) {
+    stateToBody(state, joints[i].bodyA)
+    stateToBody(state, joints[i].bodyB)
+  }
+}
+
+/** Copies the jointed bodies' Body fields back into the solver state. */
+export function jointBodiesToStates(state: Float64Array, joints: Joint[], count: number): void {
+  for (let i = 0; i < count; i++) {
+    bodyToState(state, joints[i].bodyA)
+    bodyToState(state, joints[i].bodyB)
+  }
+}
+
+/**
+ * Gravity and damping for awake dynamic bodies over one sub-step (semi-implicit Euler), then the
+ * speed limits: linear speed at most MAX_LINEAR_SPEED, rotation at most MAX_ROTATION per sub-step.
+ */
+export function integrateVelocities(awake: Body[], n: number, state: Float64Array, ctx: StepContext): void {
+  const h = ctx.h
+  const gx = ctx.gravityX * h
+  const gy = ctx.gravityY * h
+  const maxAngularSpeed = MAX_ROTATION / h
+  for (let i = 0; i < n; i++) {
+    const b = awake[i]
+    if (b.type !== DYNAMIC) continue
+    const o = (i + 1) * STATE_STRIDE
+    let vx = state[o + VX]
+    let vy = state[o + VY]
+    let w = state[o + W]
+    if (b.linearDamping > 0) {
+      const damp = 1 / (1 + h * b.linearDamping)
+      vx *= damp
+      vy *= damp
+    }
+    if (b.angularDamping > 0) w *= 1 / (1 + h * b.angularDamping)
+    vx += b.gravityScale * gx
+    vy += b.gravityScale * gy
+    const speedSquared = vx * vx + vy * vy
+    if (speedSquared > MAX_LINEAR_SPEED * MAX_LINEAR_SPEED) {
+      const scale = MAX_LINEAR_SPEED / Math.sqrt(speedSquared)
+      vx *= scale
+      vy *= scale
+    }
+    if (w * w > maxAngularSpeed * maxAngularSpeed) w = w > 0 ? maxAngularSpeed : -maxAngularSpeed
+    state[o + VX] = vx
+    state[o + VY] = vy
+    state[o + W] = w
+  }
+}
+
+/** Accumulates the sub-step position and rotation deltas of n awake bodies. */
+export function integratePositions(state: Float64Array, n: number, ctx: StepContext): void {
+  const h = ctx.h
+  const end = (n + 1) * STATE_STRIDE
+  for (let o = STATE_STRIDE; o < end; o += STATE_STRIDE) {
+    state[o + DPX] += h * state[o + VX]
+    state[o + DPY] += h * state[o + VY]
+    // Integrate the rotation and renormalize (Box2D v3 b2IntegrateRotation).
+    const da = h * state[o + W]
+    const c = state[o + DQC]
+    const s = state[o + DQS]
+    const qc = c - da * s
+    const qs = s + da * c
+    const mag = Math.sqrt(qc * qc + qs * qs)
+    const inv = mag > 0 ? 1 / mag : 0
+    state[o + DQC] = qc * inv
+    state[o + DQS] = qs * inv
+  }
+}
+
+/** Copies a body's solver state into its fields (static bodies have none). */
+export function stateToBody(state: Float64Array, b: Body): void {
+  if (b.solverIndex < 0) return
+  const o = stateOffset(b)
+  b.vx = state[o + VX]
+  b.vy = state[o + VY]
+  b.w = state[o + W]
+  b.dpx = state[o + DPX]
+  b.dpy = state[o + DPY]
+  b.dqc = state[o + DQC]
+  b.dqs = state[o + DQS]
+}
+
+/** Copies a body's fields into its solver state. */
+function bodyToState(state: Float64Array, b: Body): void {
+  if (b.solverIndex < 0) return
+  const o = stateOffset(b)
+  state[o + VX] = b.vx
+  state[o + VY] = b.vy
+  state[o + W] = b.w
+  state[o + DPX] = b.dpx
+  state[o + DPY] = b.dpy
+  state[o + DQC] = b.dqc
+  state[o + DQS] = b.dqs
+}

@@ -1,0 +1,24 @@
+/*
+ * The engine's fixed tolerances and limits, in one place (Box2D v3 keeps them in constants.h and
+ * core.h). Settings a world may change (contact stiffness, push-out speed, sleep thresholds) are in
+ * DEFAULT_WORLD_DEF instead; these are the values the algorithms are built around.
+ */
+
+/** The fixed step (s): 1/60. */
+export const STEP_SECONDS = 1 / 60
+/** Collision tolerance (m): 0.005, Box2D's b2_linearSlop. Narrowphase tolerances derive from it. */
+export const LINEAR_SLOP = 0.005
+/** Contacts are created while shapes are closer than this (m): 4 x slop = 0.02 (b2_speculativeDistance). */
+export const SPECULATIVE_DISTANCE = 4 * LINEAR_SLOP
+/** Fastest linear speed a body may reach (m/s): 400, Box2D v3's maxLinearSpeed (4 m per step at 100 Hz). */
+export const MAX_LINEAR_SPEED = 400
+/** Largest rotation of a body in one sub-step (rad): a quarter turn over pi, Box2D v3's b2_maxRotation. */
+export const MAX_ROTATION = 0.25 * Math.PI
+/** Most vertices a convex polygon may have (b2_maxPolygonVertices). */
+export const MAX_POLYGON_VERTICES = 8
+/** Smallest radius, half extent or edge a shape may have (m). */
+export const MIN_SHAPE_EXTENT = 0.001
+/** Fat AABBs grow this much around the tight box of a moving body (m), Box2D's b2_aabbMargin. */
+export const AABB_MARGIN = 0.1
+/** Re-fattened proxies reach this many displacements ahead along the motion (Box2D v2.4's aabbMultiplier). */
+export const DISPLACEMENT_MULTIPLIER = 4
