@@ -68,7 +68,7 @@ async function driveTicks(
   let peakAwake = 0
   let encodeMs = 0
   let encodes = 0
-  for (const s of room.sessions.values()) {
+  for (const s of room.players.values()) {
     const encoder = s.encoder
     const encode = encoder.encode.bind(encoder)
     encoder.encode = (...args) => {

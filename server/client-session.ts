@@ -1,48 +1,25 @@
 /*
- * One connected socket and, once it has joined, its player: identity, cursor, grab, the snapshot
- * delta state, the per-tick input budget, strikes for invalid messages and backpressure state.
- * Sending goes through send() so bytes are counted and a socket that is already closing is left
- * alone.
+ * One connected socket: the WebSocket implementation of PlayerConnection, plus what the transport
+ * tracks per socket (strikes for invalid messages, heartbeat, error reply budget) and, once it has
+ * joined, its room player. Sending goes through sendBytes() so bytes are counted and a socket that
+ * is already closing is left alone.
  */
 
 import type { WebSocket } from 'ws'
 import type { ServerMessage } from '../shared/index.ts'
-import { encodeMessage, SnapshotEncoder } from '../shared/index.ts'
+import { encodeMessage } from '../shared/index.ts'
 import type { ServerMetrics } from './metrics.ts'
+import { DROP_CONNECTION, type PlayerConnection } from './player-connection.ts'
+import type { RoomPlayer } from './room-player.ts'
 
-/** A player's grab: its own mouse joint on a body. */
-export interface Grab {
-  joint: number
-  body: number
-}
-
-/** A socket and its player. */
-export class ClientSession {
-  /** Player id within the room (0 until joined). */
-  id = 0
-  name = ''
-  color = '#888888'
-  token = ''
-  room = ''
-  joined = false
-  /** Cursor (m) and whether it moved since the last snapshot. */
-  cursorX = 0
-  cursorY = 0
-  cursorDirty = false
-  grab: Grab | null = null
-  /** Body whose contacts follow each snapshot (the lab), or 0. */
-  inspect = 0
-  readonly encoder = new SnapshotEncoder()
-  /** Inputs queued for the current tick. */
-  inputsThisTick = 0
-  /** Index in the room queue of this player's move for the current tick, or -1. */
-  queuedMove = -1
+/** A socket and, once joined, its player in a room; the room sees it as a PlayerConnection. */
+export class ClientSession implements PlayerConnection {
+  /** The room player, once joined (null before the join and after leaving). */
+  player: RoomPlayer | null = null
   /** Invalid messages since the last heartbeat. */
   strikes = 0
   /** Room tick of the last strike for exceeding the input budget (one strike per tick at most). */
   budgetStrikeTick = -1
-  /** Room tick since which the send buffer has been over budget, or -1. */
-  behindSince = -1
   /** Answered the last heartbeat ping. */
   alive = true
   /** Bytes sent to this client. */
@@ -87,8 +64,25 @@ export class ClientSession {
     this.send(seq === undefined ? { t: 'error', code, reason } : { t: 'error', code, reason, seq })
   }
 
-  /** Close with a code and a reason (truncated to the 123 bytes a close frame allows). */
+  /** Bytes queued on the socket and not yet sent. */
+  buffered(): number {
+    return this.ws.bufferedAmount
+  }
+
+  /** Player id for logs (0 before joining). */
+  get id(): number {
+    return this.player?.id ?? 0
+  }
+
+  /**
+   * Close with a code and a reason (truncated to the 123 bytes a close frame allows);
+   * DROP_CONNECTION terminates the socket at once.
+   */
   close(code: number, reason: string): void {
+    if (code === DROP_CONNECTION) {
+      this.ws.terminate()
+      return
+    }
     if (this.ws.readyState > 1) return
     this.ws.close(code, Buffer.from(reason).subarray(0, 123).toString())
   }

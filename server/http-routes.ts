@@ -73,9 +73,9 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
 export function listRooms(
   rooms: RoomManager,
 ): Array<{ name: string; players: number; bodies: number; scene: string; tick: number }> {
-  return [...rooms.rooms.values()].map((r) => ({
+  return rooms.list().map((r) => ({
     name: r.name,
-    players: r.sessions.size,
+    players: r.players.size,
     bodies: r.world.bodyCount,
     scene: r.scene,
     tick: r.tick,

@@ -14,7 +14,7 @@ import { TickClock } from './tick-clock.ts'
 
 /** Every room of the process and the clock that drives them. */
 export class RoomManager {
-  readonly rooms = new Map<string, Room>()
+  private readonly rooms = new Map<string, Room>()
   readonly clock: TickClock
   /** Called when a room is created (e.g. to attach a recorder). */
   onRoomCreated: ((room: Room) => void) | null = null
@@ -33,6 +33,16 @@ export class RoomManager {
         log.warn({ dropped: n }, 'tick loop fell behind; dropped ticks')
       },
     )
+  }
+
+  /** The open room of that name, or undefined. */
+  get(name: string): Room | undefined {
+    return this.rooms.get(name)
+  }
+
+  /** Every open room, in creation order. */
+  list(): Room[] {
+    return [...this.rooms.values()]
   }
 
   /** The room of that name, created if there is room for it; null at the room limit. */
@@ -68,7 +78,7 @@ export class RoomManager {
   private disposeIdle(): void {
     const idleTicks = this.config.roomIdleSeconds * TICK_RATE
     for (const room of this.rooms.values()) {
-      if (room.name === this.config.defaultRoom || room.sessions.size > 0 || room.emptySince < 0) continue
+      if (room.name === this.config.defaultRoom || room.players.size > 0 || room.emptySince < 0) continue
       if (room.tick - room.emptySince >= idleTicks) this.dispose(room)
     }
   }
@@ -82,7 +92,7 @@ export class RoomManager {
   /** Total joined players. */
   get playerCount(): number {
     let n = 0
-    for (const room of this.rooms.values()) n += room.sessions.size
+    for (const room of this.rooms.values()) n += room.players.size
     return n
   }
 }

@@ -5,7 +5,7 @@
  * yet detected), that socket is replaced.
  */
 import { randomBytes } from 'node:crypto'
-import type { ClientSession } from './client-session.ts'
+import type { RoomPlayer } from './room-player.ts'
 
 /** A player who left, remembered for the reconnect window. */
 export interface DepartedPlayer {
@@ -41,21 +41,22 @@ export interface Identity {
   token: string
   name?: string
   color?: string
-  /** An open session with the same token, to be closed. */
-  replaced?: ClientSession
+  /** A joined player with the same token (a stale connection), to be closed. */
+  replaced?: RoomPlayer
 }
 
-interface RoomPlayers {
-  sessions: Map<number, ClientSession>
+/** What identity assignment needs from a room. */
+export interface RoomPlayers {
+  players: Map<number, RoomPlayer>
   departed: Map<string, DepartedPlayer>
   nextPlayerId: number
-  leave(session: ClientSession): void
+  leave(player: RoomPlayer): void
 }
 
 /** Resolve a join's token to a returning identity or a fresh one. */
 export function assignIdentity(room: RoomPlayers, token: string | undefined): Identity {
   if (token) {
-    for (const s of room.sessions.values()) {
+    for (const s of room.players.values()) {
       if (s.token === token) {
         room.leave(s)
         const back = room.departed.get(token)!

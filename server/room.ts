@@ -1,29 +1,33 @@
 /*
- * A room: one engine world, its players and their input queue, stepped at a fixed 60 Hz by the
- * server's clock (room-manager.ts drives every room from one TickClock).
+ * A room on the server: the networking around one RoomSimulation (shared/room-simulation.ts, the
+ * deterministic part: world, grabs, user joints, pause, the room tick). Here: players and their
+ * connections (behind PlayerConnection, never a socket), the input queue, events, snapshots and
+ * hash checkpoints. The room manager drives every room from one TickClock at 60 Hz.
  *
  * One tick, in order:
- *   1. apply the inputs queued since the last tick, in arrival order (applyCommand, the single
- *      entry point a recorder hooks into via onCommand)
- *   2. world.step() unless paused (a single-step request steps once while paused)
- *   3. advance the room tick; send the tick's events (bodies and joints created or removed, room
- *      settings) to everyone, encoded once
- *   4. on snapshot ticks: quantize the world once into a shared frame, then write each client's
+ *   1. apply the inputs queued since the last tick, in arrival order, through the simulation
+ *      (its observers, e.g. a recorder, see every accepted command there); `inspect` is handled
+ *      here, it only chooses what a player is sent
+ *   2. the simulation's tick: step unless paused, advance the room tick, once a second remove
+ *      bodies that left the world
+ *   3. send the tick's events (bodies and joints created or removed, room settings) to everyone,
+ *      encoded once
+ *   4. on snapshot ticks: quantize the world once into a shared frame, then write each player's
  *      delta against its own acknowledged baseline within its byte budget, followed by the
- *      contacts of the body it inspects, if any; a client whose send buffer is full is skipped,
- *      and closed if it stays behind
- *   5. every second: a state hash checkpoint, housekeeping (out-of-bounds bodies, reconnect window)
+ *      contacts of the body it inspects, if any; a player whose connection has too much buffered
+ *      is skipped, and closed if it stays behind
+ *   5. every second: a state hash checkpoint, forget departed players past the reconnect window
  *
  * Room ticks count loop iterations and never reset; world.tick counts steps of the current world
  * (paused ticks do not step, a scene load starts a new world).
  */
 import type { Logger } from 'pino'
-import { buildScene, createWorld, SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
+import { SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
 import {
   ByteWriter,
   type Command,
   encodeMessage,
-  KILL_DISTANCE,
+  isMovable,
   PROTOCOL_VERSION,
   QuantizedFrame,
   quantizePosition,
@@ -34,45 +38,30 @@ import {
   type WireJoint,
   WORLD_HALF_EXTENT,
 } from '../shared/index.ts'
-import type { ClientSession } from './client-session.ts'
+import { RoomSimulation, type SimulationListener, worldFromBlueprint } from '../shared/room-simulation.ts'
 import type { ServerConfig } from './config.ts'
 import type { ServerMetrics } from './metrics.ts'
-import { applyCommand } from './room-commands.ts'
+import { DROP_CONNECTION, type PlayerConnection } from './player-connection.ts'
+import { RoomPlayer } from './room-player.ts'
 import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
-import { encodeInspections, fillFrame, fullState } from './room-wire.ts'
+import { encodeInspections, fillFrame, fullState, wireBody } from './room-wire.ts'
 
 /** A queued input: who sent it, its sequence number and the validated command. */
 interface QueuedInput {
-  session: ClientSession
+  player: RoomPlayer
   seq: number
   cmd: Command
 }
 
-/** Called for every command applied, in order: the hook for the replay recorder. */
-export type CommandListener = (tick: number, clientId: number, cmd: Command) => void
-
-/** One room: world, players, input queue, snapshots. */
+/** One room: a simulation, its players, input queue, events and snapshots. */
 export class Room {
-  world: World
-  scene: string
-  paused = false
-  stepRequested = false
-  /** Ticks run since the room opened. */
-  tick = 0
+  readonly sim: RoomSimulation
   /** Joined players by id. */
-  readonly sessions = new Map<number, ClientSession>()
-  /** User joints (pins, ropes) by joint id. */
-  readonly userJoints = new Map<number, WireJoint>()
-  /** Grabs per body id (bodies being pulled get priority in snapshots). */
-  readonly grabCounts = new Map<number, number>()
+  readonly players = new Map<number, RoomPlayer>()
   readonly departed = new Map<string, DepartedPlayer>()
   nextPlayerId = 1
   /** Room tick at which the last player left (for disposal), or -1 while occupied. */
   emptySince = 0
-  /** Room tick of the last scene load or reset (they are rate limited). */
-  lastLoadTick = Number.NEGATIVE_INFINITY
-  /** Recorder hook. */
-  onCommand: CommandListener | null = null
   /** Largest staleness (ticks) of a body write in the last snapshot round, for the benchmark. */
   lastMaxStaleness = 0
   readonly rules: RoomRules
@@ -88,7 +77,7 @@ export class Room {
   private readonly writer = new ByteWriter(4096)
   private readonly snapshotInterval: number
   private readonly budget: number
-  private readonly weight = (id: number): number => (this.grabCounts.has(id) ? 8 : 0)
+  private readonly weight = (id: number): number => (this.sim.grabCounts.has(id) ? 8 : 0)
 
   constructor(
     readonly name: string,
@@ -98,8 +87,13 @@ export class Room {
   ) {
     this.snapshotInterval = TICK_RATE / config.snapshotRate
     this.budget = Math.floor(config.clientBandwidth / config.snapshotRate)
-    this.scene = Object.hasOwn(SCENES, config.defaultScene) ? config.defaultScene : 'pyramid'
-    this.world = this.makeWorld(this.scene)
+    this.sim = new RoomSimulation({
+      name,
+      scene: Object.hasOwn(SCENES, config.defaultScene) ? config.defaultScene : 'pyramid',
+      maxBodies: config.maxBodies,
+      controls: config.roomControls,
+      listener: this.listener(),
+    })
     this.rules = {
       tickRate: TICK_RATE,
       snapshotRate: config.snapshotRate,
@@ -112,69 +106,83 @@ export class Room {
     }
   }
 
-  private makeWorld(scene: string): World {
-    return this.worldFrom(SCENES[scene].make())
+  /** The current world. */
+  get world(): World {
+    return this.sim.world
   }
 
-  private worldFrom(blueprint: SceneBlueprint): World {
-    const world = createWorld()
-    buildScene(world, blueprint)
-    return world
+  /** The current scene name. */
+  get scene(): string {
+    return this.sim.scene
   }
 
-  /** Add a joined player and send its welcome; returns an error reason when refused. */
-  join(session: ClientSession, name: string, token: string | undefined): string | null {
-    if (this.sessions.size >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
+  /** The room tick. */
+  get tick(): number {
+    return this.sim.tick
+  }
+
+  /** Grabs per body id. */
+  get grabCounts(): ReadonlyMap<number, number> {
+    return this.sim.grabCounts
+  }
+
+  /** Add a player and send its welcome; returns the player, or a reason when refused. */
+  join(conn: PlayerConnection, name: string, token: string | undefined): RoomPlayer | string {
+    if (this.players.size >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
     const identity = assignIdentity(this, token)
-    if (identity.replaced) identity.replaced.close(4000, 'replaced by a reconnect with the same token')
-    session.id = identity.id
-    session.token = identity.token
-    session.name = identity.name ?? (name.trim() || `player ${identity.id}`)
-    session.color = identity.color ?? playerColor(identity.id)
-    session.room = this.name
-    session.joined = true
-    this.sessions.set(session.id, session)
+    if (identity.replaced) identity.replaced.conn.close(4000, 'replaced by a reconnect with the same token')
+    const player = new RoomPlayer(
+      identity.id,
+      identity.name ?? (name.trim() || `player ${identity.id}`),
+      identity.color ?? playerColor(identity.id),
+      identity.token,
+      this.name,
+      conn,
+    )
+    this.players.set(player.id, player)
+    this.sim.join(player.id, player.name, player.color)
     this.emptySince = -1
     const frame = new QuantizedFrame()
     fillFrame(this.world, frame)
-    session.encoder.reset(frame, this.tick)
-    session.send({
+    player.encoder.reset(frame, this.tick)
+    conn.send({
       t: 'welcome',
       v: PROTOCOL_VERSION,
-      id: session.id,
-      token: session.token,
+      id: player.id,
+      token: player.token,
       room: this.name,
       rules: this.rules,
       players: this.roster(),
-      state: fullState(this.world, this.tick, this.scene, this.paused, this.userJoints.values()),
+      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
     })
     this.broadcast({ t: 'players', players: this.roster() })
     // The newcomer learns every cursor from the next snapshot.
-    for (const s of this.sessions.values()) s.cursorDirty = true
-    this.log.info({ room: this.name, player: session.id, name: session.name }, 'player joined')
-    return null
+    for (const p of this.players.values()) p.cursorDirty = true
+    this.log.info({ room: this.name, player: player.id, name: player.name }, 'player joined')
+    return player
   }
 
   /** Remove a player: release its grab, keep its identity for the reconnect window. */
-  leave(session: ClientSession): void {
-    if (this.sessions.get(session.id) !== session) return
-    applyCommand(this, session, { k: 'release' })
-    session.inspect = 0
-    this.sessions.delete(session.id)
-    this.departed.set(session.token, {
-      id: session.id,
-      name: session.name,
-      color: session.color,
+  leave(player: RoomPlayer): void {
+    if (this.players.get(player.id) !== player) return
+    this.sim.leave(player.id)
+    player.joined = false
+    player.inspect = 0
+    this.players.delete(player.id)
+    this.departed.set(player.token, {
+      id: player.id,
+      name: player.name,
+      color: player.color,
       leftTick: this.tick,
     })
-    if (this.sessions.size === 0) this.emptySince = this.tick
+    if (this.players.size === 0) this.emptySince = this.tick
     this.broadcast({ t: 'players', players: this.roster() })
-    this.log.info({ room: this.name, player: session.id }, 'player left')
+    this.log.info({ room: this.name, player: player.id }, 'player left')
   }
 
   /** The roster for welcome and players messages. */
   roster(): Array<{ id: number; name: string; color: string }> {
-    return [...this.sessions.values()].map((s) => ({ id: s.id, name: s.name, color: s.color }))
+    return [...this.players.values()].map((p) => ({ id: p.id, name: p.name, color: p.color }))
   }
 
   /**
@@ -182,19 +190,19 @@ export class Room {
    * move replaces the same player's move already queued for this tick (only the latest cursor
    * position matters), so fast mice never use up the budget.
    */
-  queueInput(session: ClientSession, seq: number, cmd: Command): string | null {
-    if (cmd.k === 'move' && session.queuedMove >= 0) {
-      const queued = this.queue[session.queuedMove]
+  queueInput(player: RoomPlayer, seq: number, cmd: Command): string | null {
+    if (cmd.k === 'move' && player.queuedMove >= 0) {
+      const queued = this.queue[player.queuedMove]
       queued.seq = seq
       queued.cmd = cmd
       return null
     }
-    if (session.inputsThisTick >= this.config.inputsPerTick) {
+    if (player.inputsThisTick >= this.config.inputsPerTick) {
       return `input budget exceeded: at most ${this.config.inputsPerTick} inputs per tick`
     }
-    session.inputsThisTick++
-    if (cmd.k === 'move') session.queuedMove = this.queue.length
-    this.queue.push({ session, seq, cmd })
+    player.inputsThisTick++
+    if (cmd.k === 'move') player.queuedMove = this.queue.length
+    this.queue.push({ player, seq, cmd })
     return null
   }
 
@@ -203,102 +211,85 @@ export class Room {
     const queue = this.queue
     this.queue = []
     for (const input of queue) {
-      if (!input.session.joined || this.sessions.get(input.session.id) !== input.session) continue
-      const error = applyCommand(this, input.session, input.cmd)
-      if (error) input.session.sendError('refused', error, input.seq)
+      if (this.players.get(input.player.id) !== input.player) continue
+      const error = this.apply(input.player, input.cmd)
+      if (error) input.player.conn.sendError('refused', error, input.seq)
     }
-    for (const s of this.sessions.values()) {
-      s.inputsThisTick = 0
-      s.queuedMove = -1
+    for (const p of this.players.values()) {
+      p.inputsThisTick = 0
+      p.queuedMove = -1
     }
-    if (!this.paused || this.stepRequested) this.world.step()
-    this.stepRequested = false
-    this.tick++
+    this.sim.runTick()
     this.flushEvents()
     if (this.tick % this.snapshotInterval === 0) this.sendSnapshots()
     if (this.tick % TICK_RATE === 0) this.everySecond()
   }
 
-  /** Record a body creation event. */
-  bodyAdded(body: WireBody): void {
-    this.events.add.push(body)
-  }
-
-  /** Destroy a body and everything attached to it, with events. */
-  removeBody(id: number): void {
-    for (const [jid, j] of this.userJoints) {
-      if (j.a === id || j.b === id) {
-        this.userJoints.delete(jid)
-        this.events.jremove.push(jid)
-      }
-    }
-    for (const s of this.sessions.values()) {
-      if (s.grab?.body === id) {
-        s.grab = null
-        s.cursorDirty = true
-      }
-      if (s.inspect === id) s.inspect = 0
-      s.encoder.removeBody(id)
-    }
-    this.grabCounts.delete(id)
-    this.world.destroyBody(id)
-    this.events.remove.push(id)
-  }
-
-  /** Record a user joint creation or removal. */
-  jointAdded(joint: WireJoint): void {
-    this.userJoints.set(joint.id, joint)
-    this.events.jadd.push(joint)
-  }
-
-  /** Remove a user joint. */
-  jointRemoved(id: number): void {
-    this.userJoints.delete(id)
-    this.events.jremove.push(id)
-  }
-
-  /** Pause, gravity or scene changed: tell everyone at the end of the tick. */
-  markRoomChanged(): void {
-    this.roomChanged = true
-  }
-
-  /** Replace the world with a fresh copy of a named scene (SCENES) and send everyone the new full state. */
-  loadScene(name: string): void {
-    this.loadBlueprint(name, SCENES[name].make())
-  }
-
   /** Replace the world with a scene blueprint (benchmarks use sizes SCENES does not list). */
   loadBlueprint(name: string, blueprint: SceneBlueprint): void {
-    this.lastLoadTick = this.tick
-    for (const s of this.sessions.values()) {
-      s.grab = null
-      s.inspect = 0
-      s.cursorDirty = true
-    }
-    this.grabCounts.clear()
-    this.userJoints.clear()
-    this.events = { add: [], remove: [], jadd: [], jremove: [] }
-    this.scene = name
-    this.world = this.worldFrom(blueprint)
-    const frame = new QuantizedFrame()
-    fillFrame(this.world, frame)
-    const bytes = encodeMessage({
-      t: 'state',
-      state: fullState(this.world, this.tick, name, this.paused, []),
-    })
-    for (const s of this.sessions.values()) {
-      s.encoder.reset(frame, this.tick)
-      s.sendBytes(bytes)
-    }
-    this.markRoomChanged()
-    this.log.info({ room: this.name, scene: name }, 'scene loaded')
+    this.sim.loadWorld(name, worldFromBlueprint(blueprint))
   }
 
   /** Encode once, send to every player. */
   broadcast(message: ServerMessage): void {
-    if (this.sessions.size === 0) return
+    if (this.players.size === 0) return
     const bytes = encodeMessage(message)
-    for (const s of this.sessions.values()) s.sendBytes(bytes)
+    for (const p of this.players.values()) p.conn.sendBytes(bytes)
+  }
+
+  /** Close every player with a reason. */
+  closeAll(code: number, reason: string): void {
+    for (const p of this.players.values()) p.conn.close(code, reason)
+  }
+
+  private apply(player: RoomPlayer, cmd: Command): string | null {
+    if (cmd.k !== 'inspect') return this.sim.apply(player.id, cmd)
+    // Inspecting only chooses what this player is sent: the world does not change, nothing is recorded.
+    if (cmd.body !== 0 && !isMovable(this.world, cmd.body))
+      return `body ${cmd.body} does not exist or is static`
+    player.inspect = cmd.body
+    return null
+  }
+
+  /** The simulation's side effects, as this tick's events. */
+  private listener(): SimulationListener {
+    return {
+      bodyAdded: (id) => this.events.add.push(wireBody(this.sim.world, id)),
+      bodyRemoved: (id) => {
+        for (const p of this.players.values()) {
+          if (p.inspect === id) p.inspect = 0
+          p.encoder.removeBody(id)
+        }
+        this.events.remove.push(id)
+      },
+      jointAdded: (joint) => this.events.jadd.push(joint),
+      jointRemoved: (id) => this.events.jremove.push(id),
+      roomChanged: () => {
+        this.roomChanged = true
+      },
+      cursorChanged: (id) => {
+        const p = this.players.get(id)
+        if (p) p.cursorDirty = true
+      },
+      worldReplaced: () => this.sendNewWorld(),
+    }
+  }
+
+  /** After a scene load: drop the old world's events, send everyone the new full state. */
+  private sendNewWorld(): void {
+    this.events = { add: [], remove: [], jadd: [], jremove: [] }
+    const frame = new QuantizedFrame()
+    fillFrame(this.world, frame)
+    const bytes = encodeMessage({
+      t: 'state',
+      state: fullState(this.world, this.tick, this.scene, this.sim.paused, []),
+    })
+    for (const p of this.players.values()) {
+      p.inspect = 0
+      p.encoder.reset(frame, this.tick)
+      p.conn.sendBytes(bytes)
+    }
+    this.log.info({ room: this.name, scene: this.scene }, 'scene loaded')
   }
 
   private flushEvents(): void {
@@ -312,7 +303,7 @@ export class Room {
       this.broadcast({
         t: 'room',
         tick: this.tick,
-        paused: this.paused,
+        paused: this.sim.paused,
         gravity: [g.x, g.y],
         scene: this.scene,
       })
@@ -321,71 +312,62 @@ export class Room {
   }
 
   private sendSnapshots(): void {
-    if (this.sessions.size === 0) return
+    if (this.players.size === 0) return
     fillFrame(this.world, this.frame)
     const cursors: number[] = []
-    for (const s of this.sessions.values()) {
-      if (!s.cursorDirty) continue
-      cursors.push(s.id, quantizePosition(s.cursorX), quantizePosition(s.cursorY), s.grab ? s.grab.body : 0)
-      s.cursorDirty = false
+    for (const p of this.players.values()) {
+      if (!p.cursorDirty) continue
+      const s = this.sim.players.get(p.id)
+      if (!s) continue
+      cursors.push(p.id, quantizePosition(s.cursorX), quantizePosition(s.cursorY), s.grab ? s.grab.body : 0)
+      p.cursorDirty = false
     }
     const inspected = new Set<number>()
-    for (const s of this.sessions.values()) if (s.inspect !== 0) inspected.add(s.inspect)
+    for (const p of this.players.values()) if (p.inspect !== 0) inspected.add(p.inspect)
     const contacts = encodeInspections(this.world, this.tick, inspected)
     let staleness = 0
-    for (const s of this.sessions.values()) {
-      staleness = Math.max(staleness, this.sendSnapshot(s, cursors, contacts.get(s.inspect)))
+    for (const p of this.players.values()) {
+      staleness = Math.max(staleness, this.sendSnapshot(p, cursors, contacts.get(p.inspect)))
     }
     this.lastMaxStaleness = staleness
   }
 
   /**
-   * Send one client its snapshot and, when it inspects a body, that body's contacts; or skip both
-   * when its send buffer is full. Returns the snapshot's staleness.
+   * Send one player its snapshot and, when it inspects a body, that body's contacts; or skip both
+   * when its connection has too much buffered. Returns the snapshot's staleness.
    */
-  private sendSnapshot(session: ClientSession, cursors: number[], contacts: Uint8Array | undefined): number {
-    const buffered = session.ws.bufferedAmount
+  private sendSnapshot(player: RoomPlayer, cursors: number[], contacts: Uint8Array | undefined): number {
+    const buffered = player.conn.buffered()
     if (buffered > this.config.sendBufferBytes) {
       this.metrics.snapshotsSkipped.inc()
-      if (session.behindSince < 0) session.behindSince = this.tick
+      if (player.behindSince < 0) player.behindSince = this.tick
       const hardLimit = Math.max(this.config.sendBufferBytes * 8, 1 << 20)
       if (
-        this.tick - session.behindSince > this.config.slowClientSeconds * TICK_RATE ||
+        this.tick - player.behindSince > this.config.slowClientSeconds * TICK_RATE ||
         buffered > hardLimit
       ) {
         this.log.warn(
-          { room: this.name, player: session.id, buffered },
+          { room: this.name, player: player.id, buffered },
           'closing a client that stopped reading',
         )
         this.metrics.slowClientsClosed.inc()
-        session.ws.terminate()
+        player.conn.close(DROP_CONNECTION, 'stopped reading')
       }
       return 0
     }
-    session.behindSince = -1
+    player.behindSince = -1
     this.writer.reset()
-    const base = session.encoder.referenceTick
-    const stats = session.encoder.encode(this.writer, this.frame, this.tick, this.budget, this.weight)
+    const base = player.encoder.referenceTick
+    const stats = player.encoder.encode(this.writer, this.frame, this.tick, this.budget, this.weight)
     const data = this.writer.bytes.subarray(0, this.writer.length)
-    session.sendBytes(encodeMessage({ t: 'snap', tick: this.tick, base, data, cursors }))
-    if (contacts) session.sendBytes(contacts)
+    player.conn.sendBytes(encodeMessage({ t: 'snap', tick: this.tick, base, data, cursors }))
+    if (contacts) player.conn.sendBytes(contacts)
     return stats.maxStaleness
   }
 
   private everySecond(): void {
     this.broadcast({ t: 'hash', tick: this.tick, step: this.world.tick, hash: this.world.hash() })
-    const p = { x: 0, y: 0 }
-    for (const id of this.world.bodyIds()) {
-      if (this.world.getBodyType(id) === 'static') continue
-      this.world.getPosition(id, p)
-      if (Math.abs(p.x) > KILL_DISTANCE || Math.abs(p.y) > KILL_DISTANCE) this.removeBody(id)
-    }
     const window = this.config.reconnectSeconds * TICK_RATE
     for (const [token, d] of this.departed) if (this.tick - d.leftTick > window) this.departed.delete(token)
-  }
-
-  /** Close every player with a reason. */
-  closeAll(code: number, reason: string): void {
-    for (const s of this.sessions.values()) s.close(code, reason)
   }
 }

@@ -74,7 +74,7 @@ export class Transport {
     this.sessions.add(session)
     this.metrics.connections.set(this.sessions.size)
     const joinTimer = setTimeout(() => {
-      if (!session.joined) session.close(CLOSE_CODES.joinTimeout, 'no join message in time')
+      if (!session.player) session.close(CLOSE_CODES.joinTimeout, 'no join message in time')
     }, this.config.joinTimeoutMs)
     ws.on('error', (error) => {
       this.log.debug({ err: error.message, player: session.id }, 'socket error')
@@ -87,8 +87,10 @@ export class Transport {
       clearTimeout(joinTimer)
       this.sessions.delete(session)
       this.metrics.connections.set(this.sessions.size)
-      if (session.joined) {
-        this.rooms.rooms.get(session.room)?.leave(session)
+      const player = session.player
+      if (player) {
+        session.player = null
+        this.rooms.get(player.room)?.leave(player)
         this.metrics.clients.set(this.rooms.playerCount)
       }
     })
@@ -151,27 +153,28 @@ export class Transport {
       this.join(session, message)
       return
     }
-    if (!session.joined) {
+    const player = session.player
+    if (!player) {
       this.reject(session, 'not-joined', 'send join first')
       return
     }
-    const room = this.rooms.rooms.get(session.room)
-    if (!room) {
+    const room = this.rooms.get(player.room)
+    if (!room || !player.joined) {
       session.close(1011, 'room closed')
       return
     }
     switch (message.t) {
       case 'input': {
-        const error = room.queueInput(session, message.seq, message.cmd)
+        const error = room.queueInput(player, message.seq, message.cmd)
         if (error) this.overBudget(session, room.tick, error)
         return
       }
       case 'ack':
-        session.encoder.ack(message.tick)
+        player.encoder.ack(message.tick)
         return
       case 'ping':
         // Pings share the input budget, so they cannot be used to amplify traffic.
-        if (++session.inputsThisTick > this.config.inputsPerTick) {
+        if (++player.inputsThisTick > this.config.inputsPerTick) {
           this.overBudget(session, room.tick, 'too many pings')
           return
         }
@@ -186,7 +189,7 @@ export class Transport {
   }
 
   private join(session: ClientSession, message: Extract<ClientMessage, { t: 'join' }>): void {
-    if (session.joined) {
+    if (session.player) {
       this.reject(session, 'already-joined', 'this socket has already joined a room')
       return
     }
@@ -210,12 +213,13 @@ export class Transport {
       session.close(CLOSE_CODES.full, 'too many rooms')
       return
     }
-    const refused = room.join(session, message.name, message.token)
-    if (refused) {
-      session.sendError('full', refused)
-      session.close(CLOSE_CODES.full, refused)
+    const joined = room.join(session, message.name, message.token)
+    if (typeof joined === 'string') {
+      session.sendError('full', joined)
+      session.close(CLOSE_CODES.full, joined)
       return
     }
+    session.player = joined
     this.metrics.clients.set(this.rooms.playerCount)
   }
 

@@ -48,7 +48,7 @@ function snapshotsLater(bot: BotClient, n: number): Promise<void> {
 }
 
 function worldIsFinite(room: string): boolean {
-  const world = server.rooms.rooms.get(room)!.world
+  const world = server.rooms.get(room)!.world
   return world.bodyIds().every((id) => {
     const p = world.getPosition(id)
     return Number.isFinite(p.x) && Number.isFinite(p.y) && Number.isFinite(world.getAngle(id))
@@ -75,7 +75,7 @@ describe('bad input', { timeout: 20_000 }, () => {
     await snapshotsLater(bystander, 10)
     await snapshotsLater(attacker, 2)
     expect(worldIsFinite('target')).toBe(true)
-    expect(server.rooms.rooms.get('target')!.world.bodyCount).toBe(2)
+    expect(server.rooms.get('target')!.world.bodyCount).toBe(2)
     const metrics = await server.metrics.registry.getSingleMetricAsString('concord_messages_rejected_total')
     expect(metrics).toContain('reason="text-frame"')
     await Promise.all([bystander.close(), attacker.close()])
@@ -153,7 +153,7 @@ describe('bad input', { timeout: 20_000 }, () => {
     await bot.waitFor(() => [...bot.mirror.bodies.values()].some((b) => b.kind === 2))
     const far = [...bot.mirror.bodies.values()].find((b) => b.kind === 2)!
     expect(far.x).toBe(500)
-    const room = server.rooms.rooms.get('limits')!
+    const room = server.rooms.get('limits')!
     for (let round = 0; round < 10; round++) {
       for (let i = 0; i < 5; i++)
         bot.command({ k: 'spawn', shape: { type: 'box', hw: 0.3, hh: 0.3 }, x: i, y: 5 + round })

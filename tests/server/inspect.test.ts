@@ -32,7 +32,7 @@ const isContacts = (m: ServerMessage): m is ContactsMessage => m.t === 'contacts
 
 /** The server's session for a bot (to read its inspection directly). */
 function sessionOf(room: string, bot: BotClient) {
-  return server.rooms.rooms.get(room)!.sessions.get(bot.mirror.clientId)!
+  return server.rooms.get(room)!.players.get(bot.mirror.clientId)!
 }
 
 /** Resolve once the server has received everything sent so far: a ping's pong comes back after it. */

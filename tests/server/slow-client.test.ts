@@ -1,6 +1,7 @@
 import type { Socket } from 'node:net'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
+import type { ClientSession } from '../../server/client-session.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { hardBufferLimit } from '../../server/transport.ts'
 import { startTestServer } from './test-server.ts'
@@ -30,21 +31,22 @@ describe('a client that stops reading', { timeout: 20_000 }, () => {
   it('has its snapshots skipped, is closed, and never holds more than the hard buffer limit', async () => {
     const healthy = await BotClient.connect({ url: server.url, room: 'busy', name: 'reader' })
     const stalled = await BotClient.connect({ url: server.url, room: 'busy', name: 'stalled' })
-    const room = server.rooms.rooms.get('busy')!
-    const session = room.sessions.get(stalled.mirror.clientId)!
+    const room = server.rooms.get('busy')!
+    const session = room.players.get(stalled.mirror.clientId)!
+    const ws = (session.conn as ClientSession).ws
     // The client stops reading. Loopback TCP would first absorb megabytes in kernel buffers, so
     // the server end is corked too: from the server's view, exactly a peer that stopped reading.
     socketOf(stalled.ws).pause()
-    socketOf(session.ws).cork()
+    socketOf(ws).cork()
     let maxBuffered = 0
     let snapshotsMeanwhile = 0
     healthy.onServerMessage = (m) => {
       if (m.t === 'snap') snapshotsMeanwhile++
       // Scene resets send every client the full state: traffic the stalled client cannot absorb.
       if (m.t === 'snap' && snapshotsMeanwhile % 4 === 0) healthy.command({ k: 'reset' })
-      maxBuffered = Math.max(maxBuffered, session.ws.bufferedAmount)
+      maxBuffered = Math.max(maxBuffered, ws.bufferedAmount)
     }
-    await healthy.waitFor(() => !room.sessions.has(session.id), 'the stalled client to be closed')
+    await healthy.waitFor(() => !room.players.has(session.id), 'the stalled client to be closed')
     const skipped = await server.metrics.registry.getSingleMetricAsString('concord_snapshots_skipped_total')
     expect(Number(skipped.trim().split(' ').pop())).toBeGreaterThan(0)
     expect(maxBuffered).toBeGreaterThan(server.config.sendBufferBytes)

@@ -76,8 +76,8 @@ describe('snapshot reconstruction', { timeout: 20_000 }, () => {
     await lossy.waitFor(() => lossy.mirror.tick > startTick + 40, 'lossy client catching up')
     await silent.waitFor(() => silent.mirror.tick > startTick + 40, 'silent client')
     // Deltas were really used: the acking client's baseline moved past its welcome.
-    const room = server.rooms.rooms.get('falling')!
-    const session = [...room.sessions.values()].find((s) => s.id === acking.mirror.clientId)!
+    const room = server.rooms.get('falling')!
+    const session = [...room.players.values()].find((s) => s.id === acking.mirror.clientId)!
     expect(session.encoder.referenceTick).toBeGreaterThan(startTick)
     expect(checked).toBeGreaterThan(300 * 3 * 10)
     expect(worst).toBeGreaterThan(0)

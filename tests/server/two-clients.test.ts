@@ -31,7 +31,7 @@ describe('two clients in one room', { timeout: 20_000 }, () => {
     expect(b.mirror.bodies.get(id)!.shape).toEqual(a.mirror.bodies.get(id)!.shape)
     expect(a.mirror.bodies.get(id)!.shape.type).toBe('polygon')
     // The server's own body is the independent reference for the shape.
-    const world = server.rooms.rooms.get('shared')!.world
+    const world = server.rooms.get('shared')!.world
     expect(world.hasBody(id)).toBe(true)
 
     a.command({ k: 'grab', body: id, lx: 0, ly: 0 })
@@ -44,7 +44,7 @@ describe('two clients in one room', { timeout: 20_000 }, () => {
     b.command({ k: 'move', x: 6, y: 8 })
     await a.waitFor(() => a.mirror.cursors.get(b.mirror.clientId)?.body === id, 'grab of b seen by a')
     expect(
-      server.rooms.rooms
+      server.rooms
         .get('shared')!
         .world.joints()
         .filter((j) => j.type === 'mouse'),
@@ -52,7 +52,7 @@ describe('two clients in one room', { timeout: 20_000 }, () => {
     a.command({ k: 'release' })
     await b.waitFor(() => b.mirror.cursors.get(a.mirror.clientId)?.body === 0, 'release seen by b')
     expect(
-      server.rooms.rooms
+      server.rooms
         .get('shared')!
         .world.joints()
         .filter((j) => j.type === 'mouse'),
@@ -90,7 +90,7 @@ describe('two clients in one room', { timeout: 20_000 }, () => {
     await a.waitFor(() => [...a.mirror.bodies.values()].some((x) => x.kind === 2))
     const body = [...a.mirror.bodies.values()].find((x) => x.kind === 2)!.id
     a.command({ k: 'grab', body, lx: 0, ly: 0 })
-    const room = server.rooms.rooms.get('again')!
+    const room = server.rooms.get('again')!
     await watcher.waitFor(() => watcher.mirror.cursors.get(a.mirror.clientId)?.body === body)
     const { clientId, token } = a.mirror
     await a.close()

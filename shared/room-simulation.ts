@@ -1,0 +1,340 @@
+/*
+ * The deterministic part of a room: the world, its scene, pause and single-step state, the room
+ * tick, each player's grab and cursor, the user joints (pins and ropes), grab counts and the
+ * scene-load rate limit. Everything that changes the world goes through here, in an order the
+ * caller decides (the server's Room: joins, leaves and the tick's queued commands, then tick()).
+ *
+ * Pure: no Node APIs, no clocks, no randomness; it runs in the server, in lockstep clients and in
+ * the replay player. Two RoomSimulations built with the same options that see the same joins,
+ * leaves, accepted commands and external world loads at the same ticks stay bit-identical
+ * (world.hash()); that is what recording and replay rely on.
+ *
+ * Two hooks report what happened:
+ *   - the listener (the owner, one): world side effects to turn into wire events
+ *   - observers (any number: a recorder, a lockstep stream): every state change in applied order,
+ *     only commands that were accepted (a refused command changes nothing); `inspect` is not a
+ *     simulation command and is refused here (the server's Room handles it itself)
+ * A refused command returns a reason; nothing here throws to the caller.
+ */
+import { buildScene, createWorld, SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
+import { KILL_DISTANCE, TICK_RATE } from './constants.ts'
+import type { Command, SpawnCommand, WireJoint } from './messages.ts'
+import {
+  addUserJoint,
+  grabBody,
+  grabRefusal,
+  isMovable,
+  jointRefusal,
+  moveGrab,
+  removeJoint,
+  setWorldGravity,
+  spawnBody,
+} from './world-commands.ts'
+
+/** Ticks between scene loads or resets in one room: building a scene is the costliest command. */
+export const MIN_TICKS_BETWEEN_LOADS = 10
+
+/** Commands that change room settings; refused when the room's controls are off. */
+const CONTROLS = new Set(['scene', 'pause', 'step', 'reset', 'gravity'])
+
+/** A player's grab: its own mouse joint on a body. */
+export interface Grab {
+  joint: number
+  body: number
+}
+
+/** A player's simulation state: grab and cursor (m). */
+export interface SimPlayer {
+  grab: Grab | null
+  cursorX: number
+  cursorY: number
+}
+
+/** World side effects, for the owner to turn into wire events. Called synchronously. */
+export interface SimulationListener {
+  bodyAdded(id: number): void
+  bodyRemoved(id: number): void
+  jointAdded(joint: WireJoint): void
+  jointRemoved(id: number): void
+  /** Pause, gravity or scene changed. */
+  roomChanged(): void
+  /** A player's cursor or grab changed. */
+  cursorChanged(playerId: number): void
+  /** The world was replaced (scene load, reset, external load); grabs and user joints are gone. */
+  worldReplaced(): void
+}
+
+/** Every state change in applied order: what a recorder or a lockstep stream needs. */
+export interface SimulationObserver {
+  /** An accepted command, just applied at room tick `tick` (before that tick's step). */
+  command(tick: number, playerId: number, cmd: Command): void
+  join(tick: number, playerId: number, name: string, color: string): void
+  leave(tick: number, playerId: number): void
+  /** The world was replaced from outside a command (a benchmark blueprint, a restored keyframe). */
+  worldLoaded(tick: number, scene: string): void
+}
+
+/** Room rules that change what commands may do. */
+export interface SimulationOptions {
+  /** Body limit (also the user joint limit). */
+  maxBodies: number
+  /** Whether scene, pause, step, reset and gravity are allowed. */
+  controls: boolean
+  /** Initial scene name (a key of SCENES). */
+  scene: string
+  /** Room name, for refusal reasons. */
+  name: string
+  listener?: SimulationListener
+}
+
+const NO_LISTENER: SimulationListener = {
+  bodyAdded: () => {},
+  bodyRemoved: () => {},
+  jointAdded: () => {},
+  jointRemoved: () => {},
+  roomChanged: () => {},
+  cursorChanged: () => {},
+  worldReplaced: () => {},
+}
+
+/** A world built from a scene blueprint. */
+export function worldFromBlueprint(blueprint: SceneBlueprint): World {
+  const world = createWorld()
+  buildScene(world, blueprint)
+  return world
+}
+
+/** The deterministic room (see the file comment). */
+export class RoomSimulation {
+  world: World
+  scene: string
+  paused = false
+  stepRequested = false
+  /** Ticks run since the room opened (never reset; world.tick counts the current world's steps). */
+  tick = 0
+  /** Room tick of the last scene load or reset (they are rate limited). */
+  lastLoadTick = Number.NEGATIVE_INFINITY
+  /** Players by id, in join order. */
+  readonly players = new Map<number, SimPlayer>()
+  /** User joints (pins, ropes) by joint id. */
+  readonly userJoints = new Map<number, WireJoint>()
+  /** Grabs per body id. */
+  readonly grabCounts = new Map<number, number>()
+  readonly observers: SimulationObserver[] = []
+  readonly maxBodies: number
+  readonly controls: boolean
+  readonly name: string
+  private readonly listener: SimulationListener
+
+  constructor(options: SimulationOptions) {
+    if (!Object.hasOwn(SCENES, options.scene)) throw new RangeError(`unknown scene "${options.scene}"`)
+    this.maxBodies = options.maxBodies
+    this.controls = options.controls
+    this.name = options.name
+    this.listener = options.listener ?? NO_LISTENER
+    this.scene = options.scene
+    this.world = worldFromBlueprint(SCENES[options.scene].make())
+  }
+
+  /** Add a player (or bring one back after a reconnect). */
+  join(playerId: number, name: string, color: string): void {
+    this.players.set(playerId, { grab: null, cursorX: 0, cursorY: 0 })
+    for (const o of this.observers) o.join(this.tick, playerId, name, color)
+  }
+
+  /** Remove a player, releasing its grab. */
+  leave(playerId: number): void {
+    const player = this.players.get(playerId)
+    if (!player) return
+    this.release(playerId, player)
+    this.players.delete(playerId)
+    for (const o of this.observers) o.leave(this.tick, playerId)
+  }
+
+  /** Apply one command from a player at the current tick; returns a reason when refused. */
+  apply(playerId: number, cmd: Command): string | null {
+    const player = this.players.get(playerId)
+    if (!player) return `player ${playerId} is not in this room`
+    if (CONTROLS.has(cmd.k) && !this.controls) return `room controls are disabled in room ${this.name}`
+    let error: string | null
+    try {
+      error = this.dispatch(playerId, player, cmd)
+    } catch (e) {
+      // Engine preconditions (a non-convex polygon, a degenerate joint) throw RangeError.
+      error = `${cmd.k} refused: ${(e as Error).message}`
+    }
+    if (error === null) for (const o of this.observers) o.command(this.tick, playerId, cmd)
+    return error
+  }
+
+  /** Run one tick: step unless paused (or a step was requested), advance the tick, housekeeping. */
+  runTick(): void {
+    if (!this.paused || this.stepRequested) this.world.step()
+    this.stepRequested = false
+    this.tick++
+    if (this.tick % TICK_RATE === 0) this.sweep()
+  }
+
+  /** Replace the world with a fresh copy of a named scene (SCENES). */
+  loadScene(name: string): void {
+    this.replaceWorld(name, worldFromBlueprint(SCENES[name].make()))
+  }
+
+  /**
+   * Replace the world from outside a command (a benchmark's blueprint, a restored world): observers
+   * see it as a world load so a recording stays reproducible.
+   */
+  loadWorld(scene: string, world: World): void {
+    this.replaceWorld(scene, world)
+    for (const o of this.observers) o.worldLoaded(this.tick, scene)
+  }
+
+  /** Destroy a body and everything attached to it (grabs, user joints). */
+  removeBody(id: number): void {
+    for (const [jid, j] of this.userJoints) {
+      if (j.a === id || j.b === id) {
+        this.userJoints.delete(jid)
+        this.listener.jointRemoved(jid)
+      }
+    }
+    for (const [pid, p] of this.players) {
+      if (p.grab?.body === id) {
+        p.grab = null
+        this.listener.cursorChanged(pid)
+      }
+    }
+    this.grabCounts.delete(id)
+    this.world.destroyBody(id)
+    this.listener.bodyRemoved(id)
+  }
+
+  private replaceWorld(scene: string, world: World): void {
+    this.lastLoadTick = this.tick
+    for (const [pid, p] of this.players) {
+      p.grab = null
+      this.listener.cursorChanged(pid)
+    }
+    this.grabCounts.clear()
+    this.userJoints.clear()
+    this.scene = scene
+    this.world = world
+    this.listener.worldReplaced()
+    this.listener.roomChanged()
+  }
+
+  private dispatch(playerId: number, player: SimPlayer, cmd: Command): string | null {
+    const world = this.world
+    switch (cmd.k) {
+      case 'spawn':
+        return this.spawn(cmd)
+      case 'grab':
+        return this.grab(playerId, player, cmd.body, cmd.lx, cmd.ly)
+      case 'move': {
+        const p = moveGrab(world, player.grab?.joint ?? null, cmd.x, cmd.y)
+        player.cursorX = p.x
+        player.cursorY = p.y
+        this.listener.cursorChanged(playerId)
+        return null
+      }
+      case 'release':
+        this.release(playerId, player)
+        return null
+      case 'delete':
+        if (!isMovable(world, cmd.body)) return `body ${cmd.body} does not exist or is static`
+        this.removeBody(cmd.body)
+        return null
+      case 'pin':
+      case 'rope':
+        return this.joint(cmd)
+      case 'unjoint':
+        if (!this.userJoints.has(cmd.joint)) return `joint ${cmd.joint} is not a pin or rope in this room`
+        removeJoint(world, cmd.joint)
+        this.userJoints.delete(cmd.joint)
+        this.listener.jointRemoved(cmd.joint)
+        return null
+      case 'scene':
+        if (!Object.hasOwn(SCENES, cmd.name)) return `unknown scene "${cmd.name}"`
+        if (this.tick - this.lastLoadTick < MIN_TICKS_BETWEEN_LOADS)
+          return 'scene loads are limited to 6 per second'
+        this.loadScene(cmd.name)
+        return null
+      case 'reset':
+        if (this.tick - this.lastLoadTick < MIN_TICKS_BETWEEN_LOADS)
+          return 'scene loads are limited to 6 per second'
+        this.loadScene(this.scene)
+        return null
+      case 'pause':
+        this.paused = cmd.paused
+        this.listener.roomChanged()
+        return null
+      case 'step':
+        this.stepRequested = true
+        return null
+      case 'gravity':
+        setWorldGravity(world, cmd.x, cmd.y)
+        this.listener.roomChanged()
+        return null
+      case 'inspect':
+        return 'inspect is not a simulation command'
+    }
+  }
+
+  private spawn(cmd: SpawnCommand): string | null {
+    if (this.world.bodyCount >= this.maxBodies) return `body limit reached (${this.maxBodies})`
+    const spawned = spawnBody(this.world, cmd)
+    if (!spawned.ok) return spawned.reason
+    this.listener.bodyAdded(spawned.value)
+    return null
+  }
+
+  private grab(playerId: number, player: SimPlayer, body: number, lx: number, ly: number): string | null {
+    const refusal = grabRefusal(this.world, body)
+    if (refusal) return refusal
+    this.release(playerId, player)
+    const grabbed = grabBody(this.world, body, lx, ly)
+    if (!grabbed.ok) {
+      // The earlier grab is gone: record that much so a replay releases it too.
+      for (const o of this.observers) o.command(this.tick, playerId, { k: 'release' })
+      return grabbed.reason
+    }
+    const { joint, target } = grabbed.value
+    player.grab = { joint, body }
+    player.cursorX = target.x
+    player.cursorY = target.y
+    this.listener.cursorChanged(playerId)
+    this.grabCounts.set(body, (this.grabCounts.get(body) ?? 0) + 1)
+    return null
+  }
+
+  private release(playerId: number, player: SimPlayer): void {
+    const g = player.grab
+    if (!g) return
+    removeJoint(this.world, g.joint)
+    const n = (this.grabCounts.get(g.body) ?? 1) - 1
+    if (n > 0) this.grabCounts.set(g.body, n)
+    else this.grabCounts.delete(g.body)
+    player.grab = null
+    this.listener.cursorChanged(playerId)
+  }
+
+  private joint(cmd: Extract<Command, { k: 'pin' | 'rope' }>): string | null {
+    const refusal = jointRefusal(this.world, cmd)
+    if (refusal) return refusal
+    if (this.userJoints.size >= this.maxBodies) return 'joint limit reached'
+    const added = addUserJoint(this.world, cmd)
+    if (!added.ok) return added.reason
+    this.userJoints.set(added.value.id, added.value)
+    this.listener.jointAdded(added.value)
+    return null
+  }
+
+  /** Once a second: remove movable bodies that left the world or whose position is not finite. */
+  private sweep(): void {
+    const p = { x: 0, y: 0 }
+    for (const id of this.world.bodyIds()) {
+      if (this.world.getBodyType(id) === 'static') continue
+      this.world.getPosition(id, p)
+      if (!(Math.abs(p.x) <= KILL_DISTANCE) || !(Math.abs(p.y) <= KILL_DISTANCE)) this.removeBody(id)
+    }
+  }
+}

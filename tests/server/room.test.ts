@@ -1,0 +1,152 @@
+import pino from 'pino'
+import { describe, expect, it } from 'vitest'
+import { loadConfig, type ServerConfig } from '../../server/config.ts'
+import { createMetrics } from '../../server/metrics.ts'
+import { DROP_CONNECTION, type PlayerConnection } from '../../server/player-connection.ts'
+import { Room } from '../../server/room.ts'
+import type { RoomPlayer } from '../../server/room-player.ts'
+import {
+  ClientMirror,
+  decodeServerMessage,
+  encodeMessage,
+  MAX_POSITION_ERROR,
+  type ServerMessage,
+} from '../../shared/index.ts'
+
+/** A connection without a socket: decodes what it is sent into a mirror, as a client would. */
+class FakeConnection implements PlayerConnection {
+  readonly received: ServerMessage[] = []
+  readonly mirror = new ClientMirror()
+  bufferedBytes = 0
+  closed: { code: number; reason: string } | null = null
+  player: RoomPlayer | null = null
+  onClose: (() => void) | null = null
+
+  send(message: ServerMessage): void {
+    this.sendBytes(encodeMessage(message))
+  }
+  sendBytes(bytes: Uint8Array): void {
+    if (this.closed) return
+    const decoded = decodeServerMessage(bytes)
+    if (!decoded.ok) throw new Error(`the room sent undecodable bytes: ${decoded.reason}`)
+    this.received.push(decoded.value)
+    const ack = this.mirror.handle(decoded.value)
+    if (ack && this.player) this.player.encoder.ack(ack.tick)
+  }
+  sendError(code: string, reason: string, seq?: number): void {
+    this.send(seq === undefined ? { t: 'error', code, reason } : { t: 'error', code, reason, seq })
+  }
+  buffered(): number {
+    return this.bufferedBytes
+  }
+  close(code: number, reason: string): void {
+    if (this.closed) return
+    this.closed = { code, reason }
+    this.onClose?.()
+  }
+  count(t: ServerMessage['t']): number {
+    return this.received.filter((m) => m.t === t).length
+  }
+}
+
+function makeRoom(overrides: Partial<ServerConfig> = {}): Room {
+  const config = loadConfig([], {}, { defaultScene: 'empty', logLevel: 'silent', ...overrides })
+  return new Room('unit', config, createMetrics(false), pino({ level: 'silent' }))
+}
+
+function join(room: Room, name: string): FakeConnection {
+  const conn = new FakeConnection()
+  const player = room.join(conn, name, undefined)
+  if (typeof player === 'string') throw new Error(player)
+  conn.player = player
+  // What the transport does when a socket closes.
+  conn.onClose = () => room.leave(player)
+  return conn
+}
+
+describe('a room driven tick by tick with fake connections', () => {
+  it('welcomes players, applies their commands, and snapshots reproduce the world', () => {
+    const room = makeRoom({ snapshotRate: 30 })
+    const a = join(room, 'ada')
+    const b = join(room, 'bob')
+    expect(a.mirror.clientId).toBe(1)
+    expect(b.mirror.clientId).toBe(2)
+    expect([...a.mirror.players.values()].map((p) => p.name)).toEqual(['ada', 'bob'])
+    const before = room.world.bodyCount
+    const spawn = { k: 'spawn', shape: { type: 'circle', radius: 0.5 }, x: 1, y: 6 } as const
+    expect(room.queueInput(a.player!, 1, spawn)).toBeNull()
+    expect(room.queueInput(b.player!, 1, { k: 'delete', body: 9999 })).toBeNull()
+    room.runTick()
+    expect(room.tick).toBe(1)
+    expect(room.world.bodyCount).toBe(before + 1)
+    // Both saw the creation event; only b got a refusal, naming its input's sequence number.
+    expect(b.mirror.bodies.size).toBe(before + 1)
+    expect(b.received.find((m) => m.t === 'error')).toEqual({
+      t: 'error',
+      code: 'refused',
+      reason: 'body 9999 does not exist or is static',
+      seq: 1,
+    })
+    expect(a.count('error')).toBe(0)
+    const body = room.world.bodyIds().at(-1)!
+    room.queueInput(b.player!, 2, { k: 'grab', body, lx: 0, ly: 0 })
+    for (let t = 0; t < 39; t++) {
+      room.queueInput(b.player!, 3 + t, { k: 'move', x: 3, y: 5 + t / 10 })
+      room.runTick()
+    }
+    expect(room.grabCounts.get(body)).toBe(1)
+    // Snapshots every 2 ticks reached both; the mirrors hold the server's poses within quantization.
+    expect(a.count('snap')).toBe(20)
+    for (const c of [a, b]) {
+      expect(c.mirror.tick).toBe(room.tick)
+      const p = room.world.getPosition(body)
+      const m = c.mirror.bodies.get(body)!
+      expect(Math.abs(m.x - p.x)).toBeLessThanOrEqual(MAX_POSITION_ERROR)
+      expect(Math.abs(m.y - p.y)).toBeLessThanOrEqual(MAX_POSITION_ERROR)
+      expect(c.mirror.cursors.get(2)?.body).toBe(body)
+    }
+    // A hash checkpoint every second: run to it and compare with the world.
+    while (room.tick < 60) room.runTick()
+    expect(a.mirror.lastHash).toEqual({ tick: 60, step: room.world.tick, hash: room.world.hash() })
+    // Leaving releases the grab.
+    b.close(1000, 'bye')
+    expect(room.grabCounts.size).toBe(0)
+    expect(room.players.size).toBe(1)
+    expect(a.received.at(-1)).toEqual({ t: 'players', players: [{ id: 1, name: 'ada', color: '#e6194b' }] })
+  })
+
+  it('skips snapshots to a connection with too much buffered, then closes it if it stays behind', () => {
+    const room = makeRoom({ snapshotRate: 60, sendBufferBytes: 10_000, slowClientSeconds: 1 })
+    const fast = join(room, 'fast')
+    const slow = join(room, 'slow')
+    room.runTick()
+    expect(slow.count('snap')).toBe(1)
+    slow.bufferedBytes = 10_001
+    for (let t = 0; t < 60; t++) room.runTick()
+    // Skipped for a whole second (not more than slowClientSeconds), still in the room.
+    expect(slow.count('snap')).toBe(1)
+    expect(slow.closed).toBeNull()
+    expect(fast.count('snap')).toBe(61)
+    room.runTick()
+    room.runTick()
+    expect(slow.closed?.code).toBe(DROP_CONNECTION)
+    expect(room.players.has(slow.player!.id)).toBe(false)
+    expect(fast.count('snap')).toBe(63)
+  })
+
+  it('a connection that catches up in time is not closed; one past the hard limit is closed at once', () => {
+    const room = makeRoom({ snapshotRate: 60, sendBufferBytes: 10_000, slowClientSeconds: 1 })
+    const wobbly = join(room, 'wobbly')
+    const flooded = join(room, 'flooded')
+    wobbly.bufferedBytes = 20_000
+    for (let t = 0; t < 50; t++) room.runTick()
+    wobbly.bufferedBytes = 0
+    for (let t = 0; t < 50; t++) room.runTick()
+    expect(wobbly.closed).toBeNull()
+    expect(wobbly.count('snap')).toBe(50)
+    flooded.bufferedBytes = (1 << 20) + 1
+    room.runTick()
+    expect(flooded.closed?.code).toBe(DROP_CONNECTION)
+    expect(wobbly.closed).toBeNull()
+  })
+})
