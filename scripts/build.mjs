@@ -22,7 +22,7 @@ for (const [name, outfile] of Object.entries(OUTPUTS)) {
     target: 'node20',
     format: 'esm',
     sourcemap: true,
-    external: ['ws', 'msgpackr', 'pino', 'prom-client'],
+    external: ['ws', 'msgpackr', 'pino', 'prom-client', '@google-cloud/agones-sdk', 'ioredis'],
     logLevel: 'warning',
   })
 }

@@ -34,6 +34,8 @@ export interface ServerConfig {
   staticDir: string
   replayDir: string
   logLevel: string
+  stallSeconds: number
+  drainSeconds: number
 }
 
 type Kind = 'int' | 'string' | 'bool'
@@ -266,6 +268,26 @@ export const SETTINGS: readonly Setting[] = [
     kind: 'string',
     fallback: 'info',
     help: 'pino level: fatal, error, warn, info, debug, trace, silent',
+  },
+  {
+    key: 'stallSeconds',
+    flag: '--stall-seconds',
+    env: 'STALL_SECONDS',
+    kind: 'int',
+    fallback: 5,
+    min: 1,
+    max: 3600,
+    help: '/healthz fails when a tick loop has not ticked for this long',
+  },
+  {
+    key: 'drainSeconds',
+    flag: '--drain-seconds',
+    env: 'DRAIN_SECONDS',
+    kind: 'int',
+    fallback: 0,
+    min: 0,
+    max: 300,
+    help: 'on SIGTERM, answer /readyz 503 and refuse new sockets this long before closing clients',
   },
 ]
 

@@ -33,6 +33,8 @@ export interface RouteContext {
   log: Logger
   /** False while shutting down (readiness fails so load balancers stop sending players). */
   ready: () => boolean
+  /** Null while every tick loop runs; otherwise why /healthz fails (a stalled loop). */
+  health: () => string | null
 }
 
 function send(res: ServerResponse, status: number, type: string, body: string): void {
@@ -49,8 +51,12 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
     if (req.method !== 'GET' && req.method !== 'HEAD')
       return send(res, 405, 'text/plain', 'method not allowed\n')
     switch (url.pathname) {
-      case '/healthz':
-        return send(res, 200, 'text/plain', 'ok\n')
+      case '/healthz': {
+        const problem = ctx.health()
+        return problem === null
+          ? send(res, 200, 'text/plain', 'ok\n')
+          : send(res, 503, 'text/plain', `${problem}\n`)
+      }
       case '/readyz':
         return ctx.ready()
           ? send(res, 200, 'text/plain', 'ready\n')

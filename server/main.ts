@@ -6,7 +6,7 @@
 import { helpText, loadConfig, type ServerConfig } from './config.ts'
 import { startServer } from './server.ts'
 
-/** Hard deadline for shutdown (ms). */
+/** Hard deadline for shutdown after the drain period (ms). */
 const SHUTDOWN_DEADLINE_MS = 4500
 
 async function main(): Promise<void> {
@@ -24,7 +24,7 @@ async function main(): Promise<void> {
   }
   const server = await startServer(config)
   const shutdown = (signal: string): void => {
-    setTimeout(() => process.exit(1), SHUTDOWN_DEADLINE_MS).unref()
+    setTimeout(() => process.exit(1), config.drainSeconds * 1000 + SHUTDOWN_DEADLINE_MS).unref()
     server.close(`server shutting down (${signal})`).then(
       () => process.exit(0),
       () => process.exit(1),

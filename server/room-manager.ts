@@ -18,6 +18,8 @@ export class RoomManager {
   readonly clock: TickClock
   /** Called when a room is created (e.g. to attach a recorder). */
   onRoomCreated: ((room: Room) => void) | null = null
+  /** Called after every clock tick with the number of ticks run so far (liveness, Agones pings). */
+  onTick: ((tick: number) => void) | null = null
   private ticks = 0
 
   constructor(
@@ -73,6 +75,7 @@ export class RoomManager {
       this.metrics.tickSeconds.observe((performance.now() - start) / 1000)
     }
     if (++this.ticks % TICK_RATE === 0) this.disposeIdle()
+    this.onTick?.(this.ticks)
   }
 
   private disposeIdle(): void {

@@ -8,11 +8,13 @@
 import { createServer, type Server } from 'node:http'
 import type { AddressInfo } from 'node:net'
 import pino, { type Logger } from 'pino'
-import { CLOSE_CODES } from '../shared/index.ts'
+import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
+import { AgonesLink, agonesPresent } from './agones.ts'
 import type { ServerConfig } from './config.ts'
 import { createRequestHandler } from './http-routes.ts'
 import { createMetrics, type ServerMetrics } from './metrics.ts'
 import { RoomManager } from './room-manager.ts'
+import { TickHealth } from './tick-health.ts'
 import { Transport } from './transport.ts'
 
 /** A running server. */
@@ -26,6 +28,10 @@ export interface RunningServer {
   transport: Transport
   metrics: ServerMetrics
   log: Logger
+  /** Liveness of the tick loops (/healthz). */
+  health: TickHealth
+  /** The Agones SDK link once connected (only under Agones), else null. */
+  agones: () => AgonesLink | null
   /** Graceful shutdown: close clients with a reason, stop ticking, stop listening. */
   close(reason?: string): Promise<void>
 }
@@ -35,7 +41,12 @@ export interface StartOptions {
   logger?: Logger
   /** Collect Node process metrics (off in tests that start many servers). */
   processMetrics?: boolean
+  /** Environment to look for the Agones sidecar in (default process.env). */
+  env?: NodeJS.ProcessEnv
 }
+
+/** How long shutdown waits for the Agones sidecar to acknowledge Shutdown() (ms). */
+const AGONES_SHUTDOWN_WAIT_MS = 1000
 
 /** Start a server; resolves once it listens. */
 export async function startServer(config: ServerConfig, options: StartOptions = {}): Promise<RunningServer> {
@@ -43,13 +54,28 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   const metrics = createMetrics(options.processMetrics ?? true)
   const rooms = new RoomManager(config, metrics, log)
   const transport = new Transport(config, rooms, metrics, log)
+  const health = new TickHealth(config.stallSeconds * 1000)
+  let agones: AgonesLink | null = null
+  rooms.onTick = (tick) => {
+    health.beat('main')
+    // Agones health: once a second, from the tick loop, only while no loop is stalled.
+    if (agones && tick % TICK_RATE === 0 && health.problem() === null) agones.health()
+  }
   let ready = true
   const http = createServer(
-    createRequestHandler({ staticDir: config.staticDir, rooms, metrics, log, ready: () => ready }),
+    createRequestHandler({
+      staticDir: config.staticDir,
+      rooms,
+      metrics,
+      log,
+      ready: () => ready,
+      health: () => health.problem(),
+    }),
   )
   http.on('upgrade', (req, socket, head) => transport.handleUpgrade(req, socket, head))
   http.on('clientError', (_error, socket) => socket.destroy())
   rooms.getOrCreate(config.defaultRoom)
+  health.beat('main')
   rooms.clock.start()
   await new Promise<void>((resolve, reject) => {
     http.once('error', reject)
@@ -60,20 +86,59 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   })
   const port = (http.address() as AddressInfo).port
   log.info({ port, host: config.host }, 'listening')
+  const env = options.env ?? process.env
+  const agonesStarted = agonesPresent(env)
+    ? AgonesLink.connect(log).then(
+        async (link) => {
+          agones = link
+          if (!closing) await link.markReady()
+        },
+        (error: Error) => log.error({ err: error.message }, 'agones: cannot reach the SDK sidecar'),
+      )
+    : Promise.resolve()
   let closing: Promise<void> | null = null
   const close = (reason = 'server shutting down'): Promise<void> => {
     closing ??= (async () => {
       ready = false
-      log.info({ reason }, 'shutting down')
+      transport.accepting = false
+      log.info({ reason, drainSeconds: config.drainSeconds }, 'shutting down')
+      // Draining: /readyz answers 503 and new sockets are refused while load balancers notice.
+      if (config.drainSeconds > 0)
+        await new Promise((resolve) => setTimeout(resolve, config.drainSeconds * 1000))
       const listenerClosed = new Promise<void>((resolve) => http.close(() => resolve()))
       await transport.closeAll(CLOSE_CODES.goingAway, reason, 2000)
       rooms.clock.stop()
+      health.remove('main')
       http.closeAllConnections()
       await listenerClosed
+      await agonesStarted.catch(() => {})
+      if (agones) {
+        const link: AgonesLink = agones
+        const timeout = new Promise<void>((resolve) => setTimeout(resolve, AGONES_SHUTDOWN_WAIT_MS).unref())
+        await Promise.race([
+          link
+            .shutdown()
+            .catch((error: Error) => log.error({ err: error.message }, 'agones: Shutdown failed')),
+          timeout,
+        ])
+        link.close()
+      }
       log.info('closed')
       log.flush()
     })()
     return closing
   }
-  return { port, url: `http://${config.host}:${port}`, config, http, rooms, transport, metrics, log, close }
+  return {
+    port,
+    url: `http://${config.host}:${port}`,
+    config,
+    http,
+    rooms,
+    transport,
+    metrics,
+    log,
+    health,
+    agones: () => agones,
+    close,
+  }
 }
