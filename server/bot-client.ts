@@ -24,6 +24,10 @@ export interface BotOptions {
   token?: string
   /** Answer snapshots with acks (default true). */
   ack?: boolean
+  /** Access key for servers with a join or admin token (sent as `key=` in the WebSocket URL). */
+  key?: string
+  /** Origin header to send (browsers always send one; Node clients only when asked). */
+  origin?: string
 }
 
 /** A connected protocol client. */
@@ -55,8 +59,9 @@ export class BotClient {
   readonly opened: Promise<void>
 
   constructor(readonly options: BotOptions) {
-    const url = `${options.url.replace(/\/$/, '')}/ws?room=${encodeURIComponent(options.room)}`
-    this.ws = new WebSocket(url, { perMessageDeflate: false })
+    const key = options.key === undefined ? '' : `&key=${encodeURIComponent(options.key)}`
+    const url = `${options.url.replace(/\/$/, '')}/ws?room=${encodeURIComponent(options.room)}${key}`
+    this.ws = new WebSocket(url, { perMessageDeflate: false, origin: options.origin })
     this.ws.binaryType = 'nodebuffer'
     this.opened = new Promise((resolve, reject) => {
       this.ws.once('open', () => resolve())

@@ -8,6 +8,7 @@
 import type { WebSocket } from 'ws'
 import type { ServerMessage } from '../shared/index.ts'
 import { encodeMessage } from '../shared/index.ts'
+import { cutUtf8 } from './close-reason.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { DROP_CONNECTION, type PlayerConnection } from './player-connection.ts'
 import type { RoomPlayer } from './room-player.ts'
@@ -75,8 +76,8 @@ export class ClientSession implements PlayerConnection {
   }
 
   /**
-   * Close with a code and a reason (truncated to the 123 bytes a close frame allows);
-   * DROP_CONNECTION terminates the socket at once.
+   * Close with a code and a reason (cut on a character boundary to the 123 bytes a close frame
+   * allows); DROP_CONNECTION terminates the socket at once.
    */
   close(code: number, reason: string): void {
     if (code === DROP_CONNECTION) {
@@ -84,6 +85,6 @@ export class ClientSession implements PlayerConnection {
       return
     }
     if (this.ws.readyState > 1) return
-    this.ws.close(code, Buffer.from(reason).subarray(0, 123).toString())
+    this.ws.close(code, cutUtf8(reason))
   }
 }

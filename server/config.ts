@@ -6,6 +6,7 @@
 
 import { SCENES } from '../engine/index.ts'
 import { ROOM_NAME_PATTERN } from '../shared/index.ts'
+import { checkSecurityConfig, SECURITY_SETTINGS } from './config-security.ts'
 
 const LOG_LEVELS = ['fatal', 'error', 'warn', 'info', 'debug', 'trace', 'silent']
 
@@ -36,11 +37,19 @@ export interface ServerConfig {
   logLevel: string
   stallSeconds: number
   drainSeconds: number
+  handshakeTimeoutMs: number
+  maxConnectionsPerIp: number
+  maxMessagesPerSecond: number
+  allowedOrigins: string
+  joinToken: string
+  adminToken: string
+  publicRooms: string
 }
 
 type Kind = 'int' | 'string' | 'bool'
 
-interface Setting {
+/** One row of the settings table. */
+export interface Setting {
   key: keyof ServerConfig
   flag: string
   env: string
@@ -99,7 +108,7 @@ export const SETTINGS: readonly Setting[] = [
     fallback: 1000,
     min: 1,
     max: 100000,
-    help: 'WebSocket connections per process',
+    help: 'TCP connections per process (WebSocket, HTTP, unfinished handshakes); more get 503',
   },
   {
     key: 'maxBodies',
@@ -289,6 +298,7 @@ export const SETTINGS: readonly Setting[] = [
     max: 300,
     help: 'on SIGTERM, answer /readyz 503 and refuse new sockets this long before closing clients',
   },
+  ...SECURITY_SETTINGS,
 ]
 
 /** The defaults alone. */
@@ -356,6 +366,7 @@ export function loadConfig(
   if (!LOG_LEVELS.includes(result.logLevel)) {
     throw new Error(`log level must be one of ${LOG_LEVELS.join(', ')}, got "${result.logLevel}"`)
   }
+  checkSecurityConfig(result)
   return result
 }
 

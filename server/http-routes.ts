@@ -2,12 +2,14 @@
  * Plain HTTP on the same port as the WebSocket endpoint: the built browser client as static files,
  * health and readiness probes, Prometheus metrics, and the open rooms as JSON for the lobby.
  * Static paths are resolved inside the static directory only (no traversal), GET and HEAD only.
+ * A request target that does not parse (`//%`) is answered 400 (http-request-url.ts).
  */
 import { createReadStream } from 'node:fs'
 import { stat } from 'node:fs/promises'
 import type { IncomingMessage, ServerResponse } from 'node:http'
 import { extname, join, normalize, resolve, sep } from 'node:path'
 import type { Logger } from 'pino'
+import { parseRequestTarget } from './http-request-url.ts'
 import type { ServerMetrics } from './metrics.ts'
 import type { RoomManager } from './room-manager.ts'
 
@@ -47,7 +49,8 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
   const root = resolve(ctx.staticDir)
   return (req, res) => {
     res.on('error', () => {})
-    const url = new URL(req.url ?? '/', 'http://localhost')
+    const url = parseRequestTarget(req.url)
+    if (!url) return send(res, 400, 'text/plain', 'bad request target\n')
     if (req.method !== 'GET' && req.method !== 'HEAD')
       return send(res, 405, 'text/plain', 'method not allowed\n')
     switch (url.pathname) {

@@ -18,6 +18,7 @@ export interface ServerMetrics {
   snapshotsSkipped: Counter
   slowClientsClosed: Counter
   desyncs: Counter
+  connectionsRefused: Counter<'reason'>
 }
 
 /** Create the metrics on a fresh registry; `processMetrics` adds Node's default process metrics. */
@@ -70,6 +71,12 @@ export function createMetrics(processMetrics: boolean): ServerMetrics {
     desyncs: new Counter({
       name: 'concord_desyncs_total',
       help: 'State hash mismatches reported (lockstep mode)',
+      registers,
+    }),
+    connectionsRefused: new Counter({
+      name: 'concord_connections_refused_total',
+      help: 'TCP connections and upgrades refused, by reason (caps, origin, token)',
+      labelNames: ['reason'],
       registers,
     }),
   }

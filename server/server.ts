@@ -11,6 +11,8 @@ import pino, { type Logger } from 'pino'
 import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
 import { AgonesLink, agonesPresent } from './agones.ts'
 import type { ServerConfig } from './config.ts'
+import { ConnectionGuard, timeoutCheckInterval, tuneHttpTimeouts } from './http-connections.ts'
+import { rawHttpResponse } from './http-request-url.ts'
 import { createRequestHandler } from './http-routes.ts'
 import { createMetrics, type ServerMetrics } from './metrics.ts'
 import { RoomManager } from './room-manager.ts'
@@ -26,6 +28,8 @@ export interface RunningServer {
   http: Server
   rooms: RoomManager
   transport: Transport
+  /** Every TCP connection, counted against the caps. */
+  guard: ConnectionGuard
   metrics: ServerMetrics
   log: Logger
   /** Liveness of the tick loops (/healthz). */
@@ -62,18 +66,40 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     if (agones && tick % TICK_RATE === 0 && health.problem() === null) agones.health()
   }
   let ready = true
-  const http = createServer(
-    createRequestHandler({
-      staticDir: config.staticDir,
-      rooms,
-      metrics,
-      log,
-      ready: () => ready,
-      health: () => health.problem(),
-    }),
-  )
-  http.on('upgrade', (req, socket, head) => transport.handleUpgrade(req, socket, head))
-  http.on('clientError', (_error, socket) => socket.destroy())
+  const guard = new ConnectionGuard(config, metrics, transport.warnings)
+  const routes = createRequestHandler({
+    staticDir: config.staticDir,
+    rooms,
+    metrics,
+    log,
+    ready: () => ready,
+    health: () => health.problem(),
+  })
+  const http = createServer({ connectionsCheckingInterval: timeoutCheckInterval(config) }, (req, res) => {
+    if (guard.refused(req.socket)) return guard.closeRefused(req.socket)
+    try {
+      routes(req, res)
+    } catch (error) {
+      // A request must never end the process; the route is a bug to fix, the client gets a 500.
+      log.error({ err: error, url: req.url }, 'request handler failed')
+      if (!res.headersSent) res.writeHead(500)
+      res.end()
+    }
+  })
+  tuneHttpTimeouts(http, config)
+  guard.attach(http)
+  http.on('upgrade', (req, socket, head) => {
+    if (guard.refused(socket)) return guard.closeRefused(socket)
+    transport.handleUpgrade(req, socket, head)
+  })
+  http.on('clientError', (error: NodeJS.ErrnoException, socket) => {
+    // Unparseable requests and Node's own timeouts: answer when the socket can still take it.
+    if (socket.writable && !guard.refused(socket)) {
+      const timeout = error.code === 'ERR_HTTP_REQUEST_TIMEOUT'
+      socket.end(timeout ? rawHttpResponse(408, 'Request Timeout') : rawHttpResponse(400, 'Bad Request'))
+      setTimeout(() => socket.destroy(), 1000).unref()
+    } else socket.destroy()
+  })
   rooms.getOrCreate(config.defaultRoom)
   health.beat('main')
   rooms.clock.start()
@@ -135,6 +161,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     http,
     rooms,
     transport,
+    guard,
     metrics,
     log,
     health,

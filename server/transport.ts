@@ -1,20 +1,57 @@
 /*
- * The WebSocket transport: upgrades on /ws?room=NAME, one ClientSession per socket, and the
- * message path decode -> validate -> room. Protections, in the order a message meets them:
- * the connection cap at upgrade, ws's maxPayload (larger frames close the socket with 1009),
- * text frames refused, strict decoding and validation with strikes (too many -> closed with
- * 1008 and a reason), the join timeout, the per-tick input budget, heartbeats for dead peers.
- * Every socket has an 'error' listener: without one, a single bad frame would crash the process.
+ * The WebSocket transport: upgrades on /ws?room=NAME[&key=KEY], one ClientSession per socket, and
+ * the message path decode -> validate -> room. Protections, in the order a message meets them:
+ * at the upgrade the request target, the origin allowlist and the key (http-access.ts) and the
+ * connection cap; ws's maxPayload (larger frames close the socket with 1009); the per-client
+ * message rate (message-budget.ts: every frame counts, moves and acks included); text frames
+ * refused; strict decoding and validation with strikes (too many -> closed with 1008 and a
+ * reason); the join timeout; the per-tick input budget; heartbeats for dead peers.
+ *
+ * Once the server decides to drop a client it stops reading from it: the close frame is sent,
+ * the socket is paused, nothing more it sent is decoded or logged, and it is terminated after a
+ * short grace whether or not it answers the close (a peer ignoring the close frame once made the
+ * server decode and log 930,000 frames in 3 s). Every handler a client can reach is wrapped, so
+ * no frame or request ends in an uncaught throw; every socket has an 'error' listener for the same
+ * reason. Warnings about clients go through a LogLimiter.
  */
 import type { IncomingMessage } from 'node:http'
+import { performance } from 'node:perf_hooks'
 import type { Duplex } from 'node:stream'
 import type { Logger } from 'pino'
 import { type RawData, type WebSocket, WebSocketServer } from 'ws'
-import { CLOSE_CODES, type ClientMessage, decodeClientMessage, ROOM_NAME_PATTERN } from '../shared/index.ts'
+import {
+  CLOSE_CODES,
+  type ClientMessage,
+  decodeClientMessage,
+  ROOM_CONTROL_COMMANDS,
+  ROOM_NAME_PATTERN,
+} from '../shared/index.ts'
 import { ClientSession } from './client-session.ts'
 import type { ServerConfig } from './config.ts'
+import { type Access, checkAccess } from './http-access.ts'
+import { clientAddress } from './http-connections.ts'
+import { parseRequestTarget, rawHttpResponse } from './http-request-url.ts'
+import { LogLimiter } from './log-limiter.ts'
+import { MessageBudget } from './message-budget.ts'
 import type { ServerMetrics } from './metrics.ts'
 import type { RoomManager } from './room-manager.ts'
+
+/** Time a dropped client's socket stays open for its close frame to leave (ms). */
+export const DROP_GRACE_MS = 1000
+
+/** Over-budget messages cost at most one strike per this many ms (one tick). */
+const RATE_STRIKE_INTERVAL_MS = 1000 / 60
+
+/** The transport's view of one connection: its session, socket, access and message budget. */
+interface Peer {
+  session: ClientSession
+  socket: Duplex
+  address: string
+  access: Access
+  budget: MessageBudget
+  /** Set once the server has decided to close it: nothing more it sends is read. */
+  dropped: boolean
+}
 
 /** Unsent bytes at which a client is dropped at once: 8 send-buffer budgets, at least 1 MiB. */
 export function hardBufferLimit(config: ServerConfig): number {
@@ -26,6 +63,9 @@ export class Transport {
   readonly wss: WebSocketServer
   readonly sessions = new Set<ClientSession>()
   private heartbeat: NodeJS.Timeout | null = null
+  private readonly peers = new Map<ClientSession, Peer>()
+  /** Rate-limited warnings about clients (at most 3 per address per 10 s, then a count). */
+  readonly warnings: LogLimiter
   accepting = true
 
   constructor(
@@ -39,42 +79,90 @@ export class Transport {
       maxPayload: config.maxMessageBytes,
       perMessageDeflate: false,
     })
+    this.warnings = new LogLimiter(log)
     this.heartbeat = setInterval(() => this.sweep(), config.heartbeatMs)
   }
 
-  /** Handle an HTTP upgrade request. */
+  /** Handle an HTTP upgrade request; never throws (a bad request gets an HTTP error status). */
   handleUpgrade(request: IncomingMessage, socket: Duplex, head: Buffer): void {
     socket.on('error', () => socket.destroy())
-    const url = new URL(request.url ?? '/', 'http://localhost')
-    const refuse = (status: string): void => {
-      socket.end(`HTTP/1.1 ${status}\r\nConnection: close\r\nContent-Length: 0\r\n\r\n`)
+    try {
+      this.upgrade(request, socket, head)
+    } catch (error) {
+      this.log.error({ err: error }, 'upgrade failed')
+      this.refuse(socket, 500, 'Internal Server Error')
+    }
+  }
+
+  private refuse(socket: Duplex, status: number, text: string): void {
+    if (socket.writable) socket.end(rawHttpResponse(status, text))
+    else socket.destroy()
+  }
+
+  private upgrade(request: IncomingMessage, socket: Duplex, head: Buffer): void {
+    const url = parseRequestTarget(request.url)
+    if (!url) {
+      this.refuse(socket, 400, 'Bad Request')
+      return
     }
     if (url.pathname !== '/ws') {
-      refuse('404 Not Found')
+      this.refuse(socket, 404, 'Not Found')
       return
     }
     if (!this.accepting) {
-      refuse('503 Service Unavailable')
+      this.refuse(socket, 503, 'Service Unavailable')
       return
     }
     const room = url.searchParams.get('room') ?? ''
     if (room !== '' && !ROOM_NAME_PATTERN.test(room)) {
-      refuse('400 Bad Request')
+      this.refuse(socket, 400, 'Bad Request')
       return
     }
     if (this.sessions.size >= this.config.maxConnections) {
-      refuse('503 Service Unavailable')
+      this.refuse(socket, 503, 'Service Unavailable')
       return
     }
-    this.wss.handleUpgrade(request, socket, head, (ws) => this.accept(ws, room))
+    const decision = checkAccess(this.config, request, url, room)
+    const address = clientAddress(request.socket)
+    if (!decision.ok) {
+      this.metrics.connectionsRefused.inc({ reason: decision.reason })
+      this.warnings.warn(address, { address, reason: decision.reason }, 'upgrade refused')
+      this.refuse(socket, decision.status, decision.text)
+      return
+    }
+    this.wss.handleUpgrade(request, socket, head, (ws) =>
+      this.accept({
+        ws,
+        urlRoom: room,
+        socket,
+        address,
+        access: decision.access,
+      }),
+    )
   }
 
-  private accept(ws: WebSocket, urlRoom: string): void {
-    const session = new ClientSession(ws, urlRoom, this.metrics, hardBufferLimit(this.config))
+  private accept(opened: {
+    ws: WebSocket
+    urlRoom: string
+    socket: Duplex
+    address: string
+    access: Access
+  }): void {
+    const { ws } = opened
+    const session = new ClientSession(ws, opened.urlRoom, this.metrics, hardBufferLimit(this.config))
+    const peer: Peer = {
+      session,
+      socket: opened.socket,
+      address: opened.address,
+      access: opened.access,
+      budget: new MessageBudget(this.config.maxMessagesPerSecond, () => performance.now()),
+      dropped: false,
+    }
     this.sessions.add(session)
+    this.peers.set(session, peer)
     this.metrics.connections.set(this.sessions.size)
     const joinTimer = setTimeout(() => {
-      if (!session.player) session.close(CLOSE_CODES.joinTimeout, 'no join message in time')
+      if (!session.player) this.drop(peer, CLOSE_CODES.joinTimeout, 'no join message in time')
     }, this.config.joinTimeoutMs)
     ws.on('error', (error) => {
       this.log.debug({ err: error.message, player: session.id }, 'socket error')
@@ -82,10 +170,11 @@ export class Transport {
     ws.on('pong', () => {
       session.alive = true
     })
-    ws.on('message', (data, isBinary) => this.receive(session, data, isBinary))
+    ws.on('message', (data, isBinary) => this.receiveGuarded(peer, data, isBinary))
     ws.on('close', () => {
       clearTimeout(joinTimer)
       this.sessions.delete(session)
+      this.peers.delete(session)
       this.metrics.connections.set(this.sessions.size)
       const player = session.player
       if (player) {
@@ -96,15 +185,45 @@ export class Transport {
     })
   }
 
-  private reject(session: ClientSession, code: string, reason: string): void {
+  /**
+   * Close a client and stop reading from it: the close frame (reason cut to 123 bytes) goes out,
+   * the socket is paused so nothing more is decoded, and it is terminated after DROP_GRACE_MS.
+   */
+  private drop(peer: Peer, code: number, reason: string): void {
+    if (peer.dropped) return
+    peer.dropped = true
+    peer.session.close(code, reason)
+    peer.socket.pause()
+    const ws = peer.session.ws
+    setTimeout(() => ws.terminate(), DROP_GRACE_MS).unref()
+  }
+
+  /** receive() with a guard: a bug reached by a client's frame drops that client, never the process. */
+  private receiveGuarded(peer: Peer, data: RawData, isBinary: boolean): void {
+    if (peer.dropped) return
+    try {
+      this.receive(peer, data, isBinary)
+    } catch (error) {
+      this.warnings.warn(peer.address, { player: peer.session.id, err: error }, 'message handling failed')
+      try {
+        this.drop(peer, CLOSE_CODES.internal, 'server error handling your message')
+      } catch {
+        peer.session.ws.terminate()
+      }
+    }
+  }
+
+  private reject(peer: Peer, code: string, reason: string): void {
+    const session = peer.session
     this.metrics.rejected.inc({ reason: code })
     session.strikes++
     if (session.strikes > this.config.maxRejects) {
-      this.log.warn(
-        { player: session.id, reason },
+      this.warnings.warn(
+        peer.address,
+        { player: session.id, address: peer.address, reason },
         'disconnecting a client that keeps sending invalid messages',
       )
-      session.close(CLOSE_CODES.policy, `too many invalid messages; last: ${reason}`)
+      this.drop(peer, CLOSE_CODES.policy, `too many invalid messages; last: ${reason}`)
       return
     }
     session.sendError(code, reason)
@@ -114,19 +233,31 @@ export class Transport {
    * Over the per-tick input budget: the input is dropped, but it counts as a strike only once per
    * tick, so a burst after a network hiccup costs little while a sustained flood is disconnected.
    */
-  private overBudget(session: ClientSession, tick: number, reason: string): void {
+  private overBudget(peer: Peer, tick: number, reason: string): void {
+    const session = peer.session
     if (session.budgetStrikeTick === tick) {
       this.metrics.rejected.inc({ reason: 'input-budget' })
       return
     }
     session.budgetStrikeTick = tick
-    this.reject(session, 'input-budget', reason)
+    this.reject(peer, 'input-budget', reason)
   }
 
-  private receive(session: ClientSession, data: RawData, isBinary: boolean): void {
+  private receive(peer: Peer, data: RawData, isBinary: boolean): void {
+    const session = peer.session
     this.metrics.messagesReceived.inc()
+    if (!peer.budget.take()) {
+      if (peer.budget.strikeDue(RATE_STRIKE_INTERVAL_MS)) {
+        this.reject(
+          peer,
+          'message-rate',
+          `message rate exceeded: at most ${this.config.maxMessagesPerSecond} messages per second`,
+        )
+      } else this.metrics.rejected.inc({ reason: 'message-rate' })
+      return
+    }
     if (!isBinary) {
-      this.reject(session, 'text-frame', 'text frames are not accepted; send binary MessagePack')
+      this.reject(peer, 'text-frame', 'text frames are not accepted; send binary MessagePack')
       return
     }
     const bytes = Array.isArray(data)
@@ -139,34 +270,43 @@ export class Transport {
       if (result.code === 'version') {
         this.metrics.rejected.inc({ reason: 'version' })
         session.sendError('version', result.reason)
-        session.close(CLOSE_CODES.version, result.reason)
+        this.drop(peer, CLOSE_CODES.version, result.reason)
         return
       }
-      this.reject(session, result.code, result.reason)
+      this.reject(peer, result.code, result.reason)
       return
     }
-    this.dispatch(session, result.value)
+    this.dispatch(peer, result.value)
   }
 
-  private dispatch(session: ClientSession, message: ClientMessage): void {
+  private dispatch(peer: Peer, message: ClientMessage): void {
+    const session = peer.session
     if (message.t === 'join') {
-      this.join(session, message)
+      this.join(peer, message)
       return
     }
     const player = session.player
     if (!player) {
-      this.reject(session, 'not-joined', 'send join first')
+      this.reject(peer, 'not-joined', 'send join first')
       return
     }
     const room = this.rooms.get(player.room)
     if (!room || !player.joined) {
-      session.close(1011, 'room closed')
+      this.drop(peer, CLOSE_CODES.internal, 'room closed')
       return
     }
     switch (message.t) {
       case 'input': {
+        if (!peer.access.controls && ROOM_CONTROL_COMMANDS.includes(message.cmd.k)) {
+          session.sendError(
+            'refused',
+            `${message.cmd.k} is a room control: it needs the admin key`,
+            message.seq,
+          )
+          return
+        }
         const error = room.queueInput(player, message.seq, message.cmd)
-        if (error) this.overBudget(session, room.tick, error)
+        if (error) this.overBudget(peer, room.tick, error)
         return
       }
       case 'ack':
@@ -175,7 +315,7 @@ export class Transport {
       case 'ping':
         // Pings share the input budget, so they cannot be used to amplify traffic.
         if (++player.inputsThisTick > this.config.inputsPerTick) {
-          this.overBudget(session, room.tick, 'too many pings')
+          this.overBudget(peer, room.tick, 'too many pings')
           return
         }
         session.send({
@@ -188,35 +328,43 @@ export class Transport {
     }
   }
 
-  private join(session: ClientSession, message: Extract<ClientMessage, { t: 'join' }>): void {
+  private join(peer: Peer, message: Extract<ClientMessage, { t: 'join' }>): void {
+    const session = peer.session
     if (session.player) {
-      this.reject(session, 'already-joined', 'this socket has already joined a room')
+      this.reject(peer, 'already-joined', 'this socket has already joined a room')
       return
     }
     if (message.mode !== 'snapshot') {
       session.sendError('mode', `mode "${message.mode}" is not supported by this server; use "snapshot"`)
-      session.close(CLOSE_CODES.policy, `unsupported mode ${message.mode}`)
+      this.drop(peer, CLOSE_CODES.policy, `unsupported mode ${message.mode}`)
       return
     }
     const name = message.room || session.urlRoom || this.config.defaultRoom
     if (message.room && session.urlRoom && message.room !== session.urlRoom) {
       this.reject(
-        session,
+        peer,
         'room-mismatch',
         `join names room "${message.room}" but the URL names "${session.urlRoom}"`,
       )
       return
     }
+    if (peer.access.room !== null && name !== peer.access.room) {
+      const reason = `room "${name}" needs a key; without one this connection may join only "${peer.access.room}"`
+      this.metrics.rejected.inc({ reason: 'forbidden' })
+      session.sendError('forbidden', reason)
+      this.drop(peer, CLOSE_CODES.forbidden, reason)
+      return
+    }
     const room = this.rooms.getOrCreate(name)
     if (!room) {
       session.sendError('full', `the server has reached its limit of ${this.config.maxRooms} rooms`)
-      session.close(CLOSE_CODES.full, 'too many rooms')
+      this.drop(peer, CLOSE_CODES.full, 'too many rooms')
       return
     }
     const joined = room.join(session, message.name, message.token)
     if (typeof joined === 'string') {
       session.sendError('full', joined)
-      session.close(CLOSE_CODES.full, joined)
+      this.drop(peer, CLOSE_CODES.full, joined)
       return
     }
     session.player = joined

@@ -70,4 +70,14 @@ export const CLOSE_CODES = {
   joinTimeout: 4003,
   /** Protocol version mismatch. */
   version: 4004,
+  /** The join names a room this connection's key does not admit it to. */
+  forbidden: 4005,
+  /** The server failed handling this client's message (a server bug; the process carries on). */
+  internal: 1011,
 } as const
+
+/** Commands that change the whole room; admin-only when the server has an admin token. */
+export const ROOM_CONTROL_COMMANDS: readonly string[] = ['scene', 'pause', 'step', 'reset', 'gravity']
+
+/** How far beyond a body's outline a pin or rope anchor may lie (m): a lever arm stays short. */
+export const ANCHOR_MARGIN = 0.5

@@ -43,3 +43,20 @@ describe('server configuration', () => {
     })
   }
 })
+
+describe('the README settings table', () => {
+  it('lists every setting with its flag, environment variable and default', async () => {
+    const { readFileSync } = await import('node:fs')
+    const rows = readFileSync('README.md', 'utf8')
+      .split('\n')
+      .filter((l) => l.startsWith('| `--'))
+    for (const s of SETTINGS) {
+      const row = rows.find((r) => r.startsWith(`| \`${s.flag}\``))
+      expect(row, `README row for ${s.flag}`).toBeDefined()
+      expect(row).toContain(`\`${s.env}\``)
+      const cells = row!.split('|').map((c) => c.trim())
+      const documented = cells[3]
+      expect(s.fallback === '' ? documented.startsWith('(') : documented === String(s.fallback)).toBe(true)
+    }
+  })
+})

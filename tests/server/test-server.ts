@@ -2,12 +2,15 @@
  * Starting a real server for integration tests: in-process on 127.0.0.1 port 0, silent logs,
  * short heartbeats and timeouts so the suite stays fast.
  */
-import pino from 'pino'
+import pino, { type Logger } from 'pino'
 import { loadConfig, type ServerConfig } from '../../server/config.ts'
 import { type RunningServer, startServer } from '../../server/server.ts'
 
-/** A server for one test file; close it in afterAll. */
-export async function startTestServer(overrides: Partial<ServerConfig> = {}): Promise<RunningServer> {
+/** A server for one test file; close it in afterAll. `logger` replaces the silent one (to read its lines). */
+export async function startTestServer(
+  overrides: Partial<ServerConfig> = {},
+  logger?: Logger,
+): Promise<RunningServer> {
   const config = loadConfig(
     [],
     {},
@@ -24,7 +27,7 @@ export async function startTestServer(overrides: Partial<ServerConfig> = {}): Pr
     },
   )
   return startServer(config, {
-    logger: pino({ level: process.env.TEST_LOG ?? 'silent' }),
+    logger: logger ?? pino({ level: process.env.TEST_LOG ?? 'silent' }),
     processMetrics: false,
   })
 }

@@ -1,0 +1,44 @@
+/*
+ * The per-client message rate: a token bucket that every frame draws from, whatever it is (moves,
+ * acks, pings, inputs, garbage), so no kind of message is free. Moves still coalesce per tick in
+ * the room and the per-tick input budget still applies to inputs; this bucket bounds the work a
+ * client can cause at all (180,000 moves and acks per second were once accepted). It refills at
+ * `perSecond` tokens a second and holds one second's worth, so bursts after a network stall pass.
+ */
+
+/** A token bucket of messages per second. */
+export class MessageBudget {
+  private tokens: number
+  private last: number
+  private lastStrike = Number.NEGATIVE_INFINITY
+
+  constructor(
+    /** Messages per second allowed on average, and the burst size. */
+    private readonly perSecond: number,
+    private readonly now: () => number,
+  ) {
+    this.tokens = perSecond
+    this.last = now()
+  }
+
+  /** Take one message from the budget; false when it is exhausted (the message is to be dropped). */
+  take(): boolean {
+    const now = this.now()
+    this.tokens = Math.min(this.perSecond, this.tokens + ((now - this.last) * this.perSecond) / 1000)
+    this.last = now
+    if (this.tokens < 1) return false
+    this.tokens--
+    return true
+  }
+
+  /**
+   * Whether an over-budget message should cost a strike: at most one per `intervalMs` (a tick), so
+   * a short burst costs little while a sustained flood is disconnected within a second.
+   */
+  strikeDue(intervalMs: number): boolean {
+    const now = this.now()
+    if (now - this.lastStrike < intervalMs) return false
+    this.lastStrike = now
+    return true
+  }
+}
