@@ -71,15 +71,11 @@ export function jointBodiesToStates(state: Float64Array, joints: Joint[], count:
   }
 }
 
-/**
- * Gravity and damping for awake dynamic bodies over one sub-step (semi-implicit Euler), then the
- * speed limits: linear speed at most MAX_LINEAR_SPEED, rotation at most MAX_ROTATION per sub-step.
- */
+/** Gravity and damping for awake dynamic bodies over one sub-step (semi-implicit Euler). */
 export function integrateVelocities(awake: Body[], n: number, state: Float64Array, ctx: StepContext): void {
   const h = ctx.h
   const gx = ctx.gravityX * h
   const gy = ctx.gravityY * h
-  const maxAngularSpeed = MAX_ROTATION / h
   for (let i = 0; i < n; i++) {
     const b = awake[i]
     if (b.type !== DYNAMIC) continue
@@ -93,24 +89,39 @@ export function integrateVelocities(awake: Body[], n: number, state: Float64Arra
       vy *= damp
     }
     if (b.angularDamping > 0) w *= 1 / (1 + h * b.angularDamping)
-    vx += b.gravityScale * gx
-    vy += b.gravityScale * gy
+    state[o + VX] = vx + b.gravityScale * gx
+    state[o + VY] = vy + b.gravityScale * gy
+    state[o + W] = w
+  }
+  clampSpeeds(state, n, MAX_ROTATION * ctx.invH)
+}
+
+/**
+ * The speed limits (Box2D v3 b2IntegratePositions): linear speed at most MAX_LINEAR_SPEED, angular
+ * speed at most `maxAngularSpeed` (MAX_ROTATION per sub-step). Applied after gravity and again
+ * after the contacts and joints, so neither forces nor impulses can push a body past them.
+ */
+export function clampSpeeds(state: Float64Array, n: number, maxAngularSpeed: number): void {
+  const end = (n + 1) * STATE_STRIDE
+  for (let o = STATE_STRIDE; o < end; o += STATE_STRIDE) {
+    const vx = state[o + VX]
+    const vy = state[o + VY]
     const speedSquared = vx * vx + vy * vy
     if (speedSquared > MAX_LINEAR_SPEED * MAX_LINEAR_SPEED) {
       const scale = MAX_LINEAR_SPEED / Math.sqrt(speedSquared)
-      vx *= scale
-      vy *= scale
+      state[o + VX] = vx * scale
+      state[o + VY] = vy * scale
     }
-    if (w * w > maxAngularSpeed * maxAngularSpeed) w = w > 0 ? maxAngularSpeed : -maxAngularSpeed
-    state[o + VX] = vx
-    state[o + VY] = vy
-    state[o + W] = w
+    const w = state[o + W]
+    if (w > maxAngularSpeed) state[o + W] = maxAngularSpeed
+    else if (w < -maxAngularSpeed) state[o + W] = -maxAngularSpeed
   }
 }
 
-/** Accumulates the sub-step position and rotation deltas of n awake bodies. */
+/** Clamps the speeds, then accumulates the sub-step position and rotation deltas of n awake bodies. */
 export function integratePositions(state: Float64Array, n: number, ctx: StepContext): void {
   const h = ctx.h
+  clampSpeeds(state, n, MAX_ROTATION * ctx.invH)
   const end = (n + 1) * STATE_STRIDE
   for (let o = STATE_STRIDE; o < end; o += STATE_STRIDE) {
     state[o + DPX] += h * state[o + VX]
@@ -126,6 +137,33 @@ export function integratePositions(state: Float64Array, n: number, ctx: StepCont
     state[o + DQC] = qc * inv
     state[o + DQS] = qs * inv
   }
+}
+
+/**
+ * Brings a body's velocity within the limits after an outside change (an impulse, a set velocity):
+ * the direction is kept, a non-finite angular velocity (an impulse of infinite torque both ways)
+ * becomes 0. Inputs are finite, but their products with a body's inverse mass may overflow.
+ */
+export function limitBodyVelocity(b: Body, maxAngularSpeed: number): void {
+  let vx = b.vx
+  let vy = b.vy
+  const big = Math.max(Math.abs(vx), Math.abs(vy))
+  if (big > MAX_LINEAR_SPEED) {
+    // Normalize by the largest component first so that squaring cannot overflow.
+    if (big === Number.POSITIVE_INFINITY) {
+      vx = Math.abs(vx) === big ? Math.sign(vx) : 0
+      vy = Math.abs(vy) === big ? Math.sign(vy) : 0
+    } else {
+      vx /= big
+      vy /= big
+    }
+    const scale = MAX_LINEAR_SPEED / Math.sqrt(vx * vx + vy * vy)
+    b.vx = vx * scale
+    b.vy = vy * scale
+  }
+  const w = b.w
+  if (w !== w) b.w = 0
+  else b.w = Math.max(-maxAngularSpeed, Math.min(w, maxAngularSpeed))
 }
 
 /** Copies a body's solver state into its fields (static bodies have none). */

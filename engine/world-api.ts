@@ -5,7 +5,8 @@
  * a player's command) can never put a NaN, an infinity or a dangling id into the simulation.
  */
 import { Body, DYNAMIC, STATIC, updateMassData } from './body.ts'
-import { STEP_SECONDS } from './constants.ts'
+import { limitBodyVelocity } from './body-state.ts'
+import { MAX_ROTATION, STEP_SECONDS } from './constants.ts'
 import { finite, finiteVec, inRange } from './def-checks.ts'
 import { JOINT_TYPE_NAMES, type Joint, MOUSE } from './joint.ts'
 import { buildJoint, jointInfo, jointReaction, localPoint } from './joint-defs.ts'
@@ -37,6 +38,11 @@ export class WorldApi extends WorldStore {
   /** Steps taken since creation. */
   get tick(): number {
     return this.tickCount
+  }
+
+  /** The fastest a body may spin (rad/s): MAX_ROTATION per sub-step, 188.5 rad/s at 4 sub-steps. */
+  get maxAngularSpeed(): number {
+    return MAX_ROTATION * this.stepContext.invH
   }
 
   /** Number of bodies. */
@@ -219,6 +225,7 @@ export class WorldApi extends WorldStore {
     if (b.type === STATIC) return
     b.vx = v.x
     b.vy = v.y
+    limitBodyVelocity(b, this.maxAngularSpeed)
     this.islands.wake(b)
   }
 
@@ -228,6 +235,7 @@ export class WorldApi extends WorldStore {
     finite('angularVelocity', w)
     if (b.type === STATIC || b.fixedRotation) return
     b.w = w
+    limitBodyVelocity(b, this.maxAngularSpeed)
     this.islands.wake(b)
   }
 
@@ -238,7 +246,10 @@ export class WorldApi extends WorldStore {
     else this.islands.sleep(b)
   }
 
-  /** Applies an impulse (N s) at a world point (m) to a dynamic body and wakes it. */
+  /**
+   * Applies an impulse (N s) at a world point (m) to a dynamic body and wakes it. The resulting
+   * velocity is clamped to the speed limits (MAX_LINEAR_SPEED, maxAngularSpeed), whatever the impulse.
+   */
   applyLinearImpulse(id: BodyId, impulse: Vec2, point: Vec2): void {
     const b = this.body(id)
     finiteVec('impulse', impulse)
@@ -248,6 +259,7 @@ export class WorldApi extends WorldStore {
     b.vx += b.invMass * impulse.x
     b.vy += b.invMass * impulse.y
     b.w += b.invInertia * ((point.x - b.cx) * impulse.y - (point.y - b.cy) * impulse.x)
+    limitBodyVelocity(b, this.maxAngularSpeed)
   }
 
   /** Gravity (m/s^2). */

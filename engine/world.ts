@@ -33,12 +33,13 @@ import {
   integratePositions,
   integrateVelocities,
   jointBodiesToStates,
+  limitBodyVelocity,
   loadSolverStates,
   STATE_STRIDE,
   statesToJointBodies,
   stateToBody,
 } from './body-state.ts'
-import { SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
+import { MAX_ROTATION, SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
 import { Contact, clearContact, KEY_SCALE, updateContact } from './contact.ts'
 import {
   applyRestitution,
@@ -168,11 +169,21 @@ export class World extends WorldApi {
       }
     }
     this.awakeCount = n
+    // Contacts between two dynamic bodies first, then contacts with a static or kinematic body, so
+    // that in each Gauss-Seidel pass the contacts that hold the world up are solved last (Box2D v3
+    // keeps static contacts out of the first graph colour for the same reason).
     const active = this.activeContacts
+    const contacts = this.contactArray
     let m = 0
-    for (let i = 0; i < this.contactArray.length; i++) {
-      const c = this.contactArray[i]
-      if (c.touching && (c.bodyA.awake || c.bodyB.awake)) active[m++] = c
+    for (let i = 0; i < contacts.length; i++) {
+      const c = contacts[i]
+      if (c.touching && c.bodyA.invMass > 0 && c.bodyB.invMass > 0 && (c.bodyA.awake || c.bodyB.awake))
+        active[m++] = c
+    }
+    for (let i = 0; i < contacts.length; i++) {
+      const c = contacts[i]
+      if (c.touching && (c.bodyA.invMass === 0 || c.bodyB.invMass === 0) && (c.bodyA.awake || c.bodyB.awake))
+        active[m++] = c
     }
     this.activeContactCount = m
     const activeJoints = this.activeJoints
@@ -258,9 +269,12 @@ export class World extends WorldApi {
     const s = this.settings
     const enableSleep = s.enableSleep
     const state = this.state
+    const maxAngularSpeed = MAX_ROTATION * this.stepContext.invH
     for (let i = 0; i < this.awakeCount; i++) {
       const b = this.awake[i]
       stateToBody(state, b)
+      // Restitution runs after the last clamp; keep the stored velocity within the limits too.
+      limitBodyVelocity(b, maxAngularSpeed)
       b.c0x = b.cx
       b.c0y = b.cy
       b.q0c = b.c

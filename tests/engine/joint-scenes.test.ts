@@ -176,4 +176,4 @@ describe('determinism with every joint type and a bullet', () => {
   })
 })
 
-const GOLDEN = 2273380573
+const GOLDEN = 1271658766

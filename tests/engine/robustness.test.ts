@@ -1,0 +1,270 @@
+/*
+ * Robustness under the abuse a sandbox invites (issue 13), at the default settings with sleeping off
+ * unless a test says otherwise. Every expectation comes from geometry or mechanics, not from a past
+ * run: a stack's true rest height is the sum of its boxes' heights, a push-out speed is the world's
+ * maxContactPushSpeed, a rolling disc accelerates at (2/3) g sin(theta).
+ * Each test logs what it measured.
+ */
+import { describe, expect, it } from 'vitest'
+import {
+  box,
+  buildScene,
+  cardHouseScene,
+  circle,
+  cos,
+  createWorld,
+  DEFAULT_WORLD_DEF,
+  groundDef,
+  MAX_LINEAR_SPEED,
+  PI,
+  pileScene,
+  STEP_SECONDS,
+  sin,
+  type Vec2,
+  type World,
+} from '../../engine/index.ts'
+
+const PUSH_SPEED = DEFAULT_WORLD_DEF.maxContactPushSpeed
+const SLEEP_SPEED = DEFAULT_WORLD_DEF.sleepThreshold
+
+function speed(world: World, id: number): number {
+  const v = world.getLinearVelocity(id)
+  return Math.hypot(v.x, v.y)
+}
+
+/** Steps `steps` times; returns the largest linear speed any of `ids` reached at the end of a step. */
+function runTracking(world: World, ids: number[], steps: number): number {
+  let fastest = 0
+  for (let i = 0; i < steps; i++) {
+    world.step()
+    for (const id of ids) fastest = Math.max(fastest, speed(world, id))
+  }
+  return fastest
+}
+
+/** The largest distance of any body from where it was created. */
+function worstDrift(world: World, ids: number[], starts: Vec2[]): number {
+  let worst = 0
+  ids.forEach((id, k) => {
+    const p = world.getPosition(id)
+    worst = Math.max(worst, Math.hypot(p.x - starts[k].x, p.y - starts[k].y))
+  })
+  return worst
+}
+
+describe('heavy on light', () => {
+  for (const density of [100, 300]) {
+    it(`a 10-row pyramid whose top box is ${density} times denser keeps its shape and flings nothing`, () => {
+      const world = createWorld({ enableSleep: false })
+      world.createBody(groundDef())
+      const ids: number[] = []
+      const starts: Vec2[] = []
+      const rows = 10
+      for (let r = 0; r < rows; r++) {
+        for (let i = 0; i < rows - r; i++) {
+          const p = { x: i - (rows - r - 1) / 2, y: 0.5 + r }
+          ids.push(
+            world.createBody({ position: p, shape: box(0.5, 0.5), density: r === rows - 1 ? density : 1 }),
+          )
+          starts.push(p)
+        }
+      }
+      const fastest = runTracking(world, ids, 600)
+      const drift = worstDrift(world, ids, starts)
+      console.log(
+        `heavy-topped pyramid x${density}: worst drift ${drift.toFixed(4)} m, fastest ${fastest.toFixed(3)} m/s`,
+      )
+      // Kept shape: no box moved by a tenth of its width (a crushed row drops by 1 m).
+      expect(drift).toBeLessThan(0.1)
+      // Nothing flung: slower than the push-out speed at all times.
+      expect(fastest).toBeLessThan(PUSH_SPEED)
+    })
+  }
+})
+
+describe('deep overlap', () => {
+  it('two boxes created 50 % overlapping on the ground part at no more than the push-out speed, then rest', () => {
+    const world = createWorld({ enableSleep: false })
+    world.createBody(groundDef())
+    const a = world.createBody({ position: { x: 0, y: 0.5 }, shape: box(0.5, 0.5) })
+    const b = world.createBody({ position: { x: 0.5, y: 0.5 }, shape: box(0.5, 0.5) })
+    let fastestApart = 0
+    let last = 0.5
+    for (let i = 0; i < 300; i++) {
+      world.step()
+      const gap = world.getPosition(b).x - world.getPosition(a).x
+      fastestApart = Math.max(fastestApart, (gap - last) / STEP_SECONDS)
+      last = gap
+    }
+    console.log(`50 % overlap: separated to ${last.toFixed(4)} m, fastest parting ${fastestApart.toFixed(3)} m/s`)
+    expect(last).toBeGreaterThan(1 - 0.02) // apart, within the speculative distance
+    expect(fastestApart).toBeLessThanOrEqual(PUSH_SPEED * 1.0001)
+    expect(speed(world, a) + speed(world, b)).toBeLessThan(SLEEP_SPEED) // parted, then still
+    expect(world.getPosition(a).y).toBeCloseTo(0.5, 2) // and still on the ground, not thrown up
+  })
+
+  for (const overlap of [0.25, 0.5]) {
+    it(`a base-4 pyramid built with ${overlap * 100} % overlap ends at its true height (Solver2D overlap recovery)`, () => {
+      const world = createWorld({ enableSleep: false })
+      world.createBody(groundDef())
+      const ids: number[] = []
+      const fraction = 1 - overlap
+      for (let row = 0; row < 4; row++) {
+        for (let i = 0; i < 4 - row; i++) {
+          const x = (i - (3 - row) / 2) * fraction
+          ids.push(world.createBody({ position: { x, y: 0.5 + row * fraction }, shape: box(0.5, 0.5) }))
+        }
+      }
+      const fastest = runTracking(world, ids, 600)
+      const top = world.getPosition(ids[ids.length - 1])
+      console.log(
+        `overlap ${overlap}: top at ${top.y.toFixed(4)} m (true 3.5), fastest ${fastest.toFixed(3)} m/s`,
+      )
+      // Four rows of 1 m boxes: the top centre rests at 3.5 m, within 2 slops per contact below it.
+      expect(Math.abs(top.y - 3.5)).toBeLessThan(0.05)
+      // Each box is pushed out of at most two neighbours at the push-out speed each.
+      expect(fastest).toBeLessThan(2 * PUSH_SPEED)
+      for (const id of ids) expect(speed(world, id)).toBeLessThan(SLEEP_SPEED)
+    })
+  }
+})
+
+describe('thin shapes', () => {
+  it('a card house (2 mm x 0.4 m cards at 25 degrees, friction 0.7) stands 10 s with sleeping off', () => {
+    const scene = cardHouseScene(4)
+    const world = createWorld({ enableSleep: false })
+    const ids = buildScene(world, scene)
+    const starts = scene.bodies.map((d) => d.position ?? { x: 0, y: 0 })
+    for (let i = 0; i < 600; i++) world.step()
+    const drift = worstDrift(world, ids.slice(1), starts.slice(1))
+    console.log(`card house: worst card drift ${drift.toFixed(4)} m after 10 s`)
+    expect(drift).toBeLessThan(0.05) // a fallen card moves by its own height, 0.4 m
+  })
+
+  for (const [name, hw, hh] of [
+    ['planks (2 m x 4 cm)', 1, 0.02],
+    ['rods (8 m x 10 cm)', 4, 0.05],
+  ] as const) {
+    it(`ten ${name} stacked flat stand at their true heights for 10 s`, () => {
+      const world = createWorld({ enableSleep: false })
+      world.createBody(groundDef())
+      const ids: number[] = []
+      for (let i = 0; i < 10; i++) {
+        ids.push(world.createBody({ position: { x: (i % 2) * 0.1, y: hh + 2 * hh * i }, shape: box(hw, hh) }))
+      }
+      for (let i = 0; i < 600; i++) world.step()
+      const top = world.getPosition(ids[9])
+      const trueTop = hh + 18 * hh
+      console.log(`${name}: top at ${top.y.toFixed(4)} m (true ${trueTop}), x ${top.x.toFixed(4)}`)
+      expect(Math.abs(top.y - trueTop)).toBeLessThan(10 * 2 * 0.005)
+      expect(Math.abs(top.x - 0.1)).toBeLessThan(0.01)
+      for (const id of ids) expect(speed(world, id)).toBeLessThan(SLEEP_SPEED)
+    })
+  }
+})
+
+describe('tall stacks', () => {
+  it('a 15-box stack dropped with 10 cm gaps stands for 60 s', () => {
+    const world = createWorld({ enableSleep: false })
+    world.createBody(groundDef())
+    const ids: number[] = []
+    for (let i = 0; i < 15; i++)
+      ids.push(world.createBody({ position: { x: 0, y: 0.5 + 1.1 * i }, shape: box(0.5, 0.5) }))
+    let worst = 0
+    for (let step = 1; step <= 3600; step++) {
+      world.step()
+      if (step % 600 === 0) {
+        for (let i = 0; i < 15; i++) {
+          const p = world.getPosition(ids[i])
+          worst = Math.max(worst, Math.abs(p.x), Math.abs(p.y - (0.5 + i)))
+        }
+      }
+    }
+    console.log(`15-box dropped stack: worst offset from the true column over 60 s ${worst.toFixed(4)} m`)
+    expect(worst).toBeLessThan(0.05)
+    expect(speed(world, ids[14])).toBeLessThan(SLEEP_SPEED)
+  })
+})
+
+describe('piles fall asleep, balls still roll', () => {
+  it('the 500-body mixed pile (sleeping on) is fully asleep within 10 s', () => {
+    const world = createWorld()
+    buildScene(world, pileScene(500))
+    let asleepAt = -1
+    for (let i = 1; i <= 600 && asleepAt < 0; i++) {
+      world.step()
+      if (world.awakeBodyCount() === 0) asleepAt = i
+    }
+    console.log(`pile 500: asleep at ${(asleepAt * STEP_SECONDS).toFixed(2)} s`)
+    expect(asleepAt).toBeGreaterThan(0)
+  })
+
+  it('a ball rolls down a 30 degree ramp by the textbook distance (a = 2/3 g sin theta)', () => {
+    const theta = PI / 6
+    const world = createWorld({ enableSleep: false })
+    world.createBody({
+      type: 'static',
+      position: { x: 0, y: 0 },
+      angle: -theta,
+      shape: box(40, 0.5),
+      friction: 0.6,
+    })
+    const r = 0.5
+    // Resting on the ramp's top face: 0.5 + r along the ramp normal (sin, cos) from a point up the slope.
+    const along = -15
+    const start = {
+      x: along * cos(theta) + (0.5 + r) * sin(theta),
+      y: -along * sin(theta) + (0.5 + r) * cos(theta),
+    }
+    const ball = world.createBody({ position: start, shape: circle(r), friction: 0.6 })
+    const seconds = 2
+    for (let i = 0; i < seconds * 60; i++) world.step()
+    const p = world.getPosition(ball)
+    const travelled = Math.hypot(p.x - start.x, p.y - start.y)
+    const textbook = 0.5 * ((2 / 3) * 10 * sin(theta)) * seconds * seconds
+    console.log(`rolling ball: ${travelled.toFixed(4)} m in ${seconds} s, textbook ${textbook.toFixed(4)} m`)
+    // Rolls without slipping (friction 0.6 > tan(theta) / 3): the solid-disc distance within 1 %.
+    expect(Math.abs(travelled - textbook) / textbook).toBeLessThan(0.01)
+  })
+})
+
+describe('speed limits', () => {
+  it('absurd impulses leave every body finite and within the linear and angular speed caps', () => {
+    const world = createWorld({ enableSleep: false })
+    world.createBody(groundDef())
+    const ids = [
+      world.createBody({ position: { x: 0, y: 1 }, shape: box(0.5, 0.5), density: 1e-6 }),
+      world.createBody({ position: { x: 3, y: 1 }, shape: circle(0.01), density: 1e-6 }),
+      world.createBody({ position: { x: -3, y: 1 }, shape: box(2, 0.01) }),
+    ]
+    const maxW = world.maxAngularSpeed
+    const huge = [1e308, -1e308, 1e300, 5e15]
+    for (let round = 0; round < 20; round++) {
+      for (const id of ids) {
+        const p = world.getPosition(id)
+        const a = huge[round % 4]
+        const b = huge[(round + 1) % 4]
+        world.applyLinearImpulse(id, { x: a, y: b }, { x: p.x + 1e300, y: p.y - 1e300 })
+        for (const v of [world.getLinearVelocity(id)]) {
+          expect(Math.hypot(v.x, v.y)).toBeLessThanOrEqual(MAX_LINEAR_SPEED * (1 + 1e-12))
+        }
+        expect(Math.abs(world.getAngularVelocity(id))).toBeLessThanOrEqual(maxW)
+      }
+      if (round % 5 === 4) world.setLinearVelocity(ids[0], { x: 1e308, y: 1e308 })
+      for (let i = 0; i < 10; i++) {
+        world.step()
+        for (const id of ids) {
+          const p = world.getPosition(id)
+          const v = world.getLinearVelocity(id)
+          const w = world.getAngularVelocity(id)
+          expect([p.x, p.y, v.x, v.y, w, world.getAngle(id)].every(Number.isFinite)).toBe(true)
+          expect(Math.hypot(v.x, v.y)).toBeLessThanOrEqual(MAX_LINEAR_SPEED * (1 + 1e-12))
+          expect(Math.abs(w)).toBeLessThanOrEqual(maxW)
+        }
+      }
+    }
+    console.log(
+      `speed caps: ${MAX_LINEAR_SPEED} m/s, ${maxW.toFixed(2)} rad/s held under impulses up to 1e308 N s`,
+    )
+  })
+})
