@@ -16,9 +16,35 @@ const unpackr = new Unpackr({ useRecords: false, mapsAsObjects: true, int64AsTyp
 /** A decode outcome: the message, or a machine code and a human reason. */
 export type DecodeResult<T> = { ok: true; value: T } | { ok: false; code: string; reason: string }
 
-/** Encode a message as standard MessagePack bytes. */
+/** True when `value` holds a NaN or an infinity anywhere (typed arrays hold integers here). */
+function hasNonFinite(value: unknown): boolean {
+  if (typeof value === 'number') return !Number.isFinite(value)
+  if (value === null || typeof value !== 'object' || ArrayBuffer.isView(value)) return false
+  if (Array.isArray(value)) {
+    for (const v of value) if (hasNonFinite(v)) return true
+    return false
+  }
+  for (const key in value) if (hasNonFinite((value as Record<string, unknown>)[key])) return true
+  return false
+}
+
+/** A copy of `value` with every non-finite number replaced by 0. */
+function withFiniteNumbers(value: unknown): unknown {
+  if (typeof value === 'number') return Number.isFinite(value) ? value : 0
+  if (value === null || typeof value !== 'object' || ArrayBuffer.isView(value)) return value
+  if (Array.isArray(value)) return value.map(withFiniteNumbers)
+  const out: Record<string, unknown> = {}
+  for (const key in value) out[key] = withFiniteNumbers((value as Record<string, unknown>)[key])
+  return out
+}
+
+/**
+ * Encode a message as standard MessagePack bytes. Nothing non-finite is ever sent: a NaN or an
+ * infinity (a world that went wrong) is written as 0, so a peer's decoder and schema check never
+ * meet one; the world's sweep removes non-finite bodies within a second.
+ */
 export function encodeMessage(message: ClientMessage | ServerMessage): Uint8Array {
-  return packr.pack(message)
+  return packr.pack(hasNonFinite(message) ? withFiniteNumbers(message) : message)
 }
 
 /** Decode MessagePack bytes into an unvalidated value; never throws. */

@@ -10,9 +10,11 @@ const TURN = 2 * Math.PI
 /** Largest quantized coordinate magnitude (int32 range). */
 const MAX_Q = 2147483647
 
-/** A position (m) as an integer count of POSITION_QUANTUM, clamped to the int32 range. */
+/** A position (m) as an integer count of POSITION_QUANTUM, clamped to the int32 range (NaN -> 0). */
 export function quantizePosition(m: number): number {
   const q = Math.round(m * POSITION_SCALE)
+  // NaN fails every comparison: it is sent as 0, never as NaN (the sweep removes such a body).
+  if (!(q === q)) return 0
   return Math.min(MAX_Q, Math.max(-MAX_Q, q))
 }
 
@@ -21,8 +23,9 @@ export function dequantizePosition(q: number): number {
   return q / POSITION_SCALE
 }
 
-/** An angle (rad) as an integer in [0, ANGLE_STEPS): 65536 steps per turn. */
+/** An angle (rad) as an integer in [0, ANGLE_STEPS): 65536 steps per turn (non-finite -> 0). */
 export function quantizeAngle(rad: number): number {
+  if (!Number.isFinite(rad)) return 0
   const q = Math.round((rad / TURN) * ANGLE_STEPS) % ANGLE_STEPS
   return q < 0 ? q + ANGLE_STEPS : q
 }

@@ -2,14 +2,15 @@
  * The world-level half of applying a command: what a spawn, grab, move, pin, rope, delete, unjoint
  * or gravity change does to an engine World, with every clamp and cap the protocol promises
  * (positions to WORLD_HALF_EXTENT, spawn speeds to MAX_SPAWN_SPEED, grab force per kg, grab
- * anchors to the body's outline, rope length to MAX_ROPE_LENGTH). The server's rooms and the
+ * anchors to the body's outline, pin and rope anchors within ANCHOR_MARGIN of their bodies' reach,
+ * rope length to MAX_ROPE_LENGTH). The server's rooms and the
  * offline sandbox both call these, so the two cannot drift apart. What is not the world's stays
  * with the caller: sessions, recorders, per-room limits and events on the server; views and the
  * page's own grab on the client. A refusal comes back as a reason; nothing here throws (an engine
  * precondition failure becomes "<command> refused: <message>").
  */
 import type { BodyId, JointId, Vec2, World } from '../engine/index.ts'
-import { MAX_ROPE_LENGTH, MAX_SPAWN_SPEED, WORLD_HALF_EXTENT } from './constants.ts'
+import { ANCHOR_MARGIN, MAX_ROPE_LENGTH, MAX_SPAWN_SPEED, WORLD_HALF_EXTENT } from './constants.ts'
 import type { PinCommand, RopeCommand, SpawnCommand, WireJoint } from './messages.ts'
 import { fromWireShape } from './shape-wire.ts'
 
@@ -127,13 +128,31 @@ export function jointRefusal(world: World, cmd: PinCommand | RopeCommand): strin
 }
 
 /**
+ * Why an anchor (world m) is too far from a body to hold it, or null: it must lie within the
+ * body's reach (the farthest point of its outline from its origin) plus ANCHOR_MARGIN. A joint
+ * anchored hundreds of metres away acts through a lever arm that flings bodies past the speed
+ * cap, to kilometres and to NaN (issue 11).
+ */
+export function anchorRefusal(world: World, body: number, anchor: Vec2, what: string): string | null {
+  const p = world.getPosition(body)
+  const d = Math.sqrt((anchor.x - p.x) ** 2 + (anchor.y - p.y) ** 2)
+  const limit = shapeReach(world, body) + ANCHOR_MARGIN
+  if (d <= limit) return null
+  return `${what} (${anchor.x.toFixed(2)}, ${anchor.y.toFixed(2)}) is ${d.toFixed(2)} m from body ${body}; it must be within ${limit.toFixed(2)} m`
+}
+
+/**
  * Create a pin (revolute joint at a world point) or a rope (distance joint between two world
- * points, slack allowed, at most MAX_ROPE_LENGTH) with anchors clamped to the world; returns the
+ * points, slack allowed, at most MAX_ROPE_LENGTH) with anchors clamped to the world and each
+ * anchor on or near its body (anchorRefusal; a world end, a = 0, may be anywhere); returns the
  * joint as it travels, anchors in each body's frame (the world frame when a = 0).
  */
 export function addUserJoint(world: World, cmd: PinCommand | RopeCommand): WorldResult<WireJoint> {
   const refusal = jointRefusal(world, cmd)
   if (refusal) return refused(refusal)
+  const near = (anchorA: Vec2, anchorB: Vec2): string | null =>
+    anchorRefusal(world, cmd.b, anchorB, `${cmd.k} anchor`) ??
+    (cmd.a === 0 ? null : anchorRefusal(world, cmd.a, anchorA, `${cmd.k} anchor`))
   const bodyA = cmd.a === 0 ? null : cmd.a
   const local = (body: number | null, p: Vec2): Vec2 => (body === null ? p : world.getLocalPoint(body, p))
   const wire = (id: JointId, anchorA: Vec2, anchorB: Vec2, length: number): WireJoint => {
@@ -143,6 +162,8 @@ export function addUserJoint(world: World, cmd: PinCommand | RopeCommand): World
   }
   if (cmd.k === 'pin') {
     const anchor = clampToWorld(cmd.x, cmd.y)
+    const far = near(anchor, anchor)
+    if (far) return refused(far)
     return guarded('pin', () => {
       const id = world.createJoint({ type: 'revolute', bodyA, bodyB: cmd.b, anchor })
       return wire(id, anchor, anchor, 0)
@@ -152,6 +173,8 @@ export function addUserJoint(world: World, cmd: PinCommand | RopeCommand): World
   const anchorB = clampToWorld(cmd.bx, cmd.by)
   const length = Math.sqrt((anchorB.x - anchorA.x) ** 2 + (anchorB.y - anchorA.y) ** 2)
   if (length > MAX_ROPE_LENGTH) return refused(`rope longer than ${MAX_ROPE_LENGTH} m`)
+  const far = near(anchorA, anchorB)
+  if (far) return refused(far)
   return guarded('rope', () => {
     const id = world.createJoint({
       type: 'distance',

@@ -6,7 +6,7 @@
  */
 import { describe, expect, it } from 'vitest'
 import { box, circle, createWorld, type World } from '../../engine/index.ts'
-import { MAX_ROPE_LENGTH, MAX_SPAWN_SPEED, WORLD_HALF_EXTENT } from '../../shared/constants.ts'
+import { ANCHOR_MARGIN, MAX_ROPE_LENGTH, MAX_SPAWN_SPEED, WORLD_HALF_EXTENT } from '../../shared/constants.ts'
 import {
   addUserJoint,
   clampToWorld,
@@ -228,5 +228,46 @@ describe('setWorldGravity', () => {
     setWorldGravity(w, 1, -2)
     expect(w.getGravity()).toEqual({ x: 1, y: -2 })
     expect(w.isAwake(id)).toBe(true)
+  })
+})
+
+describe('pin and rope anchors must lie on or near their bodies', () => {
+  // A 1 x 1 m half-extent box reaches sqrt(2) m from its centre; the margin adds ANCHOR_MARGIN.
+  const limit = Math.SQRT2 + ANCHOR_MARGIN
+
+  it('accepts a pin just inside the reach plus margin and refuses one just outside, naming the distance', () => {
+    const w = zeroG()
+    const id = w.createBody({ shape: box(1, 1), position: { x: 2, y: 3 } })
+    unwrap(addUserJoint(w, { k: 'pin', a: 0, b: id, x: 2 + limit - 1e-9, y: 3 }))
+    const far = addUserJoint(w, { k: 'pin', a: 0, b: id, x: 2, y: 3 + limit + 1e-6 })
+    expect(reasonOf(far)).toBe(
+      `pin anchor (2.00, ${(3 + limit).toFixed(2)}) is ${limit.toFixed(2)} m from body ${id}; it must be within ${limit.toFixed(2)} m`,
+    )
+    expect(w.jointIds().length).toBe(1)
+  })
+
+  it('refuses the issue attack: a pin between two bodies anchored 400 m from both', () => {
+    const w = zeroG()
+    const a = w.createBody({ shape: box(1, 1), position: { x: 0, y: 0 } })
+    const b = w.createBody({ shape: box(1, 1), position: { x: 3, y: 0 } })
+    expect(reasonOf(addUserJoint(w, { k: 'pin', a, b, x: 400, y: 400 }))).toContain(`from body ${b}`)
+    // Near b but far from a: refused for a.
+    expect(reasonOf(addUserJoint(w, { k: 'pin', a, b, x: 3, y: 0 }))).toContain(`from body ${a}`)
+    expect(w.jointIds()).toEqual([])
+  })
+
+  it('checks both rope ends against their bodies, but lets a world end (a = 0) lie anywhere', () => {
+    const w = zeroG()
+    const a = w.createBody({ shape: circle(0.5), position: { x: 0, y: 0 } })
+    const b = w.createBody({ shape: circle(0.5), position: { x: 10, y: 0 } })
+    expect(reasonOf(addUserJoint(w, { k: 'rope', a, b, ax: 0, ay: 0, bx: 50, by: 0 }))).toContain(
+      `from body ${b}`,
+    )
+    expect(reasonOf(addUserJoint(w, { k: 'rope', a, b, ax: 0, ay: 40, bx: 10, by: 0 }))).toContain(
+      `from body ${a}`,
+    )
+    const world = unwrap(addUserJoint(w, { k: 'rope', a: 0, b, ax: 60, ay: 40, bx: 10.9, by: 0 }))
+    expect(world.length).toBeCloseTo(Math.hypot(60 - 10.9, 40), 9)
+    expect(w.jointIds().length).toBe(1)
   })
 })
