@@ -4,7 +4,8 @@
  * frame with the shared codec, and turns failures into messages a person can act on:
  * unreachable server, protocol version mismatch, full room, server shutting down. It retries with
  * exponential backoff (0.5 s doubling to 8 s) except after a version mismatch, where only a reload
- * with a newer client can help.
+ * with a newer client can help. A `moved` message (the room is held by another server) sends the
+ * next connection to that server at once.
  */
 import {
   CLOSE_CODES,
@@ -32,11 +33,13 @@ export class Connection {
   private lastError: { code: string; reason: string } | null = null
   private joined = false
   private closed = false
+  /** Set by a `moved` message: the next connection goes to the room's server, at once. */
+  private moved = false
   /** Bytes sent since creation. */
   bytesSent = 0
 
   constructor(
-    private readonly url: string,
+    private url: string,
     private readonly join: () => ClientMessage,
     private readonly handlers: ConnectionHandlers,
   ) {
@@ -84,6 +87,10 @@ export class Connection {
       this.handlers.status(null, false, false)
     }
     if (message.t === 'error') this.lastError = { code: message.code, reason: message.reason }
+    if (message.t === 'moved') {
+      this.url = `${message.url}/ws?room=${encodeURIComponent(message.room)}`
+      this.moved = true
+    }
     this.handlers.message(message, data.byteLength)
   }
 
@@ -92,6 +99,13 @@ export class Connection {
     const wasJoined = this.joined
     this.joined = false
     if (this.closed) return
+    if (this.moved) {
+      // The room lives on another server (shared/PROTOCOL.md, `moved`): go there now.
+      this.moved = false
+      this.handlers.status(`Room moved to ${new URL(this.url).host}; connecting…`, true, false)
+      this.open()
+      return
+    }
     const error = this.lastError
     if (code === CLOSE_CODES.version || error?.code === 'version') {
       const why = error?.reason ?? reason

@@ -50,6 +50,8 @@ export class BotClient {
   failure: Error | null = null
   /** Drop the next n snapshots unread (to simulate loss in tests). */
   dropSnapshots = 0
+  /** The URL of a `moved` message received instead of a welcome, else null. */
+  movedTo: string | null = null
   /** Called after each message has been applied to the mirror. */
   onServerMessage: ((message: ServerMessage) => void) | null = null
   private seq = 0
@@ -79,13 +81,19 @@ export class BotClient {
     this.ws.on('message', (data: Buffer, isBinary) => this.onMessage(data, isBinary))
   }
 
-  /** Connect and join; resolves at the welcome. */
-  static async connect(options: BotOptions): Promise<BotClient> {
+  /**
+   * Connect and join; resolves at the welcome. A `moved` answer (the room is held by another
+   * server, shared/PROTOCOL.md) is followed to the URL it names, at most `maxMoves` times.
+   */
+  static async connect(options: BotOptions, maxMoves = 3): Promise<BotClient> {
     const bot = new BotClient(options)
     await bot.opened
     bot.join()
-    await bot.waitFor(() => bot.mirror.clientId !== 0)
-    return bot
+    await bot.waitFor(() => bot.mirror.clientId !== 0 || bot.movedTo !== null, 'welcome')
+    if (bot.movedTo === null) return bot
+    await bot.closed
+    if (maxMoves <= 0) throw new Error(`room ${options.room} moved too many times (last to ${bot.movedTo})`)
+    return BotClient.connect({ ...options, url: bot.movedTo }, maxMoves - 1)
   }
 
   /** Send the join message. */
@@ -119,6 +127,7 @@ export class BotClient {
     this.received.push(message)
     if (this.received.length > 10000) this.received.splice(0, 5000)
     if (message.t === 'pong') this.onPong(message.time, message.tick)
+    if (message.t === 'moved') this.movedTo = message.url
     let ack: ReturnType<ClientMirror['handle']>
     try {
       ack = this.mirror.handle(message)

@@ -44,6 +44,9 @@ export interface ServerConfig {
   joinToken: string
   adminToken: string
   publicRooms: string
+  redisUrl: string
+  publicUrl: string
+  directoryTtlSeconds: number
 }
 
 type Kind = 'int' | 'string' | 'bool'
@@ -299,6 +302,32 @@ export const SETTINGS: readonly Setting[] = [
     help: 'on SIGTERM, answer /readyz 503 and refuse new sockets this long before closing clients',
   },
   ...SECURITY_SETTINGS,
+  {
+    key: 'redisUrl',
+    flag: '--redis',
+    env: 'REDIS_URL',
+    kind: 'string',
+    fallback: '',
+    help: 'redis://HOST:PORT of the room directory shared by several servers (empty: none)',
+  },
+  {
+    key: 'publicUrl',
+    flag: '--public-url',
+    env: 'PUBLIC_URL',
+    kind: 'string',
+    fallback: '',
+    help: "ws:// or wss:// base URL other servers send this server's players to (default ws://HOST:PORT)",
+  },
+  {
+    key: 'directoryTtlSeconds',
+    flag: '--directory-ttl-seconds',
+    env: 'DIRECTORY_TTL_SECONDS',
+    kind: 'int',
+    fallback: 10,
+    min: 1,
+    max: 3600,
+    help: "a dead server's rooms are released after this long",
+  },
 ]
 
 /** The defaults alone. */
@@ -362,6 +391,12 @@ export function loadConfig(
     throw new Error(
       `default scene must be one of ${Object.keys(SCENES).join(', ')}, got "${result.defaultScene}"`,
     )
+  }
+  if (result.redisUrl !== '' && !/^rediss?:\/\/[^\s]+$/.test(result.redisUrl)) {
+    throw new Error(`redis URL must look like redis://HOST:PORT, got "${result.redisUrl}"`)
+  }
+  if (result.publicUrl !== '' && !/^wss?:\/\/[^\s/?#]+$/.test(result.publicUrl)) {
+    throw new Error(`public URL must be ws://HOST:PORT or wss://HOST (no path), got "${result.publicUrl}"`)
   }
   if (!LOG_LEVELS.includes(result.logLevel)) {
     throw new Error(`log level must be one of ${LOG_LEVELS.join(', ')}, got "${result.logLevel}"`)

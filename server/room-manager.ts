@@ -18,6 +18,8 @@ export class RoomManager {
   readonly clock: TickClock
   /** Called when a room is created (e.g. to attach a recorder). */
   onRoomCreated: ((room: Room) => void) | null = null
+  /** Called when a room is disposed (e.g. to release it in the room directory). */
+  onRoomDisposed: ((name: string) => void) | null = null
   /** Called after every clock tick with the number of ticks run so far (liveness, Agones pings). */
   onTick: ((tick: number) => void) | null = null
   private ticks = 0
@@ -86,10 +88,19 @@ export class RoomManager {
     }
   }
 
+  /** Close a room's players with a code and reason and dispose of the room now. */
+  close(name: string, code: number, reason: string): void {
+    const room = this.rooms.get(name)
+    if (!room) return
+    room.closeAll(code, reason)
+    this.dispose(room)
+  }
+
   private dispose(room: Room): void {
     this.rooms.delete(room.name)
     this.metrics.rooms.set(this.rooms.size)
     this.log.info({ room: room.name }, 'room disposed')
+    this.onRoomDisposed?.(room.name)
   }
 
   /** Total joined players. */

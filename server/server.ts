@@ -7,6 +7,7 @@
  */
 import { createServer, type Server } from 'node:http'
 import type { AddressInfo } from 'node:net'
+import { hostname } from 'node:os'
 import pino, { type Logger } from 'pino'
 import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
 import { AgonesLink, agonesPresent } from './agones.ts'
@@ -15,6 +16,7 @@ import { ConnectionGuard, timeoutCheckInterval, tuneHttpTimeouts } from './http-
 import { rawHttpResponse } from './http-request-url.ts'
 import { createRequestHandler } from './http-routes.ts'
 import { createMetrics, type ServerMetrics } from './metrics.ts'
+import { RoomDirectory } from './room-directory.ts'
 import { RoomManager } from './room-manager.ts'
 import { TickHealth } from './tick-health.ts'
 import { Transport } from './transport.ts'
@@ -34,6 +36,8 @@ export interface RunningServer {
   log: Logger
   /** Liveness of the tick loops (/healthz). */
   health: TickHealth
+  /** The shared room directory (--redis), or null. */
+  directory: RoomDirectory | null
   /** The Agones SDK link once connected (only under Agones), else null. */
   agones: () => AgonesLink | null
   /** Graceful shutdown: close clients with a reason, stop ticking, stop listening. */
@@ -58,6 +62,10 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   const metrics = createMetrics(options.processMetrics ?? true)
   const rooms = new RoomManager(config, metrics, log)
   const transport = new Transport(config, rooms, metrics, log)
+  const directory = config.redisUrl
+    ? new RoomDirectory(config.redisUrl, config.directoryTtlSeconds * 1000, log)
+    : null
+  await directory?.connect()
   const health = new TickHealth(config.stallSeconds * 1000)
   let agones: AgonesLink | null = null
   rooms.onTick = (tick) => {
@@ -100,7 +108,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
       setTimeout(() => socket.destroy(), 1000).unref()
     } else socket.destroy()
   })
-  rooms.getOrCreate(config.defaultRoom)
+  if (!config.redisUrl) rooms.getOrCreate(config.defaultRoom)
   health.beat('main')
   rooms.clock.start()
   await new Promise<void>((resolve, reject) => {
@@ -111,6 +119,15 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     })
   })
   const port = (http.address() as AddressInfo).port
+  if (directory) {
+    // Several servers share rooms: the default room too is opened only by the server that claims it.
+    const shared = directory
+    await shared.register(publicUrl(config, port))
+    transport.directory = shared
+    rooms.onRoomDisposed = (name) => void shared.release(name).catch(() => {})
+    shared.onLost = (name) => rooms.close(name, CLOSE_CODES.moved, `room ${name} moved to another server`)
+    if ((await shared.claim(config.defaultRoom)).holder === 'self') rooms.getOrCreate(config.defaultRoom)
+  }
   log.info({ port, host: config.host }, 'listening')
   const env = options.env ?? process.env
   const agonesStarted = agonesPresent(env)
@@ -137,6 +154,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
       health.remove('main')
       http.closeAllConnections()
       await listenerClosed
+      await directory?.close()
       await agonesStarted.catch(() => {})
       if (agones) {
         const link: AgonesLink = agones
@@ -165,7 +183,15 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     metrics,
     log,
     health,
+    directory,
     agones: () => agones,
     close,
   }
+}
+
+/** The URL other servers send this server's players to: --public-url, else ws://HOST:PORT. */
+function publicUrl(config: ServerConfig, port: number): string {
+  if (config.publicUrl) return config.publicUrl
+  const host = config.host === '0.0.0.0' || config.host === '::' ? hostname() : config.host
+  return `ws://${host.includes(':') ? `[${host}]` : host}:${port}`
 }

@@ -34,6 +34,7 @@ import { parseRequestTarget, rawHttpResponse } from './http-request-url.ts'
 import { LogLimiter } from './log-limiter.ts'
 import { MessageBudget } from './message-budget.ts'
 import type { ServerMetrics } from './metrics.ts'
+import type { RoomDirectory } from './room-directory.ts'
 import type { RoomManager } from './room-manager.ts'
 
 /** Time a dropped client's socket stays open for its close frame to leave (ms). */
@@ -67,6 +68,8 @@ export class Transport {
   /** Rate-limited warnings about clients (at most 3 per address per 10 s, then a count). */
   readonly warnings: LogLimiter
   accepting = true
+  /** The shared room directory (--redis), or null for a server on its own. */
+  directory: RoomDirectory | null = null
 
   constructor(
     private readonly config: ServerConfig,
@@ -355,6 +358,53 @@ export class Transport {
       this.drop(peer, CLOSE_CODES.forbidden, reason)
       return
     }
+    if (this.directory && !this.rooms.get(name)) {
+      this.joinThroughDirectory(this.directory, peer, message, name)
+      return
+    }
+    this.joinHere(peer, message, name)
+  }
+
+  /**
+   * A room this server does not have open: claim it in the directory first. If another server
+   * holds it, the client gets `moved` with that server's URL and a 4006 close; if the directory
+   * cannot answer, the join is refused (1013) rather than risk a second copy of the room.
+   */
+  private joinThroughDirectory(
+    directory: RoomDirectory,
+    peer: Peer,
+    message: Extract<ClientMessage, { t: 'join' }>,
+    name: string,
+  ): void {
+    const session = peer.session
+    directory.claim(name).then(
+      (where) => {
+        if (peer.dropped || !session.open || session.player) return
+        if (where.holder === 'self') {
+          try {
+            this.joinHere(peer, message, name)
+          } catch (error) {
+            this.log.error({ err: error, room: name }, 'join after the directory claim failed')
+            this.drop(peer, CLOSE_CODES.internal, 'join failed')
+          }
+          // At the room limit nothing was opened: give the claim back.
+          if (!this.rooms.get(name)) directory.release(name).catch(() => {})
+          return
+        }
+        session.send({ t: 'moved', room: name, url: where.url })
+        this.drop(peer, CLOSE_CODES.moved, `room ${name} is on another server`)
+      },
+      (error: Error) => {
+        this.log.warn({ room: name, err: error.message }, 'room directory unavailable; join refused')
+        if (peer.dropped || !session.open) return
+        session.sendError('unavailable', `room directory unavailable: ${error.message}`)
+        this.drop(peer, CLOSE_CODES.tryAgain, 'room directory unavailable')
+      },
+    )
+  }
+
+  private joinHere(peer: Peer, message: Extract<ClientMessage, { t: 'join' }>, name: string): void {
+    const session = peer.session
     const room = this.rooms.getOrCreate(name)
     if (!room) {
       session.sendError('full', `the server has reached its limit of ${this.config.maxRooms} rooms`)

@@ -74,6 +74,10 @@ export const CLOSE_CODES = {
   forbidden: 4005,
   /** The server failed handling this client's message (a server bug; the process carries on). */
   internal: 1011,
+  /** The room is held by another server; the `moved` message before the close says where. */
+  moved: 4006,
+  /** The room directory (Redis) could not be asked; try again later (RFC 6455 1013). */
+  tryAgain: 1013,
 } as const
 
 /** Commands that change the whole room; admin-only when the server has an admin token. */

@@ -283,6 +283,13 @@ export interface HashMessage {
   step: number
   hash: number
 }
+/** The room is held by another server: reconnect to `url` + `/ws?room=` + room and join there. */
+export interface MovedMessage {
+  t: 'moved'
+  room: string
+  /** The holding server's WebSocket base URL (ws:// or wss://, no path). */
+  url: string
+}
 /** Something was refused; `code` is machine-readable, `reason` for people. */
 export interface ErrorMessage {
   t: 'error'
@@ -337,4 +344,5 @@ export type ServerMessage =
   | PongMessage
   | HashMessage
   | ErrorMessage
+  | MovedMessage
   | ContactsMessage

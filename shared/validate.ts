@@ -287,6 +287,7 @@ const SERVER_FIELDS: Record<ServerMessage['t'], readonly string[]> = {
   pong: ['id', 'time', 'tick'],
   hash: ['tick', 'step', 'hash'],
   error: ['code', 'reason'],
+  moved: ['room', 'url'],
   contacts: ['tick', 'body', 'mass', 'total', 'contacts'],
 }
 
