@@ -20,7 +20,7 @@ export interface LineSeries {
 const PALETTE = ['#d62728', '#1f77b4', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b', '#e377c2', '#7f7f7f']
 const FONT = 'font-family="sans-serif" font-size="12"'
 
-function escape(text: string): string {
+function escapeXml(text: string): string {
   return text.replace(/&/g, '&amp;').replace(/</g, '&lt;').replace(/>/g, '&gt;').replace(/"/g, '&quot;')
 }
 
@@ -48,7 +48,7 @@ function legend(names: readonly string[], x: number, y: number): string {
     .map(
       (name, i) =>
         `<rect x="${x}" y="${y + i * 16}" width="10" height="10" fill="${PALETTE[i % PALETTE.length]}"/>` +
-        `<text x="${x + 14}" y="${y + i * 16 + 9}" ${FONT}>${escape(name)}</text>`,
+        `<text x="${x + 14}" y="${y + i * 16 + 9}" ${FONT}>${escapeXml(name)}</text>`,
     )
     .join('')
 }
@@ -76,25 +76,25 @@ export function barChart(
   const parts = [
     `<svg xmlns="http://www.w3.org/2000/svg" width="${width}" height="${height}" viewBox="0 0 ${width} ${height}">`,
     `<rect width="100%" height="100%" fill="white"/>`,
-    `<text x="${left}" y="20" ${FONT} font-weight="bold">${escape(title)}</text>`,
+    `<text x="${left}" y="20" ${FONT} font-weight="bold">${escapeXml(title)}</text>`,
   ]
   for (const t of logTicks(min, max)) {
     parts.push(`<line x1="${x(t)}" y1="${top - 4}" x2="${x(t)}" y2="${height - 34}" stroke="#ddd"/>`)
     parts.push(`<text x="${x(t)}" y="${height - 20}" ${FONT} text-anchor="middle">${label(t)}</text>`)
   }
   parts.push(
-    `<text x="${left + plotWidth / 2}" y="${height - 4}" ${FONT} text-anchor="middle">${escape(unit)} (log scale)</text>`,
+    `<text x="${left + plotWidth / 2}" y="${height - 4}" ${FONT} text-anchor="middle">${escapeXml(unit)} (log scale)</text>`,
   )
   groups.forEach((group, g) => {
     const y0 = top + g * groupHeight
     parts.push(
-      `<text x="${left - 6}" y="${y0 + (series.length * bar) / 2 + 4}" ${FONT} text-anchor="end">${escape(group)}</text>`,
+      `<text x="${left - 6}" y="${y0 + (series.length * bar) / 2 + 4}" ${FONT} text-anchor="end">${escapeXml(group)}</text>`,
     )
     series.forEach((s, i) => {
       const v = s.values[g]
       if (v === null || v === undefined || !Number.isFinite(v) || v <= 0) return
       parts.push(
-        `<rect x="${left}" y="${y0 + i * bar}" width="${Math.max(1, x(v) - left).toFixed(1)}" height="${bar - 1}" fill="${PALETTE[i % PALETTE.length]}"><title>${escape(`${s.name}: ${v.toPrecision(3)} ${unit}`)}</title></rect>`,
+        `<rect x="${left}" y="${y0 + i * bar}" width="${Math.max(1, x(v) - left).toFixed(1)}" height="${bar - 1}" fill="${PALETTE[i % PALETTE.length]}"><title>${escapeXml(`${s.name}: ${v.toPrecision(3)} ${unit}`)}</title></rect>`,
       )
     })
   })
@@ -133,7 +133,7 @@ export function lineChart(
   const parts = [
     `<svg xmlns="http://www.w3.org/2000/svg" width="${width}" height="${height}" viewBox="0 0 ${width} ${height}">`,
     `<rect width="100%" height="100%" fill="white"/>`,
-    `<text x="${left}" y="20" ${FONT} font-weight="bold">${escape(title)}</text>`,
+    `<text x="${left}" y="20" ${FONT} font-weight="bold">${escapeXml(title)}</text>`,
     `<line x1="${left}" y1="${top + plotHeight}" x2="${left + plotWidth}" y2="${top + plotHeight}" stroke="#888"/>`,
     `<line x1="${left}" y1="${top}" x2="${left}" y2="${top + plotHeight}" stroke="#888"/>`,
   ]
@@ -146,10 +146,10 @@ export function lineChart(
     parts.push(`<text x="${left - 6}" y="${y(v) + 4}" ${FONT} text-anchor="end">${label(v)}</text>`)
   }
   parts.push(
-    `<text x="${left + plotWidth / 2}" y="${height - 8}" ${FONT} text-anchor="middle">${escape(xUnit)} (log scale)</text>`,
+    `<text x="${left + plotWidth / 2}" y="${height - 8}" ${FONT} text-anchor="middle">${escapeXml(xUnit)} (log scale)</text>`,
   )
   parts.push(
-    `<text x="14" y="${top + plotHeight / 2}" ${FONT} text-anchor="middle" transform="rotate(-90 14 ${top + plotHeight / 2})">${escape(yUnit)}</text>`,
+    `<text x="14" y="${top + plotHeight / 2}" ${FONT} text-anchor="middle" transform="rotate(-90 14 ${top + plotHeight / 2})">${escapeXml(yUnit)}</text>`,
   )
   series.forEach((s, i) => {
     const valid = s.points.filter(([px, py]) => Number.isFinite(px) && Number.isFinite(py) && px > 0)
@@ -160,7 +160,7 @@ export function lineChart(
     parts.push(`<path d="${path}" fill="none" stroke="${color}" stroke-width="2"/>`)
     for (const [px, py] of valid) {
       parts.push(
-        `<circle cx="${x(px).toFixed(1)}" cy="${y(py).toFixed(1)}" r="3" fill="${color}"><title>${escape(`${s.name}: ${px} bodies, ${py.toPrecision(3)} ${yUnit}`)}</title></circle>`,
+        `<circle cx="${x(px).toFixed(1)}" cy="${y(py).toFixed(1)}" r="3" fill="${color}"><title>${escapeXml(`${s.name}: ${px} bodies, ${py.toPrecision(3)} ${yUnit}`)}</title></circle>`,
       )
     }
   })

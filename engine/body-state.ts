@@ -162,7 +162,7 @@ export function limitBodyVelocity(b: Body, maxAngularSpeed: number): void {
     b.vy = vy * scale
   }
   const w = b.w
-  if (w !== w) b.w = 0
+  if (Number.isNaN(w)) b.w = 0
   else b.w = Math.max(-maxAngularSpeed, Math.min(w, maxAngularSpeed))
 }
 

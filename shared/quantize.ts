@@ -14,7 +14,7 @@ const MAX_Q = 2147483647
 export function quantizePosition(m: number): number {
   const q = Math.round(m * POSITION_SCALE)
   // NaN fails every comparison: it is sent as 0, never as NaN (the sweep removes such a body).
-  if (!(q === q)) return 0
+  if (Number.isNaN(q)) return 0
   return Math.min(MAX_Q, Math.max(-MAX_Q, q))
 }
 

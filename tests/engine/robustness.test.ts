@@ -96,7 +96,9 @@ describe('deep overlap', () => {
       fastestApart = Math.max(fastestApart, (gap - last) / STEP_SECONDS)
       last = gap
     }
-    console.log(`50 % overlap: separated to ${last.toFixed(4)} m, fastest parting ${fastestApart.toFixed(3)} m/s`)
+    console.log(
+      `50 % overlap: separated to ${last.toFixed(4)} m, fastest parting ${fastestApart.toFixed(3)} m/s`,
+    )
     expect(last).toBeGreaterThan(1 - 0.02) // apart, within the speculative distance
     expect(fastestApart).toBeLessThanOrEqual(PUSH_SPEED * 1.0001)
     expect(speed(world, a) + speed(world, b)).toBeLessThan(SLEEP_SPEED) // parted, then still
