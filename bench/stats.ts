@@ -16,6 +16,7 @@ import { dirname } from 'node:path'
 import { PerformanceObserver } from 'node:perf_hooks'
 import type { SceneBlueprint } from '../engine/scenes.ts'
 import type { BodyDef } from '../engine/types.ts'
+import { median } from './summary.ts'
 
 /** One engine's world, built from a scene blueprint, as the benchmark drives it. */
 export interface PeerWorld {
@@ -33,56 +34,7 @@ export interface PeerWorld {
   dispose(): void
 }
 
-/** Order statistics of a list of step times (ms). */
-export interface Summary {
-  /** Number of samples. */
-  n: number
-  median: number
-  p95: number
-  mean: number
-  min: number
-  max: number
-}
-
-/** The value below which a fraction q (0..1) of the sorted samples lie, by linear interpolation. */
-export function quantile(sorted: readonly number[], q: number): number {
-  if (sorted.length === 0) return Number.NaN
-  const position = (sorted.length - 1) * q
-  const lo = Math.floor(position)
-  const hi = Math.min(lo + 1, sorted.length - 1)
-  return sorted[lo] + (sorted[hi] - sorted[lo]) * (position - lo)
-}
-
-/** Median of the samples (ms). */
-export function median(samples: readonly number[]): number {
-  return quantile(
-    [...samples].sort((a, b) => a - b),
-    0.5,
-  )
-}
-
-/** 95th percentile of the samples (ms). */
-export function p95(samples: readonly number[]): number {
-  return quantile(
-    [...samples].sort((a, b) => a - b),
-    0.95,
-  )
-}
-
-/** Median, p95, mean, min and max of the samples. */
-export function summarize(samples: readonly number[]): Summary {
-  const sorted = [...samples].sort((a, b) => a - b)
-  let sum = 0
-  for (const s of sorted) sum += s
-  return {
-    n: sorted.length,
-    median: quantile(sorted, 0.5),
-    p95: quantile(sorted, 0.95),
-    mean: sorted.length > 0 ? sum / sorted.length : Number.NaN,
-    min: sorted.length > 0 ? sorted[0] : Number.NaN,
-    max: sorted.length > 0 ? sorted[sorted.length - 1] : Number.NaN,
-  }
-}
+export { median, p95, quantile, type Summary, summarize } from './summary.ts'
 
 /** The machine and software a result was measured on. */
 export interface MachineInfo {

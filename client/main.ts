@@ -1,7 +1,8 @@
 /*
  * Entry point. The URL decides the mode:
  *   ?room=NAME      join that room on the server that served this page (a link invites a friend)
- *   ?offline        run the engine in the page, no server (&scene=NAME picks the scene)
+ *   ?offline        run the engine in the page, no server (&scene=NAME picks the scene); the
+ *                   static build (npm run build:static) always runs offline
  *   &name=NAME      player name (default: "guest" and a number)
  *   &server=URL     a WebSocket URL other than this page's origin (ws://host:port/ws)
  * Without ?room the page joins the server's default room and writes it into the address bar.
@@ -16,7 +17,9 @@ function boot(): App {
   const httpBase = `${location.protocol}//${location.host}`
   const room = params.get('room') || 'lobby'
   let sandbox: Sandbox
-  if (params.has('offline') || location.protocol === 'file:') {
+  // The static build (npm run build:static) marks its page: a static host has no game server.
+  const staticBuild = document.querySelector('meta[name="concord-mode"][content="offline"]') !== null
+  if (params.has('offline') || location.protocol === 'file:' || staticBuild) {
     sandbox = new OfflineSandbox(params.get('scene') ?? 'pyramid')
   } else {
     if (!params.has('room')) {

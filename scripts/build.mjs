@@ -1,8 +1,9 @@
 // Build with esbuild: the server (server/main.ts -> dist/server.js, Node, runtime packages left
 // external), the bots, the container health check, and, when the browser client exists, the minified client
-// (scripts/build-client.mjs). Usage: node scripts/build.mjs
+// (scripts/build-client.mjs) and the benchmark page (scripts/build-bench-page.mjs, served as /bench.html). Usage: node scripts/build.mjs
 import { stat } from 'node:fs/promises'
 import { build } from 'esbuild'
+import { buildBenchPage } from './build-bench-page.mjs'
 import { buildClient } from './build-client.mjs'
 
 const exists = (path) =>
@@ -28,3 +29,4 @@ for (const [name, outfile] of Object.entries(OUTPUTS)) {
 }
 
 if (await exists('client/main.ts')) await buildClient()
+if (await exists('client/bench-page.ts')) await buildBenchPage()

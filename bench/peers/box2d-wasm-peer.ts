@@ -2,9 +2,9 @@
  * box2d-wasm (Box2D 2.4.1 compiled to WebAssembly by Emscripten) as a benchmark peer.
  *
  * The module is loaded once and shared by every world. Its Node loader tries to fetch() the .wasm
- * by file path, which Node 20's fetch rejects, so we read the binary ourselves and hand it over as
- * `wasmBinary`, picking the SIMD build exactly when the package's own entry would (the same
- * WebAssembly.validate probe).
+ * by file path, which Node 20's fetch rejects, so in Node we read the binary ourselves and hand it
+ * over as `wasmBinary`, picking the SIMD build exactly when the package's own entry would (the same
+ * WebAssembly.validate probe); in a browser the page's wasm locator says where the file is.
  *
  * Bodies are built like the planck peer: same type, origin, angle, velocities, damping and flags,
  * one fixture with the same shape, density (default 1), friction (default 0.6) and restitution
@@ -13,13 +13,11 @@
  * as soon as Box2D has copied it; body wrappers are released from Emscripten's cache on dispose.
  * The world steps 1/60 s with 8 velocity and 3 position iterations (Box2D 2.4's testbed values).
  */
-import { readFileSync } from 'node:fs'
-import { createRequire } from 'node:module'
-import { dirname, join } from 'node:path'
 import type { SceneBlueprint } from '../../engine/scenes.ts'
 import type { Shape as ConcordShape } from '../../engine/shapes.ts'
 import type { BodyDef, BodyType, JointDef } from '../../engine/types.ts'
 import type { PeerWorld } from '../stats.ts'
+import { inNode, wasmLocator } from './wasm-location.ts'
 
 /** Box2D 2.4 velocity iterations per step. */
 export const BOX2D_VELOCITY_ITERATIONS = 8
@@ -44,11 +42,16 @@ let modulePromise: Promise<Box2DModule> | null = null
 /** Loads the box2d-wasm module once (later calls share it). */
 export function loadBox2D(): Promise<Box2DModule> {
   modulePromise ??= (async () => {
+    const factory = (await import('box2d-wasm')).default
+    const locate = wasmLocator()
+    if (!inNode()) return factory(locate ? { locateFile: (file: string) => locate(file) } : {})
+    const { readFileSync } = await import('node:fs')
+    const { createRequire } = await import('node:module')
+    const { dirname, join } = await import('node:path')
     const entry = createRequire(import.meta.url).resolve('box2d-wasm')
     const file = BOX2D_WASM_BUILD === 'simd' ? 'Box2D.simd.wasm' : 'Box2D.wasm'
     const bytes = readFileSync(join(dirname(entry), file))
     const wasmBinary = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength)
-    const factory = (await import('box2d-wasm')).default
     return factory({ wasmBinary })
   })()
   return modulePromise

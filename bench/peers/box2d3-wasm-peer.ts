@@ -18,6 +18,7 @@
 import type { SceneBlueprint } from '../../engine/scenes.ts'
 import type { BodyDef, JointDef } from '../../engine/types.ts'
 import type { PeerWorld } from '../stats.ts'
+import { inNode, wasmLocator } from './wasm-location.ts'
 
 /** Box2D v3 sub-steps per 1/60 s step (its documented default). */
 export const BOX2D3_SUB_STEPS = 4
@@ -35,13 +36,14 @@ let modulePromise: Promise<Box2D3> | null = null
 export function loadBox2D3(): Promise<Box2D3> {
   modulePromise ??= (async () => {
     const scope = globalThis as { navigator?: { hardwareConcurrency?: number } }
-    if (typeof process !== 'undefined' && process.versions?.node) {
+    if (inNode()) {
       const { cpus } = await import('node:os')
       scope.navigator ??= {}
       scope.navigator.hardwareConcurrency ??= cpus().length
     }
     const factory = (await import('box2d3-wasm')).default
-    return factory()
+    const locate = wasmLocator()
+    return factory(locate && !inNode() ? { locateFile: (file: string) => locate(file) } : {})
   })()
   return modulePromise
 }
