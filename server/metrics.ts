@@ -11,7 +11,10 @@ export interface ServerMetrics {
   clients: Gauge
   connections: Gauge
   tickSeconds: Histogram
+  loopTickSeconds: Histogram<'loop'>
+  roomDroppedTicks: Counter<'room'>
   bytesSent: Counter
+  bytesReceived: Counter
   messagesReceived: Counter
   rejected: Counter<'reason'>
   overruns: Counter
@@ -35,6 +38,24 @@ export function createMetrics(processMetrics: boolean): ServerMetrics {
       name: 'concord_room_tick_seconds',
       help: 'Time to run one room tick: inputs, step, snapshots',
       buckets: [0.0001, 0.00025, 0.0005, 0.001, 0.002, 0.004, 0.008, 0.016, 0.032],
+      registers,
+    }),
+    loopTickSeconds: new Histogram({
+      name: 'concord_loop_tick_seconds',
+      help: 'Time for one tick of every room on a tick loop (loop="main" for the in-process clock)',
+      labelNames: ['loop'],
+      buckets: [0.0005, 0.001, 0.002, 0.004, 0.008, 0.012, 0.0167, 0.025, 0.05, 0.1],
+      registers,
+    }),
+    roomDroppedTicks: new Counter({
+      name: 'concord_room_dropped_ticks_total',
+      help: 'Ticks a room skipped because its tick loop fell behind, by room (open rooms only)',
+      labelNames: ['room'],
+      registers,
+    }),
+    bytesReceived: new Counter({
+      name: 'concord_bytes_received_total',
+      help: 'WebSocket payload bytes received from clients (before any check)',
       registers,
     }),
     bytesSent: new Counter({

@@ -34,7 +34,8 @@ export class RoomManager {
       () => this.tickAll(),
       (n) => {
         metrics.overruns.inc(n)
-        log.warn({ dropped: n }, 'tick loop fell behind; dropped ticks')
+        for (const name of this.rooms.keys()) metrics.roomDroppedTicks.inc({ room: name }, n)
+        log.warn({ dropped: n, rooms: this.rooms.size }, 'tick loop fell behind; dropped ticks')
       },
     )
   }
@@ -64,6 +65,7 @@ export class RoomManager {
 
   /** Run one tick of every room, measuring each (the measurement is for metrics only). */
   tickAll(): void {
+    const loopStart = performance.now()
     for (const room of this.rooms.values()) {
       const start = performance.now()
       try {
@@ -76,6 +78,7 @@ export class RoomManager {
       }
       this.metrics.tickSeconds.observe((performance.now() - start) / 1000)
     }
+    this.metrics.loopTickSeconds.observe({ loop: 'main' }, (performance.now() - loopStart) / 1000)
     if (++this.ticks % TICK_RATE === 0) this.disposeIdle()
     this.onTick?.(this.ticks)
   }
@@ -99,6 +102,7 @@ export class RoomManager {
   private dispose(room: Room): void {
     this.rooms.delete(room.name)
     this.metrics.rooms.set(this.rooms.size)
+    this.metrics.roomDroppedTicks.remove({ room: room.name })
     this.log.info({ room: room.name }, 'room disposed')
     this.onRoomDisposed?.(room.name)
   }
