@@ -249,7 +249,9 @@ export class Transport {
   private receive(peer: Peer, data: RawData, isBinary: boolean): void {
     const session = peer.session
     this.metrics.messagesReceived.inc()
-    this.metrics.bytesReceived.inc(Array.isArray(data) ? data.reduce((n, b) => n + b.length, 0) : data.byteLength)
+    this.metrics.bytesReceived.inc(
+      Array.isArray(data) ? data.reduce((n, b) => n + b.length, 0) : data.byteLength,
+    )
     if (!peer.budget.take()) {
       if (peer.budget.strikeDue(RATE_STRIKE_INTERVAL_MS)) {
         this.reject(
