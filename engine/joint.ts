@@ -11,6 +11,7 @@
  */
 import type { Body } from './body.ts'
 import { prepareDistance, solveDistance, warmStartDistance } from './distance-joint.ts'
+import { prepareJointTree, solveJointTree } from './joint-tree.ts'
 import { atan2 } from './math.ts'
 import { prepareMouse, solveMouse, warmStartMouse } from './mouse-joint.ts'
 import { prepareRevolute, solveRevolute, warmStartRevolute } from './revolute-joint.ts'
@@ -37,6 +38,8 @@ export class Joint {
   localAnchorAy = 0
   localAnchorBx = 0
   localAnchorBy = 0
+  /** Whether this step's direct tree solver handles the point constraint (joint-tree.ts). */
+  inTree = false
   /** Whether the two bodies collide with each other (Box2D's collideConnected). */
   collideConnected = false
   /** Revolute: angleB - angleA at creation (rad). */
@@ -128,6 +131,7 @@ export function prepareJoints(joints: Joint[], count: number, ctx: JointStepCont
     else if (joint.type === DISTANCE) prepareDistance(joint, ctx)
     else prepareMouse(joint, ctx)
   }
+  prepareJointTree(joints, count)
 }
 
 /** Applies every joint's accumulated impulses. */
@@ -140,7 +144,10 @@ export function warmStartJoints(joints: Joint[], count: number): void {
   }
 }
 
-/** One iteration over the joints; `useBias` corrects position error, false is the relax pass. */
+/**
+ * One iteration over the joints; `useBias` corrects position error, false is the relax pass.
+ * Gauss-Seidel in id order, then the pins of the joint tree all at once (joint-tree.ts).
+ */
 export function solveJoints(joints: Joint[], count: number, ctx: JointStepContext, useBias: boolean): void {
   for (let i = 0; i < count; i++) {
     const joint = joints[i]
@@ -148,6 +155,7 @@ export function solveJoints(joints: Joint[], count: number, ctx: JointStepContex
     else if (joint.type === DISTANCE) solveDistance(joint, ctx, useBias)
     else solveMouse(joint, ctx)
   }
+  solveJointTree(ctx, useBias)
 }
 
 /** Relative angle of rotation b with respect to rotation a, in [-pi, pi] (rad). */

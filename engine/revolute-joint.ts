@@ -126,6 +126,7 @@ export function solveRevolute(joint: Joint, ctx: JointStepContext, useBias: bool
     b.w += iB * impulse
   }
   if (joint.enableLimit && !fixedRotation) solveLimits(joint, ctx, useBias)
+  if (joint.inTree) return // the point constraint is solved directly (joint-tree.ts)
 
   // Point-to-point constraint, soft when correcting position error.
   const rAx = a.dqc * joint.anchorAx - a.dqs * joint.anchorAy
