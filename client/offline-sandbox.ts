@@ -7,16 +7,17 @@
  * reads world.contacts() directly: the impulses of the step that was just taken.
  */
 import {
-  buildScene,
   type ContactInfo,
   createWorld,
   FixedStepper,
   type JointId,
   SCENES,
+  type Vec2,
   type World,
 } from '../engine/index.ts'
 import {
   addUserJoint,
+  buildSceneJoints,
   type Command,
   deleteBody,
   grabBody,
@@ -30,7 +31,8 @@ import {
   type WireJoint,
   type WireShape,
 } from '../shared/index.ts'
-import { toWorld } from './picking.ts'
+import { viewJoints } from './joint-view.ts'
+import { labFromWorld } from './lab.ts'
 import type {
   LabData,
   Sandbox,
@@ -75,11 +77,12 @@ export class OfflineSandbox implements Sandbox {
 
   private build(scene: string): World {
     const world = createWorld()
-    buildScene(world, SCENES[scene].make())
+    const joints = buildSceneJoints(world, SCENES[scene].make())
     this.shapes.clear()
     this.viewById.clear()
     this.view.length = 0
     this.joints_.clear()
+    for (const j of joints) this.joints_.set(j.id, j)
     this.grab = null
     return world
   }
@@ -173,16 +176,13 @@ export class OfflineSandbox implements Sandbox {
   }
 
   joints(): readonly ViewJoint[] {
-    const out: ViewJoint[] = []
-    for (const [id, j] of this.joints_) {
-      const a = j.a ? this.viewById.get(j.a) : null
-      const b = this.viewById.get(j.b)
-      if (!b || (j.a && !a)) continue
-      const pa = a ? toWorld(a, j.ax, j.ay) : { x: j.ax, y: j.ay }
-      const pb = toWorld(b, j.bx, j.by)
-      out.push({ id, kind: j.kind, ax: pa.x, ay: pa.y, bx: pb.x, by: pb.y })
-    }
-    return out
+    const forces = new Map<number, Vec2>()
+    for (const info of this.world.joints()) forces.set(info.id, info.force)
+    return viewJoints(
+      this.joints_.values(),
+      (id) => this.viewById.get(id),
+      (id) => forces.get(id) ?? null,
+    )
   }
 
   cursors(): readonly ViewCursor[] {
@@ -308,7 +308,7 @@ export class OfflineSandbox implements Sandbox {
   lab(bodyId: number): LabData | null {
     const w = this.world
     if (!w.hasBody(bodyId) || w.getBodyType(bodyId) !== 'dynamic') return null
-    return { contacts: this.contacts(), mass: w.getMass(bodyId), gravity: w.getGravity(), source: 'world' }
+    return labFromWorld(w, bodyId, this.contacts(), (id) => this.joints_.get(id)?.kind)
   }
 
   notices(): { count: number; latest: string | null } {

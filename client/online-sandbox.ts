@@ -8,6 +8,7 @@
  * selected body (re-asked after a reconnect or a new world, which clear it on the server) and
  * shows the contacts the server streams back.
  */
+import type { Vec2 } from '../engine/index.ts'
 import {
   ClientMirror,
   type Command,
@@ -21,8 +22,8 @@ import {
 } from '../shared/index.ts'
 import { Connection } from './connection.ts'
 import { type Pose, SnapshotTimeline } from './interpolation.ts'
+import { viewJoints } from './joint-view.ts'
 import { labFromServer } from './lab.ts'
-import { toWorld } from './picking.ts'
 import type {
   LabContact,
   LabData,
@@ -248,14 +249,24 @@ export class OnlineSandbox implements Sandbox {
   }
 
   joints(): readonly ViewJoint[] {
-    const out: ViewJoint[] = []
-    for (const j of this.mirror.joints.values()) {
-      const a = j.a ? this.viewById.get(j.a) : null
-      const b = this.viewById.get(j.b)
-      if (!b || (j.a && !a)) continue
-      const pa = a ? toWorld(a, j.ax, j.ay) : { x: j.ax, y: j.ay }
-      const pb = toWorld(b, j.bx, j.by)
-      out.push({ id: j.id, kind: j.kind, ax: pa.x, ay: pa.y, bx: pb.x, by: pb.y })
+    const forces = this.jointForces()
+    return viewJoints(
+      this.mirror.joints.values(),
+      (id) => this.viewById.get(id),
+      (id) => forces.get(id) ?? null,
+    )
+  }
+
+  /** Reaction forces on each joint's body b (N) for the joints acting on the inspected body (the only ones the server sends). */
+  private jointForces(): Map<number, Vec2> {
+    const out = new Map<number, Vec2>()
+    const message = this.mirror.inspected
+    if (!message || message.body !== this.inspected) return out
+    for (const f of message.joints) {
+      const j = this.mirror.joints.get(f.id)
+      if (!j) continue
+      const sign = j.b === message.body ? 1 : -1
+      out.set(f.id, { x: sign * f.fx, y: sign * f.fy })
     }
     return out
   }

@@ -8,6 +8,7 @@
  */
 import type { Vec2 } from '../engine/index.ts'
 import type { Camera } from './camera.ts'
+import { drawJoints } from './joint-drawing.ts'
 import { drawFreeBody, type FreeBody } from './lab.ts'
 import { shapeRadius, shapeVertices, toWorld } from './picking.ts'
 import type { LabContact, ViewBody, ViewCursor, ViewJoint } from './sandbox.ts'
@@ -58,6 +59,7 @@ const STYLE = {
 export class Renderer {
   readonly ctx: CanvasRenderingContext2D
   private dpr = 1
+  private readonly byId = new Map<number, ViewBody>()
 
   constructor(
     readonly canvas: HTMLCanvasElement,
@@ -107,7 +109,8 @@ export class Renderer {
     this.worldTransform()
     this.drawGrid()
     this.drawBodies(frame.bodies)
-    this.drawJoints(frame.joints, frame.layers.joints)
+    const byId = this.bodyLookup(frame.bodies)
+    drawJoints(this.ctx, frame.joints, byId, this.lineWidth(1), frame.layers.joints)
     if (frame.layers.aabbs) this.drawAabbs(frame.bodies)
     if (frame.layers.contacts && frame.contacts) this.drawContacts(frame.contacts)
     if (frame.selected) this.drawSelection(frame.selected)
@@ -119,6 +122,14 @@ export class Renderer {
     this.screenTransform()
     if (frame.layers.ids) this.drawIds(frame.bodies)
     this.drawCursorLabels(frame.cursors)
+  }
+
+  /** Bodies by id for this frame (reused map). */
+  private bodyLookup(bodies: readonly ViewBody[]): (id: number) => ViewBody | undefined {
+    const map = this.byId
+    map.clear()
+    for (const v of bodies) map.set(v.id, v)
+    return (id) => map.get(id)
   }
 
   private lineWidth(px: number): number {
@@ -214,32 +225,6 @@ export class Renderer {
       else ctx.lineTo(x, y)
     }
     ctx.closePath()
-  }
-
-  private drawJoints(joints: readonly ViewJoint[], debug: boolean): void {
-    const ctx = this.ctx
-    ctx.lineWidth = this.lineWidth(2)
-    for (const j of joints) {
-      ctx.strokeStyle = j.kind === 'rope' ? '#e0c080' : '#f0f0f0'
-      ctx.beginPath()
-      ctx.moveTo(j.ax, j.ay)
-      ctx.lineTo(j.bx, j.by)
-      ctx.stroke()
-      ctx.fillStyle = j.kind === 'pin' ? '#f0f0f0' : '#e0c080'
-      const r = this.lineWidth(j.kind === 'pin' ? 4 : 3)
-      for (const [x, y] of [
-        [j.ax, j.ay],
-        [j.bx, j.by],
-      ]) {
-        ctx.beginPath()
-        ctx.arc(x, y, r, 0, 2 * Math.PI)
-        ctx.fill()
-      }
-      if (debug) {
-        ctx.strokeStyle = '#ff00ff'
-        ctx.strokeRect(j.ax - r * 2, j.ay - r * 2, r * 4, r * 4)
-      }
-    }
   }
 
   private drawAabbs(bodies: readonly ViewBody[]): void {

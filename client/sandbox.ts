@@ -5,7 +5,14 @@
  * and both hand the renderer the same view: bodies with poses for this frame, joints, cursors.
  */
 import type { Vec2 } from '../engine/index.ts'
-import type { Command, RoomRules, WireShape } from '../shared/index.ts'
+import type {
+  Command,
+  RoomRules,
+  WireJoint,
+  WireJointForceKind,
+  WireJointKind,
+  WireShape,
+} from '../shared/index.ts'
 
 /** A body as drawn this frame. */
 export interface ViewBody {
@@ -21,14 +28,23 @@ export interface ViewBody {
   grabColor: string | null
 }
 
-/** A user joint drawn as a line between world anchors (m). */
+/** A joint as drawn this frame: its wire description placed on this frame's body poses. */
 export interface ViewJoint {
   id: number
-  kind: 'pin' | 'rope'
+  kind: WireJointKind
+  /** The joint's kind and parameters as they travel. */
+  spec: WireJoint
+  /** World anchors (m) on body a (or the world) and on body b. */
   ax: number
   ay: number
   bx: number
   by: number
+  /** Angle of body a (rad), 0 for the world. */
+  angleA: number
+  /** Pins: the relative angle (angle b - angle a - ref) in (-pi, pi] (rad). */
+  angle: number
+  /** Reaction force on body b at its anchor in the last step (N); body a feels the opposite. Null when unknown. */
+  force: Vec2 | null
 }
 
 /** Another player's cursor (m) with its grab. */
@@ -68,10 +84,24 @@ export interface LabContact {
   points: ReadonlyArray<{ point: Vec2; normalImpulse: number; tangentImpulse: number }>
 }
 
-/** Contact data for the lab, with where it came from. */
+/** A joint's or grab's force on the lab's body (N) at a world point (m). */
+export interface LabJointForce {
+  id: number
+  kind: WireJointForceKind
+  point: Vec2
+  force: Vec2
+}
+
+/** Everything the lab needs about one body, with where it came from. */
 export interface LabData {
   contacts: readonly LabContact[]
+  joints: readonly LabJointForce[]
   mass: number
+  /** Moment of inertia (kg m^2). */
+  inertia: number
+  /** Velocity (m/s) and angular velocity (rad/s). */
+  velocity: Vec2
+  angularVelocity: number
   gravity: { x: number; y: number }
   /** 'world' when read from the world stepping in the page, 'server' when the room's server sent it. */
   source: 'world' | 'server'

@@ -10,6 +10,7 @@ import {
   type ContactsMessage,
   encodeMessage,
   type FullState,
+  jointForceOn,
   MAX_INSPECT_CONTACTS,
   type QuantizedFrame,
   quantizeAngle,
@@ -18,6 +19,8 @@ import {
   type WireBody,
   type WireBodyType,
   type WireJoint,
+  type WireJointForce,
+  type WireJointForceKind,
 } from '../shared/index.ts'
 
 const KIND: Record<string, WireBodyType> = { static: 0, kinematic: 1, dynamic: 2 }
@@ -75,17 +78,28 @@ export function fullState(
 /** Total normal impulse of a contact (N s). */
 const normalImpulse = (c: ContactInfo): number => c.points.reduce((sum, p) => sum + p.normalImpulse, 0)
 
-/** The `contacts` message for `body` from its touching contacts: the largest ones by normal impulse. */
+const forceSize = (f: WireJointForce): number => Math.abs(f.fx) + Math.abs(f.fy)
+
+/**
+ * The `contacts` message for `body` from its touching contacts (the largest by normal impulse)
+ * and the joints acting on it (the largest forces), with its velocity and inertia for the lab.
+ */
 export function contactsMessage(
   world: World,
   tick: number,
   body: number,
   touching: ContactInfo[],
+  joints: WireJointForce[],
 ): ContactsMessage {
   const kept =
     touching.length > MAX_INSPECT_CONTACTS
       ? [...touching].sort((a, b) => normalImpulse(b) - normalImpulse(a)).slice(0, MAX_INSPECT_CONTACTS)
       : touching
+  const pulls =
+    joints.length > MAX_INSPECT_CONTACTS
+      ? [...joints].sort((a, b) => forceSize(b) - forceSize(a)).slice(0, MAX_INSPECT_CONTACTS)
+      : joints
+  const v = world.getLinearVelocity(body, scratch)
   return {
     t: 'contacts',
     tick,
@@ -99,26 +113,45 @@ export function contactsMessage(
       ny: c.normal.y,
       points: c.points.map((p) => ({ x: p.point.x, y: p.point.y, n: p.normalImpulse, t: p.tangentImpulse })),
     })),
+    inertia: world.getInertia(body),
+    vx: v.x,
+    vy: v.y,
+    w: world.getAngularVelocity(body),
+    joints: pulls,
   }
 }
 
 /**
  * Encoded `contacts` messages for the bodies in `inspected` (body id -> bytes), from one
- * world.contacts() call; empty without reading contacts when nobody inspects.
+ * world.contacts() and one world.joints() call; empty without reading either when nobody inspects.
+ * `wireJoints` names the kind of every joint that travels; the rest (mouse joints) are grabs.
  */
 export function encodeInspections(
   world: World,
   tick: number,
   inspected: ReadonlySet<number>,
+  wireJoints: ReadonlyMap<number, WireJoint>,
 ): Map<number, Uint8Array> {
   const out = new Map<number, Uint8Array>()
   if (inspected.size === 0) return out
   const touching = new Map<number, ContactInfo[]>()
-  for (const id of inspected) if (world.hasBody(id)) touching.set(id, [])
+  const pulls = new Map<number, WireJointForce[]>()
+  for (const id of inspected) {
+    if (!world.hasBody(id)) continue
+    touching.set(id, [])
+    pulls.set(id, [])
+  }
   for (const c of world.contacts()) {
     touching.get(c.bodyA)?.push(c)
     touching.get(c.bodyB)?.push(c)
   }
-  for (const [id, list] of touching) out.set(id, encodeMessage(contactsMessage(world, tick, id, list)))
+  for (const j of world.joints()) {
+    const kind: WireJointForceKind = j.type === 'mouse' ? 'grab' : (wireJoints.get(j.id)?.kind ?? 'pin')
+    if (j.bodyA !== null) pulls.get(j.bodyA)?.push(jointForceOn(j.bodyA, j, kind))
+    pulls.get(j.bodyB)?.push(jointForceOn(j.bodyB, j, kind))
+  }
+  for (const [id, list] of touching) {
+    out.set(id, encodeMessage(contactsMessage(world, tick, id, list, pulls.get(id) ?? [])))
+  }
   return out
 }

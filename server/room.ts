@@ -227,7 +227,8 @@ export class Room {
 
   /** Replace the world with a scene blueprint (benchmarks use sizes SCENES does not list). */
   loadBlueprint(name: string, blueprint: SceneBlueprint): void {
-    this.sim.loadWorld(name, worldFromBlueprint(blueprint))
+    const built = worldFromBlueprint(blueprint)
+    this.sim.loadWorld(name, built.world, built.joints)
   }
 
   /** Encode once, send to every player. */
@@ -282,7 +283,7 @@ export class Room {
     fillFrame(this.world, frame)
     const bytes = encodeMessage({
       t: 'state',
-      state: fullState(this.world, this.tick, this.scene, this.sim.paused, []),
+      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
     })
     for (const p of this.players.values()) {
       p.inspect = 0
@@ -324,7 +325,7 @@ export class Room {
     }
     const inspected = new Set<number>()
     for (const p of this.players.values()) if (p.inspect !== 0) inspected.add(p.inspect)
-    const contacts = encodeInspections(this.world, this.tick, inspected)
+    const contacts = encodeInspections(this.world, this.tick, inspected, this.sim.userJoints)
     let staleness = 0
     for (const p of this.players.values()) {
       staleness = Math.max(staleness, this.sendSnapshot(p, cursors, contacts.get(p.inspect)))

@@ -12,6 +12,14 @@ export {
   encodeMessage,
 } from './codec.ts'
 export * from './constants.ts'
+export {
+  buildSceneJoints,
+  defaultCollide,
+  distanceKind,
+  jointForceOn,
+  type WireJointDef,
+  wireJoint,
+} from './joint-wire.ts'
 export type * from './messages.ts'
 export {
   addAngle,

@@ -31,10 +31,19 @@ export interface WireBody {
   awake: 0 | 1
 }
 
-/** A user joint (pin or rope) as it travels; anchors in each body's local frame (m). */
+/**
+ * What a joint is, as drawn: a pin (revolute joint, possibly with a motor and angle limits), or one
+ * of the distance joints: a rod (fixed length), a rope (pulls only, up to `max`), a spring (`hz` > 0).
+ */
+export type WireJointKind = 'pin' | 'rod' | 'rope' | 'spring'
+
+/**
+ * A joint as it travels (scene joints and players' pins and ropes alike); anchors in each body's
+ * local frame (m). Every field is always present: those that do not apply to the kind are 0/false.
+ */
 export interface WireJoint {
   id: number
-  kind: 'pin' | 'rope'
+  kind: WireJointKind
   /** Body ids; 0 means the fixed world frame. */
   a: number
   b: number
@@ -43,8 +52,25 @@ export interface WireJoint {
   ay: number
   bx: number
   by: number
-  /** Rope length (m); 0 for pins. */
+  /** Distance joints: rest length (m; a rope's is its longest), and the allowed range [min, max] (m); 0 for pins. */
   length: number
+  min: number
+  max: number
+  /** Springs: stiffness (Hz) and damping ratio; 0 when rigid. */
+  hz: number
+  damping: number
+  /** Pins: angle of b minus angle of a at creation (rad); limits and the drawn angle are relative to it. */
+  ref: number
+  /** Pins: the relative angle (angle b - angle a - ref) is kept within [lower, upper] (rad) when `limit`. */
+  limit: boolean
+  lower: number
+  upper: number
+  /** Pins: a motor drives the relative angular speed to `speed` (rad/s) with at most `torque` (N m). */
+  motor: boolean
+  speed: number
+  torque: number
+  /** Whether the two bodies collide with each other (Box2D's collideConnected). */
+  collide: boolean
 }
 
 /** A player in the room roster. */
@@ -318,6 +344,23 @@ export interface WireContact {
   points: WireContactPoint[]
 }
 
+/** Kinds of joint force on an inspected body: a joint's kind, or a player's grab. */
+export type WireJointForceKind = WireJointKind | 'grab'
+
+/** A joint's (or a grab's) force on the inspected body in the last step. */
+export interface WireJointForce {
+  /** The joint id (a grab's joint id is not in any joint list). */
+  id: number
+  kind: WireJointForceKind
+  /** World point where it acts on the inspected body (m). */
+  x: number
+  y: number
+  /** Force on the inspected body (N) and pure torque on it besides the force's moment (N m). */
+  fx: number
+  fy: number
+  torque: number
+}
+
 /**
  * The contacts touching the body this player inspects, sent right after each of its snapshots
  * while it inspects one (at most MAX_INSPECT_CONTACTS of them, the largest normal impulses).
@@ -331,6 +374,14 @@ export interface ContactsMessage {
   /** Touching contacts of the body in all, sent or not. */
   total: number
   contacts: WireContact[]
+  /** The body's moment of inertia about its centre of mass (kg m^2). */
+  inertia: number
+  /** The body's velocity (m/s) and angular velocity (rad/s) after the last step. */
+  vx: number
+  vy: number
+  w: number
+  /** Every joint and grab acting on the body (at most MAX_INSPECT_CONTACTS, the largest forces). */
+  joints: WireJointForce[]
 }
 
 /** Every message the server sends. */

@@ -16,8 +16,9 @@
  *     simulation command and is refused here (the server's Room handles it itself)
  * A refused command returns a reason; nothing here throws to the caller.
  */
-import { buildScene, createWorld, SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
+import { createWorld, SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
 import { KILL_DISTANCE, TICK_RATE } from './constants.ts'
+import { buildSceneJoints } from './joint-wire.ts'
 import type { Command, SpawnCommand, WireJoint } from './messages.ts'
 import {
   addUserJoint,
@@ -97,11 +98,11 @@ const NO_LISTENER: SimulationListener = {
   worldReplaced: () => {},
 }
 
-/** A world built from a scene blueprint. */
-export function worldFromBlueprint(blueprint: SceneBlueprint): World {
+/** A world built from a scene blueprint, with the scene's joints as they travel. */
+export function worldFromBlueprint(blueprint: SceneBlueprint): { world: World; joints: WireJoint[] } {
   const world = createWorld()
-  buildScene(world, blueprint)
-  return world
+  const joints = buildSceneJoints(world, blueprint)
+  return { world, joints }
 }
 
 /** The deterministic room (see the file comment). */
@@ -116,7 +117,7 @@ export class RoomSimulation {
   lastLoadTick = Number.NEGATIVE_INFINITY
   /** Players by id, in join order. */
   readonly players = new Map<number, SimPlayer>()
-  /** User joints (pins, ropes) by joint id. */
+  /** Joints on the wire by joint id: the scene's and players' pins and ropes (grabs are not here). */
   readonly userJoints = new Map<number, WireJoint>()
   /** Grabs per body id. */
   readonly grabCounts = new Map<number, number>()
@@ -133,7 +134,9 @@ export class RoomSimulation {
     this.name = options.name
     this.listener = options.listener ?? NO_LISTENER
     this.scene = options.scene
-    this.world = worldFromBlueprint(SCENES[options.scene].make())
+    const built = worldFromBlueprint(SCENES[options.scene].make())
+    this.world = built.world
+    for (const j of built.joints) this.userJoints.set(j.id, j)
   }
 
   /** Add a player (or bring one back after a reconnect). */
@@ -177,15 +180,17 @@ export class RoomSimulation {
 
   /** Replace the world with a fresh copy of a named scene (SCENES). */
   loadScene(name: string): void {
-    this.replaceWorld(name, worldFromBlueprint(SCENES[name].make()))
+    const built = worldFromBlueprint(SCENES[name].make())
+    this.replaceWorld(name, built.world, built.joints)
   }
 
   /**
    * Replace the world from outside a command (a benchmark's blueprint, a restored world): observers
-   * see it as a world load so a recording stays reproducible.
+   * see it as a world load so a recording stays reproducible. `joints` are the world's joints as
+   * they travel (worldFromBlueprint gives them), none for a world restored from bytes.
    */
-  loadWorld(scene: string, world: World): void {
-    this.replaceWorld(scene, world)
+  loadWorld(scene: string, world: World, joints: Iterable<WireJoint> = []): void {
+    this.replaceWorld(scene, world, joints)
     for (const o of this.observers) o.worldLoaded(this.tick, scene)
   }
 
@@ -208,7 +213,7 @@ export class RoomSimulation {
     this.listener.bodyRemoved(id)
   }
 
-  private replaceWorld(scene: string, world: World): void {
+  private replaceWorld(scene: string, world: World, joints: Iterable<WireJoint>): void {
     this.lastLoadTick = this.tick
     for (const [pid, p] of this.players) {
       p.grab = null
@@ -216,6 +221,7 @@ export class RoomSimulation {
     }
     this.grabCounts.clear()
     this.userJoints.clear()
+    for (const j of joints) this.userJoints.set(j.id, j)
     this.scene = scene
     this.world = world
     this.listener.worldReplaced()

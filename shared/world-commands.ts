@@ -11,6 +11,7 @@
  */
 import type { BodyId, JointId, Vec2, World } from '../engine/index.ts'
 import { ANCHOR_MARGIN, MAX_ROPE_LENGTH, MAX_SPAWN_SPEED, WORLD_HALF_EXTENT } from './constants.ts'
+import { type WireJointDef, wireJoint } from './joint-wire.ts'
 import type { PinCommand, RopeCommand, SpawnCommand, WireJoint } from './messages.ts'
 import { fromWireShape } from './shape-wire.ts'
 
@@ -154,20 +155,12 @@ export function addUserJoint(world: World, cmd: PinCommand | RopeCommand): World
     anchorRefusal(world, cmd.b, anchorB, `${cmd.k} anchor`) ??
     (cmd.a === 0 ? null : anchorRefusal(world, cmd.a, anchorA, `${cmd.k} anchor`))
   const bodyA = cmd.a === 0 ? null : cmd.a
-  const local = (body: number | null, p: Vec2): Vec2 => (body === null ? p : world.getLocalPoint(body, p))
-  const wire = (id: JointId, anchorA: Vec2, anchorB: Vec2, length: number): WireJoint => {
-    const la = local(bodyA, anchorA)
-    const lb = local(cmd.b, anchorB)
-    return { id, kind: cmd.k, a: cmd.a, b: cmd.b, ax: la.x, ay: la.y, bx: lb.x, by: lb.y, length }
-  }
   if (cmd.k === 'pin') {
     const anchor = clampToWorld(cmd.x, cmd.y)
     const far = near(anchor, anchor)
     if (far) return refused(far)
-    return guarded('pin', () => {
-      const id = world.createJoint({ type: 'revolute', bodyA, bodyB: cmd.b, anchor })
-      return wire(id, anchor, anchor, 0)
-    })
+    const def: WireJointDef = { type: 'revolute', bodyA, bodyB: cmd.b, anchor }
+    return guarded('pin', () => wireJoint(world, world.createJoint(def), def))
   }
   const anchorA = clampToWorld(cmd.ax, cmd.ay)
   const anchorB = clampToWorld(cmd.bx, cmd.by)
@@ -175,19 +168,17 @@ export function addUserJoint(world: World, cmd: PinCommand | RopeCommand): World
   if (length > MAX_ROPE_LENGTH) return refused(`rope longer than ${MAX_ROPE_LENGTH} m`)
   const far = near(anchorA, anchorB)
   if (far) return refused(far)
-  return guarded('rope', () => {
-    const id = world.createJoint({
-      type: 'distance',
-      bodyA,
-      bodyB: cmd.b,
-      anchorA,
-      anchorB,
-      length,
-      minLength: 0,
-      maxLength: length,
-    })
-    return wire(id, anchorA, anchorB, length)
-  })
+  const def: WireJointDef = {
+    type: 'distance',
+    bodyA,
+    bodyB: cmd.b,
+    anchorA,
+    anchorB,
+    length,
+    minLength: 0,
+    maxLength: length,
+  }
+  return guarded('rope', () => wireJoint(world, world.createJoint(def), def))
 }
 
 /** Set the world's gravity (m/s^2) and wake every dynamic body so the change is felt at once. */

@@ -5,7 +5,7 @@
  * `contacts` message, built by the server's own function and sent through the codec (online).
  */
 import { describe, expect, it } from 'vitest'
-import { computeFreeBody, describeFreeBody, labFromServer } from '../../client/lab.ts'
+import { computeFreeBody, describeFreeBody, labFromServer, labFromWorld } from '../../client/lab.ts'
 import { buildScene, createWorld, rampScene, towerScene, type World } from '../../engine/index.ts'
 import { contactsMessage } from '../../server/room-wire.ts'
 import { type ContactsMessage, decodeServerMessage, encodeMessage } from '../../shared/index.ts'
@@ -21,7 +21,7 @@ function restingRamp(degrees: number) {
 /** What the server sends about `body` in `world`, after a trip through the codec. */
 function serverLab(world: World, body: number) {
   const touching = world.contacts().filter((c) => c.bodyA === body || c.bodyB === body)
-  const decoded = decodeServerMessage(encodeMessage(contactsMessage(world, world.tick, body, touching)))
+  const decoded = decodeServerMessage(encodeMessage(contactsMessage(world, world.tick, body, touching, [])))
   if (!decoded.ok) throw new Error(decoded.reason)
   return labFromServer(decoded.value as ContactsMessage, world.getGravity())
 }
@@ -39,12 +39,10 @@ describe('free-body diagram', () => {
   for (const degrees of [10, 20, 30]) {
     it(`matches m g cos and m g sin on a ${degrees} degree ramp from the world's contacts`, () => {
       const { world, box, theta } = restingRamp(degrees)
-      const fb = computeFreeBody(box, {
-        contacts: world.contacts(),
-        mass: world.getMass(box),
-        gravity: world.getGravity(),
-        source: 'world',
-      })
+      const fb = computeFreeBody(
+        box,
+        labFromWorld(world, box, world.contacts(), () => undefined),
+      )
       expectInclinedPlane(fb, theta)
       // The normal force points away from the ramp, up its normal (-sin, cos).
       const n = fb.contacts[0].normal
@@ -61,7 +59,7 @@ describe('free-body diagram', () => {
     expect(fb.source).toBe('server')
     expect(fb.mass).toBe(world.getMass(box))
     expectInclinedPlane(fb, theta)
-    expect(describeFreeBody(box, fb)).toContain("source: the server's contact impulses")
+    expect(describeFreeBody(box, fb)).toContain("source: the server's impulses")
   })
 
   it("carries the weight of the boxes above in a tower, from the world and from the server's message", () => {
@@ -73,10 +71,7 @@ describe('free-body diagram', () => {
     for (const index of [1, 3, 6]) {
       const id = ids[index]
       const above = 8 - index
-      const sources = [
-        { contacts: world.contacts(), mass: 1, gravity: { x: 0, y: -10 }, source: 'world' as const },
-        serverLab(world, id),
-      ]
+      const sources = [labFromWorld(world, id, world.contacts(), () => undefined), serverLab(world, id)]
       for (const data of sources) {
         const fb = computeFreeBody(id, data)
         const up = fb.contacts.filter((c) => c.normal.y > 0).reduce((sum, c) => sum + c.normalN, 0)

@@ -155,7 +155,7 @@ describe('inspect and contacts', { timeout: 20_000 }, () => {
     expect(ids).toContain(busiest)
     expect(count).toBeGreaterThan(MAX_INSPECT_CONTACTS)
     const touching = all.filter((c) => c.bodyA === busiest || c.bodyB === busiest)
-    const message = contactsMessage(world, world.tick, busiest, touching)
+    const message = contactsMessage(world, world.tick, busiest, touching, [])
     expect(message.total).toBe(count)
     expect(message.contacts).toHaveLength(MAX_INSPECT_CONTACTS)
     const sent = message.contacts.map((c) => c.points.reduce((s, p) => s + p.n, 0))

@@ -85,6 +85,12 @@ describe('PROTOCOL.md', { timeout: 20_000 }, () => {
     await bot.waitFor(() => bot.mirror.inspected !== null, 'contacts')
     bot.command({ k: 'pin', a: 0, b: box.id, x: 3, y: 2.5 })
     bot.command({ k: 'grab', body: box.id, lx: 0, ly: 0 })
+    // The pinned and grabbed box: its contacts message lists a pin and a grab pulling on it.
+    bot.command({ k: 'inspect', body: box.id })
+    await bot.waitFor(
+      () => bot.mirror.inspected?.body === box.id && bot.mirror.inspected.joints.length === 2,
+      'pulls on the pinned, grabbed box',
+    )
     bot.command({ k: 'pause', paused: true })
     bot.command({ k: 'scene', name: 'does-not-exist' })
     bot.ping()
@@ -95,6 +101,11 @@ describe('PROTOCOL.md', { timeout: 20_000 }, () => {
     )
     bot.command({ k: 'reset' })
     await bot.waitFor(() => bot.received.some((m) => m.t === 'state'))
+    // A scene with every joint kind: its joints come in the state message (after the load limit).
+    const reset = bot.mirror.tick
+    await bot.waitFor(() => bot.mirror.tick > reset + 12, 'the scene-load limit')
+    bot.command({ k: 'scene', name: 'joints' })
+    await bot.waitFor(() => bot.mirror.scene === 'joints' && bot.mirror.joints.size === 3, 'the joints scene')
 
     const byType = new Map<string, Record<string, unknown>[]>()
     for (const frame of bot.frames) {
@@ -134,7 +145,14 @@ describe('PROTOCOL.md', { timeout: 20_000 }, () => {
     for (const p of welcome.players as Record<string, unknown>[]) checkFields('Player', p)
     const joints = byType.get('events')!.flatMap((e) => e.jadd as Record<string, unknown>[])
     expect(joints.length).toBeGreaterThan(0)
-    for (const j of joints) checkFields('Joint', j)
+    const sceneJoints = byType
+      .get('state')!
+      .flatMap((m) => (m.state as { joints: Record<string, unknown>[] }).joints)
+    expect(sceneJoints.map((j) => j.kind).sort()).toEqual(['pin', 'pin', 'spring'])
+    for (const j of [...joints, ...sceneJoints]) checkFields('Joint', j)
+    const pulls = byType.get('contacts')!.flatMap((m) => m.joints as Record<string, unknown>[])
+    expect(new Set(pulls.map((p) => p.kind))).toEqual(new Set(['pin', 'grab']))
+    for (const p of pulls) checkFields('Pull', p)
     const contacts = byType.get('contacts')!.flatMap((m) => m.contacts as Record<string, unknown>[])
     expect(contacts.length).toBeGreaterThan(0)
     for (const c of contacts) {

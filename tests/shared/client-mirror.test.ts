@@ -69,7 +69,13 @@ describe('client mirror', () => {
       tick: 11,
       add: [],
       remove: [],
-      jadd: [{ id: 1, kind: 'pin', a: 0, b: 2, ax: 1, ay: 2, bx: 0, by: 0, length: 0 }],
+      jadd: [
+        {
+          ...{ id: 1, kind: 'pin', a: 0, b: 2, ax: 1, ay: 2, bx: 0, by: 0, length: 0, min: 0, max: 0 },
+          ...{ hz: 0, damping: 0, ref: 0, limit: false, lower: 0, upper: 0 },
+          ...{ motor: false, speed: 0, torque: 0, collide: false },
+        },
+      ],
       jremove: [],
     })
     expect(mirror.joints.size).toBe(1)
@@ -92,6 +98,11 @@ describe('client mirror', () => {
       mass: 0.785,
       total: 1,
       contacts: [{ a: 1, b: 2, nx: 0, ny: 1, points: [{ x: 1, y: 1.5, n: 0.13, t: 0 }] }],
+      inertia: 0.1,
+      vx: 0,
+      vy: 0,
+      w: 0,
+      joints: [],
     })
     mirror.handle(contacts(11))
     mirror.handle(contacts(12))

@@ -173,6 +173,8 @@ describe('addUserJoint', () => {
       bx: 0,
       by: 0,
       length: 0,
+      ...{ min: 0, max: 0, hz: 0, damping: 0, ref: 0, limit: false, lower: 0, upper: 0 },
+      ...{ motor: false, speed: 0, torque: 0, collide: false },
     })
     expect(w.hasJoint(pin.id)).toBe(true)
   })
