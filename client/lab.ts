@@ -193,8 +193,8 @@ export function describeFreeBody(bodyId: number, fb: FreeBody): string {
   )
   lines.push(
     fb.source === 'world'
-      ? 'source: impulses of the last step / (1/60 s), joint reactions'
-      : "source: the server's impulses of the last step / (1/60 s), joint reactions",
+      ? 'source: contact impulses of the last step / (1/60 s), joint reactions'
+      : "source: the server's contact impulses of the last step / (1/60 s), joint reactions",
   )
   return lines.join('\n')
 }

@@ -61,6 +61,7 @@ export interface PageBody {
   shape: { type: string; hw?: number; radius?: number }
   x: number
   y: number
+  angle: number
 }
 
 /** The page's bodies this frame. */
@@ -68,7 +69,7 @@ export function bodies(page: Page): Promise<PageBody[]> {
   return page.evaluate(() =>
     window.concord.sandbox
       .bodies()
-      .map((b: PageBody) => ({ id: b.id, kind: b.kind, shape: b.shape, x: b.x, y: b.y })),
+      .map((b: PageBody) => ({ id: b.id, kind: b.kind, shape: b.shape, x: b.x, y: b.y, angle: b.angle })),
   )
 }
 

@@ -59,7 +59,7 @@ describe('free-body diagram', () => {
     expect(fb.source).toBe('server')
     expect(fb.mass).toBe(world.getMass(box))
     expectInclinedPlane(fb, theta)
-    expect(describeFreeBody(box, fb)).toContain("source: the server's impulses")
+    expect(describeFreeBody(box, fb)).toContain("source: the server's contact impulses")
   })
 
   it("carries the weight of the boxes above in a tower, from the world and from the server's message", () => {
