@@ -253,7 +253,7 @@ export class RoomSimulation {
       case 'rope':
         return this.joint(cmd)
       case 'unjoint':
-        if (!this.userJoints.has(cmd.joint)) return `joint ${cmd.joint} is not a pin or rope in this room`
+        if (!this.userJoints.has(cmd.joint)) return `joint ${cmd.joint} is not a joint in this room`
         removeJoint(world, cmd.joint)
         this.userJoints.delete(cmd.joint)
         this.listener.jointRemoved(cmd.joint)

@@ -157,7 +157,7 @@ describe('RoomSimulation', { timeout: 60_000 }, () => {
     // The refusals happened and were not recorded.
     expect(refusals).toEqual([
       'body 99999 cannot be grabbed',
-      'joint 12345 is not a pin or rope in this room',
+      'joint 12345 is not a joint in this room',
       expect.stringMatching(/^body \d+ does not exist or is static$/),
       'scene loads are limited to 6 per second',
       'unknown scene "no-such-scene"',
