@@ -71,11 +71,15 @@ export function jointBodiesToStates(state: Float64Array, joints: Joint[], count:
   }
 }
 
-/** Gravity and damping for awake dynamic bodies over one sub-step (semi-implicit Euler). */
+/**
+ * Gravity and damping for awake dynamic bodies over one sub-step (semi-implicit Euler), then the
+ * speed limits (see clampSpeed).
+ */
 export function integrateVelocities(awake: Body[], n: number, state: Float64Array, ctx: StepContext): void {
   const h = ctx.h
   const gx = ctx.gravityX * h
   const gy = ctx.gravityY * h
+  const maxAngularSpeed = MAX_ROTATION * ctx.invH
   for (let i = 0; i < n; i++) {
     const b = awake[i]
     if (b.type !== DYNAMIC) continue
@@ -92,38 +96,37 @@ export function integrateVelocities(awake: Body[], n: number, state: Float64Arra
     state[o + VX] = vx + b.gravityScale * gx
     state[o + VY] = vy + b.gravityScale * gy
     state[o + W] = w
+    clampSpeed(state, o, maxAngularSpeed)
   }
-  clampSpeeds(state, n, MAX_ROTATION * ctx.invH)
 }
 
 /**
- * The speed limits (Box2D v3 b2IntegratePositions): linear speed at most MAX_LINEAR_SPEED, angular
- * speed at most `maxAngularSpeed` (MAX_ROTATION per sub-step). Applied after gravity and again
- * after the contacts and joints, so neither forces nor impulses can push a body past them.
+ * The speed limits of the record at offset `o` (Box2D v3 b2IntegratePositions): linear speed at most
+ * MAX_LINEAR_SPEED, angular speed at most `maxAngularSpeed` (MAX_ROTATION per sub-step). Applied
+ * after gravity and again before each position update (after contacts and joints), so neither
+ * forces nor impulses can push a body past them.
  */
-export function clampSpeeds(state: Float64Array, n: number, maxAngularSpeed: number): void {
-  const end = (n + 1) * STATE_STRIDE
-  for (let o = STATE_STRIDE; o < end; o += STATE_STRIDE) {
-    const vx = state[o + VX]
-    const vy = state[o + VY]
-    const speedSquared = vx * vx + vy * vy
-    if (speedSquared > MAX_LINEAR_SPEED * MAX_LINEAR_SPEED) {
-      const scale = MAX_LINEAR_SPEED / Math.sqrt(speedSquared)
-      state[o + VX] = vx * scale
-      state[o + VY] = vy * scale
-    }
-    const w = state[o + W]
-    if (w > maxAngularSpeed) state[o + W] = maxAngularSpeed
-    else if (w < -maxAngularSpeed) state[o + W] = -maxAngularSpeed
+function clampSpeed(state: Float64Array, o: number, maxAngularSpeed: number): void {
+  const vx = state[o + VX]
+  const vy = state[o + VY]
+  const speedSquared = vx * vx + vy * vy
+  if (speedSquared > MAX_LINEAR_SPEED * MAX_LINEAR_SPEED) {
+    const scale = MAX_LINEAR_SPEED / Math.sqrt(speedSquared)
+    state[o + VX] = vx * scale
+    state[o + VY] = vy * scale
   }
+  const w = state[o + W]
+  if (w > maxAngularSpeed) state[o + W] = maxAngularSpeed
+  else if (w < -maxAngularSpeed) state[o + W] = -maxAngularSpeed
 }
 
 /** Clamps the speeds, then accumulates the sub-step position and rotation deltas of n awake bodies. */
 export function integratePositions(state: Float64Array, n: number, ctx: StepContext): void {
   const h = ctx.h
-  clampSpeeds(state, n, MAX_ROTATION * ctx.invH)
+  const maxAngularSpeed = MAX_ROTATION * ctx.invH
   const end = (n + 1) * STATE_STRIDE
   for (let o = STATE_STRIDE; o < end; o += STATE_STRIDE) {
+    clampSpeed(state, o, maxAngularSpeed)
     state[o + DPX] += h * state[o + VX]
     state[o + DPY] += h * state[o + VY]
     // Integrate the rotation and renormalize (Box2D v3 b2IntegrateRotation).

@@ -96,6 +96,8 @@ export class World extends WorldApi {
   /** Contacts created this step (sorted), and destroyed contacts kept for reuse. */
   private readonly newContacts: Contact[] = []
   private readonly contactPool: Contact[] = []
+  /** Scratch: the step's active contacts with a static or kinematic body, before they are appended. */
+  private readonly groundedContacts: Contact[] = []
   /** Solver state of the awake bodies (body-state.ts; record 0 static) and the contact constraints. */
   private state: Float64Array = new Float64Array(64 * STATE_STRIDE)
   private readonly constraints = new ContactConstraints()
@@ -171,20 +173,22 @@ export class World extends WorldApi {
     this.awakeCount = n
     // Contacts between two dynamic bodies first, then contacts with a static or kinematic body, so
     // that in each Gauss-Seidel pass the contacts that hold the world up are solved last (Box2D v3
-    // keeps static contacts out of the first graph colour for the same reason).
+    // keeps static contacts out of the first graph colour for the same reason). One pass: the
+    // second group goes to a scratch list and is appended.
     const active = this.activeContacts
+    const grounded = this.groundedContacts
     const contacts = this.contactArray
     let m = 0
+    let g = 0
     for (let i = 0; i < contacts.length; i++) {
       const c = contacts[i]
-      if (c.touching && c.bodyA.invMass > 0 && c.bodyB.invMass > 0 && (c.bodyA.awake || c.bodyB.awake))
-        active[m++] = c
+      const a = c.bodyA
+      const b = c.bodyB
+      if (!c.touching || (!a.awake && !b.awake)) continue
+      if (a.invMass > 0 && b.invMass > 0) active[m++] = c
+      else grounded[g++] = c
     }
-    for (let i = 0; i < contacts.length; i++) {
-      const c = contacts[i]
-      if (c.touching && (c.bodyA.invMass === 0 || c.bodyB.invMass === 0) && (c.bodyA.awake || c.bodyB.awake))
-        active[m++] = c
-    }
+    for (let i = 0; i < g; i++) active[m++] = grounded[i]
     this.activeContactCount = m
     const activeJoints = this.activeJoints
     let k = 0
