@@ -12,6 +12,7 @@ import { cutUtf8 } from './close-reason.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { DROP_CONNECTION, type PlayerConnection } from './player-connection.ts'
 import type { RoomPlayer } from './room-player.ts'
+import { UnreadBytes } from './unread-bytes.ts'
 
 /** A socket and, once joined, its player in a room; the room sees it as a PlayerConnection. */
 export class ClientSession implements PlayerConnection {
@@ -27,6 +28,8 @@ export class ClientSession implements PlayerConnection {
   bytesSent = 0
   /** Errors sent since the last heartbeat (error replies are rate limited). */
   errorsSent = 0
+  /** What the client has been sent and not confirmed reading (by acking a later snapshot). */
+  readonly unread = new UnreadBytes()
 
   constructor(
     readonly ws: WebSocket,
@@ -41,8 +44,11 @@ export class ClientSession implements PlayerConnection {
     return this.ws.readyState === 1
   }
 
-  /** Send pre-encoded bytes; a socket whose unsent data would pass the hard limit is dropped instead. */
-  sendBytes(bytes: Uint8Array): void {
+  /**
+   * Send pre-encoded bytes (the snapshot of `snapshotTick`, when given); a socket whose unsent
+   * data would pass the hard limit is dropped instead.
+   */
+  sendBytes(bytes: Uint8Array, snapshotTick?: number): void {
     if (!this.open) return
     if (this.ws.bufferedAmount + bytes.length > this.hardBufferLimit) {
       this.metrics.slowClientsClosed.inc()
@@ -52,6 +58,7 @@ export class ClientSession implements PlayerConnection {
     this.ws.send(bytes)
     this.bytesSent += bytes.length
     this.metrics.bytesSent.inc(bytes.length)
+    if (snapshotTick !== undefined) this.unread.snapshotSent(snapshotTick, this.bytesSent)
   }
 
   /** Encode and send one message. */
@@ -65,9 +72,9 @@ export class ClientSession implements PlayerConnection {
     this.send(seq === undefined ? { t: 'error', code, reason } : { t: 'error', code, reason, seq })
   }
 
-  /** Bytes queued on the socket and not yet sent. */
+  /** Bytes not known to be read by the client: unsent, or sent after the last snapshot it acked. */
   buffered(): number {
-    return this.ws.bufferedAmount
+    return this.unread.unread(this.bytesSent, this.ws.bufferedAmount)
   }
 
   /** Player id for logs (0 before joining). */

@@ -171,7 +171,7 @@ export const SETTINGS: readonly Setting[] = [
     fallback: 262144,
     min: 1,
     max: 1073741824,
-    help: "unsent bytes above which a client's snapshots are skipped",
+    help: "unread bytes (unsent, or sent since the last ack) above which a client's snapshots are skipped",
   },
   {
     key: 'slowClientSeconds',

@@ -12,11 +12,11 @@ export const DROP_CONNECTION = 1006
 export interface PlayerConnection {
   /** Encode and send one message. */
   send(message: ServerMessage): void
-  /** Send pre-encoded bytes (one encoding shared by many players). */
-  sendBytes(bytes: Uint8Array): void
+  /** Send pre-encoded bytes (one encoding shared by many players); `snapshotTick` marks a snapshot. */
+  sendBytes(bytes: Uint8Array, snapshotTick?: number): void
   /** Send an error reply (the connection rate-limits these). */
   sendError(code: string, reason: string, seq?: number): void
-  /** Bytes queued and not yet sent. */
+  /** Bytes sent or queued that the peer is not known to have read (what the slow-reader rule measures). */
   buffered(): number
   /** Close with a code and a reason; DROP_CONNECTION drops it at once without a handshake. */
   close(code: number, reason: string): void

@@ -21,6 +21,8 @@ export class RoomPlayer {
   queuedMove = -1
   /** Room tick since which the send buffer has been over budget, or -1. */
   behindSince = -1
+  /** Dropped for not reading: nothing more is sent while its connection closes. */
+  dropped = false
 
   constructor(
     readonly id: number,

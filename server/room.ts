@@ -338,20 +338,25 @@ export class Room {
    * when its connection has too much buffered. Returns the snapshot's staleness.
    */
   private sendSnapshot(player: RoomPlayer, cursors: number[], contacts: Uint8Array | undefined): number {
+    if (player.dropped) return 0
     const buffered = player.conn.buffered()
     if (buffered > this.config.sendBufferBytes) {
       this.metrics.snapshotsSkipped.inc()
       if (player.behindSince < 0) player.behindSince = this.tick
       const hardLimit = Math.max(this.config.sendBufferBytes * 8, 1 << 20)
-      if (
-        this.tick - player.behindSince > this.config.slowClientSeconds * TICK_RATE ||
-        buffered > hardLimit
-      ) {
+      const tooLong = this.tick - player.behindSince > this.config.slowClientSeconds * TICK_RATE
+      if (tooLong || buffered > hardLimit) {
         this.log.warn(
-          { room: this.name, player: player.id, buffered },
+          {
+            room: this.name,
+            player: player.id,
+            buffered,
+            rule: tooLong ? 'slow-client-seconds' : 'hard-limit',
+          },
           'closing a client that stopped reading',
         )
         this.metrics.slowClientsClosed.inc()
+        player.dropped = true
         player.conn.close(DROP_CONNECTION, 'stopped reading')
       }
       return 0
@@ -361,7 +366,8 @@ export class Room {
     const base = player.encoder.referenceTick
     const stats = player.encoder.encode(this.writer, this.frame, this.tick, this.budget, this.weight)
     const data = this.writer.bytes.subarray(0, this.writer.length)
-    player.conn.sendBytes(encodeMessage({ t: 'snap', tick: this.tick, base, data, cursors }))
+    // Marked as the snapshot of this tick: its ack tells how far the client has read.
+    player.conn.sendBytes(encodeMessage({ t: 'snap', tick: this.tick, base, data, cursors }), this.tick)
     if (contacts) player.conn.sendBytes(contacts)
     return stats.maxStaleness
   }

@@ -317,6 +317,7 @@ export class Transport {
       }
       case 'ack':
         player.encoder.ack(message.tick)
+        session.unread.acknowledged(message.tick)
         return
       case 'ping':
         // Pings share the input budget, so they cannot be used to amplify traffic.
