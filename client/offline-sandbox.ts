@@ -27,9 +27,7 @@ import {
   removeJoint,
   setWorldGravity,
   spawnBody,
-  toWireShape,
   type WireJoint,
-  type WireShape,
 } from '../shared/index.ts'
 import { viewJoints } from './joint-view.ts'
 import { labFromWorld } from './lab.ts'
@@ -42,15 +40,8 @@ import type {
   ViewCursor,
   ViewJoint,
 } from './sandbox.ts'
+import { WorldView } from './world-view.ts'
 
-const KIND = { static: 0, kinematic: 1, dynamic: 2 } as const
-
-/** A drawn body with its pose before the last step (for interpolation by the stepper's alpha). */
-interface StepViewBody extends ViewBody {
-  px: number
-  py: number
-  pa: number
-}
 const OWN_COLOR = '#ff9f1c'
 
 /** The sandbox with the engine in the page. */
@@ -62,9 +53,7 @@ export class OfflineSandbox implements Sandbox {
   private stepOnce = false
   private readonly stepper = new FixedStepper()
   private lastNow = Number.NaN
-  private readonly shapes = new Map<number, WireShape>()
-  private readonly view: StepViewBody[] = []
-  private readonly viewById = new Map<number, StepViewBody>()
+  private readonly view = new WorldView()
   private readonly joints_ = new Map<JointId, WireJoint>()
   private grab: { joint: JointId; body: number } | null = null
   private stepMs = 0
@@ -78,9 +67,7 @@ export class OfflineSandbox implements Sandbox {
   private build(scene: string): World {
     const world = createWorld()
     const joints = buildSceneJoints(world, SCENES[scene].make())
-    this.shapes.clear()
-    this.viewById.clear()
-    this.view.length = 0
+    this.view.clear()
     this.joints_.clear()
     for (const j of joints) this.joints_.set(j.id, j)
     this.grab = null
@@ -96,83 +83,19 @@ export class OfflineSandbox implements Sandbox {
     if (steps > 0) {
       const start = performance.now()
       for (let i = 0; i < steps - 1; i++) this.world.step()
-      this.capturePrevious()
+      this.view.capturePrevious(this.world)
       this.world.step()
       this.stepMs += ((performance.now() - start) / steps - this.stepMs) * 0.1
       this.contactCache = null
     }
-    this.refreshView(this.isPaused ? 1 : this.stepper.alpha)
-  }
-
-  private syncView(): void {
-    const ids = this.world.bodyIds()
-    if (ids.length === this.view.length) return
-    this.view.length = 0
-    for (const id of ids) this.view.push(this.viewBody(id))
-  }
-
-  /** Remember every body's pose before the step about to be taken. */
-  private capturePrevious(): void {
-    this.syncView()
-    const p = { x: 0, y: 0 }
-    for (const v of this.view) {
-      this.world.getPosition(v.id, p)
-      v.px = p.x
-      v.py = p.y
-      v.pa = this.world.getAngle(v.id)
-    }
-  }
-
-  /** Draw poses between the previous and the current step: alpha 0 is previous, 1 current. */
-  private refreshView(alpha: number): void {
-    const w = this.world
-    this.syncView()
-    const p = { x: 0, y: 0 }
-    for (const v of this.view) {
-      w.getPosition(v.id, p)
-      const angle = w.getAngle(v.id)
-      let turn = angle - v.pa
-      if (turn > Math.PI) turn -= 2 * Math.PI
-      else if (turn < -Math.PI) turn += 2 * Math.PI
-      v.x = v.px + (p.x - v.px) * alpha
-      v.y = v.py + (p.y - v.py) * alpha
-      v.angle = v.pa + turn * alpha
-      v.awake = w.isAwake(v.id)
-      v.grabColor = this.grab?.body === v.id ? OWN_COLOR : null
-    }
-  }
-
-  private viewBody(id: number): StepViewBody {
-    let v = this.viewById.get(id)
-    if (!v) {
-      let shape = this.shapes.get(id)
-      if (!shape) {
-        shape = toWireShape(this.world.getShape(id))
-        this.shapes.set(id, shape)
-      }
-      const kind = KIND[this.world.getBodyType(id)]
-      const p = this.world.getPosition(id)
-      const angle = this.world.getAngle(id)
-      v = {
-        id,
-        kind,
-        shape,
-        x: p.x,
-        y: p.y,
-        angle,
-        awake: true,
-        grabColor: null,
-        px: p.x,
-        py: p.y,
-        pa: angle,
-      }
-      this.viewById.set(id, v)
-    }
-    return v
+    const held = this.grab?.body ?? 0
+    this.view.refresh(this.world, this.isPaused ? 1 : this.stepper.alpha, (id) =>
+      id === held ? OWN_COLOR : null,
+    )
   }
 
   bodies(): readonly ViewBody[] {
-    return this.view
+    return this.view.bodies()
   }
 
   joints(): readonly ViewJoint[] {
@@ -180,7 +103,7 @@ export class OfflineSandbox implements Sandbox {
     for (const info of this.world.joints()) forces.set(info.id, info.force)
     return viewJoints(
       this.joints_.values(),
-      (id) => this.viewById.get(id),
+      (id) => this.view.get(id),
       (id) => forces.get(id) ?? null,
     )
   }
@@ -225,8 +148,7 @@ export class OfflineSandbox implements Sandbox {
         if (deleteBody(w, cmd.body)) return
         if (this.grab?.body === cmd.body) this.grab = null
         for (const [id, j] of this.joints_) if (j.a === cmd.body || j.b === cmd.body) this.joints_.delete(id)
-        this.viewById.delete(cmd.body)
-        this.view.length = 0
+        this.view.remove(cmd.body)
         return
       case 'pin':
       case 'rope': {
