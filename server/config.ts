@@ -44,6 +44,8 @@ export interface ServerConfig {
   joinToken: string
   adminToken: string
   publicRooms: string
+  roomTickBudgetMs: number
+  roomOverrunTicks: number
   redisUrl: string
   publicUrl: string
   directoryTtlSeconds: number
@@ -302,6 +304,26 @@ export const SETTINGS: readonly Setting[] = [
     help: 'on SIGTERM, answer /readyz 503 and refuse new sockets this long before closing clients',
   },
   ...SECURITY_SETTINGS,
+  {
+    key: 'roomTickBudgetMs',
+    flag: '--room-tick-budget-ms',
+    env: 'ROOM_TICK_BUDGET_MS',
+    kind: 'int',
+    fallback: 50,
+    min: 0,
+    max: 1000,
+    help: 'a room tick longer than this counts against the room (0 = no budget)',
+  },
+  {
+    key: 'roomOverrunTicks',
+    flag: '--room-overrun-ticks',
+    env: 'ROOM_OVERRUN_TICKS',
+    kind: 'int',
+    fallback: 30,
+    min: 1,
+    max: 60,
+    help: 'a room over its tick budget this many times within a second is closed',
+  },
   {
     key: 'redisUrl',
     flag: '--redis',

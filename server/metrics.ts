@@ -15,6 +15,7 @@ export interface ServerMetrics {
   roomDroppedTicks: Counter<'room'>
   bytesSent: Counter
   bytesReceived: Counter
+  roomsClosedOverBudget: Counter
   messagesReceived: Counter
   rejected: Counter<'reason'>
   overruns: Counter
@@ -51,6 +52,11 @@ export function createMetrics(processMetrics: boolean): ServerMetrics {
       name: 'concord_room_dropped_ticks_total',
       help: 'Ticks a room skipped because its tick loop fell behind, by room (open rooms only)',
       labelNames: ['room'],
+      registers,
+    }),
+    roomsClosedOverBudget: new Counter({
+      name: 'concord_rooms_closed_over_budget_total',
+      help: 'Rooms closed for exceeding the per-room tick budget repeatedly',
       registers,
     }),
     bytesReceived: new Counter({

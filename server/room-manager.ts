@@ -6,7 +6,7 @@
 import { performance } from 'node:perf_hooks'
 import type { Logger } from 'pino'
 import { STEP_SECONDS } from '../engine/index.ts'
-import { TICK_RATE } from '../shared/index.ts'
+import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
 import type { ServerConfig } from './config.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { Room } from './room.ts'
@@ -24,10 +24,15 @@ export class RoomManager {
   onTick: ((tick: number) => void) | null = null
   private ticks = 0
 
+  /** Per room: ticks over the tick budget in the current one-second window. */
+  private readonly overBudget = new Map<string, number>()
+
   constructor(
     private readonly config: ServerConfig,
     private readonly metrics: ServerMetrics,
     private readonly log: Logger,
+    /** The clock room ticks are timed with (ms); tests pass their own. */
+    private readonly now: () => number = () => performance.now(),
   ) {
     this.clock = new TickClock(
       STEP_SECONDS,
@@ -65,9 +70,9 @@ export class RoomManager {
 
   /** Run one tick of every room, measuring each (the measurement is for metrics only). */
   tickAll(): void {
-    const loopStart = performance.now()
+    const loopStart = this.now()
     for (const room of this.rooms.values()) {
-      const start = performance.now()
+      const start = this.now()
       try {
         room.runTick()
       } catch (error) {
@@ -76,11 +81,35 @@ export class RoomManager {
         room.closeAll(1011, 'room failed')
         this.dispose(room)
       }
-      this.metrics.tickSeconds.observe((performance.now() - start) / 1000)
+      const ms = this.now() - start
+      this.metrics.tickSeconds.observe(ms / 1000)
+      if (this.config.roomTickBudgetMs > 0 && ms > this.config.roomTickBudgetMs) this.overran(room)
     }
-    this.metrics.loopTickSeconds.observe({ loop: 'main' }, (performance.now() - loopStart) / 1000)
-    if (++this.ticks % TICK_RATE === 0) this.disposeIdle()
+    this.metrics.loopTickSeconds.observe({ loop: 'main' }, (this.now() - loopStart) / 1000)
+    if (++this.ticks % TICK_RATE === 0) {
+      this.overBudget.clear()
+      this.disposeIdle()
+    }
     this.onTick?.(this.ticks)
+  }
+
+  /**
+   * The per-room tick budget: a room over --room-tick-budget-ms in --room-overrun-ticks ticks of
+   * one second starves every room on its loop, so it is closed with a notice (error `overloaded`,
+   * close 4007) rather than left to make its neighbours drop ticks.
+   */
+  private overran(room: Room): void {
+    const count = (this.overBudget.get(room.name) ?? 0) + 1
+    this.overBudget.set(room.name, count)
+    if (count < this.config.roomOverrunTicks || this.rooms.get(room.name) !== room) return
+    const reason = `room ${room.name} closed: its ticks took over ${this.config.roomTickBudgetMs} ms ${count} times within a second`
+    this.log.warn(
+      { room: room.name, budgetMs: this.config.roomTickBudgetMs, count },
+      'room over its tick budget; closing it',
+    )
+    this.metrics.roomsClosedOverBudget.inc()
+    for (const player of room.players.values()) player.conn.sendError('overloaded', reason)
+    this.close(room.name, CLOSE_CODES.overloaded, reason)
   }
 
   private disposeIdle(): void {
@@ -103,6 +132,7 @@ export class RoomManager {
     this.rooms.delete(room.name)
     this.metrics.rooms.set(this.rooms.size)
     this.metrics.roomDroppedTicks.remove({ room: room.name })
+    this.overBudget.delete(room.name)
     this.log.info({ room: room.name }, 'room disposed')
     this.onRoomDisposed?.(room.name)
   }

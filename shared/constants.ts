@@ -76,6 +76,8 @@ export const CLOSE_CODES = {
   internal: 1011,
   /** The room is held by another server; the `moved` message before the close says where. */
   moved: 4006,
+  /** The room was closed for going over its tick budget again and again (error `overloaded` first). */
+  overloaded: 4007,
   /** The room directory (Redis) could not be asked; try again later (RFC 6455 1013). */
   tryAgain: 1013,
 } as const

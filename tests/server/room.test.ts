@@ -4,6 +4,7 @@ import { loadConfig, type ServerConfig } from '../../server/config.ts'
 import { createMetrics } from '../../server/metrics.ts'
 import { DROP_CONNECTION, type PlayerConnection } from '../../server/player-connection.ts'
 import { Room } from '../../server/room.ts'
+import { RoomManager } from '../../server/room-manager.ts'
 import type { RoomPlayer } from '../../server/room-player.ts'
 import {
   ClientMirror,
@@ -148,5 +149,61 @@ describe('a room driven tick by tick with fake connections', () => {
     room.runTick()
     expect(flooded.closed?.code).toBe(DROP_CONNECTION)
     expect(wobbly.closed).toBeNull()
+  })
+})
+
+describe('per-room tick budget', () => {
+  /** A manager whose room ticks are timed by a hand-set clock: `slow` rooms take 60 ms per tick. */
+  function budgetedManager(slow: Set<string>) {
+    const config = loadConfig(
+      [],
+      {},
+      { defaultScene: 'empty', logLevel: 'silent', roomTickBudgetMs: 50, roomOverrunTicks: 30 },
+    )
+    let now = 0
+    const metrics = createMetrics(false)
+    const rooms = new RoomManager(config, metrics, pino({ level: 'silent' }), () => now)
+    const open = (name: string): Room => {
+      const room = rooms.getOrCreate(name)!
+      const runTick = room.runTick.bind(room)
+      room.runTick = () => {
+        runTick()
+        now += slow.has(name) ? 60 : 1
+      }
+      return room
+    }
+    return { rooms, open, metrics }
+  }
+
+  it('a room over budget in 30 ticks of a second is closed with a notice; its neighbour is untouched', async () => {
+    const { rooms, open, metrics } = budgetedManager(new Set(['hog']))
+    const hog = open('hog')
+    open('calm')
+    const player = join(hog, 'victim')
+    const neighbour = join(rooms.get('calm')!, 'neighbour')
+    for (let i = 0; i < 29; i++) rooms.tickAll()
+    expect(rooms.get('hog')).toBe(hog)
+    expect(player.closed).toBeNull()
+    rooms.tickAll()
+    expect(rooms.get('hog')).toBeUndefined()
+    expect(player.closed?.code).toBe(4007)
+    expect(player.received.some((m) => m.t === 'error' && m.code === 'overloaded')).toBe(true)
+    expect(rooms.get('calm')).toBeDefined()
+    expect(neighbour.closed).toBeNull()
+    expect((await metrics.roomsClosedOverBudget.get()).values[0].value).toBe(1)
+  })
+
+  it('the count restarts every second: 29 slow ticks per second forever never close the room', () => {
+    const slow = new Set(['bursty'])
+    const { rooms, open } = budgetedManager(slow)
+    open('bursty')
+    for (let second = 0; second < 5; second++) {
+      for (let t = 0; t < 60; t++) {
+        if (t < 29) slow.add('bursty')
+        else slow.delete('bursty')
+        rooms.tickAll()
+      }
+    }
+    expect(rooms.get('bursty')).toBeDefined()
   })
 })
