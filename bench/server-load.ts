@@ -1,0 +1,133 @@
+/*
+ * Shared pieces of the server load benchmarks (bench:capacity, soak): a server in this process
+ * with a timed tick loop, bot processes (server/bots.ts: each bot spawns a few shapes, then grabs
+ * and drags bodies in circles), percentiles and memory readings.
+ */
+import { type ChildProcess, spawn } from 'node:child_process'
+import { performance } from 'node:perf_hooks'
+import pino from 'pino'
+import { pileScene, type SceneBlueprint } from '../engine/index.ts'
+import { loadConfig } from '../server/config.ts'
+import { type RunningServer, startServer } from '../server/server.ts'
+
+/** Durations of clock ticks (ms): wall time, and the process's CPU time over the same span. */
+export interface TickTimes {
+  wall: number[]
+  cpu: number[]
+}
+
+/** A server whose every clock tick (all rooms) is timed. */
+export interface TimedServer {
+  server: RunningServer
+  /** Clock tick durations since the last take(). */
+  take(): TickTimes
+}
+
+/** Start a server in this process for load tests; every loop tick is timed. */
+export async function startTimedServer(): Promise<TimedServer> {
+  const config = loadConfig(
+    [],
+    {},
+    {
+      port: 0,
+      host: '127.0.0.1',
+      logLevel: 'silent',
+      defaultScene: 'empty',
+      maxRooms: 1000,
+      maxBodies: 5000,
+      maxConnections: 100000,
+      maxConnectionsPerIp: 0,
+      roomIdleSeconds: 5,
+      // Measure raw capacity: no room is closed for going over the per-room tick budget.
+      roomTickBudgetMs: 0,
+    },
+  )
+  const server = await startServer(config, { logger: pino({ level: 'silent' }), processMetrics: false })
+  let samples: TickTimes = { wall: [], cpu: [] }
+  const rooms = server.rooms
+  const tickAll = rooms.tickAll.bind(rooms)
+  // CPU time is what a tick would take on a core of its own; on a machine shared with other
+  // work, wall time also counts the time this process waited for a core.
+  rooms.tickAll = () => {
+    const start = performance.now()
+    const cpu = process.cpuUsage()
+    tickAll()
+    const used = process.cpuUsage(cpu)
+    samples.wall.push(performance.now() - start)
+    samples.cpu.push((used.user + used.system) / 1000)
+  }
+  return {
+    server,
+    take: () => {
+      const out = samples
+      samples = { wall: [], cpu: [] }
+      return out
+    },
+  }
+}
+
+/** A pile of `count` mixed bodies that never sleep (so every one costs a full step). */
+export function awakePile(count: number): SceneBlueprint {
+  const pile = pileScene(count)
+  return {
+    ...pile,
+    name: `pile-${count}-awake`,
+    bodies: pile.bodies.map((b) => (b.type === 'static' ? b : { ...b, enableSleep: false })),
+  }
+}
+
+/** Start `count` bots over rooms PREFIX-1..PREFIX-rooms in a child process. */
+export function startBots(url: string, prefix: string, rooms: number, count: number): ChildProcess {
+  const args = ['--import', 'tsx', 'server/bots.ts', '--url', url, '--room', prefix]
+  args.push('--rooms', String(rooms), '--count', String(count), '--seconds', '0')
+  const child = spawn(process.execPath, args, { stdio: ['ignore', 'ignore', 'inherit'] })
+  return child
+}
+
+/** Stop bot processes and wait for them. */
+export async function stopBots(children: ChildProcess[]): Promise<void> {
+  await Promise.all(
+    children.map(
+      (c) =>
+        new Promise<void>((resolve) => {
+          if (c.exitCode !== null) return resolve()
+          c.once('exit', () => resolve())
+          c.kill('SIGTERM')
+        }),
+    ),
+  )
+}
+
+/** The p-quantile (0..1) of a list of numbers (nearest rank). */
+export function quantile(values: number[], p: number): number {
+  if (values.length === 0) return Number.NaN
+  const sorted = [...values].sort((a, b) => a - b)
+  return sorted[Math.min(sorted.length - 1, Math.max(0, Math.ceil(p * sorted.length) - 1))]
+}
+
+/** Resident set size and V8 heap in MB, after a full GC when the process runs with --expose-gc. */
+export function memoryMb(): { rss: number; heap: number } {
+  const gc = (globalThis as { gc?: () => void }).gc
+  gc?.()
+  const m = process.memoryUsage()
+  return { rss: m.rss / 1048576, heap: (m.heapUsed + m.external + m.arrayBuffers) / 1048576 }
+}
+
+/** Total payload bytes the server has sent. */
+export async function bytesSent(server: RunningServer): Promise<number> {
+  return (await server.metrics.bytesSent.get()).values[0]?.value ?? 0
+}
+
+/** Wait until `condition` holds, polling; throws naming `what` after the timeout. */
+export async function until(condition: () => boolean, what: string, timeoutMs = 120_000): Promise<void> {
+  const deadline = Date.now() + timeoutMs
+  while (!condition()) {
+    if (Date.now() > deadline) throw new Error(`timed out waiting for ${what}`)
+    await new Promise((resolve) => setTimeout(resolve, 100))
+  }
+}
+
+/** Sleep for the measurement window (benchmarks only; never in tests). */
+export function wait(ms: number): Promise<void> {
+  return new Promise((resolve) => setTimeout(resolve, ms))
+}
