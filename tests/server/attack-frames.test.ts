@@ -82,7 +82,11 @@ describe('frames that used to crash or freeze the server', { timeout: 30_000 }, 
     expect(blasted).toBeGreaterThan(0)
     // Exactly the 21 frames before the drop were decoded; nothing after it.
     expect((await metric('concord_messages_received_total')) - received).toBe(21)
-    const lines = capture.lines.slice(linesBefore)
+    // Lines about the client (the tick loop's own overrun warnings on a loaded machine aside):
+    // the strike-out warning and little else, however many frames were blasted.
+    const lines = capture.lines
+      .slice(linesBefore)
+      .filter((l) => l.msg !== 'tick loop fell behind; dropped ticks')
     expect(lines.length).toBeLessThanOrEqual(5)
     expect(await healthy(server.url)).toBe(true)
   })
