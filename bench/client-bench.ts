@@ -7,19 +7,26 @@
  *   render:  the world paused, so a frame is interpolation-free drawing of 1,000 bodies
  *   running: the engine stepping 1,000 bodies in the page as well (offline mode's real load)
  * A baseline run of the empty scene first shows what the machine gives any page at that moment.
- * Run: npx tsx bench/client-bench.ts [--seconds 10]; saves bench/results/client.json.
+ * Then motion smoothness (client-motion.ts): the pile scene with shapes raining on it, offline
+ * (the engine in the page) and online (a real server on 127.0.0.1 with its default per-client
+ * bandwidth budget, so bodies are left out of snapshots and the page must fill the gaps).
+ * Run: npx tsx bench/client-bench.ts [--seconds 10] [--motion-only]; saves bench/results/client.json.
  */
 import { readFile } from 'node:fs/promises'
 import { createServer } from 'node:http'
 import type { AddressInfo } from 'node:net'
 import type { Page } from 'playwright-core'
 import { buildClient } from '../scripts/build-client.mjs'
+import { loadConfig } from '../server/config.ts'
+import { startServer } from '../server/server.ts'
 import { launchBrowser } from '../tests/browser/chromium.ts'
+import { measureMotion } from './client-motion.ts'
 import { machineInfo, saveResults, summarize } from './stats.ts'
 
 const OUT = 'test-results/client-bench-dist'
 const argSeconds = process.argv.indexOf('--seconds')
 const SECONDS = argSeconds > 0 ? Number(process.argv[argSeconds + 1]) : 10
+const MOTION_ONLY = process.argv.includes('--motion-only')
 
 /*
  * The in-page measurement, as source text: functions passed to page.evaluate from a tsx-compiled
@@ -72,27 +79,8 @@ async function measure(page: Page, seconds: number) {
   }
 }
 
-async function main(): Promise<void> {
-  const size = await buildClient(OUT)
-  console.log(
-    `bundle: app.js ${size.bytes} B, ${size.gzipBytes} B gzipped; index.html ${size.htmlGzipBytes} B gzipped`,
-  )
-  // A static file server for the built page (offline mode needs no game server).
-  const http = createServer(async (req, res) => {
-    const path = new URL(req.url ?? '/', 'http://x').pathname
-    const file = path === '/' ? 'index.html' : path.slice(1)
-    try {
-      const body = await readFile(`${OUT}/${file}`)
-      res.writeHead(200, { 'content-type': file.endsWith('.js') ? 'text/javascript' : 'text/html' })
-      res.end(body)
-    } catch {
-      res.writeHead(404).end()
-    }
-  })
-  await new Promise<void>((r) => http.listen(0, '127.0.0.1', r))
-  const port = (http.address() as AddressInfo).port
-  const browser = await launchBrowser()
-  const page = await browser.newPage({ viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1 })
+/** Frame and draw times: the empty scene, then 1,000 bodies running and paused (offline). */
+async function measureFrames(page: Page, port: number) {
   // Baseline: the same page with only the ground, i.e. what this machine's headless Chromium gives
   // any page (the machine is shared; compare the 1,000-body numbers with this, not with 60).
   await page.goto(`http://127.0.0.1:${port}/?offline&scene=empty`)
@@ -117,8 +105,50 @@ async function main(): Promise<void> {
   await page.evaluate(`window.concord.sandbox.send({ k: 'pause', paused: true })`)
   const render = await measure(page, SECONDS)
   await page.screenshot({ path: 'test-results/client-bench-1000.png' })
+  return { baselineEmptyScene: baseline, render1000: render, running1000: running }
+}
+
+async function main(): Promise<void> {
+  const size = await buildClient(OUT)
+  console.log(
+    `bundle: app.js ${size.bytes} B, ${size.gzipBytes} B gzipped; index.html ${size.htmlGzipBytes} B gzipped`,
+  )
+  // A static file server for the built page (offline mode needs no game server).
+  const http = createServer(async (req, res) => {
+    const path = new URL(req.url ?? '/', 'http://x').pathname
+    const file = path === '/' ? 'index.html' : path.slice(1)
+    try {
+      const body = await readFile(`${OUT}/${file}`)
+      res.writeHead(200, { 'content-type': file.endsWith('.js') ? 'text/javascript' : 'text/html' })
+      res.end(body)
+    } catch {
+      res.writeHead(404).end()
+    }
+  })
+  await new Promise<void>((r) => http.listen(0, '127.0.0.1', r))
+  const port = (http.address() as AddressInfo).port
+  const browser = await launchBrowser()
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1 })
+  const frames = MOTION_ONLY ? null : await measureFrames(page, port)
+
+  // Motion: offline first, then online through a real server serving the same build.
+  await page.goto(`http://127.0.0.1:${port}/?offline&scene=pile`)
+  await page.waitForFunction('window.concord?.sandbox.bodies().length > 300')
+  const motionOffline = await measureMotion(page, SECONDS)
+  const game = await startServer(loadConfig([], {}, { port: 0, staticDir: OUT, logLevel: 'silent' }), {
+    processMetrics: false,
+  })
+  await page.goto(`http://127.0.0.1:${game.port}/?room=bench-motion`)
+  await page.waitForFunction('window.concord?.sandbox.status().state === "connected"')
+  await page.evaluate(`window.concord.sandbox.send({ k: 'scene', name: 'pile' })`)
+  await page.waitForFunction(
+    `window.concord.sandbox.scene() === 'pile' && window.concord.sandbox.bodies().length > 300`,
+  )
+  const motionOnline = await measureMotion(page, SECONDS)
+  await page.screenshot({ path: 'test-results/client-bench-motion-online.png' })
   await browser.close()
   http.close()
+  await game.close()
 
   const result = {
     machine: machineInfo(),
@@ -128,9 +158,12 @@ async function main(): Promise<void> {
       appJsGzipBytes: size.gzipBytes,
       indexHtmlGzipBytes: size.htmlGzipBytes,
     },
-    baselineEmptyScene: baseline,
-    render1000: render,
-    running1000: running,
+    ...frames,
+    motion: {
+      scene: 'pile (300) with 30 shapes a second raining from 12-20 m',
+      offline: motionOffline,
+      online: motionOnline,
+    },
   }
   console.log(JSON.stringify(result, null, 2))
   saveResults('bench/results/client.json', result)

@@ -18,27 +18,26 @@
  * 10 % faster or slower toward its target, so changes of offset or delay are absorbed without a
  * pop (it only snaps after a stall of many ticks, e.g. a background tab).
  *
- * When the render time passes the newest snapshot (a late or lost packet beyond the margin),
- * bodies are extrapolated along their last velocity for at most MAX_EXTRAPOLATION ticks, then held.
- * Positions are linear; angles take the shortest arc, computed on quantized angles (one turn =
- * 65536) so a wrap from +pi to -pi turns the short way.
+ * Poses are kept per body, not per frame (pose-track.ts): a snapshot under the byte budget writes
+ * only some bodies, and only what it wrote is a sample. Between a body's samples it is
+ * interpolated; past its newest sample (a body left out of the last snapshots, or a late packet)
+ * it is extrapolated along its last velocity for at most MAX_EXTRAPOLATION ticks, then held; and
+ * when the next sample corrects the guess, the correction is blended in over about 100 ms instead
+ * of popping. Other players' cursors are tracked the same way, on the same delayed timeline.
  */
 import {
-  ANGLE_STEPS,
-  angleDelta,
   dequantizeAngle,
   dequantizePosition,
   FRAME_AWAKE,
-  QuantizedFrame,
+  type QuantizedFrame,
   TICK_RATE,
 } from '../shared/index.ts'
+import { MAX_AHEAD, PoseTrack } from './pose-track.ts'
 
-/** Frames kept (about half a second at 30 Hz snapshots). */
-const CAPACITY = 24
 /** Arrivals considered for the clock offset (ms). */
 const OFFSET_WINDOW_MS = 1500
-/** Longest extrapolation past the newest snapshot (ticks): 100 ms. */
-export const MAX_EXTRAPOLATION = 6
+/** Longest extrapolation past a body's newest sample (ticks): 300 ms. */
+export const MAX_EXTRAPOLATION = MAX_AHEAD
 /** Playback speed is corrected by at most this fraction of real time. */
 const MAX_SLEW = 0.1
 /** A playback clock further than this from its target (ticks) snaps instead of slewing. */
@@ -53,15 +52,11 @@ export interface Pose {
   awake: boolean
 }
 
-interface TimedFrame {
-  tick: number
-  frame: QuantizedFrame
-}
-
 /** Buffer of recent snapshots, an estimate of the server clock, and pose sampling. */
 export class SnapshotTimeline {
-  private readonly frames: TimedFrame[] = []
-  private readonly spare: QuantizedFrame[] = []
+  private readonly tracks = new Map<number, PoseTrack>()
+  private readonly cursorTracks = new Map<number, PoseTrack>()
+  private newest = Number.NaN
   private offset = Number.NaN
   private readonly samples: Array<{ value: number; at: number }> = []
   /** Measured snapshot interval (ticks), smoothed. */
@@ -84,24 +79,81 @@ export class SnapshotTimeline {
     this.delayTicks = this.targetDelay()
   }
 
-  /** Forget every frame (a new world epoch) but keep the clock estimate. */
+  /** Forget every body (a new world epoch) but keep the clock estimate. */
   clear(): void {
-    for (const f of this.frames) this.spare.push(f.frame)
-    this.frames.length = 0
+    this.tracks.clear()
+    this.newest = Number.NaN
   }
 
-  /** Record the full state at `tick` that arrived at `arrivalMs`; frames must come in tick order. */
-  push(tick: number, frame: QuantizedFrame, arrivalMs: number): void {
-    const newest = this.frames[this.frames.length - 1]
-    if (newest && tick <= newest.tick) return
+  /**
+   * Record the state at `tick` that arrived at `arrivalMs`; frames must come in tick order.
+   * `updated` lists the ids the snapshot wrote (the others only kept their baseline pose); without
+   * it (a full state) every body in the frame is a sample. Bodies missing from the frame are dropped.
+   */
+  push(tick: number, frame: QuantizedFrame, arrivalMs: number, updated?: readonly number[]): void {
+    const newest = this.newest
+    if (tick <= newest) return
     // Gaps much longer than announced are a quiet room (nothing to send), not the network.
-    const gap = newest ? tick - newest.tick : 0
+    const gap = Number.isNaN(newest) ? 0 : tick - newest
     if (gap > 0 && gap <= 3 * this.nominalInterval) this.intervalTicks += (gap - this.intervalTicks) * 0.1
-    const copy = this.spare.pop() ?? new QuantizedFrame()
-    copy.copyFrom(frame)
-    this.frames.push({ tick, frame: copy })
-    if (this.frames.length > CAPACITY) this.spare.push(this.frames.shift()!.frame)
+    this.newest = tick
+    for (const id of this.tracks.keys()) if (!frame.has(id)) this.tracks.delete(id)
+    if (updated) {
+      for (const id of updated) this.record(frame, id, tick)
+      for (let i = 0; i < frame.count; i++)
+        if (!this.tracks.has(frame.ids[i])) this.record(frame, frame.ids[i], tick)
+    } else {
+      for (let i = 0; i < frame.count; i++) this.record(frame, frame.ids[i], tick)
+    }
     this.observeArrival(tick - arrivalMs * TICKS_PER_MS, arrivalMs)
+  }
+
+  private record(frame: QuantizedFrame, id: number, tick: number): void {
+    if (!frame.has(id)) return
+    let track = this.tracks.get(id)
+    if (!track) {
+      track = new PoseTrack()
+      this.tracks.set(id, track)
+    }
+    track.add(
+      tick,
+      dequantizePosition(frame.x[id]),
+      dequantizePosition(frame.y[id]),
+      dequantizeAngle(frame.a[id]),
+      (frame.flags[id] & FRAME_AWAKE) !== 0,
+      this.renderTick,
+    )
+  }
+
+  /**
+   * A player's cursor (m) as of snapshot `tick`. A cursor is sent only when it moves, so after a
+   * pause the old position is held until one interval before the new one (no slow slide across
+   * the pause).
+   */
+  pushCursor(player: number, tick: number, x: number, y: number): void {
+    let track = this.cursorTracks.get(player)
+    if (!track) {
+      track = new PoseTrack()
+      this.cursorTracks.set(player, track)
+    }
+    const last = track.newestTick
+    const hold = tick - this.intervalTicks
+    if (track.count && hold > last) {
+      const p = { x: 0, y: 0, angle: 0, awake: false }
+      track.evaluate(last, p)
+      track.add(hold, p.x, p.y, 0, false, this.renderTick)
+    }
+    track.add(tick, x, y, 0, false, this.renderTick)
+  }
+
+  /** A player's cursor at `tick`, written to `out`; false when none is known. */
+  sampleCursor(player: number, tick: number, out: Pose): boolean {
+    return this.cursorTracks.get(player)?.sample(tick, out) ?? false
+  }
+
+  /** Forget a player's cursor (the player left). */
+  forgetCursor(player: number): void {
+    this.cursorTracks.delete(player)
   }
 
   private observeArrival(sample: number, arrivalMs: number): void {
@@ -122,7 +174,7 @@ export class SnapshotTimeline {
 
   /** Newest tick held, or NaN. */
   get newestTick(): number {
-    return this.frames.length ? this.frames[this.frames.length - 1].tick : Number.NaN
+    return this.newest
   }
 
   /** Server tick as it reaches this client now (fractional), or NaN before any snapshot. */
@@ -137,6 +189,11 @@ export class SnapshotTimeline {
     const target = this.serverTickAt(nowMs) - this.delayTicks
     const elapsed = Number.isNaN(this.lastNow) ? 0 : (nowMs - this.lastNow) * TICKS_PER_MS
     this.lastNow = nowMs
+    if (elapsed > 0) {
+      const ms = elapsed / TICKS_PER_MS
+      for (const t of this.tracks.values()) t.decay(ms)
+      for (const t of this.cursorTracks.values()) t.decay(ms)
+    }
     if (Number.isNaN(this.renderTick) || Math.abs(target - this.renderTick) > SNAP_TICKS) {
       this.renderTick = target
     } else {
@@ -148,53 +205,10 @@ export class SnapshotTimeline {
   }
 
   /**
-   * The pose of body `id` at `tick`, written to `out`; false when no held frame has it (the
+   * The pose of body `id` at `tick`, written to `out`; false when no sample of it is held (the
    * caller then uses its latest known pose).
    */
   sample(id: number, tick: number, out: Pose): boolean {
-    const frames = this.frames
-    const n = frames.length
-    if (n === 0) return false
-    let i = n - 1
-    while (i > 0 && frames[i].tick > tick) i--
-    const a = frames[i]
-    if (a.tick > tick) return this.write(a.frame, id, out)
-    if (i === n - 1) return this.extrapolate(id, tick, out)
-    const b = frames[i + 1]
-    const hasA = a.frame.has(id)
-    if (!b.frame.has(id)) return hasA && this.write(a.frame, id, out)
-    if (!hasA) return this.write(b.frame, id, out)
-    return this.blend(a.frame, b.frame, id, (tick - a.tick) / (b.tick - a.tick), out)
-  }
-
-  private extrapolate(id: number, tick: number, out: Pose): boolean {
-    const n = this.frames.length
-    const last = this.frames[n - 1]
-    if (!last.frame.has(id)) return false
-    const prev = n > 1 ? this.frames[n - 2] : null
-    if (!prev?.frame.has(id) || (last.frame.flags[id] & FRAME_AWAKE) === 0) {
-      return this.write(last.frame, id, out)
-    }
-    const ahead = Math.min(tick - last.tick, MAX_EXTRAPOLATION)
-    return this.blend(prev.frame, last.frame, id, 1 + ahead / (last.tick - prev.tick), out)
-  }
-
-  private write(f: QuantizedFrame, id: number, out: Pose): boolean {
-    if (!f.has(id)) return false
-    out.x = dequantizePosition(f.x[id])
-    out.y = dequantizePosition(f.y[id])
-    out.angle = dequantizeAngle(f.a[id])
-    out.awake = (f.flags[id] & FRAME_AWAKE) !== 0
-    return true
-  }
-
-  private blend(a: QuantizedFrame, b: QuantizedFrame, id: number, t: number, out: Pose): boolean {
-    const ax = a.x[id]
-    const ay = a.y[id]
-    out.x = dequantizePosition(ax + (b.x[id] - ax) * t)
-    out.y = dequantizePosition(ay + (b.y[id] - ay) * t)
-    out.angle = dequantizeAngle(a.a[id]) + (angleDelta(a.a[id], b.a[id]) * t * 2 * Math.PI) / ANGLE_STEPS
-    out.awake = (b.flags[id] & FRAME_AWAKE) !== 0
-    return true
+    return this.tracks.get(id)?.sample(tick, out) ?? false
   }
 }

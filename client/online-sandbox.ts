@@ -45,6 +45,8 @@ export interface OnlineOptions {
 }
 
 const TOKEN_KEY = 'concord.token.'
+/** Largest shift of the own grabbed body by visual prediction (m). */
+const MAX_PREDICTION = 2
 
 /** Per-second rate counter. */
 class Rate {
@@ -85,6 +87,11 @@ export class OnlineSandbox implements Sandbox {
   private readonly snaps = new Rate()
   private statusValue: SandboxStatus = { state: 'connecting' }
   private ownGrab = 0
+  /** The latest grab target this page sent (m): where its own grabbed body is heading. */
+  private localTarget: { x: number; y: number } | null = null
+  /** Players whose cursor has left the origin (a new player's cursor starts there). */
+  private readonly movedCursors = new Set<number>()
+  private renderTick = Number.NaN
   private readonly pose: Pose = { x: 0, y: 0, angle: 0, awake: true }
   /** The body this player inspects (0 for none), and the lab data last built for it. */
   private inspected = 0
@@ -156,7 +163,13 @@ export class OnlineSandbox implements Sandbox {
         const applied = this.mirror.lastSnapshot
         if (ack && applied) {
           this.up.add(this.connection.send(ack), now)
-          this.timeline.push(applied.tick, applied.frame, now)
+          this.timeline.push(applied.tick, applied.frame, now, applied.updated)
+          const c = message.cursors
+          for (let i = 0; i + 3 < c.length; i += 4) {
+            // A player who has not moved yet sits at the origin: not a cursor worth drawing.
+            if (c[i + 1] !== 0 || c[i + 2] !== 0 || c[i + 3] !== 0) this.movedCursors.add(c[i])
+            this.timeline.pushCursor(c[i], applied.tick, c[i + 1] / 1000, c[i + 2] / 1000)
+          }
           this.snaps.add(1, now)
         }
         break
@@ -194,7 +207,9 @@ export class OnlineSandbox implements Sandbox {
     this.up.tick(nowMs)
     this.snaps.tick(nowMs)
     const tick = this.timeline.advance(nowMs)
+    this.renderTick = tick
     this.refreshView(tick)
+    this.predictOwnGrab(tick)
   }
 
   private refreshView(tick: number): void {
@@ -222,6 +237,27 @@ export class OnlineSandbox implements Sandbox {
       }
       v.grabColor = grabbed.get(v.id) ?? null
     }
+  }
+
+  /**
+   * Visual prediction of this player's own grab: the grabbed body is drawn shifted by how far the
+   * local cursor has moved beyond the cursor the server had at the drawn tick, so it follows the
+   * hand at once; as the server's poses catch up, the shift shrinks to zero by itself.
+   */
+  private predictOwnGrab(tick: number): void {
+    if (!this.ownGrab || !this.localTarget || Number.isNaN(tick)) return
+    const v = this.viewById.get(this.ownGrab)
+    const server = this.pose
+    if (!v || !this.timeline.sampleCursor(this.mirror.clientId, tick, server)) return
+    let dx = this.localTarget.x - server.x
+    let dy = this.localTarget.y - server.y
+    const d = Math.sqrt(dx * dx + dy * dy)
+    if (d > MAX_PREDICTION) {
+      dx *= MAX_PREDICTION / d
+      dy *= MAX_PREDICTION / d
+    }
+    v.x += dx
+    v.y += dy
   }
 
   private rebuildView(): void {
@@ -273,10 +309,20 @@ export class OnlineSandbox implements Sandbox {
 
   cursors(): readonly ViewCursor[] {
     const out: ViewCursor[] = []
+    const at = this.pose
     for (const [id, c] of this.mirror.cursors) {
       const p = this.mirror.players.get(id)
-      if (id === this.mirror.clientId || !p) continue
-      out.push({ id, name: p.name, color: p.color, x: c.x, y: c.y, body: c.body })
+      if (id === this.mirror.clientId || !p || !this.movedCursors.has(id)) continue
+      // Drawn on the bodies' delayed timeline, so a held body and its cursor move together.
+      const smooth = !Number.isNaN(this.renderTick) && this.timeline.sampleCursor(id, this.renderTick, at)
+      out.push({
+        id,
+        name: p.name,
+        color: p.color,
+        x: smooth ? at.x : c.x,
+        y: smooth ? at.y : c.y,
+        body: c.body,
+      })
     }
     return out
   }
@@ -288,6 +334,7 @@ export class OnlineSandbox implements Sandbox {
   send(cmd: Command): void {
     const now = performance.now()
     if (cmd.k === 'move') {
+      if (this.ownGrab) this.localTarget = { x: cmd.x, y: cmd.y }
       this.pendingMove = cmd
       return
     }
@@ -295,7 +342,10 @@ export class OnlineSandbox implements Sandbox {
       this.transmit(this.pendingMove, now)
       this.pendingMove = null
     }
-    if (cmd.k === 'grab') this.ownGrab = cmd.body
+    if (cmd.k === 'grab') {
+      this.ownGrab = cmd.body
+      this.localTarget = null
+    }
     if (cmd.k === 'release') this.ownGrab = 0
     if (cmd.k === 'delete' && cmd.body === this.ownGrab) this.ownGrab = 0
     this.transmit(cmd, now)
