@@ -152,19 +152,28 @@ export class App {
     }
   }
 
-  /** Frame the scene's movable bodies (and the ground line) in the view. */
+  /**
+   * Frame the scene in the view: its movable bodies, its joints' anchors (a cradle's rods hang
+   * from above its balls) and the ground line, but not strays: bodies below the ground or much
+   * farther from the scene's middle than the rest (flung away) are left out.
+   */
   fit(): void {
-    let minX = Infinity
-    let minY = 0
-    let maxX = -Infinity
-    let maxY = 4
+    const points: Array<{ x: number; y: number; r: number }> = []
     for (const b of this.sandbox.bodies()) {
       const r = shapeRadius(b.shape)
       if (b.kind === 0 && r > 50) continue // the ground: frame what stands on it instead
-      minX = Math.min(minX, b.x - r)
-      maxX = Math.max(maxX, b.x + r)
-      minY = Math.min(minY, b.y - r)
-      maxY = Math.max(maxY, b.y + r)
+      if (b.kind !== 0 && b.y + r < -1) continue // fallen off the ground
+      points.push({ x: b.x, y: b.y, r })
+    }
+    for (const j of this.sandbox.joints())
+      points.push({ x: j.ax, y: j.ay, r: 0.2 }, { x: j.bx, y: j.by, r: 0.2 })
+    const kept = withoutStrays(points)
+    let [minX, minY, maxX, maxY] = [Infinity, 0, -Infinity, 4]
+    for (const p of kept) {
+      minX = Math.min(minX, p.x - p.r)
+      maxX = Math.max(maxX, p.x + p.r)
+      minY = Math.min(minY, p.y - p.r)
+      maxY = Math.max(maxY, p.y + p.r)
     }
     if (!Number.isFinite(minX)) [minX, maxX] = [-10, 10]
     const toolbar = $('toolbar').getBoundingClientRect()
@@ -260,3 +269,17 @@ export class App {
 
 /** The tools in toolbar order (re-exported for tests and the README). */
 export { TOOLS }
+
+/**
+ * Points without strays: those farther from the median point than 4 times the median distance
+ * plus 10 m (a body flung far along the ground) are dropped.
+ */
+export function withoutStrays<T extends { x: number; y: number }>(points: T[]): T[] {
+  if (points.length < 4) return points
+  const median = (values: number[]): number => values.sort((a, b) => a - b)[Math.floor(values.length / 2)]
+  const cx = median(points.map((p) => p.x))
+  const cy = median(points.map((p) => p.y))
+  const distance = (p: T): number => Math.hypot(p.x - cx, p.y - cy)
+  const limit = 4 * median(points.map(distance)) + 10
+  return points.filter((p) => distance(p) <= limit)
+}

@@ -27,6 +27,8 @@ import {
   removeJoint,
   setWorldGravity,
   spawnBody,
+  strayBodies,
+  TICK_RATE,
   type WireJoint,
 } from '../shared/index.ts'
 import { viewJoints } from './joint-view.ts'
@@ -85,6 +87,10 @@ export class OfflineSandbox implements Sandbox {
       for (let i = 0; i < steps - 1; i++) this.world.step()
       this.view.capturePrevious(this.world)
       this.world.step()
+      // Once a second, as a room does: bodies that left the world (below the kill plane) go.
+      if (Math.floor(this.world.tick / TICK_RATE) !== Math.floor((this.world.tick - steps) / TICK_RATE)) {
+        for (const id of strayBodies(this.world)) this.apply({ k: 'delete', body: id })
+      }
       this.stepMs += ((performance.now() - start) / steps - this.stepMs) * 0.1
       this.contactCache = null
     }

@@ -24,6 +24,12 @@ export const WORLD_HALF_EXTENT = 500
 /** Bodies further than this from the origin (m) are removed by the room, so numbers stay small. */
 export const KILL_DISTANCE = 1000
 
+/**
+ * The kill plane (m): a body below it has left the world (flung off the ground, which every scene
+ * puts at y = 0) and is removed, so it neither falls forever awake nor stretches the camera's fit.
+ */
+export const KILL_PLANE_Y = -50
+
 /** Longest player name (UTF-16 code units). */
 export const MAX_NAME_LENGTH = 32
 

@@ -32,6 +32,7 @@ export {
   quantizePosition,
 } from './quantize.ts'
 export { FRAME_AWAKE, FRAME_PRESENT, QuantizedFrame } from './quantized-frame.ts'
+export { strayBodies } from './room-simulation.ts'
 export { fromWireShape, toWireShape, wireShapeVertices } from './shape-wire.ts'
 export { readUpdates, UPDATE_ABSOLUTE, UPDATE_AWAKE, updateSize, writeUpdates } from './snapshot-codec.ts'
 export { type EncodeStats, SnapshotEncoder } from './snapshot-encoder.ts'

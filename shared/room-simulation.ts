@@ -17,7 +17,7 @@
  * A refused command returns a reason; nothing here throws to the caller.
  */
 import { createWorld, SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
-import { KILL_DISTANCE, TICK_RATE } from './constants.ts'
+import { KILL_DISTANCE, KILL_PLANE_Y, TICK_RATE } from './constants.ts'
 import { buildSceneJoints } from './joint-wire.ts'
 import type { Command, SpawnCommand, WireJoint } from './messages.ts'
 import {
@@ -96,6 +96,23 @@ const NO_LISTENER: SimulationListener = {
   roomChanged: () => {},
   cursorChanged: () => {},
   worldReplaced: () => {},
+}
+
+/**
+ * The movable bodies that have left the world: below the kill plane (KILL_PLANE_Y), beyond
+ * KILL_DISTANCE, or with a non-finite position. Rooms remove them once a second (with a removal
+ * event); the offline sandbox does the same.
+ */
+export function strayBodies(world: World): number[] {
+  const p = { x: 0, y: 0 }
+  const out: number[] = []
+  for (const id of world.bodyIds()) {
+    if (world.getBodyType(id) === 'static') continue
+    world.getPosition(id, p)
+    if (!(Math.abs(p.x) <= KILL_DISTANCE) || !(Math.abs(p.y) <= KILL_DISTANCE) || !(p.y >= KILL_PLANE_Y))
+      out.push(id)
+  }
+  return out
 }
 
 /** A world built from a scene blueprint, with the scene's joints as they travel. */
@@ -336,11 +353,6 @@ export class RoomSimulation {
 
   /** Once a second: remove movable bodies that left the world or whose position is not finite. */
   private sweep(): void {
-    const p = { x: 0, y: 0 }
-    for (const id of this.world.bodyIds()) {
-      if (this.world.getBodyType(id) === 'static') continue
-      this.world.getPosition(id, p)
-      if (!(Math.abs(p.x) <= KILL_DISTANCE) || !(Math.abs(p.y) <= KILL_DISTANCE)) this.removeBody(id)
-    }
+    for (const id of strayBodies(this.world)) this.removeBody(id)
   }
 }

@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest'
 import { circle } from '../../engine/index.ts'
-import type { Command } from '../../shared/index.ts'
+import { type Command, KILL_PLANE_Y } from '../../shared/index.ts'
 import { RoomSimulation, type SimulationObserver } from '../../shared/room-simulation.ts'
 
 /** One recorded state change, as a recorder would log it. */
@@ -208,7 +208,7 @@ describe('RoomSimulation', { timeout: 60_000 }, () => {
     expect(seen).toEqual(['move'])
   })
 
-  it('the once-a-second sweep removes bodies beyond the kill distance and bodies with non-finite positions', () => {
+  it('the once-a-second sweep removes bodies beyond the kill distance, below the kill plane, and with non-finite positions', () => {
     const removed: number[] = []
     const sim = new RoomSimulation({
       ...options,
@@ -238,6 +238,16 @@ describe('RoomSimulation', { timeout: 60_000 }, () => {
       shape: circle(1),
       position: { x: 0, y: 50 },
     })
+    const fallen = sim.world.createBody({
+      type: 'dynamic',
+      shape: circle(1),
+      position: { x: 3, y: KILL_PLANE_Y - 0.5 },
+    })
+    const above = sim.world.createBody({
+      type: 'dynamic',
+      shape: circle(1),
+      position: { x: 6, y: KILL_PLANE_Y + 0.5 },
+    })
     sim.world.setGravity({ x: 0, y: 0 })
     // No public API makes a position non-finite (a solver blow-up would): write the body's field.
     const internal = sim.world as unknown as { body(id: number): { x: number; cx: number } }
@@ -246,7 +256,8 @@ describe('RoomSimulation', { timeout: 60_000 }, () => {
     for (let t = 0; t < 59; t++) sim.runTick()
     expect(removed).toEqual([])
     sim.runTick()
-    expect(removed.sort()).toEqual([far, lost].sort())
+    expect(removed.sort()).toEqual([far, lost, fallen].sort())
     expect(sim.world.hasBody(near)).toBe(true)
+    expect(sim.world.hasBody(above)).toBe(true)
   })
 })
