@@ -34,6 +34,12 @@ export interface ServerConfig {
   roomControls: boolean
   staticDir: string
   replayDir: string
+  record: boolean
+  replayFsync: string
+  keyframeTicks: number
+  replayMaxBytes: number
+  replayKeep: number
+  recover: boolean
   logLevel: string
   stallSeconds: number
   drainSeconds: number
@@ -50,6 +56,9 @@ export interface ServerConfig {
   publicUrl: string
   directoryTtlSeconds: number
 }
+
+/** When the recorder calls fsync: never, after each once-a-second flush, or after every tick's write. */
+export const FSYNC_MODES = ['none', 'interval', 'always']
 
 type Kind = 'int' | 'string' | 'bool'
 
@@ -276,6 +285,58 @@ export const SETTINGS: readonly Setting[] = [
     help: 'where rooms write input logs (replay recorder)',
   },
   {
+    key: 'record',
+    flag: '--record',
+    env: 'RECORD',
+    kind: 'bool',
+    fallback: true,
+    help: 'record every room into an input log in the replay directory',
+  },
+  {
+    key: 'replayFsync',
+    flag: '--replay-fsync',
+    env: 'REPLAY_FSYNC',
+    kind: 'string',
+    fallback: 'interval',
+    help: 'fsync of logs: none, interval (after each flush, at least once a second) or always (every tick)',
+  },
+  {
+    key: 'keyframeTicks',
+    flag: '--keyframe-ticks',
+    env: 'KEYFRAME_TICKS',
+    kind: 'int',
+    fallback: 600,
+    min: 60,
+    max: 216_000,
+    help: 'ticks between saved-world keyframes in a log (seek and recovery start points)',
+  },
+  {
+    key: 'replayMaxBytes',
+    flag: '--replay-max-bytes',
+    env: 'REPLAY_MAX_BYTES',
+    kind: 'int',
+    fallback: 256 * 1024 * 1024,
+    min: 65_536,
+    help: 'size at which a room log is closed and a new one started',
+  },
+  {
+    key: 'replayKeep',
+    flag: '--replay-keep',
+    env: 'REPLAY_KEEP',
+    kind: 'int',
+    fallback: 200,
+    min: 1,
+    help: 'logs kept in the replay directory; the oldest closed ones are deleted',
+  },
+  {
+    key: 'recover',
+    flag: '--recover',
+    env: 'RECOVER',
+    kind: 'bool',
+    fallback: true,
+    help: 'at start, reopen rooms whose log has no clean close (after a crash) where the log ends',
+  },
+  {
     key: 'logLevel',
     flag: '--log-level',
     env: 'LOG_LEVEL',
@@ -419,6 +480,9 @@ export function loadConfig(
   }
   if (result.publicUrl !== '' && !/^wss?:\/\/[^\s/?#]+$/.test(result.publicUrl)) {
     throw new Error(`public URL must be ws://HOST:PORT or wss://HOST (no path), got "${result.publicUrl}"`)
+  }
+  if (!FSYNC_MODES.includes(result.replayFsync)) {
+    throw new Error(`replay fsync must be one of ${FSYNC_MODES.join(', ')}, got "${result.replayFsync}"`)
   }
   if (!LOG_LEVELS.includes(result.logLevel)) {
     throw new Error(`log level must be one of ${LOG_LEVELS.join(', ')}, got "${result.logLevel}"`)

@@ -1,7 +1,9 @@
 /*
  * Plain HTTP on the same port as the WebSocket endpoint: the built browser client as static files,
- * health and readiness probes, Prometheus metrics, and the open rooms as JSON for the lobby.
- * Static paths are resolved inside the static directory only (no traversal), GET and HEAD only.
+ * health and readiness probes, Prometheus metrics, the open rooms as JSON for the lobby, and the
+ * replay logs (GET /replays lists them, GET /replays/NAME downloads one). Static paths are resolved
+ * inside the static directory only (no traversal); a replay name must match the log name pattern
+ * exactly, so it can only name a file directly inside the replay directory. GET and HEAD only.
  * A request target that does not parse (`//%`) is answered 400 (http-request-url.ts).
  */
 import { createReadStream } from 'node:fs'
@@ -11,6 +13,7 @@ import { extname, join, normalize, resolve, sep } from 'node:path'
 import type { Logger } from 'pino'
 import { parseRequestTarget } from './http-request-url.ts'
 import type { ServerMetrics } from './metrics.ts'
+import type { Recordings } from './recordings.ts'
 import type { RoomManager } from './room-manager.ts'
 
 const TYPES: Record<string, string> = {
@@ -31,6 +34,7 @@ const TYPES: Record<string, string> = {
 export interface RouteContext {
   staticDir: string
   rooms: RoomManager
+  recordings?: Recordings
   metrics: ServerMetrics
   log: Logger
   /** False while shutting down (readiness fails so load balancers stop sending players). */
@@ -72,7 +76,16 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
         return
       case '/rooms':
         return send(res, 200, 'application/json', JSON.stringify(listRooms(ctx.rooms)))
+      case '/replays':
+        if (!ctx.recordings) return send(res, 404, 'text/plain', 'not found\n')
+        ctx.recordings.list().then(
+          (logs) => send(res, 200, 'application/json', JSON.stringify(logs)),
+          () => send(res, 500, 'text/plain', 'listing failed\n'),
+        )
+        return
       default:
+        if (url.pathname.startsWith('/replays/') && ctx.recordings)
+          return serveReplay(ctx.recordings, url.pathname.slice('/replays/'.length), req, res, ctx.log)
         serveStatic(root, url.pathname, req, res, ctx.log)
     }
   }
@@ -89,6 +102,35 @@ export function listRooms(
     scene: r.scene,
     tick: r.tick,
   }))
+}
+
+/** Send one replay log; 400 for a name that is not a plain file name, 404 for any other non-log. */
+function serveReplay(
+  recordings: Recordings,
+  encoded: string,
+  req: IncomingMessage,
+  res: ServerResponse,
+  log: Logger,
+): void {
+  let name = ''
+  try {
+    name = decodeURIComponent(encoded)
+  } catch {
+    // Left empty: refused below.
+  }
+  if (name === '' || /[/\\\0]/.test(name) || name.includes('..')) {
+    send(res, 400, 'text/plain', 'bad replay name\n')
+    return
+  }
+  const dir = resolve(recordings.dir)
+  const file = join(dir, name)
+  if (!recordings.isLogName(name) || !file.startsWith(dir + sep)) {
+    send(res, 404, 'text/plain', 'no such replay\n')
+    return
+  }
+  serveFile(file, 'application/octet-stream', req, res, log, () =>
+    send(res, 404, 'text/plain', 'no such replay\n'),
+  )
 }
 
 function serveStatic(
@@ -115,22 +157,37 @@ function serveStatic(
     send(res, 404, 'text/plain', 'not found\n')
     return
   }
+  serveFile(file, TYPES[extname(file)] ?? 'application/octet-stream', req, res, log, () =>
+    send(res, 404, 'text/plain', 'not found (is the client built? run npm start)\n'),
+  )
+}
+
+/** Stream a regular file, or call `missing`. */
+function serveFile(
+  file: string,
+  type: string,
+  req: IncomingMessage,
+  res: ServerResponse,
+  log: Logger,
+  missing: () => void,
+): void {
   stat(file).then(
     (info) => {
-      if (!info.isFile()) return send(res, 404, 'text/plain', 'not found\n')
+      if (!info.isFile()) return missing()
       res.writeHead(200, {
-        'content-type': TYPES[extname(file)] ?? 'application/octet-stream',
+        'content-type': type,
         'content-length': info.size,
         'cache-control': 'no-cache',
       })
-      if (req.method === 'HEAD') return res.end()
-      createReadStream(file)
+      if (req.method === 'HEAD' || info.size === 0) return res.end()
+      // A log may grow while it is sent: send the size announced, no more.
+      createReadStream(file, { end: info.size - 1 })
         .on('error', (error) => {
           log.warn({ err: error.message, file }, 'static file read failed')
           res.destroy()
         })
         .pipe(res)
     },
-    () => send(res, 404, 'text/plain', 'not found (is the client built? run npm start)\n'),
+    () => missing(),
   )
 }

@@ -23,6 +23,8 @@ export interface ServerMetrics {
   slowClientsClosed: Counter
   desyncs: Counter
   connectionsRefused: Counter<'reason'>
+  recorderFailures: Counter
+  roomsRecovered: Counter
 }
 
 /** Create the metrics on a fresh registry; `processMetrics` adds Node's default process metrics. */
@@ -104,6 +106,16 @@ export function createMetrics(processMetrics: boolean): ServerMetrics {
       name: 'concord_connections_refused_total',
       help: 'TCP connections and upgrades refused, by reason (caps, origin, token)',
       labelNames: ['reason'],
+      registers,
+    }),
+    recorderFailures: new Counter({
+      name: 'concord_recorder_failures_total',
+      help: 'Room recordings stopped by a write error (the rooms kept running)',
+      registers,
+    }),
+    roomsRecovered: new Counter({
+      name: 'concord_rooms_recovered_total',
+      help: 'Rooms reopened from their logs after a crash',
       registers,
     }),
   }

@@ -20,6 +20,8 @@ export class RoomManager {
   onRoomCreated: ((room: Room) => void) | null = null
   /** Called when a room is disposed (e.g. to release it in the room directory). */
   onRoomDisposed: ((name: string) => void) | null = null
+  /** Called with the room when it is disposed (e.g. to close its recorder). */
+  onRoomClosed: ((room: Room) => void) | null = null
   /** Called after every clock tick with the number of ticks run so far (liveness, Agones pings). */
   onTick: ((tick: number) => void) | null = null
   private ticks = 0
@@ -134,6 +136,7 @@ export class RoomManager {
     this.metrics.roomDroppedTicks.remove({ room: room.name })
     this.overBudget.delete(room.name)
     this.log.info({ room: room.name }, 'room disposed')
+    this.onRoomClosed?.(room)
     this.onRoomDisposed?.(room.name)
   }
 

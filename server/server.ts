@@ -1,8 +1,9 @@
 /*
  * The server as a value: startServer(config) opens one HTTP server that carries the static client,
- * the probes, /metrics, /rooms and the WebSocket endpoint, starts the room clock and the default
- * room, and returns a handle whose close() shuts everything down gracefully: stop accepting, tell
- * clients why, stop the clock, close the listener. main.ts wires it to the command line and
+ * the probes, /metrics, /rooms, /replays and the WebSocket endpoint, reopens rooms from logs left
+ * by a crash (recordings.ts), starts the room clock and the default room, and returns a handle whose
+ * close() shuts everything down gracefully: stop accepting, tell clients why, stop the clock, close
+ * every log cleanly, close the listener. main.ts wires it to the command line and
  * signals; the tests start it in-process on port 0.
  */
 import { createServer, type Server } from 'node:http'
@@ -16,6 +17,7 @@ import { ConnectionGuard, timeoutCheckInterval, tuneHttpTimeouts } from './http-
 import { rawHttpResponse } from './http-request-url.ts'
 import { createRequestHandler } from './http-routes.ts'
 import { createMetrics, type ServerMetrics } from './metrics.ts'
+import { Recordings } from './recordings.ts'
 import { RoomDirectory } from './room-directory.ts'
 import { RoomManager } from './room-manager.ts'
 import { TickHealth } from './tick-health.ts'
@@ -29,6 +31,8 @@ export interface RunningServer {
   config: ServerConfig
   http: Server
   rooms: RoomManager
+  /** The room recorders and the replay directory. */
+  recordings: Recordings
   transport: Transport
   /** Every TCP connection, counted against the caps. */
   guard: ConnectionGuard
@@ -61,6 +65,8 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   const log = options.logger ?? pino({ level: config.logLevel })
   const metrics = createMetrics(options.processMetrics ?? true)
   const rooms = new RoomManager(config, metrics, log)
+  const recordings = new Recordings(config, metrics, log)
+  await recordings.start(rooms)
   const transport = new Transport(config, rooms, metrics, log)
   const directory = config.redisUrl
     ? new RoomDirectory(config.redisUrl, config.directoryTtlSeconds * 1000, log)
@@ -78,6 +84,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   const routes = createRequestHandler({
     staticDir: config.staticDir,
     rooms,
+    recordings,
     metrics,
     log,
     ready: () => ready,
@@ -152,6 +159,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
       await transport.closeAll(CLOSE_CODES.goingAway, reason, 2000)
       rooms.clock.stop()
       health.remove('main')
+      await recordings.closeAll(reason)
       http.closeAllConnections()
       await listenerClosed
       await directory?.close()
@@ -178,6 +186,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     config,
     http,
     rooms,
+    recordings,
     transport,
     guard,
     metrics,

@@ -47,6 +47,11 @@ export function encodeMessage(message: ClientMessage | ServerMessage): Uint8Arra
   return packr.pack(hasNonFinite(message) ? withFiniteNumbers(message) : message)
 }
 
+/** Encode any plain value (maps, arrays, strings, numbers, byte arrays) as standard MessagePack. */
+export function encodeValue(value: unknown): Uint8Array {
+  return packr.pack(value)
+}
+
 /** Decode MessagePack bytes into an unvalidated value; never throws. */
 export function decodeValue(bytes: Uint8Array): DecodeResult<unknown> {
   if (bytes.length === 0) return { ok: false, code: 'malformed', reason: 'empty frame' }

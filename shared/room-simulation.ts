@@ -51,6 +51,20 @@ export interface SimPlayer {
   cursorY: number
 }
 
+/** Everything besides the world that a resumed simulation needs (a keyframe's state). */
+export interface SimulationState {
+  tick: number
+  scene: string
+  paused: boolean
+  stepRequested: boolean
+  /** Room tick of the last scene load or reset, or null for never. */
+  lastLoadTick: number | null
+  /** Players in join order, with their grabs and cursors. */
+  players: Array<{ id: number; grab: Grab | null; cursorX: number; cursorY: number }>
+  /** User joints in creation order. */
+  userJoints: WireJoint[]
+}
+
 /** World side effects, for the owner to turn into wire events. Called synchronously. */
 export interface SimulationListener {
   bodyAdded(id: number): void
@@ -69,6 +83,8 @@ export interface SimulationListener {
 export interface SimulationObserver {
   /** An accepted command, just applied at room tick `tick` (before that tick's step). */
   command(tick: number, playerId: number, cmd: Command): void
+  /** A tick ended: the world stepped (unless paused) and the room tick is now `tick`. */
+  ticked?(tick: number): void
   join(tick: number, playerId: number, name: string, color: string): void
   leave(tick: number, playerId: number): void
   /** The world was replaced from outside a command (a benchmark blueprint, a restored keyframe). */
@@ -193,6 +209,7 @@ export class RoomSimulation {
     this.stepRequested = false
     this.tick++
     if (this.tick % TICK_RATE === 0) this.sweep()
+    for (const o of this.observers) o.ticked?.(this.tick)
   }
 
   /** Replace the world with a fresh copy of a named scene (SCENES). */
@@ -209,6 +226,48 @@ export class RoomSimulation {
   loadWorld(scene: string, world: World, joints: Iterable<WireJoint> = []): void {
     this.replaceWorld(scene, world, joints)
     for (const o of this.observers) o.worldLoaded(this.tick, scene)
+  }
+
+  /** This simulation's state besides the world (save the world with world.save()). */
+  saveState(): SimulationState {
+    return {
+      tick: this.tick,
+      scene: this.scene,
+      paused: this.paused,
+      stepRequested: this.stepRequested,
+      lastLoadTick: Number.isFinite(this.lastLoadTick) ? this.lastLoadTick : null,
+      players: [...this.players].map(([id, p]) => ({
+        id,
+        grab: p.grab ? { ...p.grab } : null,
+        cursorX: p.cursorX,
+        cursorY: p.cursorY,
+      })),
+      userJoints: [...this.userJoints.values()].map((j) => ({ ...j })),
+    }
+  }
+
+  /**
+   * Resume from a saved state and world (a keyframe): afterwards this simulation steps exactly as
+   * the one that saved them. Observers are not told (the state came from them); the listener sees a
+   * replaced world.
+   */
+  restoreState(state: SimulationState, world: World): void {
+    this.tick = state.tick
+    this.scene = state.scene
+    this.paused = state.paused
+    this.stepRequested = state.stepRequested
+    this.lastLoadTick = state.lastLoadTick ?? Number.NEGATIVE_INFINITY
+    this.world = world
+    this.players.clear()
+    this.grabCounts.clear()
+    for (const p of state.players) {
+      this.players.set(p.id, { grab: p.grab ? { ...p.grab } : null, cursorX: p.cursorX, cursorY: p.cursorY })
+      if (p.grab) this.grabCounts.set(p.grab.body, (this.grabCounts.get(p.grab.body) ?? 0) + 1)
+    }
+    this.userJoints.clear()
+    for (const j of state.userJoints) this.userJoints.set(j.id, { ...j })
+    this.listener.worldReplaced()
+    this.listener.roomChanged()
   }
 
   /** Destroy a body and everything attached to it (grabs, user joints). */

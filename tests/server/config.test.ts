@@ -34,11 +34,14 @@ describe('server configuration', () => {
     ['a bad room name', [], { DEFAULT_ROOM: '../x' }],
     ['an unknown log level', ['--log-level', 'loud'], {}],
     ['a non-boolean', ['--room-controls', 'maybe'], {}],
+    ['an unknown fsync mode', ['--replay-fsync', 'sometimes'], {}],
+    ['a keyframe interval below a second', [], { KEYFRAME_TICKS: '10' }],
+    ['a non-boolean record flag', [], { RECORD: 'perhaps' }],
   ]
   for (const [what, argv, env] of bad) {
     it(`refuses ${what} with a message naming the setting`, () => {
       expect(() => loadConfig(argv, env)).toThrow(
-        /port|snapshot|unknown option|needs a value|scene|room|log level|room-controls/i,
+        /port|snapshot|unknown option|needs a value|scene|room|log level|room-controls|replay fsync|KEYFRAME_TICKS|RECORD must/i,
       )
     })
   }

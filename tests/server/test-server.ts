@@ -18,6 +18,7 @@ export async function startTestServer(
       port: 0,
       host: '127.0.0.1',
       defaultScene: 'empty',
+      record: false,
       heartbeatMs: 1000,
       joinTimeoutMs: 2000,
       roomIdleSeconds: 1,

@@ -1,0 +1,144 @@
+/*
+ * Recording for a whole server: a RoomRecorder per room while recording is on (--record), closed
+ * when the room is disposed and, cleanly, at shutdown; the replay directory's listing for
+ * GET /replays; and, at startup with --recover, the rooms whose newest log has no clean close are
+ * rebuilt from it and reopened where it ends (recovery.ts). A directory that cannot be created
+ * turns recording off with one log line and a metric; rooms run either way.
+ */
+import { mkdir } from 'node:fs/promises'
+import type { Logger } from 'pino'
+import type { ServerConfig } from './config.ts'
+import type { ServerMetrics } from './metrics.ts'
+import { type OpenLog, RoomRecorder } from './recorder.ts'
+import { type RecoveredRoom, recoverLog, truncateToCheckpoint } from './recovery.ts'
+import { isLogName, type LogSummary, listLogNames, listLogs, summarize } from './replay-files.ts'
+import type { Room } from './room.ts'
+import type { RoomManager } from './room-manager.ts'
+
+/** The server's recorders (see the file comment). */
+export class Recordings {
+  readonly recorders = new Map<string, RoomRecorder>()
+  /** Names of logs being written. */
+  readonly openNames = new Set<string>()
+  private enabled: boolean
+  private readonly recovered = new Map<string, RecoveredRoom>()
+  /** Tests inject failing file operations here. */
+  openLog: OpenLog | undefined
+
+  constructor(
+    private readonly config: ServerConfig,
+    private readonly metrics: ServerMetrics,
+    private readonly log: Logger,
+  ) {
+    this.enabled = config.record
+  }
+
+  /** The replay directory. */
+  get dir(): string {
+    return this.config.replayDir
+  }
+
+  /**
+   * Create the directory and, with --recover, rebuild the rooms of logs without a clean close
+   * (they are reopened when `rooms` creates them, which this does). Call before opening any room.
+   */
+  async start(rooms: RoomManager): Promise<void> {
+    rooms.onRoomCreated = (room) => this.attach(room)
+    rooms.onRoomClosed = (room) => this.detach(room)
+    if (!this.enabled) return
+    try {
+      await mkdir(this.dir, { recursive: true })
+    } catch (error) {
+      this.enabled = false
+      this.metrics.recorderFailures.inc()
+      this.log.error(
+        { dir: this.dir, err: (error as Error).message },
+        'cannot create the replay directory; not recording',
+      )
+      return
+    }
+    if (!this.config.recover) return
+    for (const name of await this.unclosedLogs()) {
+      try {
+        const recovered = await recoverLog(this.dir, name)
+        await truncateToCheckpoint(this.dir, recovered)
+        this.recovered.set(recovered.room, recovered)
+        rooms.getOrCreate(recovered.room)
+      } catch (error) {
+        this.log.error({ log: name, err: (error as Error).message }, 'cannot recover a room from its log')
+      }
+    }
+  }
+
+  /** The newest log of each room, when it has no clean close. */
+  private async unclosedLogs(): Promise<string[]> {
+    const newest = new Map<string, string>()
+    for (const name of await listLogNames(this.dir)) newest.set(name.slice(0, name.search(/-\d{8}T/)), name)
+    const out: string[] = []
+    for (const name of newest.values()) {
+      const summary = await summarize(this.dir, name, this.openNames).catch(() => null)
+      if (summary && summary.status !== 'clean' && summary.status !== 'invalid') out.push(name)
+    }
+    return out
+  }
+
+  private attach(room: Room): void {
+    if (!this.enabled) return
+    const options = {
+      dir: this.dir,
+      fsync: this.config.replayFsync as 'none' | 'interval' | 'always',
+      keyframeTicks: this.config.keyframeTicks,
+      maxBytes: this.config.replayMaxBytes,
+      keep: this.config.replayKeep,
+      compress: true,
+      log: this.log,
+      failures: this.metrics.recorderFailures,
+      openNames: this.openNames,
+      openLog: this.openLog,
+    }
+    const recorder = new RoomRecorder(room.name, room.sim, options)
+    this.recorders.set(room.name, recorder)
+    const recovered = this.recovered.get(room.name)
+    if (!recovered) {
+      recorder.start()
+      return
+    }
+    this.recovered.delete(room.name)
+    const sim = recovered.runner.sim
+    room.sim.restoreState(sim.saveState(), sim.world)
+    room.nextPlayerId = recovered.maxPlayerId + 1
+    room.emptySince = room.tick
+    recorder.resume(recovered.name, recovered.size)
+    // The players of the crashed process are gone; they come back as new joins.
+    for (const id of [...room.sim.players.keys()]) room.sim.leave(id)
+    this.metrics.roomsRecovered.inc()
+    this.log.info(
+      { room: room.name, log: recovered.name, tick: recovered.tick, hash: recovered.hash },
+      'room recovered from its log',
+    )
+  }
+
+  private detach(room: Room): void {
+    const recorder = this.recorders.get(room.name)
+    if (!recorder) return
+    this.recorders.delete(room.name)
+    recorder.close('room closed').catch(() => {})
+  }
+
+  /** Close every log cleanly (shutdown). */
+  async closeAll(reason: string): Promise<void> {
+    const all = [...this.recorders.values()]
+    this.recorders.clear()
+    await Promise.all(all.map((r) => r.close(reason)))
+  }
+
+  /** Logs in the directory for GET /replays, newest first. */
+  list(): Promise<LogSummary[]> {
+    return listLogs(this.dir, this.openNames)
+  }
+
+  /** Whether `name` is a log name (so it can only name a file directly inside the directory). */
+  isLogName(name: string): boolean {
+    return isLogName(name)
+  }
+}

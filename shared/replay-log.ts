@@ -1,0 +1,309 @@
+/*
+ * The replay log format (docs/replay-format.md is the byte-level specification): a 16-byte
+ * preamble (magic, format, engine save-format and protocol versions, tick rate), then framed
+ * records, each length-prefixed and CRC-32 checked:
+ *
+ *   u32 length L | u8 type | u32 tick | payload (L - 5 bytes) | u32 CRC-32 of the 4 + L bytes before it
+ *
+ * The first record is the header (room, scene, start time, rules, and a keyframe: the
+ * simulation's state and saved world); then commands, joins, leaves, external world loads,
+ * hashes, keyframes and a clean close, in applied order with non-decreasing ticks.
+ *
+ * Pure and browser-safe (Uint8Array/DataView only). The reader is streaming: push() chunks as
+ * they arrive; it returns every complete, intact record and stops for good at the first torn or
+ * corrupt one (bad length, bad checksum, undecodable payload, a tick going backwards), so a crash's
+ * torn tail is cut, never misread. Saved worlds may be deflated (zlib stream, RFC 1950): the
+ * writer passes compressed bytes in, the reader hands them out untouched (see replay-runner.ts).
+ */
+import { decodeValue, encodeValue } from './codec.ts'
+import { crc32 } from './crc32.ts'
+import type { Command, WireJoint } from './messages.ts'
+import type { SimulationState } from './room-simulation.ts'
+import { validateClientMessage } from './validate.ts'
+
+/** The 8 magic bytes opening every log: ASCII "CNCRDLOG". */
+export const REPLAY_MAGIC = new Uint8Array([0x43, 0x4e, 0x43, 0x52, 0x44, 0x4c, 0x4f, 0x47])
+/** Version of this format. */
+export const REPLAY_FORMAT_VERSION = 1
+/** Preamble size in bytes. */
+export const PREAMBLE_BYTES = 16
+/** Largest record body (type + tick + payload) accepted: 64 MiB. */
+export const MAX_RECORD_BYTES = 64 * 1024 * 1024
+/** Bytes a record adds around its payload: length, type, tick, CRC. */
+export const RECORD_OVERHEAD = 13
+
+/** Record type codes. */
+export const RecordType = {
+  header: 1,
+  command: 2,
+  join: 3,
+  leave: 4,
+  world: 5,
+  hash: 6,
+  keyframe: 7,
+  close: 8,
+} as const
+
+/** How a saved world is stored: 0 as is, 1 deflated (zlib stream). */
+export type WorldEncoding = 0 | 1
+
+/** A saved world as stored in a header, keyframe or world record. */
+export interface StoredWorld {
+  /** 0: `world` is World.save() bytes; 1: they are deflated (zlib, RFC 1950). */
+  z: WorldEncoding
+  world: Uint8Array
+}
+
+/** The versions in a log's preamble. */
+export interface Preamble {
+  format: number
+  engine: number
+  protocol: number
+  tickRate: number
+}
+
+/** One decoded record. */
+export type ReplayRecord =
+  | ({
+      type: 'header'
+      tick: number
+      room: string
+      scene: string
+      /** Wall-clock start, UTC ms since 1970. */
+      start: number
+      maxBodies: number
+      controls: boolean
+      state: SimulationState
+    } & StoredWorld)
+  | { type: 'command'; tick: number; player: number; cmd: Command }
+  | { type: 'join'; tick: number; player: number; name: string; color: string }
+  | { type: 'leave'; tick: number; player: number }
+  | ({ type: 'world'; tick: number; scene: string } & StoredWorld)
+  | { type: 'hash'; tick: number; hash: number; step: number }
+  | ({ type: 'keyframe'; tick: number; state: SimulationState } & StoredWorld)
+  | { type: 'close'; tick: number; reason: string; end: number }
+
+/** Encode the 16-byte preamble. */
+export function encodePreamble(p: Preamble): Uint8Array {
+  const out = new Uint8Array(PREAMBLE_BYTES)
+  out.set(REPLAY_MAGIC)
+  const view = new DataView(out.buffer)
+  view.setUint16(8, p.format, true)
+  view.setUint16(10, p.engine, true)
+  view.setUint16(12, p.protocol, true)
+  view.setUint16(14, p.tickRate, true)
+  return out
+}
+
+/** Frame one record: length, type, tick, payload, CRC-32. */
+function frame(type: number, tick: number, payload: Uint8Array): Uint8Array {
+  const body = 5 + payload.length
+  const out = new Uint8Array(4 + body + 4)
+  const view = new DataView(out.buffer)
+  view.setUint32(0, body, true)
+  out[4] = type
+  view.setUint32(5, tick, true)
+  out.set(payload, 9)
+  view.setUint32(4 + body, crc32(out, 0, 4 + body), true)
+  return out
+}
+
+const u32 = (n: number, rest?: Uint8Array): Uint8Array => {
+  const out = new Uint8Array(4 + (rest?.length ?? 0))
+  new DataView(out.buffer).setUint32(0, n, true)
+  if (rest) out.set(rest, 4)
+  return out
+}
+
+/** Encode one record as framed bytes ready to append. */
+export function encodeRecord(r: ReplayRecord): Uint8Array {
+  switch (r.type) {
+    case 'header': {
+      const { room, scene, start, maxBodies, controls, state, z, world } = r
+      return frame(1, r.tick, encodeValue({ room, scene, start, maxBodies, controls, state, z, world }))
+    }
+    case 'command':
+      return frame(2, r.tick, u32(r.player, encodeValue(r.cmd)))
+    case 'join':
+      return frame(3, r.tick, u32(r.player, encodeValue({ name: r.name, color: r.color })))
+    case 'leave':
+      return frame(4, r.tick, u32(r.player))
+    case 'world':
+      return frame(5, r.tick, encodeValue({ scene: r.scene, z: r.z, world: r.world }))
+    case 'hash': {
+      const payload = new Uint8Array(8)
+      const view = new DataView(payload.buffer)
+      view.setUint32(0, r.hash, true)
+      view.setUint32(4, r.step, true)
+      return frame(6, r.tick, payload)
+    }
+    case 'keyframe':
+      return frame(7, r.tick, encodeValue({ state: r.state, z: r.z, world: r.world }))
+    case 'close':
+      return frame(8, r.tick, encodeValue({ reason: r.reason, end: r.end }))
+  }
+}
+
+/** Why a record or preamble was refused. */
+export class ReplayFormatError extends Error {}
+
+type Fields = Record<string, unknown>
+
+function map(v: unknown, what: string): Fields {
+  if (typeof v !== 'object' || v === null || Array.isArray(v) || v instanceof Uint8Array)
+    throw new ReplayFormatError(`${what} is not a map`)
+  return v as Fields
+}
+function int(v: unknown, what: string, min = 0, max = Number.MAX_SAFE_INTEGER): number {
+  if (typeof v !== 'number' || !Number.isInteger(v) || v < min || v > max)
+    throw new ReplayFormatError(`${what} is not an integer in [${min}, ${max}]: ${String(v).slice(0, 40)}`)
+  return v
+}
+function finite(v: unknown, what: string): number {
+  if (typeof v !== 'number' || !Number.isFinite(v))
+    throw new ReplayFormatError(`${what} is not a finite number`)
+  return v
+}
+function str(v: unknown, what: string): string {
+  if (typeof v !== 'string' || v.length > 256) throw new ReplayFormatError(`${what} is not a short string`)
+  return v
+}
+function bool(v: unknown, what: string): boolean {
+  if (typeof v !== 'boolean') throw new ReplayFormatError(`${what} is not a boolean`)
+  return v
+}
+function storedWorld(m: Fields): StoredWorld {
+  const z = int(m.z, 'world encoding', 0, 1) as WorldEncoding
+  if (!(m.world instanceof Uint8Array)) throw new ReplayFormatError('world is not a byte array')
+  return { z, world: m.world }
+}
+function joint(v: unknown): WireJoint {
+  const m = map(v, 'user joint')
+  const kind = m.kind
+  if (kind !== 'pin' && kind !== 'rope') throw new ReplayFormatError('user joint kind is not pin or rope')
+  return {
+    id: int(m.id, 'joint id'),
+    kind,
+    a: int(m.a, 'joint body a'),
+    b: int(m.b, 'joint body b'),
+    ax: finite(m.ax, 'joint ax'),
+    ay: finite(m.ay, 'joint ay'),
+    bx: finite(m.bx, 'joint bx'),
+    by: finite(m.by, 'joint by'),
+    length: finite(m.length, 'joint length'),
+  }
+}
+function simState(v: unknown): SimulationState {
+  const m = map(v, 'state')
+  if (!Array.isArray(m.players) || !Array.isArray(m.userJoints))
+    throw new ReplayFormatError('state lists missing')
+  return {
+    tick: int(m.tick, 'state tick'),
+    scene: str(m.scene, 'state scene'),
+    paused: bool(m.paused, 'paused'),
+    stepRequested: bool(m.stepRequested, 'stepRequested'),
+    lastLoadTick: m.lastLoadTick === null ? null : int(m.lastLoadTick, 'lastLoadTick'),
+    players: m.players.map((p) => {
+      const f = map(p, 'player')
+      const g = f.grab === null ? null : map(f.grab, 'grab')
+      return {
+        id: int(f.id, 'player id'),
+        grab: g === null ? null : { joint: int(g.joint, 'grab joint'), body: int(g.body, 'grab body') },
+        cursorX: finite(f.cursorX, 'cursorX'),
+        cursorY: finite(f.cursorY, 'cursorY'),
+      }
+    }),
+    userJoints: m.userJoints.map(joint),
+  }
+}
+
+function msgpack(bytes: Uint8Array, what: string): unknown {
+  const decoded = decodeValue(bytes)
+  if (!decoded.ok) throw new ReplayFormatError(`${what}: ${decoded.reason}`)
+  return decoded.value
+}
+
+/** Decode a record body (type, tick, payload) already checked by its CRC; throws ReplayFormatError. */
+export function decodeRecordBody(body: Uint8Array): ReplayRecord {
+  const view = new DataView(body.buffer, body.byteOffset, body.byteLength)
+  const type = body[0]
+  const tick = view.getUint32(1, true)
+  const payload = body.subarray(5)
+  const player = (): number => {
+    if (payload.length < 4) throw new ReplayFormatError('record too short for a player id')
+    return view.getUint32(5, true)
+  }
+  switch (type) {
+    case 1: {
+      const m = map(msgpack(payload, 'header'), 'header')
+      return {
+        type: 'header',
+        tick,
+        room: str(m.room, 'room'),
+        scene: str(m.scene, 'scene'),
+        start: int(m.start, 'start time'),
+        maxBodies: int(m.maxBodies, 'maxBodies'),
+        controls: bool(m.controls, 'controls'),
+        state: simState(m.state),
+        ...storedWorld(m),
+      }
+    }
+    case 2: {
+      const id = player()
+      const checked = validateClientMessage({
+        t: 'input',
+        seq: 0,
+        cmd: msgpack(payload.subarray(4), 'command'),
+      })
+      if (!checked.ok) throw new ReplayFormatError(`command: ${checked.reason}`)
+      if (checked.value.t !== 'input') throw new ReplayFormatError('command is not an input')
+      return { type: 'command', tick, player: id, cmd: checked.value.cmd }
+    }
+    case 3: {
+      const id = player()
+      const m = map(msgpack(payload.subarray(4), 'join'), 'join')
+      return { type: 'join', tick, player: id, name: str(m.name, 'name'), color: str(m.color, 'color') }
+    }
+    case 4:
+      if (payload.length !== 4) throw new ReplayFormatError('leave record has the wrong size')
+      return { type: 'leave', tick, player: player() }
+    case 5: {
+      const m = map(msgpack(payload, 'world'), 'world')
+      return { type: 'world', tick, scene: str(m.scene, 'scene'), ...storedWorld(m) }
+    }
+    case 6:
+      if (payload.length !== 8) throw new ReplayFormatError('hash record has the wrong size')
+      return { type: 'hash', tick, hash: view.getUint32(5, true), step: view.getUint32(9, true) }
+    case 7: {
+      const m = map(msgpack(payload, 'keyframe'), 'keyframe')
+      return { type: 'keyframe', tick, state: simState(m.state), ...storedWorld(m) }
+    }
+    case 8: {
+      const m = map(msgpack(payload, 'close'), 'close')
+      return { type: 'close', tick, reason: str(m.reason, 'close reason'), end: int(m.end, 'end time') }
+    }
+    default:
+      throw new ReplayFormatError(`unknown record type ${type}`)
+  }
+}
+
+/** Read and check a preamble; throws ReplayFormatError naming what is wrong. */
+export function decodePreamble(bytes: Uint8Array): Preamble {
+  if (bytes.length < PREAMBLE_BYTES)
+    throw new ReplayFormatError(`too short for a replay log (${bytes.length} bytes)`)
+  for (let i = 0; i < REPLAY_MAGIC.length; i++)
+    if (bytes[i] !== REPLAY_MAGIC[i])
+      throw new ReplayFormatError('not a Concord replay log (bad magic bytes)')
+  const view = new DataView(bytes.buffer, bytes.byteOffset, PREAMBLE_BYTES)
+  const p = {
+    format: view.getUint16(8, true),
+    engine: view.getUint16(10, true),
+    protocol: view.getUint16(12, true),
+    tickRate: view.getUint16(14, true),
+  }
+  if (p.format !== REPLAY_FORMAT_VERSION)
+    throw new ReplayFormatError(
+      `unsupported replay format version ${p.format} (this build reads ${REPLAY_FORMAT_VERSION})`,
+    )
+  return p
+}
