@@ -12,6 +12,7 @@
  * and the room keeps running.
  */
 import { open as openFile } from 'node:fs/promises'
+import { hostname } from 'node:os'
 import { join } from 'node:path'
 import { promisify } from 'node:util'
 import { deflate } from 'node:zlib'
@@ -251,6 +252,8 @@ export class RoomRecorder implements SimulationObserver {
       maxBodies: sim.maxBodies,
       controls: sim.controls,
       state,
+      host: hostname(),
+      pid: process.pid,
       z,
       world,
     }))

@@ -6,6 +6,7 @@
  * turns recording off with one log line and a metric; rooms run either way.
  */
 import { mkdir } from 'node:fs/promises'
+import { hostname } from 'node:os'
 import type { Logger } from 'pino'
 import type { ServerConfig } from './config.ts'
 import type { ServerMetrics } from './metrics.ts'
@@ -14,6 +15,17 @@ import { type RecoveredRoom, recoverLog, truncateToCheckpoint } from './recovery
 import { isLogName, type LogSummary, listLogNames, listLogs, summarize } from './replay-files.ts'
 import type { Room } from './room.ts'
 import type { RoomManager } from './room-manager.ts'
+
+/** Whether the process that wrote a log still runs here (a different live process on this host). */
+function writerAlive(writer: { host: string; pid: number }): boolean {
+  if (writer.host !== hostname() || writer.pid === process.pid) return false
+  try {
+    process.kill(writer.pid, 0)
+    return true
+  } catch (error) {
+    return (error as NodeJS.ErrnoException).code === 'EPERM'
+  }
+}
 
 /** The server's recorders (see the file comment). */
 export class Recordings {
@@ -58,6 +70,12 @@ export class Recordings {
       return
     }
     if (!this.config.recover) return
+    if (this.config.redisUrl) {
+      // Rooms belong to whichever server claims them in the directory; reopening one here could
+      // run it twice.
+      this.log.info('room directory in use: rooms are not reopened from logs')
+      return
+    }
     for (const name of await this.unclosedLogs()) {
       try {
         const recovered = await recoverLog(this.dir, name)
@@ -77,7 +95,15 @@ export class Recordings {
     const out: string[] = []
     for (const name of newest.values()) {
       const summary = await summarize(this.dir, name, this.openNames).catch(() => null)
-      if (summary && summary.status !== 'clean' && summary.status !== 'invalid') out.push(name)
+      if (!summary || summary.status === 'clean' || summary.status === 'invalid') continue
+      if (summary.writer && writerAlive(summary.writer)) {
+        this.log.warn(
+          { log: name, writer: summary.writer },
+          'not recovering a log another live process writes',
+        )
+        continue
+      }
+      out.push(name)
     }
     return out
   }
@@ -133,8 +159,9 @@ export class Recordings {
   }
 
   /** Logs in the directory for GET /replays, newest first. */
-  list(): Promise<LogSummary[]> {
-    return listLogs(this.dir, this.openNames)
+  async list(): Promise<LogSummary[]> {
+    // The writer (host name, process id) stays internal.
+    return (await listLogs(this.dir, this.openNames)).map(({ writer: _, ...summary }) => summary)
   }
 
   /** Whether `name` is a log name (so it can only name a file directly inside the directory). */

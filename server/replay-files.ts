@@ -40,6 +40,8 @@ export interface LogSummary {
   status: 'clean' | 'recording' | 'torn' | 'corrupt' | 'invalid'
   /** Why it is torn, corrupt or invalid. */
   problem?: string
+  /** The process that wrote it. */
+  writer?: { host: string; pid: number }
 }
 
 /** Everything learned from reading a log through once, without loading any world. */
@@ -106,6 +108,7 @@ export async function summarize(dir: string, name: string, open: ReadonlySet<str
       size: info.size,
       status: statusOf(scan.status),
     }
+    if (scan.header) summary.writer = { host: scan.header.host, pid: scan.header.pid }
     if (scan.status.reason) summary.problem = scan.status.reason
     else if (!scan.status.closed) summary.problem = 'no clean-close record'
     cache.set(path, { size: info.size, mtime: info.mtimeMs, summary })

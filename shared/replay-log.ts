@@ -74,6 +74,9 @@ export type ReplayRecord =
       maxBodies: number
       controls: boolean
       state: SimulationState
+      /** The writing process: host name and process id (recovery skips logs of live writers). */
+      host: string
+      pid: number
     } & StoredWorld)
   | { type: 'command'; tick: number; player: number; cmd: Command }
   | { type: 'join'; tick: number; player: number; name: string; color: string }
@@ -119,8 +122,12 @@ const u32 = (n: number, rest?: Uint8Array): Uint8Array => {
 export function encodeRecord(r: ReplayRecord): Uint8Array {
   switch (r.type) {
     case 'header': {
-      const { room, scene, start, maxBodies, controls, state, z, world } = r
-      return frame(1, r.tick, encodeValue({ room, scene, start, maxBodies, controls, state, z, world }))
+      const { room, scene, start, maxBodies, controls, state, host, pid, z, world } = r
+      return frame(
+        1,
+        r.tick,
+        encodeValue({ room, scene, start, maxBodies, controls, state, host, pid, z, world }),
+      )
     }
     case 'command':
       return frame(2, r.tick, u32(r.player, encodeValue(r.cmd)))
@@ -245,6 +252,8 @@ export function decodeRecordBody(body: Uint8Array): ReplayRecord {
         maxBodies: int(m.maxBodies, 'maxBodies'),
         controls: bool(m.controls, 'controls'),
         state: simState(m.state),
+        host: str(m.host, 'host'),
+        pid: int(m.pid, 'pid'),
         ...storedWorld(m),
       }
     }

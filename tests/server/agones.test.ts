@@ -37,6 +37,7 @@ describe('Agones SDK integration', { timeout: 60_000 }, () => {
         stdio: ['ignore', 'pipe', 'inherit'],
         env: {
           ...process.env,
+          RECORD: 'false',
           AGONES_SDK_GRPC_PORT: String(sidecar.port),
           AGONES_SDK_HTTP_PORT: '1',
         },

@@ -27,7 +27,10 @@ function startServerProcess(): Promise<{ process: ChildProcess; port: number }> 
   const proc = spawn(
     process.execPath,
     ['--import', 'tsx', 'server/main.ts', '--port', '0', '--log-level', 'info', '--max-rejects', '20'],
-    { stdio: ['ignore', 'pipe', 'inherit'], env: { ...process.env, DEFAULT_SCENE: 'empty' } },
+    {
+      stdio: ['ignore', 'pipe', 'inherit'],
+      env: { ...process.env, DEFAULT_SCENE: 'empty', RECORD: 'false' },
+    },
   )
   child = proc
   return new Promise((resolve, reject) => {

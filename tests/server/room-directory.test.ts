@@ -34,7 +34,18 @@ function startServerProcess(redisUrl: string): Promise<ServerProcess> {
       '--import',
       'tsx',
       'server/main.ts',
-      ...['--port', '0', '--log-level', 'info', '--default-scene', 'empty', '--redis', redisUrl],
+      ...[
+        '--port',
+        '0',
+        '--log-level',
+        'info',
+        '--default-scene',
+        'empty',
+        '--redis',
+        redisUrl,
+        '--record',
+        'false',
+      ],
       ...['--directory-ttl-seconds', '2', '--room-idle-seconds', '1'],
     ],
     { stdio: ['ignore', 'pipe', 'inherit'] },
@@ -149,7 +160,17 @@ describe('room directory in Redis, two server processes', { timeout: 60_000 }, (
   it('a server whose Redis cannot be reached refuses to start, naming the URL', async () => {
     const proc = spawn(
       process.execPath,
-      ['--import', 'tsx', 'server/main.ts', '--port', '0', '--redis', 'redis://127.0.0.1:1'],
+      [
+        '--import',
+        'tsx',
+        'server/main.ts',
+        '--port',
+        '0',
+        '--redis',
+        'redis://127.0.0.1:1',
+        '--record',
+        'false',
+      ],
       {
         stdio: ['ignore', 'ignore', 'pipe'],
       },

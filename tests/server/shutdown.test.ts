@@ -16,7 +16,7 @@ function startServerProcess(): Promise<{ process: ChildProcess; port: number }> 
     ['--import', 'tsx', 'server/main.ts', '--port', '0', '--log-level', 'info'],
     {
       stdio: ['ignore', 'pipe', 'inherit'],
-      env: { ...process.env, DEFAULT_SCENE: 'tower' },
+      env: { ...process.env, DEFAULT_SCENE: 'tower', RECORD: 'false' },
     },
   )
   child = proc
