@@ -184,22 +184,40 @@ function storedWorld(m: Fields): StoredWorld {
   if (!(m.world instanceof Uint8Array)) throw new ReplayFormatError('world is not a byte array')
   return { z, world: m.world }
 }
+const JOINT_KINDS = ['pin', 'rod', 'rope', 'spring']
+const JOINT_NUMBERS = [
+  'ax',
+  'ay',
+  'bx',
+  'by',
+  'length',
+  'min',
+  'max',
+  'hz',
+  'damping',
+  'ref',
+  'lower',
+  'upper',
+  'speed',
+  'torque',
+] as const
+const JOINT_FLAGS = ['limit', 'motor', 'collide'] as const
+
 function joint(v: unknown): WireJoint {
   const m = map(v, 'user joint')
-  const kind = m.kind
-  if (kind !== 'pin' && kind !== 'rope') throw new ReplayFormatError('user joint kind is not pin or rope')
-  return {
+  if (typeof m.kind !== 'string' || !JOINT_KINDS.includes(m.kind))
+    throw new ReplayFormatError(`user joint kind is not one of ${JOINT_KINDS.join(', ')}`)
+  const out: Record<string, unknown> = {
     id: int(m.id, 'joint id'),
-    kind,
+    kind: m.kind,
     a: int(m.a, 'joint body a'),
     b: int(m.b, 'joint body b'),
-    ax: finite(m.ax, 'joint ax'),
-    ay: finite(m.ay, 'joint ay'),
-    bx: finite(m.bx, 'joint bx'),
-    by: finite(m.by, 'joint by'),
-    length: finite(m.length, 'joint length'),
   }
+  for (const k of JOINT_NUMBERS) out[k] = finite(m[k], `joint ${k}`)
+  for (const k of JOINT_FLAGS) out[k] = bool(m[k], `joint ${k}`)
+  return out as unknown as WireJoint
 }
+
 function simState(v: unknown): SimulationState {
   const m = map(v, 'state')
   if (!Array.isArray(m.players) || !Array.isArray(m.userJoints))

@@ -42,6 +42,17 @@ export function incompatibility(preamble: Preamble): string | null {
   return null
 }
 
+/** JSON with map keys sorted, so equal states compare equal whatever order their fields were built in. */
+function canonical(value: unknown): string {
+  return JSON.stringify(value, (_key, v: unknown) =>
+    v && typeof v === 'object' && !Array.isArray(v)
+      ? Object.fromEntries(
+          Object.entries(v as Record<string, unknown>).sort(([x], [y]) => (x < y ? -1 : x > y ? 1 : 0)),
+        )
+      : v,
+  )
+}
+
 /** Hex form of a 32-bit hash. */
 export const hex = (h: number): string => `0x${h.toString(16).padStart(8, '0')}`
 
@@ -165,8 +176,8 @@ export class ReplayRunner {
       })
       return
     }
-    const a = JSON.stringify(this.sim.saveState())
-    const b = JSON.stringify(k.state)
+    const a = canonical(this.sim.saveState())
+    const b = canonical(k.state)
     if (a !== b) this.diverged({ tick: k.tick, reason: 'keyframe room state differs from the replayed one' })
   }
 
