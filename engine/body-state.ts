@@ -11,7 +11,6 @@
  */
 import { type Body, DYNAMIC } from './body.ts'
 import { MAX_LINEAR_SPEED, MAX_ROTATION } from './constants.ts'
-import type { Joint } from './joint.ts'
 import type { StepContext } from './step-context.ts'
 
 /** Linear velocity x (m/s). */
@@ -53,22 +52,6 @@ export function loadSolverStates(awake: Body[], n: number, state: Float64Array):
     state[o + DQS] = 0
   }
   return state
-}
-
-/** Copies the solver state of the jointed awake bodies into their Body fields. */
-export function statesToJointBodies(state: Float64Array, joints: Joint[], count: number): void {
-  for (let i = 0; i < count; i++) {
-    stateToBody(state, joints[i].bodyA)
-    stateToBody(state, joints[i].bodyB)
-  }
-}
-
-/** Copies the jointed bodies' Body fields back into the solver state. */
-export function jointBodiesToStates(state: Float64Array, joints: Joint[], count: number): void {
-  for (let i = 0; i < count; i++) {
-    bodyToState(state, joints[i].bodyA)
-    bodyToState(state, joints[i].bodyB)
-  }
 }
 
 /**
@@ -180,17 +163,4 @@ export function stateToBody(state: Float64Array, b: Body): void {
   b.dpy = state[o + DPY]
   b.dqc = state[o + DQC]
   b.dqs = state[o + DQS]
-}
-
-/** Copies a body's fields into its solver state. */
-function bodyToState(state: Float64Array, b: Body): void {
-  if (b.solverIndex < 0) return
-  const o = stateOffset(b)
-  state[o + VX] = b.vx
-  state[o + VY] = b.vy
-  state[o + W] = b.w
-  state[o + DPX] = b.dpx
-  state[o + DPY] = b.dpy
-  state[o + DQC] = b.dqc
-  state[o + DQS] = b.dqs
 }

@@ -19,7 +19,8 @@
  * 0.1 %), and the implicit spring loses energy like a damping ratio of about h omega even when the
  * user asks for 0. That is the price of being stable at any stiffness.
  */
-import type { Joint, JointStepContext } from './joint.ts'
+import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
+import { clampImpulse, type Joint, type JointStepContext } from './joint.ts'
 import { Softness } from './softness.ts'
 
 const springSoftness = new Softness()
@@ -35,20 +36,20 @@ const RA_Y = 4
 const RB_X = 5
 const RB_Y = 6
 
-function computeAxis(joint: Joint): void {
-  const a = joint.bodyA
-  const b = joint.bodyB
+function computeAxis(joint: Joint, state: Float64Array): void {
+  const oA = joint.offsetA
+  const oB = joint.offsetB
   const g = geometry
-  const rAx = a.dqc * joint.anchorAx - a.dqs * joint.anchorAy
-  const rAy = a.dqs * joint.anchorAx + a.dqc * joint.anchorAy
-  const rBx = b.dqc * joint.anchorBx - b.dqs * joint.anchorBy
-  const rBy = b.dqs * joint.anchorBx + b.dqc * joint.anchorBy
+  const rAx = state[oA + DQC] * joint.anchorAx - state[oA + DQS] * joint.anchorAy
+  const rAy = state[oA + DQS] * joint.anchorAx + state[oA + DQC] * joint.anchorAy
+  const rBx = state[oB + DQC] * joint.anchorBx - state[oB + DQS] * joint.anchorBy
+  const rBy = state[oB + DQS] * joint.anchorBx + state[oB + DQC] * joint.anchorBy
   g[RA_X] = rAx
   g[RA_Y] = rAy
   g[RB_X] = rBx
   g[RB_Y] = rBy
-  const dx = b.dpx - a.dpx + joint.deltaCenterX + rBx - rAx
-  const dy = b.dpy - a.dpy + joint.deltaCenterY + rBy - rAy
+  const dx = state[oB + DPX] - state[oA + DPX] + joint.deltaCenterX + rBx - rAx
+  const dy = state[oB + DPY] - state[oA + DPY] + joint.deltaCenterY + rBy - rAy
   const length = Math.sqrt(dx * dx + dy * dy)
   g[LENGTH] = length
   if (length > 1e-12) {
@@ -61,9 +62,9 @@ function computeAxis(joint: Joint): void {
 }
 
 /** Per-step preparation of a distance joint. */
-export function prepareDistance(joint: Joint, ctx: JointStepContext): void {
+export function prepareDistance(joint: Joint, state: Float64Array, ctx: JointStepContext): void {
   // The sub-step deltas are the identity before the sub-steps: this is the step-start geometry.
-  computeAxis(joint)
+  computeAxis(joint, state)
   const a = joint.bodyA
   const b = joint.bodyB
   const g = geometry
@@ -87,48 +88,68 @@ function hasLimits(joint: Joint): boolean {
   return joint.minLength < joint.maxLength
 }
 
-function applyAxial(joint: Joint, impulse: number): void {
+function applyAxial(joint: Joint, state: Float64Array, impulse: number): void {
   const a = joint.bodyA
   const b = joint.bodyB
+  const oA = joint.offsetA
+  const oB = joint.offsetB
   const g = geometry
   const px = impulse * g[AXIS_X]
   const py = impulse * g[AXIS_Y]
-  a.vx -= a.invMass * px
-  a.vy -= a.invMass * py
-  a.w -= a.invInertia * (g[RA_X] * py - g[RA_Y] * px)
-  b.vx += b.invMass * px
-  b.vy += b.invMass * py
-  b.w += b.invInertia * (g[RB_X] * py - g[RB_Y] * px)
+  state[oA + VX] -= a.invMass * px
+  state[oA + VY] -= a.invMass * py
+  state[oA + W] -= a.invInertia * (g[RA_X] * py - g[RA_Y] * px)
+  state[oB + VX] += b.invMass * px
+  state[oB + VY] += b.invMass * py
+  state[oB + W] += b.invInertia * (g[RB_X] * py - g[RB_Y] * px)
 }
 
 /** Applies the accumulated impulses of a distance joint. */
-export function warmStartDistance(joint: Joint): void {
-  computeAxis(joint)
-  applyAxial(joint, joint.impulse + joint.lowerImpulse - joint.upperImpulse)
+export function warmStartDistance(joint: Joint, state: Float64Array): void {
+  computeAxis(joint, state)
+  applyAxial(joint, state, joint.impulse + joint.lowerImpulse - joint.upperImpulse)
 }
 
-function axialSpeed(joint: Joint): number {
-  const a = joint.bodyA
-  const b = joint.bodyB
+function axialSpeed(joint: Joint, state: Float64Array): number {
+  const oA = joint.offsetA
+  const oB = joint.offsetB
   const g = geometry
-  const vx = b.vx - b.w * g[RB_Y] - (a.vx - a.w * g[RA_Y])
-  const vy = b.vy + b.w * g[RB_X] - (a.vy + a.w * g[RA_X])
+  const wA = state[oA + W]
+  const wB = state[oB + W]
+  const vx = state[oB + VX] - wB * g[RB_Y] - (state[oA + VX] - wA * g[RA_Y])
+  const vy = state[oB + VY] + wB * g[RB_X] - (state[oA + VY] + wA * g[RA_X])
   return vx * g[AXIS_X] + vy * g[AXIS_Y]
 }
 
+/** Adds `impulse` to the rigid/spring impulse within the joint's cap; returns what was added. */
+function accumulate(joint: Joint, impulse: number): number {
+  const old = joint.impulse
+  const sum = old + impulse
+  if (Math.abs(sum) <= joint.maxImpulse) {
+    joint.impulse = sum
+    return impulse
+  }
+  joint.impulse = clampImpulse(sum, joint.maxImpulse)
+  return joint.impulse - old
+}
+
 /** One iteration of a distance joint. */
-export function solveDistance(joint: Joint, ctx: JointStepContext, useBias: boolean): void {
-  computeAxis(joint)
+export function solveDistance(
+  joint: Joint,
+  state: Float64Array,
+  ctx: JointStepContext,
+  useBias: boolean,
+): void {
+  computeAxis(joint, state)
   const limits = hasLimits(joint)
   if (joint.hertz > 0) {
     // Soft spring toward the rest length (always biased: the spring is the physics, not correction).
     const C = geometry[LENGTH] - joint.length
     const bias = joint.springBiasRate * C
-    const cdot = axialSpeed(joint)
+    const cdot = axialSpeed(joint, state)
     const impulse =
       -joint.springMassScale * joint.axialMass * (cdot + bias) - joint.springImpulseScale * joint.impulse
-    joint.impulse += impulse
-    applyAxial(joint, impulse)
+    applyAxial(joint, state, accumulate(joint, impulse))
   } else if (!limits) {
     const C = geometry[LENGTH] - joint.length
     let bias = 0
@@ -139,19 +160,25 @@ export function solveDistance(joint: Joint, ctx: JointStepContext, useBias: bool
       massScale = ctx.jointSoftness.massScale
       impulseScale = ctx.jointSoftness.impulseScale
     }
-    const cdot = axialSpeed(joint)
+    const cdot = axialSpeed(joint, state)
     const impulse = -massScale * joint.axialMass * (cdot + bias) - impulseScale * joint.impulse
-    joint.impulse += impulse
-    applyAxial(joint, impulse)
+    applyAxial(joint, state, accumulate(joint, impulse))
   }
   if (limits) {
-    if (joint.minLength > 0) solveLimit(joint, ctx, useBias, geometry[LENGTH] - joint.minLength, 1)
-    solveLimit(joint, ctx, useBias, joint.maxLength - geometry[LENGTH], -1)
+    if (joint.minLength > 0) solveLimit(joint, state, ctx, useBias, geometry[LENGTH] - joint.minLength, 1)
+    solveLimit(joint, state, ctx, useBias, joint.maxLength - geometry[LENGTH], -1)
   }
 }
 
 /** A one-sided length limit; sign +1 keeps length >= min (pushes), -1 keeps length <= max (pulls). */
-function solveLimit(joint: Joint, ctx: JointStepContext, useBias: boolean, C: number, sign: number): void {
+function solveLimit(
+  joint: Joint,
+  state: Float64Array,
+  ctx: JointStepContext,
+  useBias: boolean,
+  C: number,
+  sign: number,
+): void {
   let bias = 0
   let massScale = 1
   let impulseScale = 0
@@ -162,11 +189,11 @@ function solveLimit(joint: Joint, ctx: JointStepContext, useBias: boolean, C: nu
     impulseScale = ctx.jointSoftness.impulseScale
   }
   const accumulated = sign > 0 ? joint.lowerImpulse : joint.upperImpulse
-  const cdot = sign * axialSpeed(joint)
+  const cdot = sign * axialSpeed(joint, state)
   let impulse = -massScale * joint.axialMass * (cdot + bias) - impulseScale * accumulated
-  const newImpulse = Math.max(accumulated + impulse, 0)
+  const newImpulse = Math.max(clampImpulse(accumulated + impulse, joint.maxImpulse), 0)
   impulse = newImpulse - accumulated
   if (sign > 0) joint.lowerImpulse = newImpulse
   else joint.upperImpulse = newImpulse
-  applyAxial(joint, sign * impulse)
+  applyAxial(joint, state, sign * impulse)
 }

@@ -25,7 +25,11 @@ export function buildJoint(
     const b = bodyOf(def.body)
     const target = finiteVec('target', def.target)
     const joint = new Joint(id, MOUSE, ground, b)
-    const local = def.localAnchor ? finiteVec('localAnchor', def.localAnchor) : localPoint(b, target)
+    const local = reach(
+      'localAnchor',
+      b,
+      def.localAnchor ? finiteVec('localAnchor', def.localAnchor) : localPoint(b, target),
+    )
     joint.localAnchorBx = local.x
     joint.localAnchorBy = local.y
     joint.targetX = target.x
@@ -44,8 +48,8 @@ export function buildJoint(
   // A pin usually lies inside both bodies, so they must not collide; a rope, rod or spring keeps
   // its bodies apart only along its axis, so they collide like any two bodies.
   joint.collideConnected = flag('collideConnected', def.collideConnected, def.type === 'distance')
-  const la = localPoint(a, anchorA)
-  const lb = localPoint(b, anchorB)
+  const la = reach(def.type === 'revolute' ? 'anchor' : 'anchorA', a, localPoint(a, anchorA))
+  const lb = reach(def.type === 'revolute' ? 'anchor' : 'anchorB', b, localPoint(b, anchorB))
   joint.localAnchorAx = la.x
   joint.localAnchorAy = la.y
   joint.localAnchorBx = lb.x
@@ -77,13 +81,39 @@ function configureDistance(
   const dx = pb.x - pa.x
   const dy = pb.y - pa.y
   const current = Math.sqrt(dx * dx + dy * dy)
-  joint.length = inRange('length', def.length ?? current, 0.001, 1e6)
+  // Coincident anchors make a rod of the shortest length rather than an error.
+  joint.length = inRange(
+    'length',
+    def.length ?? Math.max(current, MIN_JOINT_LENGTH),
+    MIN_JOINT_LENGTH,
+    MAX_JOINT_REACH,
+  )
   // A def that gives only maxLength (and no spring) is a rope: it must never push.
   const ropeDefault = def.maxLength !== undefined && def.hertz === undefined ? 0 : joint.length
   joint.minLength = inRange('minLength', def.minLength ?? ropeDefault, 0, joint.length)
-  joint.maxLength = inRange('maxLength', def.maxLength ?? joint.length, joint.length, 1e6)
+  joint.maxLength = inRange('maxLength', def.maxLength ?? joint.length, joint.length, MAX_JOINT_REACH)
   joint.hertz = inRange('hertz', def.hertz ?? 0, 0, 1e6)
   joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? (joint.hertz > 0 ? 0.7 : 0), 0, 1e6)
+}
+
+/** Shortest distance joint (m). */
+const MIN_JOINT_LENGTH = 0.001
+/**
+ * Farthest an anchor may lie from its body's origin, and longest distance joint (m). Far beyond any
+ * sensible world, it only keeps the lever arms' products (r^2 / I) finite: with anchors at 1e300 m
+ * they overflowed to Infinity and the bodies became NaN.
+ */
+const MAX_JOINT_REACH = 1e6
+
+/** A local anchor, checked to lie within MAX_JOINT_REACH of the body's origin. */
+function reach(name: string, b: Body, local: Vec2): Vec2 {
+  if (Math.abs(local.x) > MAX_JOINT_REACH || Math.abs(local.y) > MAX_JOINT_REACH) {
+    const where = b.id === 0 ? 'the world origin' : `body ${b.id}`
+    throw new RangeError(
+      `${name} must lie within ${MAX_JOINT_REACH} m of ${where}, got (${local.x}, ${local.y}) from it`,
+    )
+  }
+  return local
 }
 
 function flag(name: string, value: boolean | undefined, fallback: boolean): boolean {

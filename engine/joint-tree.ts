@@ -41,7 +41,8 @@
  * warm. Arithmetic is + - * / only.
  */
 import type { Body } from './body.ts'
-import { type Joint, type JointStepContext, REVOLUTE } from './joint.ts'
+import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
+import { accumulateX, accumulateY, type Joint, type JointStepContext, REVOLUTE } from './joint.ts'
 
 /** Body slot of a joint end: solverIndex + 1 for a body the solver moves, 0 for a fixed body. */
 function slotOf(b: Body): number {
@@ -204,7 +205,7 @@ export function prepareJointTree(joints: Joint[], count: number): void {
 }
 
 /** Solves every tree joint's point constraint at once; `useBias` adds the position correction. */
-export function solveJointTree(ctx: JointStepContext, useBias: boolean): void {
+export function solveJointTree(state: Float64Array, ctx: JointStepContext, useBias: boolean): void {
   const t = tree
   const n = t.count
   if (n === 0) return
@@ -217,17 +218,19 @@ export function solveJointTree(ctx: JointStepContext, useBias: boolean): void {
   // 1. Arms at the current rotation, and r = J v + bias for each joint (as in solveRevolute).
   for (let k = 0; k < n; k++) {
     const j = t.joints[k]
-    const a = j.bodyA
-    const b = j.bodyB
-    const rAx = a.dqc * j.anchorAx - a.dqs * j.anchorAy
-    const rAy = a.dqs * j.anchorAx + a.dqc * j.anchorAy
-    const rBx = b.dqc * j.anchorBx - b.dqs * j.anchorBy
-    const rBy = b.dqs * j.anchorBx + b.dqc * j.anchorBy
-    let rx = b.vx - b.w * rBy - (a.vx - a.w * rAy)
-    let ry = b.vy + b.w * rBx - (a.vy + a.w * rAx)
+    const oA = j.offsetA
+    const oB = j.offsetB
+    const rAx = state[oA + DQC] * j.anchorAx - state[oA + DQS] * j.anchorAy
+    const rAy = state[oA + DQS] * j.anchorAx + state[oA + DQC] * j.anchorAy
+    const rBx = state[oB + DQC] * j.anchorBx - state[oB + DQS] * j.anchorBy
+    const rBy = state[oB + DQS] * j.anchorBx + state[oB + DQC] * j.anchorBy
+    const wA = state[oA + W]
+    const wB = state[oB + W]
+    let rx = state[oB + VX] - wB * rBy - (state[oA + VX] - wA * rAy)
+    let ry = state[oB + VY] + wB * rBx - (state[oA + VY] + wA * rAx)
     if (useBias) {
-      rx += biasRate * (b.dpx - a.dpx + (rBx - rAx) + j.deltaCenterX)
-      ry += biasRate * (b.dpy - a.dpy + (rBy - rAy) + j.deltaCenterY)
+      rx += biasRate * (state[oB + DPX] - state[oA + DPX] + (rBx - rAx) + j.deltaCenterX)
+      ry += biasRate * (state[oB + DPY] - state[oA + DPY] + (rBy - rAy) + j.deltaCenterY)
     }
     const o = JOINT_STRIDE * k
     jd[o] = rx
@@ -292,23 +295,24 @@ export function solveJointTree(ctx: JointStepContext, useBias: boolean): void {
   for (let k = 0; k < n; k++) {
     const j = t.joints[k]
     const o = JOINT_STRIDE * k
-    const ix = jd[o + 5]
-    const iy = jd[o + 6]
-    j.linearImpulseX += ix
-    j.linearImpulseY += iy
+    // Within the joint's cap (joint.ts): a singular or overflowing system adds nothing.
+    const ix = accumulateX(j, jd[o + 5])
+    const iy = accumulateY(j, jd[o + 6])
     const a = j.bodyA
     const b = j.bodyB
+    const oA = j.offsetA
+    const oB = j.offsetB
     const childIsB = t.childSign[k] > 0
     const rAx = childIsB ? arms[4 * k + 2] : arms[4 * k]
     const rAy = childIsB ? arms[4 * k + 3] : arms[4 * k + 1]
     const rBx = childIsB ? arms[4 * k] : arms[4 * k + 2]
     const rBy = childIsB ? arms[4 * k + 1] : arms[4 * k + 3]
-    a.vx -= a.invMass * ix
-    a.vy -= a.invMass * iy
-    a.w -= a.invInertia * (rAx * iy - rAy * ix)
-    b.vx += b.invMass * ix
-    b.vy += b.invMass * iy
-    b.w += b.invInertia * (rBx * iy - rBy * ix)
+    state[oA + VX] -= a.invMass * ix
+    state[oA + VY] -= a.invMass * iy
+    state[oA + W] -= a.invInertia * (rAx * iy - rAy * ix)
+    state[oB + VX] += b.invMass * ix
+    state[oB + VY] += b.invMass * iy
+    state[oB + W] += b.invInertia * (rBx * iy - rBy * ix)
   }
 }
 

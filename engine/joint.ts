@@ -10,6 +10,8 @@
  * the bodies update the constraint error without running any geometry again.
  */
 import type { Body } from './body.ts'
+import { stateOffset } from './body-state.ts'
+import { MAX_LINEAR_SPEED, MAX_ROTATION } from './constants.ts'
 import { prepareDistance, solveDistance, warmStartDistance } from './distance-joint.ts'
 import { prepareJointTree, solveJointTree } from './joint-tree.ts'
 import { atan2 } from './math.ts'
@@ -72,6 +74,12 @@ export class Joint {
   motorImpulse = 0
 
   // Per-step solver data
+  /** Offsets of the bodies' records in the solver state (record 0 for a fixed body). */
+  offsetA = 0
+  offsetB = 0
+  /** Caps on the accumulated linear (N s) and angular (N m s) impulses (see jointImpulseCaps). */
+  maxImpulse = 0
+  maxAngularImpulse = 0
   anchorAx = 0
   anchorAy = 0
   anchorBx = 0
@@ -114,11 +122,69 @@ export function prepareAnchors(joint: Joint): void {
   joint.deltaCenterY = b.cy - a.cy
 }
 
-/** Prepares every joint for the step. */
-export function prepareJoints(joints: Joint[], count: number, ctx: JointStepContext): void {
+/**
+ * Caps on a joint's accumulated impulses, so that no request (anchors hundreds of metres away,
+ * constraints that fight each other, a rod that cannot reach) can wind an impulse up without bound
+ * until it overflows: an impulse that would change both bodies' velocities by twice the speed
+ * limit is never needed (2 MAX_LINEAR_SPEED (mA + mB); the same about the bodies' extents, plus
+ * twice the spin limit for the inertias, for angular impulses). A joint holding a load sees
+ * m g h per sub-step: the cap is 19,200 times the two bodies' mass, far above any load a joint can
+ * carry stably (the chain blows up above about 2,000:1, see joint-tree.ts).
+ */
+function jointImpulseCaps(joint: Joint, ctx: JointStepContext): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  const mass = (a.invMass > 0 ? a.mass : 0) + (b.invMass > 0 ? b.mass : 0)
+  const inertia = (a.invInertia > 0 ? a.inertia : 0) + (b.invInertia > 0 ? b.inertia : 0)
+  joint.maxImpulse = 2 * MAX_LINEAR_SPEED * mass
+  joint.maxAngularImpulse =
+    joint.maxImpulse * (a.maxExtent + b.maxExtent) + 2 * MAX_ROTATION * ctx.invH * inertia
+}
+
+/** `impulse` within [-cap, cap]; NaN (which no finite input should produce) becomes 0. */
+export function clampImpulse(impulse: number, cap: number): number {
+  if (impulse > cap) return cap
+  if (impulse < -cap) return -cap
+  return Number.isNaN(impulse) ? 0 : impulse
+}
+
+/** Adds `impulse` to the accumulated x impulse within the joint's cap; returns what was added. */
+export function accumulateX(joint: Joint, impulse: number): number {
+  const old = joint.linearImpulseX
+  const sum = old + impulse
+  if (Math.abs(sum) <= joint.maxImpulse) {
+    joint.linearImpulseX = sum
+    return impulse
+  }
+  joint.linearImpulseX = clampImpulse(sum, joint.maxImpulse)
+  return joint.linearImpulseX - old
+}
+
+/** Adds `impulse` to the accumulated y impulse within the joint's cap; returns what was added. */
+export function accumulateY(joint: Joint, impulse: number): number {
+  const old = joint.linearImpulseY
+  const sum = old + impulse
+  if (Math.abs(sum) <= joint.maxImpulse) {
+    joint.linearImpulseY = sum
+    return impulse
+  }
+  joint.linearImpulseY = clampImpulse(sum, joint.maxImpulse)
+  return joint.linearImpulseY - old
+}
+
+/** Prepares every joint for the step (after the solver state is loaded: it records offsets). */
+export function prepareJoints(
+  joints: Joint[],
+  count: number,
+  state: Float64Array,
+  ctx: JointStepContext,
+): void {
   for (let i = 0; i < count; i++) {
     const joint = joints[i]
     prepareAnchors(joint)
+    joint.offsetA = stateOffset(joint.bodyA)
+    joint.offsetB = stateOffset(joint.bodyB)
+    jointImpulseCaps(joint, ctx)
     if (!ctx.enableWarmStarting) {
       joint.linearImpulseX = 0
       joint.linearImpulseY = 0
@@ -128,19 +194,19 @@ export function prepareJoints(joints: Joint[], count: number, ctx: JointStepCont
       joint.motorImpulse = 0
     }
     if (joint.type === REVOLUTE) prepareRevolute(joint)
-    else if (joint.type === DISTANCE) prepareDistance(joint, ctx)
+    else if (joint.type === DISTANCE) prepareDistance(joint, state, ctx)
     else prepareMouse(joint, ctx)
   }
   prepareJointTree(joints, count)
 }
 
-/** Applies every joint's accumulated impulses. */
-export function warmStartJoints(joints: Joint[], count: number): void {
+/** Applies every joint's accumulated impulses to the solver state. */
+export function warmStartJoints(joints: Joint[], count: number, state: Float64Array): void {
   for (let i = 0; i < count; i++) {
     const joint = joints[i]
-    if (joint.type === REVOLUTE) warmStartRevolute(joint)
-    else if (joint.type === DISTANCE) warmStartDistance(joint)
-    else warmStartMouse(joint)
+    if (joint.type === REVOLUTE) warmStartRevolute(joint, state)
+    else if (joint.type === DISTANCE) warmStartDistance(joint, state)
+    else warmStartMouse(joint, state)
   }
 }
 
@@ -148,14 +214,20 @@ export function warmStartJoints(joints: Joint[], count: number): void {
  * One iteration over the joints; `useBias` corrects position error, false is the relax pass.
  * Gauss-Seidel in id order, then the pins of the joint tree all at once (joint-tree.ts).
  */
-export function solveJoints(joints: Joint[], count: number, ctx: JointStepContext, useBias: boolean): void {
+export function solveJoints(
+  joints: Joint[],
+  count: number,
+  state: Float64Array,
+  ctx: JointStepContext,
+  useBias: boolean,
+): void {
   for (let i = 0; i < count; i++) {
     const joint = joints[i]
-    if (joint.type === REVOLUTE) solveRevolute(joint, ctx, useBias)
-    else if (joint.type === DISTANCE) solveDistance(joint, ctx, useBias)
-    else solveMouse(joint, ctx)
+    if (joint.type === REVOLUTE) solveRevolute(joint, state, ctx, useBias)
+    else if (joint.type === DISTANCE) solveDistance(joint, state, ctx, useBias)
+    else solveMouse(joint, state, ctx)
   }
-  solveJointTree(ctx, useBias)
+  solveJointTree(state, ctx, useBias)
 }
 
 /** Relative angle of rotation b with respect to rotation a, in [-pi, pi] (rad). */

@@ -4,6 +4,7 @@
  * body cannot be driven through walls or launched. Several mouse joints may act on one body (one
  * per player); each has its own accumulated impulse and cap. Body A is the world.
  */
+import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
 import { type Joint, type JointStepContext, solve22, solved2 } from './joint.ts'
 import { Softness } from './softness.ts'
 
@@ -18,29 +19,31 @@ export function prepareMouse(joint: Joint, ctx: JointStepContext): void {
 }
 
 /** Applies the accumulated impulse of a mouse joint. */
-export function warmStartMouse(joint: Joint): void {
+export function warmStartMouse(joint: Joint, state: Float64Array): void {
   const b = joint.bodyB
-  const rBx = b.dqc * joint.anchorBx - b.dqs * joint.anchorBy
-  const rBy = b.dqs * joint.anchorBx + b.dqc * joint.anchorBy
+  const oB = joint.offsetB
+  const rBx = state[oB + DQC] * joint.anchorBx - state[oB + DQS] * joint.anchorBy
+  const rBy = state[oB + DQS] * joint.anchorBx + state[oB + DQC] * joint.anchorBy
   const px = joint.linearImpulseX
   const py = joint.linearImpulseY
-  b.vx += b.invMass * px
-  b.vy += b.invMass * py
-  b.w += b.invInertia * (rBx * py - rBy * px)
+  state[oB + VX] += b.invMass * px
+  state[oB + VY] += b.invMass * py
+  state[oB + W] += b.invInertia * (rBx * py - rBy * px)
 }
 
 /** One iteration of a mouse joint (always soft: the spring is the behaviour, not a correction). */
-export function solveMouse(joint: Joint, ctx: JointStepContext): void {
+export function solveMouse(joint: Joint, state: Float64Array, ctx: JointStepContext): void {
   const b = joint.bodyB
+  const oB = joint.offsetB
   const mB = b.invMass
   const iB = b.invInertia
-  const rBx = b.dqc * joint.anchorBx - b.dqs * joint.anchorBy
-  const rBy = b.dqs * joint.anchorBx + b.dqc * joint.anchorBy
-  const cdotX = b.vx - b.w * rBy
-  const cdotY = b.vy + b.w * rBx
+  const rBx = state[oB + DQC] * joint.anchorBx - state[oB + DQS] * joint.anchorBy
+  const rBy = state[oB + DQS] * joint.anchorBx + state[oB + DQC] * joint.anchorBy
+  const cdotX = state[oB + VX] - state[oB + W] * rBy
+  const cdotY = state[oB + VY] + state[oB + W] * rBx
   // Error: the grabbed point (centre + delta + arm) minus the target.
-  const sepX = b.cx + b.dpx + rBx - joint.targetX
-  const sepY = b.cy + b.dpy + rBy - joint.targetY
+  const sepX = b.cx + state[oB + DPX] + rBx - joint.targetX
+  const sepY = b.cy + state[oB + DPY] + rBy - joint.targetY
   const k11 = mB + rBy * rBy * iB
   const k12 = -rBy * rBx * iB
   const k22 = mB + rBx * rBx * iB
@@ -51,16 +54,17 @@ export function solveMouse(joint: Joint, ctx: JointStepContext): void {
   let iy = oldY - joint.springMassScale * solved2[1] - joint.springImpulseScale * oldY
   const maxImpulse = joint.maxForce * ctx.h
   const lengthSquared = ix * ix + iy * iy
-  if (lengthSquared > maxImpulse * maxImpulse) {
-    const scale = maxImpulse / Math.sqrt(lengthSquared)
-    ix *= scale
-    iy *= scale
+  if (!(lengthSquared <= maxImpulse * maxImpulse)) {
+    // Too strong (or, from an overflow no finite input should cause, not finite): cap the force.
+    const scale = lengthSquared < Number.POSITIVE_INFINITY ? maxImpulse / Math.sqrt(lengthSquared) : 0
+    ix = scale > 0 ? ix * scale : 0
+    iy = scale > 0 ? iy * scale : 0
   }
   joint.linearImpulseX = ix
   joint.linearImpulseY = iy
   const dx = ix - oldX
   const dy = iy - oldY
-  b.vx += mB * dx
-  b.vy += mB * dy
-  b.w += iB * (rBx * dy - rBy * dx)
+  state[oB + VX] += mB * dx
+  state[oB + VY] += mB * dy
+  state[oB + W] += iB * (rBx * dy - rBy * dx)
 }

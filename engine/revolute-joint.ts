@@ -6,7 +6,17 @@
  * target speed is clamped by the limits so that no motor torque can push the joint through them.
  */
 
-import { type Joint, type JointStepContext, relativeAngle, solve22, solved2 } from './joint.ts'
+import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
+import {
+  accumulateX,
+  accumulateY,
+  clampImpulse,
+  type Joint,
+  type JointStepContext,
+  relativeAngle,
+  solve22,
+  solved2,
+} from './joint.ts'
 import { PI, TWO_PI } from './math.ts'
 
 /** Unwinds an angle into [-pi, pi]. */
@@ -31,38 +41,55 @@ export function prepareRevolute(joint: Joint): void {
 }
 
 /** Applies the accumulated impulses of a revolute joint. */
-export function warmStartRevolute(joint: Joint): void {
+export function warmStartRevolute(joint: Joint, state: Float64Array): void {
   const a = joint.bodyA
   const b = joint.bodyB
-  const rAx = a.dqc * joint.anchorAx - a.dqs * joint.anchorAy
-  const rAy = a.dqs * joint.anchorAx + a.dqc * joint.anchorAy
-  const rBx = b.dqc * joint.anchorBx - b.dqs * joint.anchorBy
-  const rBy = b.dqs * joint.anchorBx + b.dqc * joint.anchorBy
+  const oA = joint.offsetA
+  const oB = joint.offsetB
+  const rAx = state[oA + DQC] * joint.anchorAx - state[oA + DQS] * joint.anchorAy
+  const rAy = state[oA + DQS] * joint.anchorAx + state[oA + DQC] * joint.anchorAy
+  const rBx = state[oB + DQC] * joint.anchorBx - state[oB + DQS] * joint.anchorBy
+  const rBy = state[oB + DQS] * joint.anchorBx + state[oB + DQC] * joint.anchorBy
   const px = joint.linearImpulseX
   const py = joint.linearImpulseY
   const axial = joint.motorImpulse + joint.lowerImpulse - joint.upperImpulse
-  a.vx -= a.invMass * px
-  a.vy -= a.invMass * py
-  a.w -= a.invInertia * (rAx * py - rAy * px + axial)
-  b.vx += b.invMass * px
-  b.vy += b.invMass * py
-  b.w += b.invInertia * (rBx * py - rBy * px + axial)
+  state[oA + VX] -= a.invMass * px
+  state[oA + VY] -= a.invMass * py
+  state[oA + W] -= a.invInertia * (rAx * py - rAy * px + axial)
+  state[oB + VX] += b.invMass * px
+  state[oB + VY] += b.invMass * py
+  state[oB + W] += b.invInertia * (rBx * py - rBy * px + axial)
+}
+
+/** The joint angle now (rad): the step-start angle plus the sub-step rotations, unwound. */
+function jointAngle(joint: Joint, state: Float64Array): number {
+  const oA = joint.offsetA
+  const oB = joint.offsetB
+  const rel = relativeAngle(state[oB + DQC], state[oB + DQS], state[oA + DQC], state[oA + DQS])
+  return unwind(joint.deltaAngle + rel)
 }
 
 /** Solves the limits of a revolute joint (speculative, then soft when violated). */
-function solveLimits(joint: Joint, ctx: JointStepContext, useBias: boolean): void {
-  const a = joint.bodyA
-  const b = joint.bodyB
-  const jointAngle = unwind(joint.deltaAngle + relativeAngle(b.dqc, b.dqs, a.dqc, a.dqs))
-  solveLimit(joint, ctx, useBias, jointAngle - joint.lowerAngle, 1)
+function solveLimits(joint: Joint, state: Float64Array, ctx: JointStepContext, useBias: boolean): void {
+  const angle = jointAngle(joint, state)
+  solveLimit(joint, state, ctx, useBias, angle - joint.lowerAngle, 1)
   // Upper limit: the sign of everything flips.
-  solveLimit(joint, ctx, useBias, joint.upperAngle - jointAngle, -1)
+  solveLimit(joint, state, ctx, useBias, joint.upperAngle - angle, -1)
 }
 
 /** One-sided angle limit with error C (rad, positive = inside); sign +1 is the lower, -1 the upper. */
-function solveLimit(joint: Joint, ctx: JointStepContext, useBias: boolean, C: number, sign: number): void {
+function solveLimit(
+  joint: Joint,
+  state: Float64Array,
+  ctx: JointStepContext,
+  useBias: boolean,
+  C: number,
+  sign: number,
+): void {
   const a = joint.bodyA
   const b = joint.bodyB
+  const oA = joint.offsetA
+  const oB = joint.offsetB
   const soft = ctx.jointSoftness
   let bias = 0
   let massScale = 1
@@ -74,14 +101,14 @@ function solveLimit(joint: Joint, ctx: JointStepContext, useBias: boolean, C: nu
     impulseScale = soft.impulseScale
   }
   const accumulated = sign > 0 ? joint.lowerImpulse : joint.upperImpulse
-  const cdot = sign * (b.w - a.w)
+  const cdot = sign * (state[oB + W] - state[oA + W])
   let impulse = -joint.axialMass * massScale * (cdot + bias) - impulseScale * accumulated
-  const newImpulse = Math.max(accumulated + impulse, 0)
+  const newImpulse = Math.max(clampImpulse(accumulated + impulse, joint.maxAngularImpulse), 0)
   impulse = newImpulse - accumulated
   if (sign > 0) joint.lowerImpulse = newImpulse
   else joint.upperImpulse = newImpulse
-  a.w -= a.invInertia * (sign * impulse)
-  b.w += b.invInertia * (sign * impulse)
+  state[oA + W] -= a.invInertia * (sign * impulse)
+  state[oB + W] += b.invInertia * (sign * impulse)
 }
 
 /**
@@ -92,23 +119,28 @@ function solveLimit(joint: Joint, ctx: JointStepContext, useBias: boolean, C: nu
  * motor pushed a 0.1 kg arm 0.4 rad past its stop. With it the limit only carries external loads.
  * The net torque on the bodies is unchanged at rest (the motor holds instead of the stop).
  */
-function motorTarget(joint: Joint, ctx: JointStepContext): number {
+function motorTarget(joint: Joint, state: Float64Array, ctx: JointStepContext): number {
   let speed = joint.motorSpeed
   if (!joint.enableLimit) return speed
-  const a = joint.bodyA
-  const b = joint.bodyB
-  const jointAngle = unwind(joint.deltaAngle + relativeAngle(b.dqc, b.dqs, a.dqc, a.dqs))
-  const maxSpeed = (joint.upperAngle - jointAngle) * ctx.invH
-  const minSpeed = (joint.lowerAngle - jointAngle) * ctx.invH
+  const angle = jointAngle(joint, state)
+  const maxSpeed = (joint.upperAngle - angle) * ctx.invH
+  const minSpeed = (joint.lowerAngle - angle) * ctx.invH
   if (speed > maxSpeed) speed = maxSpeed
   if (speed < minSpeed) speed = minSpeed
   return speed
 }
 
 /** One iteration of a revolute joint: motor, limits, then the point constraint. */
-export function solveRevolute(joint: Joint, ctx: JointStepContext, useBias: boolean): void {
+export function solveRevolute(
+  joint: Joint,
+  state: Float64Array,
+  ctx: JointStepContext,
+  useBias: boolean,
+): void {
   const a = joint.bodyA
   const b = joint.bodyB
+  const oA = joint.offsetA
+  const oB = joint.offsetB
   const mA = a.invMass
   const mB = b.invMass
   const iA = a.invInertia
@@ -116,33 +148,35 @@ export function solveRevolute(joint: Joint, ctx: JointStepContext, useBias: bool
   const fixedRotation = iA + iB === 0
 
   if (joint.enableMotor && !fixedRotation) {
-    const cdot = b.w - a.w - motorTarget(joint, ctx)
+    const cdot = state[oB + W] - state[oA + W] - motorTarget(joint, state, ctx)
     let impulse = -joint.axialMass * cdot
     const old = joint.motorImpulse
     const maxImpulse = ctx.h * joint.maxMotorTorque
-    joint.motorImpulse = Math.max(-maxImpulse, Math.min(old + impulse, maxImpulse))
+    joint.motorImpulse = clampImpulse(old + impulse, Math.min(maxImpulse, joint.maxAngularImpulse))
     impulse = joint.motorImpulse - old
-    a.w -= iA * impulse
-    b.w += iB * impulse
+    state[oA + W] -= iA * impulse
+    state[oB + W] += iB * impulse
   }
-  if (joint.enableLimit && !fixedRotation) solveLimits(joint, ctx, useBias)
+  if (joint.enableLimit && !fixedRotation) solveLimits(joint, state, ctx, useBias)
   if (joint.inTree) return // the point constraint is solved directly (joint-tree.ts)
 
   // Point-to-point constraint, soft when correcting position error.
-  const rAx = a.dqc * joint.anchorAx - a.dqs * joint.anchorAy
-  const rAy = a.dqs * joint.anchorAx + a.dqc * joint.anchorAy
-  const rBx = b.dqc * joint.anchorBx - b.dqs * joint.anchorBy
-  const rBy = b.dqs * joint.anchorBx + b.dqc * joint.anchorBy
-  const cdotX = b.vx - b.w * rBy - (a.vx - a.w * rAy)
-  const cdotY = b.vy + b.w * rBx - (a.vy + a.w * rAx)
+  const rAx = state[oA + DQC] * joint.anchorAx - state[oA + DQS] * joint.anchorAy
+  const rAy = state[oA + DQS] * joint.anchorAx + state[oA + DQC] * joint.anchorAy
+  const rBx = state[oB + DQC] * joint.anchorBx - state[oB + DQS] * joint.anchorBy
+  const rBy = state[oB + DQS] * joint.anchorBx + state[oB + DQC] * joint.anchorBy
+  const wA = state[oA + W]
+  const wB = state[oB + W]
+  const cdotX = state[oB + VX] - wB * rBy - (state[oA + VX] - wA * rAy)
+  const cdotY = state[oB + VY] + wB * rBx - (state[oA + VY] + wA * rAx)
   let biasX = 0
   let biasY = 0
   let massScale = 1
   let impulseScale = 0
   if (useBias) {
     const soft = ctx.jointSoftness
-    const sepX = b.dpx - a.dpx + (rBx - rAx) + joint.deltaCenterX
-    const sepY = b.dpy - a.dpy + (rBy - rAy) + joint.deltaCenterY
+    const sepX = state[oB + DPX] - state[oA + DPX] + (rBx - rAx) + joint.deltaCenterX
+    const sepY = state[oB + DPY] - state[oA + DPY] + (rBy - rAy) + joint.deltaCenterY
     biasX = soft.biasRate * sepX
     biasY = soft.biasRate * sepY
     massScale = soft.massScale
@@ -152,14 +186,14 @@ export function solveRevolute(joint: Joint, ctx: JointStepContext, useBias: bool
   const k12 = -rAy * rAx * iA - rBy * rBx * iB
   const k22 = mA + mB + rAx * rAx * iA + rBx * rBx * iB
   solve22(k11, k12, k22, cdotX + biasX, cdotY + biasY)
-  const ix = -massScale * solved2[0] - impulseScale * joint.linearImpulseX
-  const iy = -massScale * solved2[1] - impulseScale * joint.linearImpulseY
-  joint.linearImpulseX += ix
-  joint.linearImpulseY += iy
-  a.vx -= mA * ix
-  a.vy -= mA * iy
-  a.w -= iA * (rAx * iy - rAy * ix)
-  b.vx += mB * ix
-  b.vy += mB * iy
-  b.w += iB * (rBx * iy - rBy * ix)
+  let ix = -massScale * solved2[0] - impulseScale * joint.linearImpulseX
+  let iy = -massScale * solved2[1] - impulseScale * joint.linearImpulseY
+  ix = accumulateX(joint, ix)
+  iy = accumulateY(joint, iy)
+  state[oA + VX] -= mA * ix
+  state[oA + VY] -= mA * iy
+  state[oA + W] -= iA * (rAx * iy - rAy * ix)
+  state[oB + VX] += mB * ix
+  state[oB + VY] += mB * iy
+  state[oB + W] += iB * (rBx * iy - rBy * ix)
 }

@@ -32,11 +32,9 @@ import { type Body, DYNAMIC, STATIC } from './body.ts'
 import {
   integratePositions,
   integrateVelocities,
-  jointBodiesToStates,
   limitBodyVelocity,
   loadSolverStates,
   STATE_STRIDE,
-  statesToJointBodies,
   stateToBody,
 } from './body-state.ts'
 import { MAX_ROTATION, SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
@@ -204,7 +202,7 @@ export class World extends WorldApi {
 
   /** Prepares the active joints for the step. */
   private prepareJoints(): void {
-    prepareJoints(this.activeJoints, this.activeJointCount, this.stepContext)
+    prepareJoints(this.activeJoints, this.activeJointCount, this.state, this.stepContext)
   }
 
   /** Copies the touching contacts into flat constraint records. */
@@ -225,21 +223,14 @@ export class World extends WorldApi {
 
   /** Sub-step: applies the accumulated joint and contact impulses. */
   private warmStart(): void {
-    if (this.activeJointCount > 0) {
-      statesToJointBodies(this.state, this.activeJoints, this.activeJointCount)
-      warmStartJoints(this.activeJoints, this.activeJointCount)
-      jointBodiesToStates(this.state, this.activeJoints, this.activeJointCount)
-    }
+    if (this.activeJointCount > 0) warmStartJoints(this.activeJoints, this.activeJointCount, this.state)
     warmStartContacts(this.constraints, this.state)
   }
 
   /** Sub-step: one iteration over joints, then contacts, with bias (position error is pushed out). */
   private solve(): void {
-    if (this.activeJointCount > 0) {
-      statesToJointBodies(this.state, this.activeJoints, this.activeJointCount)
-      solveJoints(this.activeJoints, this.activeJointCount, this.stepContext, true)
-      jointBodiesToStates(this.state, this.activeJoints, this.activeJointCount)
-    }
+    if (this.activeJointCount > 0)
+      solveJoints(this.activeJoints, this.activeJointCount, this.state, this.stepContext, true)
     solveContacts(this.constraints, this.state, this.stepContext, true)
   }
 
@@ -250,11 +241,8 @@ export class World extends WorldApi {
 
   /** Sub-step: one iteration over joints, then contacts, without bias (removes the push-out speed). */
   private relax(): void {
-    if (this.activeJointCount > 0) {
-      statesToJointBodies(this.state, this.activeJoints, this.activeJointCount)
-      solveJoints(this.activeJoints, this.activeJointCount, this.stepContext, false)
-      jointBodiesToStates(this.state, this.activeJoints, this.activeJointCount)
-    }
+    if (this.activeJointCount > 0)
+      solveJoints(this.activeJoints, this.activeJointCount, this.state, this.stepContext, false)
     solveContacts(this.constraints, this.state, this.stepContext, false)
   }
 
