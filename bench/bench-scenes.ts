@@ -137,7 +137,7 @@ export const BENCH_SCENES: readonly BenchScene[] = [
     description: 'A 20-row pyramid of 1 m boxes',
     defaultCount: 210,
     make: (count) => still(pyramidScene(pyramidRowsFor(count))),
-    steps: 300,
+    steps: 200,
   },
   {
     name: 'pyramid-50',
@@ -145,7 +145,7 @@ export const BENCH_SCENES: readonly BenchScene[] = [
     description: 'A 50-row pyramid of 1 m boxes',
     defaultCount: 1275,
     make: (count) => still(pyramidScene(pyramidRowsFor(count))),
-    steps: 200,
+    steps: 100,
   },
   {
     name: 'pile-1000',
@@ -153,7 +153,7 @@ export const BENCH_SCENES: readonly BenchScene[] = [
     description: 'Mixed circles, boxes and polygons dropped into a container',
     defaultCount: 1000,
     make: (count) => still(pileScene(count)),
-    steps: 300,
+    steps: 120,
   },
   {
     name: 'tower-10',
@@ -161,7 +161,7 @@ export const BENCH_SCENES: readonly BenchScene[] = [
     description: 'A tower of 10 boxes',
     defaultCount: 10,
     make: (count) => still(towerScene(count, false)),
-    steps: 300,
+    steps: 200,
   },
   {
     name: 'joint-grid',
@@ -169,7 +169,7 @@ export const BENCH_SCENES: readonly BenchScene[] = [
     description: 'A 20 x 20 grid of circles linked by revolute joints, hung from two corners',
     defaultCount: 400,
     make: (count) => still(jointGridScene(Math.max(2, Math.round(Math.sqrt(count))))),
-    steps: 300,
+    steps: 150,
   },
   {
     name: 'rain',
@@ -177,7 +177,7 @@ export const BENCH_SCENES: readonly BenchScene[] = [
     description: '500 mixed bodies arriving in rows over time into a container',
     defaultCount: 500,
     make: (count) => rainScene(count),
-    steps: 300,
+    steps: 200,
   },
 ]
 

@@ -22,6 +22,7 @@ import { parseArgs } from 'node:util'
 import { BENCH_SCENES, type BenchScene, benchScene } from './bench-scenes.ts'
 import type { ChildCommand, ChildReply } from './peer-child.ts'
 import { isPeerEngine, PEER_ENGINES, type PeerEngine } from './peers/peer-registry.ts'
+import { peersMarkdown } from './peers-markdown.ts'
 import { printCases, printScaling } from './peers-report.ts'
 import type { SceneQuality } from './scene-quality.ts'
 import { machineInfo, type Summary, saveResults, summarize } from './stats.ts'
@@ -31,10 +32,10 @@ import { barChart, lineChart } from './svg-chart.ts'
 const CHUNK_STEPS = 10
 /** Pile sizes of the scaling run, with the timed steps at each (fewer at large sizes). */
 const SCALING = [
-  { count: 250, steps: 200 },
-  { count: 1000, steps: 150 },
-  { count: 4000, steps: 60 },
-  { count: 16000, steps: 30 },
+  { count: 250, steps: 100 },
+  { count: 1000, steps: 60 },
+  { count: 4000, steps: 30 },
+  { count: 16000, steps: 15 },
 ]
 const CHILD = new URL('./peer-child.ts', import.meta.url).pathname
 
@@ -282,7 +283,7 @@ async function main(): Promise<void> {
   console.error(
     `peers bench on ${machine.cpu} x${machine.cores}, node ${machine.node}, load ${machine.loadAverage.toFixed(2)}`,
   )
-  const warmup = options.quick ? 5 : 60
+  const warmup = options.quick ? 5 : 30
   const cases: CaseResult[] = []
   if (options.scaling !== 'only') {
     for (const scene of options.scenes) {
@@ -319,8 +320,10 @@ async function main(): Promise<void> {
     cases,
     scaling,
   })
+  const markdown = options.out.replace(/\.json$/, '.md')
+  writeFileSync(markdown, peersMarkdown(cases, scaling))
   const charts = writeCharts(options.out, cases, scaling)
-  console.error(`saved ${options.out} and ${charts.join(', ')}`)
+  console.error(`saved ${options.out}, ${markdown} and ${charts.join(', ')}`)
 }
 
 await main()
