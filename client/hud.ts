@@ -8,9 +8,14 @@ const n = (v: number | null, digits = 0, unit = ''): string =>
   v === null ? '-' : `${v.toFixed(digits)}${unit}`
 
 /** The HUD text for one refresh. */
-export function hudText(s: SandboxStats, fps: number, mode: 'online' | 'offline', scene: string): string {
+export function hudText(
+  s: SandboxStats,
+  fps: number,
+  mode: 'online' | 'offline' | 'replay',
+  scene: string,
+): string {
   const lines = [
-    `${mode === 'online' ? `room ${s.room}` : 'offline'}  ${scene}  players ${s.players}`,
+    `${mode === 'offline' ? 'offline' : `${mode === 'replay' ? 'replay of' : 'room'} ${s.room}`}  ${scene}  players ${s.players}`,
     `tick ${s.tick}  fps ${fps.toFixed(0)}`,
     `bodies ${s.awake} awake / ${s.total}`,
   ]

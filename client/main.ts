@@ -3,6 +3,7 @@
  *   ?room=NAME      join that room on the server that served this page (a link invites a friend)
  *   ?offline        run the engine in the page, no server (&scene=NAME picks the scene); the
  *                   static build (npm run build:static) always runs offline
+ *   ?replay[=NAME]  play a recorded log: the server's log NAME, or pick one (list, file, drop)
  *   &name=NAME      player name (default: "guest" and a number)
  *   &server=URL     a WebSocket URL other than this page's origin (ws://host:port/ws)
  * Without ?room the page joins the server's default room and writes it into the address bar.
@@ -10,6 +11,7 @@
 import { App } from './app.ts'
 import { OfflineSandbox } from './offline-sandbox.ts'
 import { OnlineSandbox } from './online-sandbox.ts'
+import { ReplayPage } from './replay-page.ts'
 import type { Sandbox } from './sandbox.ts'
 
 function boot(): App {
@@ -38,7 +40,15 @@ declare global {
   interface Window {
     /** The running page, for the browser tests and for poking at the sandbox from the console. */
     concord: App
+    /** The replay page, in replay mode (`?replay`). */
+    concordReplay?: ReplayPage
   }
 }
 
-window.concord = boot()
+const replay = new URLSearchParams(location.search).get('replay')
+if (replay !== null) {
+  const base = location.protocol === 'file:' ? '' : `${location.protocol}//${location.host}`
+  window.concordReplay = new ReplayPage(base, replay)
+} else {
+  window.concord = boot()
+}

@@ -116,7 +116,8 @@ export type SandboxStatus =
 
 /** A running sandbox, online or offline. */
 export interface Sandbox {
-  readonly mode: 'online' | 'offline'
+  /** Where the physics runs: a server room, this page, or a recorded log played in this page. */
+  readonly mode: 'online' | 'offline' | 'replay'
   /** Advance to this animation frame (ms, performance.now()); cheap when nothing changed. */
   update(nowMs: number): void
   /** Bodies to draw this frame (the array and objects are reused between frames). */
