@@ -88,7 +88,9 @@ export class Connection {
     }
     if (message.t === 'error') this.lastError = { code: message.code, reason: message.reason }
     if (message.t === 'moved') {
-      this.url = `${message.url}/ws?room=${encodeURIComponent(message.room)}`
+      const key = new URL(this.url).searchParams.get('key')
+      const keyParam = key ? `&key=${encodeURIComponent(key)}` : ''
+      this.url = `${message.url}/ws?room=${encodeURIComponent(message.room)}${keyParam}`
       this.moved = true
     }
     this.handlers.message(message, data.byteLength)

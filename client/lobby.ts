@@ -16,7 +16,8 @@ export interface RoomInfo {
 /** The URL of a room on this page. */
 export function roomLink(room: string): string {
   const url = new URL(location.href)
-  url.search = `?room=${encodeURIComponent(room)}`
+  const key = url.searchParams.get('key')
+  url.search = `?room=${encodeURIComponent(room)}${key ? `&key=${encodeURIComponent(key)}` : ''}`
   return url.toString()
 }
 

@@ -4,6 +4,7 @@
  *   ?offline        run the engine in the page, no server (&scene=NAME picks the scene); the
  *                   static build (npm run build:static) always runs offline
  *   ?replay[=NAME]  play a recorded log: the server's log NAME, or pick one (list, file, drop)
+ *   &key=KEY        access key of a server with join or admin tokens (sent on to the WebSocket)
  *   &name=NAME      player name (default: "guest" and a number)
  *   &server=URL     a WebSocket URL other than this page's origin (ws://host:port/ws)
  * Without ?room the page joins the server's default room and writes it into the address bar.
@@ -31,7 +32,7 @@ function boot(): App {
     const ws =
       params.get('server') || `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`
     const name = params.get('name') || `guest ${Math.floor(Math.random() * 900 + 100)}`
-    sandbox = new OnlineSandbox({ url: ws, room, name })
+    sandbox = new OnlineSandbox({ url: ws, room, name, key: params.get('key') ?? undefined })
   }
   return new App(sandbox, httpBase, room)
 }

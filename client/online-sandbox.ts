@@ -42,6 +42,8 @@ export interface OnlineOptions {
   url: string
   room: string
   name: string
+  /** Access key for a server with join or admin tokens (the page's `?key=`), sent as `&key=`. */
+  key?: string
 }
 
 const TOKEN_KEY = 'concord.token.'
@@ -100,7 +102,8 @@ export class OnlineSandbox implements Sandbox {
   private readonly serverStats: ServerStats
 
   constructor(private readonly options: OnlineOptions) {
-    const url = `${options.url}?room=${encodeURIComponent(options.room)}`
+    const key = options.key ? `&key=${encodeURIComponent(options.key)}` : ''
+    const url = `${options.url}?room=${encodeURIComponent(options.room)}${key}`
     this.serverStats = new ServerStats(options.url.replace(/^ws/, 'http').replace(/\/ws$/, ''))
     this.connection = new Connection(url, () => this.joinMessage(), {
       message: (m, bytes) => this.receive(m, bytes),

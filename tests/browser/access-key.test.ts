@@ -1,0 +1,58 @@
+/*
+ * The page's access key: on a server with a join token, `?room=NAME&key=KEY` joins (the key goes
+ * on to the WebSocket URL), and the same page without the key is refused at the upgrade and says so
+ * instead of showing a joined room.
+ */
+import { mkdir } from 'node:fs/promises'
+import type { Browser } from 'playwright-core'
+import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { buildClient } from '../../scripts/build-client.mjs'
+import { loadConfig } from '../../server/config.ts'
+import { type RunningServer, startServer } from '../../server/server.ts'
+import { launchBrowser } from './chromium.ts'
+
+const DIST = 'test-results/browser-access/dist'
+let browser: Browser
+let server: RunningServer
+
+beforeAll(async () => {
+  await mkdir(DIST, { recursive: true })
+  await buildClient(DIST)
+  const config = loadConfig(
+    [],
+    {},
+    {
+      port: 0,
+      host: '127.0.0.1',
+      staticDir: DIST,
+      logLevel: 'silent',
+      heartbeatMs: 60_000,
+      record: false,
+      joinToken: 'open-sesame',
+    },
+  )
+  server = await startServer(config, { processMetrics: false })
+  browser = await launchBrowser()
+}, 120_000)
+
+afterAll(async () => {
+  await browser?.close()
+  await server?.close()
+})
+
+describe('access key in the page URL', () => {
+  it('joins a token-only room with ?key= and is refused without it', async () => {
+    const context = await browser.newContext()
+    const page = await context.newPage()
+    await page.goto(`http://127.0.0.1:${server.port}/?room=club&key=open-sesame&name=ada`)
+    await page.waitForFunction(() => window.concord?.sandbox.status().state === 'connected')
+    await page.waitForFunction(() => (window.concord?.sandbox.bodies().length ?? 0) > 0)
+    expect(server.rooms.get('club')?.players.size).toBe(1)
+
+    const stranger = await context.newPage()
+    await stranger.goto(`http://127.0.0.1:${server.port}/?room=club&name=eve`)
+    await stranger.waitForFunction(() => window.concord?.sandbox.status().state === 'error')
+    expect(server.rooms.get('club')?.players.size).toBe(1)
+    await context.close()
+  })
+})
