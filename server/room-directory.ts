@@ -30,12 +30,19 @@ end
 if owner == ARGV[1] then redis.call('PEXPIRE', KEYS[1], ARGV[2]) end
 return owner`
 
-/** Refresh every KEYS[i] still held by ARGV[1]; returns 1 per key kept, 0 per key lost. */
+/**
+ * Refresh every KEYS[i] held by ARGV[1], take back keys that vanished (Redis restarted without
+ * its data), and return 1 per key kept, 0 per key another server holds now.
+ */
 const REFRESH = `
 local kept = {}
 for i, key in ipairs(KEYS) do
-  if redis.call('GET', key) == ARGV[1] then
+  local owner = redis.call('GET', key)
+  if owner == ARGV[1] then
     redis.call('PEXPIRE', key, ARGV[2])
+    kept[i] = 1
+  elseif not owner then
+    redis.call('SET', key, ARGV[1], 'PX', ARGV[2])
     kept[i] = 1
   else
     kept[i] = 0

@@ -137,15 +137,17 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   }
   log.info({ port, host: config.host }, 'listening')
   const env = options.env ?? process.env
-  const agonesStarted = agonesPresent(env)
-    ? AgonesLink.connect(log).then(
-        async (link) => {
-          agones = link
-          if (!closing) await link.markReady()
-        },
-        (error: Error) => log.error({ err: error.message }, 'agones: cannot reach the SDK sidecar'),
+  if (agonesPresent(env)) {
+    // Not awaited: the SDK waits up to 30 s for the sidecar; shutdown uses the link once connected.
+    AgonesLink.connect(log)
+      .then(async (link) => {
+        agones = link
+        if (!closing) await link.markReady()
+      })
+      .catch((error: Error) =>
+        log.error({ err: error.message }, 'agones: cannot reach the SDK sidecar or mark Ready'),
       )
-    : Promise.resolve()
+  }
   let closing: Promise<void> | null = null
   const close = (reason = 'server shutting down'): Promise<void> => {
     closing ??= (async () => {
@@ -163,7 +165,6 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
       http.closeAllConnections()
       await listenerClosed
       await directory?.close()
-      await agonesStarted.catch(() => {})
       if (agones) {
         const link: AgonesLink = agones
         const timeout = new Promise<void>((resolve) => setTimeout(resolve, AGONES_SHUTDOWN_WAIT_MS).unref())

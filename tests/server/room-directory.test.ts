@@ -144,6 +144,13 @@ describe('room directory in Redis, two server processes', { timeout: 60_000 }, (
     expect((await roomsOf(holder)).has('brief')).toBe(false)
   })
 
+  it('after Redis loses its data, each server takes its own rooms back at the next heartbeat and keeps them open', async () => {
+    await probe.flushall()
+    await until(async () => (await probe.get('concord:room:lobby')) === a.id, 'the lobby claim to come back')
+    expect(await probe.get(`concord:server:${a.id}`)).toBe(a.url.replace('http', 'ws'))
+    expect((await roomsOf(a)).has('lobby')).toBe(true)
+  })
+
   it('a killed server releases its rooms after the time to live; the other server then opens them', async () => {
     a.proc.kill('SIGKILL')
     // Until the key expires, the room is still A's: B does not open a second copy.
