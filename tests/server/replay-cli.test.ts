@@ -1,0 +1,159 @@
+import { spawnSync } from 'node:child_process'
+import { mkdtemp, readFile, writeFile } from 'node:fs/promises'
+import { tmpdir } from 'node:os'
+import { join } from 'node:path'
+import { beforeAll, describe, expect, it } from 'vitest'
+import { BotClient } from '../../server/bot-client.ts'
+import { listLogNames } from '../../server/replay-files.ts'
+import { crc32 } from '../../shared/crc32.ts'
+import { PREAMBLE_BYTES } from '../../shared/replay-log.ts'
+import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
+import { startTestServer } from './test-server.ts'
+
+let dir: string
+let log: Uint8Array
+/** Byte offset just past each record, in order (found by walking the length prefixes). */
+let ends: number[]
+
+beforeAll(async () => {
+  dir = await mkdtemp(join(tmpdir(), 'concord-cli-'))
+  const server = await startTestServer({
+    record: true,
+    replayDir: dir,
+    keyframeTicks: 60,
+    defaultScene: 'tower',
+  })
+  const bot = await BotClient.connect({ url: server.url, room: 'cli', name: 'ada' })
+  bot.command({ k: 'spawn', shape: { type: 'circle', radius: 0.5 }, x: 0, y: 12 })
+  const room = server.rooms.get('cli')!
+  for (let i = 0; room.tick < 200; i++) {
+    bot.command({ k: 'move', x: i % 7, y: 3 })
+    await new Promise((r) => setTimeout(r, 30))
+  }
+  await bot.close()
+  await server.close()
+  const name = (await listLogNames(dir)).find((n) => n.startsWith('cli-'))!
+  log = new Uint8Array(await readFile(join(dir, name)))
+  ends = []
+  const view = new DataView(log.buffer, log.byteOffset, log.byteLength)
+  for (let at = PREAMBLE_BYTES; at < log.length; ) {
+    at += 4 + view.getUint32(at, true) + 4
+    ends.push(at)
+  }
+  expect(ends.at(-1)).toBe(log.length)
+}, 60_000)
+
+function cli(...args: string[]): { status: number | null; stdout: string; stderr: string } {
+  const r = spawnSync(process.execPath, ['--import', 'tsx', 'server/replay-cli.ts', ...args], {
+    encoding: 'utf8',
+  })
+  return { status: r.status, stdout: r.stdout, stderr: r.stderr }
+}
+
+async function variant(name: string, bytes: Uint8Array): Promise<string> {
+  const path = join(dir, name)
+  await writeFile(path, bytes)
+  return path
+}
+
+function read(bytes: Uint8Array) {
+  const reader = new ReplayLogReader()
+  const records = reader.push(bytes)
+  return { records, status: reader.finish() }
+}
+
+describe('the replay CLI', { timeout: 120_000 }, () => {
+  it('verifies a recorded log and reports what it replayed', async () => {
+    const path = await variant('good.cclog', log)
+    const r = cli(path, '--verify', '--json')
+    expect(r.status, r.stderr).toBe(0)
+    const report = JSON.parse(r.stdout)
+    expect(report.divergence).toBeNull()
+    expect(report.lastTick).toBeGreaterThanOrEqual(200)
+    expect(report.hashesChecked).toBeGreaterThanOrEqual(3)
+    expect(report.keyframesChecked).toBeGreaterThanOrEqual(3)
+    expect(report.players).toBe(1)
+    const text = cli(path, '--to', '120', '--hash-every', '30')
+    expect(text.status).toBe(0)
+    expect(text.stdout).toMatch(/ticks\s+\d+ to 120/)
+    expect(text.stdout.match(/^tick \d+ 0x[0-9a-f]{8}$/gm)?.length).toBeGreaterThanOrEqual(3)
+  })
+
+  it('a tampered hash (with a valid CRC) is reported as the first mismatch, exit 1', async () => {
+    const bytes = log.slice()
+    const view = new DataView(bytes.buffer)
+    let start = PREAMBLE_BYTES
+    for (const end of ends) {
+      if (bytes[start + 4] === 6) {
+        const tick = view.getUint32(start + 5, true)
+        view.setUint32(start + 9, view.getUint32(start + 9, true) ^ 1, true)
+        view.setUint32(end - 4, crc32(bytes, start, end - 4), true)
+        const r = cli(await variant('tampered.cclog', bytes), '--verify')
+        expect(r.status).toBe(1)
+        expect(r.stdout).toMatch(
+          new RegExp(`MISMATCH at tick ${tick}: hash 0x[0-9a-f]{8}, log 0x[0-9a-f]{8}`),
+        )
+        return
+      }
+      start = end
+    }
+    throw new Error('no hash record in the log')
+  })
+
+  it('truncated, corrupted, wrong-version and non-log files get one clear line and a non-zero exit', async () => {
+    const cases: Array<[string, Uint8Array, number, RegExp]> = [
+      ['empty', new Uint8Array(0), 2, /too short for a replay log/],
+      ['text', new TextEncoder().encode('hello, this is not a log at all\n'), 2, /not a Concord replay log/],
+      ['format', Object.assign(log.slice(), { 8: 9 }), 2, /unsupported replay format version 9/],
+      ['engine', Object.assign(log.slice(), { 10: 77 }), 2, /engine save-format version 77/],
+      ['header-cut', log.slice(0, ends[0] - 3), 2, /no header|torn/],
+      ['torn', log.slice(0, ends[5] + 7), 3, /torn tail/],
+      [
+        'flipped',
+        Object.assign(log.slice(), { [ends[3] + 6]: log[ends[3] + 6] ^ 0x10 }),
+        3,
+        /record 5 .*checksum mismatch/,
+      ],
+    ]
+    for (const [name, bytes, status, message] of cases) {
+      const r = cli(await variant(`${name}.cclog`, bytes))
+      expect(r.status, name).toBe(status)
+      expect(`${r.stdout}${r.stderr}`, name).toMatch(message)
+      expect(r.stderr, name).not.toMatch(/\n\s+at /)
+      if (status === 2) expect(r.stderr.trim().split('\n'), name).toHaveLength(1)
+    }
+    const missing = cli(join(dir, 'absent.cclog'))
+    expect(missing.status).toBe(2)
+    expect(missing.stderr).toMatch(/cannot read .*ENOENT/)
+  })
+
+  it('the reader keeps exactly the intact prefix of torn, bit-flipped and zero-filled logs', () => {
+    let seed = 12345
+    const random = (n: number): number => {
+      seed = (seed * 1103515245 + 12345) % 2147483648
+      return seed % n
+    }
+    const intactBefore = (cut: number): number => ends.filter((e) => e <= cut).length
+    for (let trial = 0; trial < 200; trial++) {
+      const cut = PREAMBLE_BYTES + random(log.length - PREAMBLE_BYTES)
+      const torn = read(log.slice(0, cut))
+      expect(torn.records.length, `cut at ${cut}`).toBe(intactBefore(cut))
+      expect(torn.status.intactBytes).toBe(
+        torn.records.length ? ends[torn.records.length - 1] : PREAMBLE_BYTES,
+      )
+      const zeroed = log.slice()
+      zeroed.fill(0, cut)
+      const z = read(zeroed)
+      expect(z.records.length, `zeros from ${cut}`).toBe(intactBefore(cut))
+      const flipped = log.slice()
+      flipped[cut] ^= 1 << random(8)
+      const f = read(flipped)
+      const hit = ends.findIndex((e) => e > cut)
+      expect(f.records.length, `bit flip at ${cut}`).toBe(hit)
+      // A flipped length bit can also make the record look incomplete (torn): never accepted either way.
+      expect(['corrupt', 'invalid', 'torn']).toContain(f.status.state)
+    }
+    const whole = read(log)
+    expect(whole.status).toMatchObject({ state: 'end', closed: true, records: ends.length })
+  })
+})
