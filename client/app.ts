@@ -68,10 +68,15 @@ export class App {
     click('help-close', 'help')
     click('rooms', 'lobby')
     click('lobby-close', 'lobby')
+    click('fit', 'fit')
+    // Debug opens the layer buttons; each layer is its own toggle (touch-sized, showing on/off).
     $('layers').addEventListener('click', () => {
-      const on = !this.layers.contacts
-      this.layers.contacts = this.layers.joints = this.layers.aabbs = this.layers.ids = on
+      $('layers-panel').hidden = !$('layers-panel').hidden
+      this.syncToggles()
     })
+    for (const b of document.querySelectorAll<HTMLButtonElement>('[data-layer]')) {
+      b.addEventListener('click', () => this.act(`layer:${b.dataset.layer}` as ShortcutAction))
+    }
     $('mode').textContent = this.sandbox.mode === 'online' ? 'Offline' : 'Online'
     $('mode').addEventListener('click', () => {
       location.href =
@@ -86,6 +91,17 @@ export class App {
       if (name) location.href = roomLink(name)
       else $('lobby-list').textContent = 'Room names use letters, digits, - and _ (at most 32).'
     })
+  }
+
+  /** Show on every toggle button whether it is on (aria-pressed, drawn as an underline). */
+  syncToggles(): void {
+    for (const b of document.querySelectorAll<HTMLButtonElement>('[data-layer]')) {
+      b.setAttribute('aria-pressed', String(this.layers[b.dataset.layer as keyof DebugLayers]))
+    }
+    $('layers').setAttribute('aria-pressed', String(!$('layers-panel').hidden))
+    const g = this.sandbox.gravity()
+    $('gravity').setAttribute('aria-pressed', String(g.x !== 0 || g.y !== 0))
+    $('pause').setAttribute('aria-pressed', String(this.sandbox.paused()))
   }
 
   /** Switch the active tool. */
@@ -116,6 +132,7 @@ export class App {
     if (action.startsWith('layer:')) {
       const layer = action.slice(6) as keyof DebugLayers
       this.layers[layer] = !this.layers[layer]
+      this.syncToggles()
       return
     }
     switch (action) {
@@ -236,6 +253,7 @@ export class App {
       ;($(id) as HTMLButtonElement).disabled = !controls
     }
     $('pause').textContent = s.paused() ? 'Play' : 'Pause'
+    this.syncToggles()
     if ($<HTMLSelectElement>('scene').value !== s.scene()) this.syncScenePicker()
     $('lab').hidden = !selected
     if (selected) {
@@ -246,9 +264,20 @@ export class App {
           : `body ${selected.id}\nnot a dynamic body: no free-body diagram`
     }
     const status = s.status()
+    // Tools cannot act while the page is not in its room: say so on every tool button.
+    const away = s.mode === 'online' && status.state !== 'connected'
+    for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
+      b.dataset.title ??= b.title
+      b.disabled = away
+      b.title = away ? `${b.dataset.title}: offline, reconnecting` : b.dataset.title
+    }
+    if (selected) this.keepInView(selected)
     $('banner').hidden = status.state !== 'error'
     if (status.state === 'error') {
-      $('banner-text').textContent = status.message
+      const wait =
+        status.retryAt === undefined ? null : Math.max(0, (status.retryAt - performance.now()) / 1000)
+      $('banner-text').textContent =
+        wait === null ? status.message : `${status.message} in ${wait.toFixed(0)} s…`
       $('retry').hidden = !status.retrying
     }
     const notices = s.notices()
@@ -258,6 +287,20 @@ export class App {
       $('toast').textContent = notices.latest ?? ''
       setTimeout(() => ($('toast').hidden = true), 3000)
     }
+  }
+
+  /** Pan so the toolbar and the lab panel do not cover the selected body (small screens). */
+  private keepInView(body: ViewBody): void {
+    const top = $('toolbar').getBoundingClientRect().bottom
+    const lab = $('lab').getBoundingClientRect()
+    const bottom = lab.height > 0 ? lab.top : this.camera.height
+    const p = this.camera.toScreen(body.x, body.y)
+    const r = shapeRadius(body.shape) * this.camera.scale
+    if (p.y - r >= top && p.y + r <= bottom) return
+    if (bottom - top < 2 * r) return
+    // Centre the body in the free band between them.
+    const target = (top + bottom) / 2
+    this.camera.y = body.y - (this.camera.height / 2 - target) / this.camera.scale
   }
 
   /** Stop the loop. */

@@ -19,7 +19,8 @@ import {
 export interface ConnectionHandlers {
   message(message: ServerMessage, bytes: number): void
   /** Status for the banner: null when joined and healthy. */
-  status(text: string | null, retrying: boolean, fatal: boolean): void
+  /** `retryAtMs` (performance.now() time) is when the next attempt starts, for a countdown. */
+  status(text: string | null, retrying: boolean, fatal: boolean, retryAtMs?: number): void
 }
 
 const MIN_BACKOFF_MS = 500
@@ -126,8 +127,8 @@ export class Connection {
       text = `The server is restarting (${reason || 'going away'}). Reconnecting`
     else if (!wasJoined && code === 1006)
       text = `Cannot reach the server at ${new URL(this.url).host}. Retrying`
-    else text = `Connection lost (${code}${reason ? `: ${reason}` : ''}). Reconnecting`
-    this.handlers.status(`${text} in ${(this.backoff / 1000).toFixed(1)} s…`, true, false)
+    else text = `Connection lost${reason ? ` (${reason})` : ''}. Reconnecting`
+    this.handlers.status(text, true, false, performance.now() + this.backoff)
     this.timer = setTimeout(() => {
       this.timer = null
       this.open()

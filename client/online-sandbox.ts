@@ -16,6 +16,7 @@ import {
   type JoinMessage,
   type MirrorBody,
   PROTOCOL_VERSION,
+  ROOM_NAME_PATTERN,
   type RoomRules,
   type ServerMessage,
   TICK_RATE,
@@ -75,11 +76,17 @@ export class OnlineSandbox implements Sandbox {
   readonly mode = 'online'
   readonly mirror = new ClientMirror()
   readonly timeline = new SnapshotTimeline()
-  private readonly connection: Connection
+  private readonly connection: Connection | null
   private readonly view: ViewBody[] = []
   private readonly viewById = new Map<number, ViewBody>()
   private viewDirty = true
   private pendingMove: Command | null = null
+  /** Commands waiting for room in the input budget, in order. */
+  private readonly outbox: Command[] = []
+  private sentThisFrame = 0
+  private queuedNoticeShown = false
+  /** This page asked for a scene load or reset: the next new world is its own doing. */
+  private ownLoad = false
   private seq = 0
   private pingId = 0
   private lastPing = 0
@@ -105,13 +112,24 @@ export class OnlineSandbox implements Sandbox {
     const key = options.key ? `&key=${encodeURIComponent(options.key)}` : ''
     const url = `${options.url}?room=${encodeURIComponent(options.room)}${key}`
     this.serverStats = new ServerStats(options.url.replace(/^ws/, 'http').replace(/\/ws$/, ''))
+    if (!ROOM_NAME_PATTERN.test(options.room)) {
+      // No server accepts such a name: say so instead of retrying a connection that cannot work.
+      const shown = options.room.length > 40 ? `${options.room.slice(0, 40)}…` : options.room
+      this.statusValue = {
+        state: 'error',
+        message: `The room name "${shown}" in the address is not valid: a room name is 1-32 letters, digits, - or _. Open the Rooms list or fix the address.`,
+        retrying: false,
+      }
+      this.connection = null
+      return
+    }
     this.connection = new Connection(url, () => this.joinMessage(), {
       message: (m, bytes) => this.receive(m, bytes),
-      status: (text, retrying, fatal) => {
+      status: (text, retrying, fatal, retryAt) => {
         this.statusValue =
           text === null
             ? { state: 'connected' }
-            : { state: 'error', message: text, retrying: retrying && !fatal }
+            : { state: 'error', message: text, retrying: retrying && !fatal, retryAt }
       },
     })
   }
@@ -140,9 +158,18 @@ export class OnlineSandbox implements Sandbox {
       this.rttMs = now - message.time
       return
     }
-    if (message.t === 'error' && message.code === 'refused') {
-      this.notice.count++
-      this.notice.latest = message.reason
+    if (message.t === 'error' && (message.code === 'refused' || message.code === 'input-budget')) {
+      this.tell(message.reason)
+    }
+    if (message.t === 'events' && this.ownGrab && message.remove.includes(this.ownGrab)) {
+      this.tell(
+        `The body you were holding (${this.ownGrab}) was deleted by another player or left the world.`,
+      )
+      this.ownGrab = 0
+    }
+    if (message.t === 'state') {
+      if (!this.ownLoad) this.tell(`Another player loaded the scene "${message.state.scene}".`)
+      this.ownLoad = false
     }
     const ack = this.mirror.handle(message)
     switch (message.t) {
@@ -165,7 +192,7 @@ export class OnlineSandbox implements Sandbox {
       case 'snap': {
         const applied = this.mirror.lastSnapshot
         if (ack && applied) {
-          this.up.add(this.connection.send(ack), now)
+          this.up.add(this.connection!.send(ack), now)
           this.timeline.push(applied.tick, applied.frame, now, applied.updated)
           const c = message.cursors
           for (let i = 0; i + 3 < c.length; i += 4) {
@@ -197,15 +224,17 @@ export class OnlineSandbox implements Sandbox {
   }
 
   update(nowMs: number): void {
-    if (this.pendingMove) {
+    this.sentThisFrame = 0
+    if (this.connection?.isJoined) this.drainOutbox(nowMs)
+    if (this.pendingMove && this.outbox.length === 0) {
       this.transmit(this.pendingMove, nowMs)
       this.pendingMove = null
     }
-    if (nowMs - this.lastPing >= 1000 && this.connection.isJoined) {
+    if (nowMs - this.lastPing >= 1000 && this.connection?.isJoined) {
       this.lastPing = nowMs
-      this.up.add(this.connection.send({ t: 'ping', id: ++this.pingId, time: nowMs }), nowMs)
+      this.up.add(this.connection!.send({ t: 'ping', id: ++this.pingId, time: nowMs }), nowMs)
     }
-    if (this.connection.isJoined) this.serverStats.poll(nowMs)
+    if (this.connection?.isJoined) this.serverStats.poll(nowMs)
     this.down.tick(nowMs)
     this.up.tick(nowMs)
     this.snaps.tick(nowMs)
@@ -341,8 +370,9 @@ export class OnlineSandbox implements Sandbox {
       this.pendingMove = cmd
       return
     }
+    // Keep the order of what the player did: a cursor move made before this command goes first.
     if (this.pendingMove) {
-      this.transmit(this.pendingMove, now)
+      this.outbox.push(this.pendingMove)
       this.pendingMove = null
     }
     if (cmd.k === 'grab') {
@@ -351,11 +381,41 @@ export class OnlineSandbox implements Sandbox {
     }
     if (cmd.k === 'release') this.ownGrab = 0
     if (cmd.k === 'delete' && cmd.body === this.ownGrab) this.ownGrab = 0
-    this.transmit(cmd, now)
+    if (cmd.k === 'scene' || cmd.k === 'reset') this.ownLoad = true
+    this.outbox.push(cmd)
+    this.drainOutbox(now)
+  }
+
+  /**
+   * Send queued commands, at most a share of the room's per-tick input budget per animation frame
+   * (two frames' worth can land in one server tick, and moves and pings need room too), so that
+   * the server never drops one: a burst of clicks is spread over a few frames instead, and the
+   * player is told it is queued.
+   */
+  private drainOutbox(now: number): void {
+    const perTick = this.mirror.rules?.inputsPerTick ?? 8
+    const quota = Math.max(1, Math.floor((perTick - 2) / 3))
+    while (this.outbox.length > 0 && this.sentThisFrame < quota) {
+      this.transmit(this.outbox.shift()!, now)
+      this.sentThisFrame++
+    }
+    if (this.outbox.length > 0 && !this.queuedNoticeShown) {
+      this.queuedNoticeShown = true
+      this.tell(
+        `Sending ${this.outbox.length} more inputs over the next frames: the room takes ${perTick} per tick.`,
+      )
+    }
+    if (this.outbox.length === 0) this.queuedNoticeShown = false
+  }
+
+  /** Show the player a notice. */
+  private tell(text: string): void {
+    this.notice.count++
+    this.notice.latest = text
   }
 
   private transmit(cmd: Command, now: number): void {
-    this.up.add(this.connection.send({ t: 'input', seq: ++this.seq, cmd }), now)
+    if (this.connection) this.up.add(this.connection.send({ t: 'input', seq: ++this.seq, cmd }), now)
   }
 
   color(): string {
@@ -405,7 +465,7 @@ export class OnlineSandbox implements Sandbox {
     const id = body?.kind === 2 ? bodyId : 0
     if (id === this.inspected) return
     this.inspected = id
-    if (this.connection.isJoined) this.transmit({ k: 'inspect', body: id }, performance.now())
+    if (this.connection?.isJoined) this.transmit({ k: 'inspect', body: id }, performance.now())
   }
 
   lab(bodyId: number): LabData | null {
@@ -422,10 +482,10 @@ export class OnlineSandbox implements Sandbox {
   }
 
   retry(): void {
-    this.connection.retryNow()
+    this.connection?.retryNow()
   }
 
   dispose(): void {
-    this.connection.close()
+    this.connection?.close()
   }
 }

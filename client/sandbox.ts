@@ -112,7 +112,7 @@ export type SandboxStatus =
   | { state: 'connecting' }
   | { state: 'connected' }
   | { state: 'offline' }
-  | { state: 'error'; message: string; retrying: boolean }
+  | { state: 'error'; message: string; retrying: boolean; retryAt?: number }
 
 /** A running sandbox, online or offline. */
 export interface Sandbox {
