@@ -10,6 +10,7 @@ export {
   decodeServerMessage,
   decodeValue,
   encodeMessage,
+  encodeValue,
 } from './codec.ts'
 export * from './constants.ts'
 export {
@@ -32,11 +33,28 @@ export {
   quantizePosition,
 } from './quantize.ts'
 export { FRAME_AWAKE, FRAME_PRESENT, QuantizedFrame } from './quantized-frame.ts'
-export { strayBodies } from './room-simulation.ts'
+export { RoomSimulation, strayBodies } from './room-simulation.ts'
 export { fromWireShape, toWireShape, wireShapeVertices } from './shape-wire.ts'
 export { readUpdates, UPDATE_ABSOLUTE, UPDATE_AWAKE, updateSize, writeUpdates } from './snapshot-codec.ts'
 export { type EncodeStats, SnapshotEncoder } from './snapshot-encoder.ts'
 export { type AppliedSnapshot, SnapshotHistory } from './snapshot-history.ts'
+export {
+  encodeSyncPayload,
+  inflate,
+  type RestoreOptions,
+  type RestoreResult,
+  restoreSyncPayload,
+  type SyncPayload,
+} from './sync-payload.ts'
+export {
+  decodeEntries,
+  ENTRY_CODES,
+  type EntriesResult,
+  encodeEntry,
+  entryArguments,
+  type StreamAction,
+  type StreamEntry,
+} from './tick-stream.ts'
 export { validateClientMessage, validateServerMessage } from './validate.ts'
 export {
   addUserJoint,

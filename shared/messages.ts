@@ -212,14 +212,20 @@ export type Command =
   | GravityCommand
   | InspectCommand
 
+/** How a client follows its room: see PROTOCOL.md (join). */
+export type JoinMode = 'snapshot' | 'lockstep' | 'predict'
+
 /** First message on a socket: join a room (the URL's ?room= when `room` is empty). */
 export interface JoinMessage {
   t: 'join'
   v: number
   room: string
   name: string
-  /** 'snapshot' (streamed state); 'lockstep' is reserved and refused for now. */
-  mode: 'snapshot' | 'lockstep'
+  /**
+   * 'snapshot' (streamed state), 'lockstep' (a saved world, then the tick stream: the client
+   * simulates) or 'predict' (lockstep, and the client applies its own inputs ahead of the server).
+   */
+  mode: JoinMode
   /** Reconnect token from an earlier welcome, to keep the same player id. */
   token?: string
 }
@@ -241,8 +247,31 @@ export interface PingMessage {
   time: number
 }
 
+/**
+ * Lockstep: the client's hash after `tick` differs from the server's; the server counts and logs
+ * it and answers with a fresh `sync` (rate limited).
+ */
+export interface DesyncMessage {
+  t: 'desync'
+  tick: number
+  /** The client's hash at `tick`. */
+  hash: number
+  /** The server's hash at `tick`, as the client received it. */
+  server: number
+}
+/** Lockstep: the client fell behind or lost its state and asks for a fresh `sync` (rate limited). */
+export interface ResyncMessage {
+  t: 'resync'
+}
+
 /** Every message a client sends. */
-export type ClientMessage = JoinMessage | InputMessage | AckMessage | PingMessage
+export type ClientMessage =
+  | JoinMessage
+  | InputMessage
+  | AckMessage
+  | PingMessage
+  | DesyncMessage
+  | ResyncMessage
 
 // ---------------------------------------------------------------- server -> client
 
@@ -384,8 +413,34 @@ export interface ContactsMessage {
   joints: WireJointForce[]
 }
 
+/**
+ * Lockstep: the room's simulation after tick `tick` (the world's saved bytes and the room state
+ * around it, see sync-payload.ts), deflated when `z`. The `ticks` that follow continue from it.
+ */
+export interface SyncMessage {
+  t: 'sync'
+  tick: number
+  /** True when `data` is zlib-compressed (RFC 1950). */
+  z: boolean
+  data: Uint8Array
+}
+/**
+ * Lockstep: ticks `tick` .. `tick + n - 1` in order; `c` lists their entries
+ * [tick offset, player, kind code, ...arguments] (tick-stream.ts); `hash`, when present, is the
+ * state hash after the last of them.
+ */
+export interface TicksMessage {
+  t: 'ticks'
+  tick: number
+  n: number
+  c: unknown[][]
+  hash?: number
+}
+
 /** Every message the server sends. */
 export type ServerMessage =
+  | SyncMessage
+  | TicksMessage
   | WelcomeMessage
   | StateMessage
   | EventsMessage

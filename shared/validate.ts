@@ -221,8 +221,8 @@ function validateJoin(value: unknown): ClientMessage {
   }
   // biome-ignore lint/suspicious/noControlCharactersInRegex: control characters are what we reject
   const name = str(m.name, 'name', MAX_NAME_LENGTH).replace(/[\u0000-\u001f\u007f]/g, '')
-  if (m.mode !== 'snapshot' && m.mode !== 'lockstep')
-    throw new SchemaError('mode must be "snapshot" or "lockstep"')
+  if (m.mode !== 'snapshot' && m.mode !== 'lockstep' && m.mode !== 'predict')
+    throw new SchemaError('mode must be "snapshot", "lockstep" or "predict"')
   const join: ClientMessage = { t: 'join', v: PROTOCOL_VERSION, room, name, mode: m.mode }
   if (m.token !== undefined && m.token !== null) join.token = str(m.token, 'token', MAX_TOKEN_LENGTH)
   return join
@@ -232,7 +232,7 @@ function validateClient(value: unknown): ClientMessage {
   const t = fields(
     value,
     'message',
-    ['t', 'v', 'room', 'name', 'mode', 'token', 'seq', 'cmd', 'tick', 'id', 'time'],
+    ['t', 'v', 'room', 'name', 'mode', 'token', 'seq', 'cmd', 'tick', 'id', 'time', 'hash', 'server'],
     ['t'],
   ).t
   switch (t) {
@@ -248,6 +248,19 @@ function validateClient(value: unknown): ClientMessage {
       const m = fields(value, 'ping', ['t', 'id', 'time'], ['t', 'id', 'time'])
       return { t, id: int(m.id, 'id', 0, MAX_INT), time: num(m.time, 'time', Number.MAX_VALUE) }
     }
+    case 'desync': {
+      const m = fields(value, 'desync', ['t', 'tick', 'hash', 'server'], ['t', 'tick', 'hash', 'server'])
+      const hash = (v: unknown, what: string): number => int(v, what, 0, 0xffffffff)
+      return {
+        t,
+        tick: int(m.tick, 'tick', 0, MAX_INT),
+        hash: hash(m.hash, 'hash'),
+        server: hash(m.server, 'server'),
+      }
+    }
+    case 'resync':
+      fields(value, 'resync', ['t'], ['t'])
+      return { t }
     default:
       throw new SchemaError(`unknown message type "${String(t).slice(0, 32)}"`)
   }
@@ -278,6 +291,8 @@ export function validateClientMessage(value: unknown): DecodeResult<ClientMessag
 }
 
 const SERVER_FIELDS: Record<ServerMessage['t'], readonly string[]> = {
+  sync: ['tick', 'z', 'data'],
+  ticks: ['tick', 'n', 'c'],
   welcome: ['v', 'id', 'token', 'room', 'rules', 'players', 'state'],
   state: ['state'],
   events: ['tick', 'add', 'remove', 'jadd', 'jremove'],
@@ -303,6 +318,12 @@ export function validateServerMessage(value: unknown): DecodeResult<ServerMessag
   }
   if (t === 'snap' && !((value as Fields).data instanceof Uint8Array)) {
     return { ok: false, code: 'invalid', reason: 'snap data must be binary' }
+  }
+  if (t === 'sync' && !((value as Fields).data instanceof Uint8Array)) {
+    return { ok: false, code: 'invalid', reason: 'sync data must be binary' }
+  }
+  if (t === 'ticks' && !Array.isArray((value as Fields).c)) {
+    return { ok: false, code: 'invalid', reason: 'ticks c must be a list' }
   }
   if (t === 'contacts' && !Array.isArray((value as Fields).contacts)) {
     return { ok: false, code: 'invalid', reason: 'contacts must be a list' }
