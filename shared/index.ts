@@ -39,6 +39,7 @@ export { readUpdates, UPDATE_ABSOLUTE, UPDATE_AWAKE, updateSize, writeUpdates } 
 export { type EncodeStats, SnapshotEncoder } from './snapshot-encoder.ts'
 export { type AppliedSnapshot, SnapshotHistory } from './snapshot-history.ts'
 export {
+  cloneSimulation,
   encodeSyncPayload,
   inflate,
   type RestoreOptions,

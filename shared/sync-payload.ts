@@ -110,3 +110,22 @@ export async function inflate(bytes: Uint8Array): Promise<Uint8Array> {
     .pipeThrough(new DecompressionStream('deflate'))
   return new Uint8Array(await new Response(stream).arrayBuffer())
 }
+
+/**
+ * An independent copy of a simulation (the world through save/load, the room state copied), for
+ * a predicting client's present state; it steps bit-identically to the original.
+ */
+export function cloneSimulation(sim: RoomSimulation, options: RestoreOptions): RoomSimulation {
+  const copy = new RoomSimulation({ ...options, scene: 'empty' })
+  copy.world = loadWorld(sim.world.save())
+  copy.tick = sim.tick
+  copy.scene = sim.scene
+  copy.paused = sim.paused
+  copy.stepRequested = sim.stepRequested
+  copy.lastLoadTick = sim.lastLoadTick
+  for (const [id, p] of sim.players)
+    copy.players.set(id, { grab: p.grab && { ...p.grab }, cursorX: p.cursorX, cursorY: p.cursorY })
+  for (const [id, j] of sim.userJoints) copy.userJoints.set(id, j)
+  for (const [id, n] of sim.grabCounts) copy.grabCounts.set(id, n)
+  return copy
+}

@@ -17,12 +17,17 @@ export class Activity {
   private readonly prng: Prng
   private step = 0
 
-  constructor(seed: number) {
+  /** `quiet` makes a player that does nothing (for the end of a test). */
+  constructor(
+    seed: number,
+    private readonly mode: 'busy' | 'quiet' = 'busy',
+  ) {
     this.prng = new Prng(seed)
   }
 
   /** The next command (or null for a quiet slot). */
   next(view: ActivityView): Command | null {
+    if (this.mode === 'quiet') return null
     const p = this.prng
     const step = this.step++
     const bodies = view.dynamicBodies()

@@ -1,0 +1,182 @@
+/*
+ * The predicting client in process, with latency: a RoomSimulation with two scripted bots and a
+ * LockstepFeed on the "server"; a PredictClient whose messages travel both ways with a delay of
+ * LATENCY_TICKS. The oracle is the server simulation: the client's confirmed state must equal it
+ * at every tick the client confirms, after any number of rollbacks; its present must answer its
+ * own inputs at once.
+ */
+import pino from 'pino'
+import { describe, expect, it } from 'vitest'
+import { PredictClient } from '../../client/predict-client.ts'
+import { CorrectionSmoother } from '../../client/predict-smoothing.ts'
+import { LockstepFeed } from '../../server/lockstep-feed.ts'
+import { createMetrics } from '../../server/metrics.ts'
+import {
+  type ClientMessage,
+  cloneSimulation,
+  decodeServerMessage,
+  type RoomRules,
+  RoomSimulation,
+  type ServerMessage,
+} from '../../shared/index.ts'
+import { Activity } from '../server/lockstep-activity.ts'
+
+const LATENCY_TICKS = 3
+const TICK_MS = 1000 / 60
+const RULES: RoomRules = {
+  tickRate: 60,
+  snapshotRate: 30,
+  maxBodies: 400,
+  maxClients: 16,
+  inputsPerTick: 8,
+  controls: true,
+  scenes: [],
+  worldHalfExtent: 500,
+}
+
+class DelayedRoom {
+  readonly sim = new RoomSimulation({ name: 't', scene: 'empty', maxBodies: 400, controls: true })
+  readonly feed = new LockstepFeed(this.sim, 't', createMetrics(false), pino({ level: 'silent' }))
+  readonly hashes = new Map<number, number>()
+  readonly toClient: Array<{ at: number; message: ServerMessage }> = []
+  readonly toServer: Array<{ at: number; message: ClientMessage }> = []
+  bots = [
+    { id: 1, activity: new Activity(101) },
+    { id: 2, activity: new Activity(202) },
+  ]
+  readonly smoother = new CorrectionSmoother()
+  now = 0
+  readonly client = new PredictClient({
+    send: (message) => this.toServer.push({ at: this.now + LATENCY_TICKS * TICK_MS, message }),
+    onRollback: (before, after) => this.smoother.correct(before, after),
+  })
+
+  constructor() {
+    for (const b of this.bots) this.sim.join(b.id, 'bot', '#fff')
+    this.sim.join(3, 'me', '#000')
+    this.client.handle(
+      { t: 'welcome', v: 2, id: 3, token: '', room: 't', rules: RULES, players: [], state: {} as never },
+      0,
+    )
+    this.feed.add(3, {
+      send: () => {},
+      sendBytes: (b) => {
+        const d = decodeServerMessage(b)
+        if (!d.ok) throw new Error(d.reason)
+        this.toClient.push({ at: this.now + LATENCY_TICKS * TICK_MS, message: d.value })
+      },
+      sendError: () => {},
+      buffered: () => 0,
+      close: () => {},
+    })
+  }
+
+  view() {
+    const w = this.sim.world
+    return {
+      dynamicBodies: () => w.bodyIds().filter((b) => w.getBodyType(b) === 'dynamic'),
+      userJoints: () => [...this.sim.userJoints.keys()],
+    }
+  }
+
+  /** One server tick, then deliveries, then one client frame. */
+  async frame(): Promise<void> {
+    while (this.toServer.length > 0 && this.toServer[0].at <= this.now) {
+      const m = (this.toServer.shift() as { message: ClientMessage }).message
+      if (m.t === 'input') this.sim.apply(3, m.cmd)
+      if (m.t === 'desync') this.feed.reportDesync(3, m.tick, m.hash, m.server)
+      if (m.t === 'resync') this.feed.requestSync(3)
+    }
+    if (this.sim.tick % 2 === 0) {
+      for (const b of this.bots) {
+        const cmd = b.activity.next(this.view())
+        if (cmd) this.sim.apply(b.id, cmd)
+      }
+    }
+    this.sim.runTick()
+    this.feed.endTick()
+    if (this.sim.tick % 3 === 0) this.hashes.set(this.sim.tick, this.sim.world.hash())
+    this.now += TICK_MS
+    while (this.toClient.length > 0 && this.toClient[0].at <= this.now) {
+      this.client.handle((this.toClient.shift() as { message: ServerMessage }).message, this.now)
+    }
+    await new Promise((resolve) => setImmediate(resolve))
+    this.client.advance(this.now)
+    this.smoother.decay(TICK_MS)
+  }
+}
+
+describe('predicting client', () => {
+  it('rolls back whenever others act, and its confirmed state equals the server at every tick', async () => {
+    const room = new DelayedRoom()
+    const mine = new Activity(303)
+    let compared = 0
+    for (let i = 0; i < 1200; i++) {
+      await room.frame()
+      const c = room.client
+      if (c.present && i % 3 === 0) {
+        const w = c.present.world
+        const cmd = mine.next({
+          dynamicBodies: () => w.bodyIds().filter((b) => w.getBodyType(b) === 'dynamic'),
+          userJoints: () => [...(c.present as RoomSimulation).userJoints.keys()],
+        })
+        if (cmd) c.input(cmd, room.now)
+      }
+      const t = c.sim?.tick ?? -1
+      if (room.hashes.has(t)) {
+        expect(c.sim?.world.hash(), `confirmed hash at tick ${t}`).toBe(room.hashes.get(t))
+        compared++
+      }
+    }
+    // Quiet: the bots stop; once the last inputs are confirmed the present is the server's future.
+    for (const b of room.bots) b.activity = new Activity(0, 'quiet')
+    for (let i = 0; i < 60; i++) await room.frame()
+    const presentHashes = new Map<number, number>()
+    for (let i = 0; i < 30; i++) {
+      await room.frame()
+      const present = room.client.present as RoomSimulation
+      presentHashes.set(present.tick, present.world.hash())
+    }
+    for (let i = 0; i < 30; i++) await room.frame()
+    let checked = 0
+    for (const [tick, hash] of presentHashes) {
+      if (!room.hashes.has(tick)) continue
+      expect(hash, `present hash at tick ${tick}`).toBe(room.hashes.get(tick))
+      checked++
+    }
+    expect(checked).toBeGreaterThanOrEqual(5)
+    const c = room.client
+    expect(c.stats.desyncs).toBe(0)
+    expect(c.stats.hashesChecked).toBeGreaterThanOrEqual(20)
+    expect(c.predict.rollbacks).toBeGreaterThan(100)
+    expect(c.predict.maxDepth).toBeGreaterThanOrEqual(LATENCY_TICKS)
+    expect(c.predict.confirmed).toBeGreaterThan(100)
+    expect(c.present?.tick).toBeGreaterThan(c.sim?.tick as number)
+    expect(compared).toBeGreaterThan(300)
+  })
+
+  it('applies its own grab and move to the present at once: the body moves in the next frame', async () => {
+    const room = new DelayedRoom()
+    for (let i = 0; i < 60; i++) await room.frame()
+    const c = room.client
+    const present = c.present as RoomSimulation
+    const body = present.world
+      .bodyIds()
+      .find((b) => present.world.getBodyType(b) === 'dynamic' && present.world.getPosition(b).y > 3) as number
+    c.input({ k: 'grab', body, lx: 0, ly: 0 }, room.now)
+    await room.frame()
+    const start = (c.present as RoomSimulation).world.getPosition(body)
+    const target = { x: start.x + 3, y: start.y + 2 }
+    const without = cloneSimulation(c.present as RoomSimulation, { maxBodies: 400, controls: true, name: '' })
+    c.input({ k: 'move', x: target.x, y: target.y }, room.now)
+    const presentTick = (c.present as RoomSimulation).tick
+    await room.frame()
+    const after = c.present as RoomSimulation
+    while (without.tick < after.tick) without.runTick()
+    const moved = after.world.getPosition(body)
+    const still = without.world.getPosition(body)
+    const dist = (p: { x: number; y: number }): number => Math.hypot(p.x - target.x, p.y - target.y)
+    expect(after.tick).toBeGreaterThan(presentTick)
+    expect(dist(moved)).toBeLessThan(dist(still) - 1e-3)
+  })
+})
