@@ -12,6 +12,7 @@ import {
   type Command,
   decodeServerMessage,
   encodeMessage,
+  type JoinMode,
   PROTOCOL_VERSION,
   type ServerMessage,
 } from '../shared/index.ts'
@@ -28,6 +29,8 @@ export interface BotOptions {
   key?: string
   /** Origin header to send (browsers always send one; Node clients only when asked). */
   origin?: string
+  /** How to follow the room (default 'snapshot'); lockstep-bot.ts runs the lockstep modes. */
+  mode?: JoinMode
 }
 
 /** A connected protocol client. */
@@ -103,7 +106,7 @@ export class BotClient {
       v: version,
       room: this.options.room,
       name: this.options.name,
-      mode: 'snapshot',
+      mode: this.options.mode ?? 'snapshot',
     }
     if (this.options.token) join.token = this.options.token
     this.send(join)

@@ -132,10 +132,15 @@ export class LockstepFeed implements SimulationObserver {
     for (const f of this.followers.values()) f.waiting = true
   }
 
-  /** A follower asks for a fresh sync (it fell behind or could not restore one). */
-  requestSync(id: number): void {
+  /**
+   * A follower asks for a fresh sync (it fell behind or could not restore one); repeats merge
+   * into one pending request. Returns a reason when the player is not a follower.
+   */
+  requestSync(id: number): string | null {
     const f = this.followers.get(id)
-    if (f) f.waiting = true
+    if (!f) return 'resync requests are for lockstep and predict players'
+    f.waiting = true
+    return null
   }
 
   /**
@@ -157,12 +162,15 @@ export class LockstepFeed implements SimulationObserver {
     return null
   }
 
-  /** End of a room tick (after the simulation's tick): stream, checkpoint, serve waiting followers. */
-  endTick(): void {
+  /**
+   * End of a room tick (after the simulation's tick): stream, checkpoint, serve waiting followers.
+   * `checkpoint` is world.hash() when the caller computed it at this tick already.
+   */
+  endTick(checkpoint?: number): void {
     const tick = this.sim.tick
     let hash: number | undefined
     if (tick % HASH_INTERVAL === 0 && this.followers.size > 0) {
-      hash = this.sim.world.hash()
+      hash = checkpoint ?? this.sim.world.hash()
       this.checkpoints.set(tick, hash)
       this.checkpoints.delete(tick - HASH_INTERVAL * CHECKPOINTS_KEPT)
     }

@@ -10,6 +10,8 @@ import type { PlayerConnection } from './player-connection.ts'
 export class RoomPlayer {
   /** Whether it is still in the room. */
   joined = true
+  /** A lockstep or predict player: it gets the tick stream (lockstep-feed.ts), not snapshots. */
+  lockstep = false
   /** Cursor or grab changed since the last snapshot. */
   cursorDirty = false
   /** Body whose contacts follow each snapshot (the lab), or 0. */

@@ -28,6 +28,7 @@ import {
   type Command,
   encodeMessage,
   isMovable,
+  type JoinMode,
   PROTOCOL_VERSION,
   QuantizedFrame,
   quantizePosition,
@@ -40,6 +41,7 @@ import {
 } from '../shared/index.ts'
 import { RoomSimulation, type SimulationListener, worldFromBlueprint } from '../shared/room-simulation.ts'
 import type { ServerConfig } from './config.ts'
+import { LockstepFeed } from './lockstep-feed.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { DROP_CONNECTION, type PlayerConnection } from './player-connection.ts'
 import { RoomPlayer } from './room-player.ts'
@@ -65,6 +67,8 @@ export class Room {
   /** Largest staleness (ticks) of a body write in the last snapshot round, for the benchmark. */
   lastMaxStaleness = 0
   readonly rules: RoomRules
+  /** The tick stream, syncs and desync reports of lockstep and predict players. */
+  readonly feed: LockstepFeed
   private queue: QueuedInput[] = []
   private events = {
     add: [] as WireBody[],
@@ -94,6 +98,7 @@ export class Room {
       controls: config.roomControls,
       listener: this.listener(),
     })
+    this.feed = new LockstepFeed(this.sim, name, metrics, log)
     this.rules = {
       tickRate: TICK_RATE,
       snapshotRate: config.snapshotRate,
@@ -127,7 +132,12 @@ export class Room {
   }
 
   /** Add a player and send its welcome; returns the player, or a reason when refused. */
-  join(conn: PlayerConnection, name: string, token: string | undefined): RoomPlayer | string {
+  join(
+    conn: PlayerConnection,
+    name: string,
+    token: string | undefined,
+    mode: JoinMode = 'snapshot',
+  ): RoomPlayer | string {
     if (this.players.size >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
     const identity = assignIdentity(this, token)
     if (identity.replaced) identity.replaced.conn.close(4000, 'replaced by a reconnect with the same token')
@@ -139,8 +149,11 @@ export class Room {
       this.name,
       conn,
     )
+    player.lockstep = mode !== 'snapshot'
     this.players.set(player.id, player)
     this.sim.join(player.id, player.name, player.color)
+    // A lockstep player's sync follows at the end of this tick; the welcome's state is for its view.
+    if (player.lockstep) this.feed.add(player.id, conn)
     this.emptySince = -1
     const frame = new QuantizedFrame()
     fillFrame(this.world, frame)
@@ -166,6 +179,7 @@ export class Room {
   leave(player: RoomPlayer): void {
     if (this.players.get(player.id) !== player) return
     this.sim.leave(player.id)
+    this.feed.remove(player.id)
     player.joined = false
     player.inspect = 0
     this.players.delete(player.id)
@@ -222,7 +236,9 @@ export class Room {
     this.sim.runTick()
     this.flushEvents()
     if (this.tick % this.snapshotInterval === 0) this.sendSnapshots()
-    if (this.tick % TICK_RATE === 0) this.everySecond()
+    const hash = this.tick % TICK_RATE === 0 ? this.world.hash() : undefined
+    if (hash !== undefined) this.everySecond(hash)
+    this.feed.endTick(hash)
   }
 
   /** Replace the world with a scene blueprint (benchmarks use sizes SCENES does not list). */
@@ -236,6 +252,16 @@ export class Room {
     if (this.players.size === 0) return
     const bytes = encodeMessage(message)
     for (const p of this.players.values()) p.conn.sendBytes(bytes)
+  }
+
+  /** Encode once, send to every snapshot-mode player (lockstep players simulate these themselves). */
+  private broadcastSnapshotMode(message: ServerMessage): void {
+    let bytes: Uint8Array | null = null
+    for (const p of this.players.values()) {
+      if (p.lockstep) continue
+      bytes ??= encodeMessage(message)
+      p.conn.sendBytes(bytes)
+    }
   }
 
   /** Close every player with a reason. */
@@ -288,7 +314,7 @@ export class Room {
     for (const p of this.players.values()) {
       p.inspect = 0
       p.encoder.reset(frame, this.tick)
-      p.conn.sendBytes(bytes)
+      if (!p.lockstep) p.conn.sendBytes(bytes)
     }
     this.log.info({ room: this.name, scene: this.scene }, 'scene loaded')
   }
@@ -296,12 +322,12 @@ export class Room {
   private flushEvents(): void {
     const e = this.events
     if (e.add.length + e.remove.length + e.jadd.length + e.jremove.length > 0) {
-      this.broadcast({ t: 'events', tick: this.tick, ...e })
+      this.broadcastSnapshotMode({ t: 'events', tick: this.tick, ...e })
       this.events = { add: [], remove: [], jadd: [], jremove: [] }
     }
     if (this.roomChanged) {
       const g = this.world.getGravity()
-      this.broadcast({
+      this.broadcastSnapshotMode({
         t: 'room',
         tick: this.tick,
         paused: this.sim.paused,
@@ -328,6 +354,7 @@ export class Room {
     const contacts = encodeInspections(this.world, this.tick, inspected, this.sim.userJoints)
     let staleness = 0
     for (const p of this.players.values()) {
+      if (p.lockstep) continue
       staleness = Math.max(staleness, this.sendSnapshot(p, cursors, contacts.get(p.inspect)))
     }
     this.lastMaxStaleness = staleness
@@ -372,8 +399,8 @@ export class Room {
     return stats.maxStaleness
   }
 
-  private everySecond(): void {
-    this.broadcast({ t: 'hash', tick: this.tick, step: this.world.tick, hash: this.world.hash() })
+  private everySecond(hash: number): void {
+    this.broadcastSnapshotMode({ t: 'hash', tick: this.tick, step: this.world.tick, hash })
     const window = this.config.reconnectSeconds * TICK_RATE
     for (const [token, d] of this.departed) if (this.tick - d.leftTick > window) this.departed.delete(token)
   }

@@ -332,6 +332,20 @@ export class Transport {
           tick: room.tick + this.rooms.clock.fraction,
         })
         return
+      case 'desync':
+      case 'resync': {
+        // Lockstep reports share the input budget too; the feed bounds the saved worlds they cause.
+        if (++player.inputsThisTick > this.config.inputsPerTick) {
+          this.overBudget(peer, room.tick, `too many ${message.t} messages`)
+          return
+        }
+        const refused =
+          message.t === 'desync'
+            ? room.feed.reportDesync(player.id, message.tick, message.hash, message.server)
+            : room.feed.requestSync(player.id)
+        if (refused) this.reject(peer, 'invalid', refused)
+        return
+      }
     }
   }
 
@@ -339,11 +353,6 @@ export class Transport {
     const session = peer.session
     if (session.player) {
       this.reject(peer, 'already-joined', 'this socket has already joined a room')
-      return
-    }
-    if (message.mode !== 'snapshot') {
-      session.sendError('mode', `mode "${message.mode}" is not supported by this server; use "snapshot"`)
-      this.drop(peer, CLOSE_CODES.policy, `unsupported mode ${message.mode}`)
       return
     }
     const name = message.room || session.urlRoom || this.config.defaultRoom
@@ -415,7 +424,7 @@ export class Transport {
       this.drop(peer, CLOSE_CODES.full, 'too many rooms')
       return
     }
-    const joined = room.join(session, message.name, message.token)
+    const joined = room.join(session, message.name, message.token, message.mode)
     if (typeof joined === 'string') {
       session.sendError('full', joined)
       this.drop(peer, CLOSE_CODES.full, joined)

@@ -1,0 +1,73 @@
+/*
+ * A lockstep (or predicting) client in Node: a BotClient joined with mode "lockstep" or
+ * "predict" whose messages feed a LockstepClient / PredictClient (the same runner the page uses),
+ * stepped from a timer as a page steps from requestAnimationFrame. Tests and benchmarks use it.
+ */
+import { performance } from 'node:perf_hooks'
+import { LockstepClient } from '../client/lockstep-client.ts'
+import { PredictClient } from '../client/predict-client.ts'
+import { BotClient, type BotOptions } from './bot-client.ts'
+
+/** A lockstep client over a real socket. */
+export class LockstepBot {
+  readonly runner: LockstepClient
+  private timer: NodeJS.Timeout | null = null
+
+  private constructor(
+    readonly bot: BotClient,
+    mode: 'lockstep' | 'predict',
+  ) {
+    const send = bot.send.bind(bot)
+    this.runner =
+      mode === 'predict'
+        ? new PredictClient({ send, clock: () => performance.now() })
+        : new LockstepClient({ send })
+    bot.onServerMessage = (message) => this.runner.handle(message, performance.now())
+  }
+
+  /** Connect, join and start stepping every `frameMs` (16 ms: a 60 Hz page). */
+  static async connect(
+    options: Omit<BotOptions, 'mode'>,
+    mode: 'lockstep' | 'predict' = 'lockstep',
+    frameMs = 16,
+  ): Promise<LockstepBot> {
+    const bot = new BotClient({ ...options, mode })
+    const client = new LockstepBot(bot, mode)
+    await bot.opened
+    bot.join()
+    await bot.waitFor(() => client.runner.playerId !== 0, 'welcome')
+    client.timer = setInterval(() => client.frame(), frameMs)
+    return client
+  }
+
+  /** One frame: simulate up to the playout target. */
+  frame(): void {
+    this.runner.advance(performance.now())
+  }
+
+  /** Resolve when `condition` holds, checked every frame; rejects after `timeoutMs` or on close. */
+  waitFor(condition: () => boolean, what: string, timeoutMs = 120_000): Promise<void> {
+    const start = performance.now()
+    return new Promise((resolve, reject) => {
+      const check = setInterval(() => {
+        if (condition()) {
+          clearInterval(check)
+          resolve()
+        } else if (this.bot.ws.readyState > 1 || performance.now() - start > timeoutMs) {
+          clearInterval(check)
+          const why = this.bot.ws.readyState > 1 ? `socket closed (${this.bot.closeCode})` : 'timed out'
+          reject(
+            new Error(`${why} waiting for ${what}; runner ${this.runner.state}, ${this.runner.lastProblem}`),
+          )
+        }
+      }, 5)
+    })
+  }
+
+  /** Stop stepping and close the socket. */
+  async close(): Promise<void> {
+    if (this.timer) clearInterval(this.timer)
+    this.timer = null
+    await this.bot.close()
+  }
+}
