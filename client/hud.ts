@@ -24,6 +24,15 @@ export function hudText(
     lines.push(`snapshots ${n(s.snapshotHz, 0, ' Hz')}`)
     lines.push(`down ${n(s.downKBs, 1, ' kB/s')}  up ${n(s.upKBs, 1, ' kB/s')}`)
   }
+  const l = s.lockstep
+  if (l) {
+    lines.push(`${l.mode} ${l.state}  verified tick ${l.verifiedTick}`)
+    lines.push(`desyncs ${l.desyncs}  resyncs ${l.resyncs}`)
+    if (l.mode === 'predict')
+      lines.push(
+        `rollbacks ${n(l.rollbacksPerSecond, 0, '/s')}  depth ${n(l.rollbackDepth)}  resim ${n(l.resimMs, 2, ' ms')}`,
+      )
+  }
   lines.push(mode === 'online' ? `server tick ${n(s.stepMs, 2, ' ms')}` : `step ${n(s.stepMs, 2, ' ms')}`)
   return lines.join('\n')
 }

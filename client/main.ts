@@ -7,9 +7,12 @@
  *   &key=KEY        access key of a server with join or admin tokens (sent on to the WebSocket)
  *   &name=NAME      player name (default: "guest" and a number)
  *   &server=URL     a WebSocket URL other than this page's origin (ws://host:port/ws)
+ *   &mode=lockstep  simulate the room in the page from the server's tick stream (&mode=predict:
+ *                   also apply this player's own inputs at once, with rollback)
  * Without ?room the page joins the server's default room and writes it into the address bar.
  */
 import { App } from './app.ts'
+import { LockstepSandbox } from './lockstep-sandbox.ts'
 import { OfflineSandbox } from './offline-sandbox.ts'
 import { OnlineSandbox } from './online-sandbox.ts'
 import { ReplayPage } from './replay-page.ts'
@@ -32,7 +35,12 @@ function boot(): App {
     const ws =
       params.get('server') || `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`
     const name = params.get('name') || `guest ${Math.floor(Math.random() * 900 + 100)}`
-    sandbox = new OnlineSandbox({ url: ws, room, name, key: params.get('key') ?? undefined })
+    const mode = params.get('mode')
+    const key = params.get('key') ?? undefined
+    sandbox =
+      mode === 'lockstep' || mode === 'predict'
+        ? new LockstepSandbox({ url: ws, room, name, mode, key })
+        : new OnlineSandbox({ url: ws, room, name, key })
   }
   return new App(sandbox, httpBase, room)
 }

@@ -40,7 +40,10 @@ interface PendingInput {
 export interface PredictOptions extends LockstepOptions {
   /** Clock for re-simulation timings (ms), performance.now in the page. */
   clock?: () => number
-  /** Called before and after a rollback replaces the present (smoothing keeps what was drawn). */
+  /**
+   * Called during a rollback with the old present and the corrected one at the same tick
+   * (smoothing keeps what was drawn); not called when the old present was behind the confirmed tick.
+   */
   onRollback?(before: RoomSimulation, after: RoomSimulation): void
 }
 
@@ -192,17 +195,21 @@ export class PredictClient extends LockstepClient {
     const rules = this.rules
     if (!rules) return 0
     const before = this.present
-    // The old present, brought to the same tick, is what the smoothing compares with.
-    for (let k = 0; before && k < MAX_LEAD && before.tick < target; k++) before.runTick()
     const present = cloneSimulation(confirmed, {
       maxBodies: rules.maxBodies,
       controls: rules.controls,
       name: '',
     })
     const depth = Math.max(0, target - present.tick)
+    let compared = false
     for (let t = present.tick + 1; t <= target; t++) {
       for (const p of this.pending) if (p.tick === t) this.applyOwn(present, p.cmd)
       present.runTick()
+      // The old present at the same tick is what the smoothing compares with.
+      if (before && !compared && present.tick === before.tick) {
+        this.predictOptions.onRollback?.(before, present)
+        compared = true
+      }
     }
     this.present = present
     this.dirty = false
@@ -211,7 +218,6 @@ export class PredictClient extends LockstepClient {
       this.rollbacksThisSecond++
       this.predict.lastDepth = depth
       this.predict.maxDepth = Math.max(this.predict.maxDepth, depth)
-      this.predictOptions.onRollback?.(before, present)
     }
     return Math.max(1, depth)
   }

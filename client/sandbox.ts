@@ -71,6 +71,24 @@ export interface SandboxStats {
   awake: number
   total: number
   stepMs: number | null
+  /** Lockstep and predict modes only (lockstep-sandbox.ts). */
+  lockstep?: LockstepStats
+}
+
+/** What the HUD shows in lockstep and predict modes; null where lockstep has no such number. */
+export interface LockstepStats {
+  mode: 'lockstep' | 'predict'
+  /** 'loading', 'running' or 'repairing' (waiting for a sync). */
+  state: string
+  /** Last tick whose state hash matched the server's. */
+  verifiedTick: number
+  desyncs: number
+  resyncs: number
+  rollbacksPerSecond: number | null
+  /** Depth of the last rollback (ticks). */
+  rollbackDepth: number | null
+  /** Re-simulation time per frame (ms, smoothed). */
+  resimMs: number | null
 }
 
 /**
