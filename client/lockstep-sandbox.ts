@@ -286,7 +286,7 @@ export class LockstepSandbox implements Sandbox {
 
   lab(bodyId: number): LabData | null {
     const sim = this.drawn()
-    if (!sim || !sim.world.hasBody(bodyId) || sim.world.getBodyType(bodyId) !== 'dynamic') return null
+    if (!sim?.world.hasBody(bodyId) || sim.world.getBodyType(bodyId) !== 'dynamic') return null
     return {
       contacts: this.contacts() ?? [],
       mass: sim.world.getMass(bodyId),
