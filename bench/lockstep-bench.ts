@@ -1,0 +1,129 @@
+/*
+ * Lockstep benchmark (npm run bench:lockstep): numbers printed and saved to
+ * bench/results/lockstep.json, not pass/fail.
+ *
+ * Part 1, bandwidth: a real server in this process on its 60 Hz clock, a room holding a pile of
+ * 1,000 bodies, 5 snapshot-mode bots dragging bodies (server/bots.ts driveBot, 20 Hz), one
+ * snapshot-mode observer and one lockstep client (LockstepBot). Reported per room second (60
+ * ticks, so a loaded machine that drops ticks does not flatter either mode): bytes received by the
+ * lockstep client after its first sync against the snapshot observer's, and the first sync's size
+ * on the wire and uncompressed.
+ *
+ * Part 2, rollback cost: what a predicting client pays per rollback, in Node: copy the confirmed
+ * simulation (cloneSimulation: world save + load) and re-simulate 4, 8 or 16 ticks, in a 20-row
+ * pyramid (210 boxes) and a 1,000-body pile, both awake. Mean of REPS runs each.
+ * Flags: --quick (10 s of bandwidth instead of 30).
+ */
+import { mkdirSync, writeFileSync } from 'node:fs'
+import { performance } from 'node:perf_hooks'
+import pino from 'pino'
+import { Prng, pileScene, pyramidScene, type SceneBlueprint } from '../engine/index.ts'
+import { BotClient } from '../server/bot-client.ts'
+import { driveBot } from '../server/bots.ts'
+import { loadConfig } from '../server/config.ts'
+import { LockstepBot } from '../server/lockstep-bot.ts'
+import { startServer } from '../server/server.ts'
+import { cloneSimulation, RoomSimulation } from '../shared/index.ts'
+import { worldFromBlueprint } from '../shared/room-simulation.ts'
+
+const quick = process.argv.includes('--quick')
+const REPS = 10
+
+async function bandwidth(): Promise<Record<string, number>> {
+  const config = loadConfig([], {}, { port: 0, logLevel: 'silent', defaultScene: 'empty', maxBodies: 5000 })
+  const server = await startServer(config, { logger: pino({ level: 'silent' }), processMetrics: false })
+  const url = server.url
+  const room = server.rooms.getOrCreate('bw')
+  if (!room) throw new Error('no room')
+  room.loadBlueprint('pile-1000', pileScene(1000))
+  const bots: BotClient[] = []
+  for (let i = 0; i < 5; i++) bots.push(await BotClient.connect({ url, room: 'bw', name: `bot ${i + 1}` }))
+  const prngs = bots.map((_, i) => new Prng(i + 1))
+  let step = 0
+  const drive = setInterval(() => {
+    step++
+    bots.forEach((b, i) => {
+      driveBot(b, prngs[i], step)
+    })
+  }, 50)
+  const observer = await BotClient.connect({ url, room: 'bw', name: 'observer' })
+  const lockstep = await LockstepBot.connect({ url, room: 'bw', name: 'lockstep' })
+  await lockstep.waitFor(() => lockstep.runner.state === 'running', 'first sync', 300_000)
+  const syncWire = lockstep.runner.stats.syncWireBytes
+  const syncRaw = lockstep.runner.stats.syncBytes
+  // Measure after a settling second.
+  await new Promise((resolve) => setTimeout(resolve, 1000))
+  const start = { tick: room.tick, ls: lockstep.bot.bytesReceived, snap: observer.bytesReceived }
+  await new Promise((resolve) => setTimeout(resolve, (quick ? 10 : 30) * 1000))
+  const roomSeconds = (room.tick - start.tick) / 60
+  const result = {
+    roomSeconds,
+    bodies: room.world.bodyCount,
+    lockstepBytesPerSecond: (lockstep.bot.bytesReceived - start.ls) / roomSeconds,
+    snapshotBytesPerSecond: (observer.bytesReceived - start.snap) / roomSeconds,
+    syncWireBytes: syncWire,
+    syncUncompressedBytes: syncRaw,
+    lockstepDesyncs: lockstep.runner.stats.desyncs,
+    lockstepVerifiedTick: lockstep.runner.stats.verifiedTick,
+    roomTick: room.tick,
+  }
+  clearInterval(drive)
+  await Promise.all([...bots.map((b) => b.close()), observer.close(), lockstep.close()])
+  await server.close()
+  return result
+}
+
+function rollbackCost(blueprint: SceneBlueprint, warmTicks: number): Record<string, number> {
+  const sim = new RoomSimulation({ name: 'bench', scene: 'empty', maxBodies: 5000, controls: true })
+  sim.loadWorld(blueprint.name, worldFromBlueprint(blueprint))
+  for (let i = 0; i < warmTicks; i++) sim.runTick()
+  const out: Record<string, number> = { bodies: sim.world.bodyCount, awake: sim.world.awakeBodyCount() }
+  const options = { maxBodies: 5000, controls: true, name: '' }
+  let copyMs = 0
+  for (let r = 0; r < REPS; r++) {
+    const t = performance.now()
+    cloneSimulation(sim, options)
+    copyMs += performance.now() - t
+  }
+  out.copyMs = copyMs / REPS
+  for (const depth of [4, 8, 16]) {
+    let total = 0
+    for (let r = 0; r < REPS; r++) {
+      const t = performance.now()
+      const copy = cloneSimulation(sim, options)
+      for (let k = 0; k < depth; k++) copy.runTick()
+      total += performance.now() - t
+    }
+    out[`rollback${depth}Ms`] = total / REPS
+  }
+  return out
+}
+
+const loadAverage = async (): Promise<number[]> => (await import('node:os')).loadavg()
+
+const results: Record<string, unknown> = { date: new Date().toISOString(), loadBefore: await loadAverage() }
+const rollback = {
+  pyramid210: rollbackCost(pyramidScene(20), 10),
+  pile1000: rollbackCost(pileScene(1000), 30),
+}
+results.rollbackNode = rollback
+for (const [name, r] of Object.entries(rollback)) {
+  console.log(
+    `rollback ${name} (${r.bodies} bodies, ${r.awake} awake): copy ${r.copyMs.toFixed(2)} ms; ` +
+      `copy + 4 ticks ${r.rollback4Ms.toFixed(2)} ms, + 8 ${r.rollback8Ms.toFixed(2)} ms, + 16 ${r.rollback16Ms.toFixed(2)} ms`,
+  )
+}
+const bw = await bandwidth()
+results.bandwidth = bw
+console.log(
+  `bandwidth, pile of ${bw.bodies} bodies, 5 bots dragging, over ${bw.roomSeconds.toFixed(1)} room seconds: ` +
+    `lockstep ${(bw.lockstepBytesPerSecond / 1000).toFixed(2)} kB/s, snapshot ${(bw.snapshotBytesPerSecond / 1000).toFixed(2)} kB/s; ` +
+    `first sync ${(bw.syncWireBytes / 1000).toFixed(1)} kB on the wire (${(bw.syncUncompressedBytes / 1000).toFixed(1)} kB uncompressed); ` +
+    `lockstep desyncs ${bw.lockstepDesyncs}`,
+)
+results.loadAfter = await loadAverage()
+const file = `bench/results/lockstep${quick ? '-quick' : ''}.json`
+mkdirSync('bench/results', { recursive: true })
+writeFileSync(file, `${JSON.stringify(results, null, 2)}\n`)
+console.log(`saved ${file}`)
+process.exit(0)
