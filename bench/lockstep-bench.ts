@@ -75,7 +75,8 @@ async function bandwidth(): Promise<Record<string, number>> {
 
 function rollbackCost(blueprint: SceneBlueprint, warmTicks: number): Record<string, number> {
   const sim = new RoomSimulation({ name: 'bench', scene: 'empty', maxBodies: 5000, controls: true })
-  sim.loadWorld(blueprint.name, worldFromBlueprint(blueprint))
+  const built = worldFromBlueprint(blueprint)
+  sim.loadWorld(blueprint.name, built.world, built.joints)
   for (let i = 0; i < warmTicks; i++) sim.runTick()
   const out: Record<string, number> = { bodies: sim.world.bodyCount, awake: sim.world.awakeBodyCount() }
   const options = { maxBodies: 5000, controls: true, name: '' }

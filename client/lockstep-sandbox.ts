@@ -8,6 +8,8 @@
  * them to its present at once. The HUD shows the mode, the last verified tick, desyncs, resyncs
  * and, when predicting, rollbacks per second, their depth and the re-simulation time.
  */
+
+import type { Vec2 } from '../engine/index.ts'
 import {
   type Command,
   type JoinMessage,
@@ -21,6 +23,8 @@ import {
   type WireShape,
 } from '../shared/index.ts'
 import { Connection } from './connection.ts'
+import { viewJoints } from './joint-view.ts'
+import { labFromWorld } from './lab.ts'
 import { LockstepClient } from './lockstep-client.ts'
 import { PredictClient } from './predict-client.ts'
 import { CorrectionSmoother } from './predict-smoothing.ts'
@@ -184,15 +188,14 @@ export class LockstepSandbox implements Sandbox {
   joints(): readonly ViewJoint[] {
     const sim = this.drawn()
     if (!sim) return []
-    const w = sim.world
-    const out: ViewJoint[] = []
-    for (const j of sim.userJoints.values()) {
-      if ((j.a && !w.hasBody(j.a)) || !w.hasBody(j.b)) continue
-      const pa = j.a ? w.getWorldPoint(j.a, { x: j.ax, y: j.ay }) : { x: j.ax, y: j.ay }
-      const pb = w.getWorldPoint(j.b, { x: j.bx, y: j.by })
-      out.push({ id: j.id, kind: j.kind, ax: pa.x, ay: pa.y, bx: pb.x, by: pb.y })
-    }
-    return out
+    const forces = new Map<number, Vec2>()
+    for (const info of sim.world.joints()) forces.set(info.id, info.force)
+    const byId = new Map(this.view.map((v) => [v.id, v]))
+    return viewJoints(
+      sim.userJoints.values(),
+      (id) => byId.get(id),
+      (id) => forces.get(id) ?? null,
+    )
   }
 
   cursors(): readonly ViewCursor[] {
@@ -287,12 +290,7 @@ export class LockstepSandbox implements Sandbox {
   lab(bodyId: number): LabData | null {
     const sim = this.drawn()
     if (!sim?.world.hasBody(bodyId) || sim.world.getBodyType(bodyId) !== 'dynamic') return null
-    return {
-      contacts: this.contacts() ?? [],
-      mass: sim.world.getMass(bodyId),
-      gravity: this.gravity(),
-      source: 'world',
-    }
+    return labFromWorld(sim.world, bodyId, sim.world.contacts(), (id) => sim.userJoints.get(id)?.kind)
   }
 
   notices(): { count: number; latest: string | null } {
