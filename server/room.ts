@@ -17,6 +17,11 @@
  *      contacts of the body it inspects, if any; a player whose connection has too much buffered
  *      is skipped, and closed if it stays behind
  *   5. every second: a state hash checkpoint, forget departed players past the reconnect window
+ *   6. the lockstep feed (lockstep-feed.ts): the tick's accepted commands, joins and leaves to the
+ *      lockstep and predict players, the checkpoint hash, and saved worlds to those waiting for one
+ *
+ * Lockstep and predict players simulate the room themselves: steps 3-5 (events, room settings,
+ * snapshots, contacts, hash messages) skip them.
  *
  * Room ticks count loop iterations and never reset; world.tick counts steps of the current world
  * (paused ticks do not step, a scene load starts a new world).
