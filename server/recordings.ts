@@ -134,12 +134,15 @@ export class Recordings {
     room.sim.restoreState(sim.saveState(), sim.world)
     room.nextPlayerId = recovered.maxPlayerId + 1
     room.emptySince = room.tick
+    // Read back from the room itself (before the departed players leave, which releases grabs).
+    const tick = room.tick
+    const hash = room.world.hash()
     recorder.resume(recovered.name, recovered.size)
     // The players of the crashed process are gone; they come back as new joins.
     for (const id of [...room.sim.players.keys()]) room.sim.leave(id)
     this.metrics.roomsRecovered.inc()
     this.log.info(
-      { room: room.name, log: recovered.name, tick: recovered.tick, hash: recovered.hash },
+      { room: room.name, log: recovered.name, tick, hash, logHash: recovered.hash },
       'room recovered from its log',
     )
   }

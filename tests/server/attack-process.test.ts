@@ -3,8 +3,7 @@
  * as `npm start` runs it): before the fixes, each of these ended the process. After all of them
  * the process is still running and /healthz answers.
  */
-import { type ChildProcess, spawn } from 'node:child_process'
-import { createInterface } from 'node:readline'
+import type { ChildProcess } from 'node:child_process'
 import { afterAll, describe, expect, it } from 'vitest'
 import {
   clientFrame,
@@ -16,6 +15,7 @@ import {
   upgradeRequest,
   waitUntil,
 } from './raw-client.ts'
+import { startServerProcess } from './server-process.ts'
 
 let child: ChildProcess | null = null
 
@@ -23,28 +23,13 @@ afterAll(() => {
   if (child && child.exitCode === null) child.kill('SIGKILL')
 })
 
-function startServerProcess(): Promise<{ process: ChildProcess; port: number }> {
-  const proc = spawn(
-    process.execPath,
-    ['--import', 'tsx', 'server/main.ts', '--port', '0', '--log-level', 'info', '--max-rejects', '20'],
-    {
-      stdio: ['ignore', 'pipe', 'inherit'],
-      env: { ...process.env, DEFAULT_SCENE: 'empty', RECORD: 'false' },
-    },
-  )
-  child = proc
-  return new Promise((resolve, reject) => {
-    proc.once('exit', (code) => reject(new Error(`server exited early with ${code}`)))
-    createInterface({ input: proc.stdout! }).on('line', (line) => {
-      const entry = JSON.parse(line) as { msg?: string; port?: number }
-      if (entry.msg === 'listening' && entry.port) resolve({ process: proc, port: entry.port })
-    })
-  })
-}
-
 describe('the server process', { timeout: 30_000 }, () => {
   it('survives every crash attack of the issue and still answers /healthz', async () => {
-    const { process: proc, port } = await startServerProcess()
+    const { process: proc, port } = await startServerProcess(['--max-rejects', '20'], {
+      DEFAULT_SCENE: 'empty',
+      RECORD: 'false',
+    })
+    child = proc
     const url = `http://127.0.0.1:${port}`
     for (const target of ['//%', '//[']) {
       expect(
