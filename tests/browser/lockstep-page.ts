@@ -2,7 +2,7 @@
  * The page side of the lockstep browser tests: the same LockstepClient the sandbox runs, over the
  * page's own WebSocket, stepped from requestAnimationFrame, with its figures readable through
  * `window.concordLockstep`. Bundled with esbuild and injected into a page served by the test
- * server; the "perturbed" build swaps the engine's own sin for Math.sin (lockstep.test.ts).
+ * server; the "perturbed" build swaps the engine's own sin for Math.sin (lockstep-harness.ts).
  */
 import { LockstepClient } from '../../client/lockstep-client.ts'
 import { sin } from '../../engine/index.ts'
@@ -30,14 +30,14 @@ export interface PageReport {
 let client: LockstepClient | null = null
 let closed = ''
 
-/** Join `room` on the page's server in lockstep mode and start stepping. */
-function start(room: string): void {
+/** Join `room` on the page's server in lockstep mode as `name` and start stepping. */
+function start(room: string, name: string): void {
   const ws = new WebSocket(`${location.origin.replace(/^http/, 'ws')}/ws?room=${room}`)
   ws.binaryType = 'arraybuffer'
   const send = (m: ClientMessage): void => ws.send(encodeMessage(m) as Uint8Array<ArrayBuffer>)
   const runner = new LockstepClient({ send })
   client = runner
-  ws.onopen = () => send({ t: 'join', v: PROTOCOL_VERSION, room, name: 'chromium', mode: 'lockstep' })
+  ws.onopen = () => send({ t: 'join', v: PROTOCOL_VERSION, room, name, mode: 'lockstep' })
   ws.onmessage = (event) => {
     const decoded = decodeServerMessage(new Uint8Array(event.data as ArrayBuffer))
     if (decoded.ok) runner.handle(decoded.value, performance.now())

@@ -1,0 +1,136 @@
+/*
+ * The lockstep browser tests' shared harness, for any browser driver: the page bundle
+ * (lockstep-page.ts, optionally with the engine's sin swapped for the host's Math.sin), starting it
+ * in a page served by the test server, reading its report, and the long run both browsers must
+ * pass: snapshot-mode bots acting in one room (spawns, grabs, drags, pins, ropes, unjoints,
+ * deletes, a scene load halfway), a Node LockstepBot and the page stepping the same room, until
+ * both are `ticks` past where they started; every hash checkpoint must match, with no desync.
+ * Chromium drives it through playwright-core (lockstep.test.ts), Firefox ESR through
+ * puppeteer-core over WebDriver BiDi (lockstep-firefox.test.ts).
+ */
+import { readFile } from 'node:fs/promises'
+import { build, type Plugin } from 'esbuild'
+import { expect } from 'vitest'
+import { LockstepBot } from '../../server/lockstep-bot.ts'
+import type { RunningServer } from '../../server/server.ts'
+import { ActiveBots } from '../server/lockstep-bots.ts'
+import type { PageReport } from './lockstep-page.ts'
+
+/** What the harness needs of a browser page: playwright-core's and puppeteer-core's both fit. */
+export interface ScriptPage {
+  goto(url: string): Promise<unknown>
+  addScriptTag(options: { content: string }): Promise<unknown>
+  evaluate(expression: string): Promise<unknown>
+}
+
+/** Replaces the engine's own sin with the host's Math.sin. */
+const mathSin: Plugin = {
+  name: 'math-sin',
+  setup(b) {
+    b.onLoad({ filter: /engine[\\/]math\.ts$/ }, async (args) => {
+      const source = await readFile(args.path, 'utf8')
+      const patched = source.replace(
+        'export function sin(x: number): number {',
+        'export function sin(x: number): number {\n  return Math.sin(x)\n}\nexport function ownSin(x: number): number {',
+      )
+      if (patched === source) throw new Error('engine/math.ts no longer declares sin as expected')
+      return { contents: patched, loader: 'ts' }
+    })
+  },
+}
+
+/** lockstep-page.ts bundled for a browser; `perturbed` swaps the engine's sin for Math.sin. */
+export async function bundleLockstepPage(perturbed: boolean): Promise<string> {
+  const result = await build({
+    entryPoints: [new URL('./lockstep-page.ts', import.meta.url).pathname],
+    bundle: true,
+    platform: 'browser',
+    format: 'iife',
+    target: 'es2022',
+    write: false,
+    plugins: perturbed ? [mathSin] : [],
+  })
+  return result.outputFiles[0].text
+}
+
+/** Load the server's page, inject `code` and join `room` in lockstep mode as `name`. */
+export async function startLockstepPage(
+  page: ScriptPage,
+  serverUrl: string,
+  code: string,
+  room: string,
+  name: string,
+): Promise<void> {
+  await page.goto(`${serverUrl}/`)
+  await page.addScriptTag({ content: code })
+  await page.evaluate(`globalThis.concordLockstep.start(${JSON.stringify(room)}, ${JSON.stringify(name)})`)
+}
+
+/** The page runner's figures (lockstep-page.ts report()). */
+export async function readReport(page: ScriptPage): Promise<PageReport> {
+  return (await page.evaluate('globalThis.concordLockstep.report()')) as PageReport
+}
+
+/** Poll until `condition` holds (generous timeout; no fixed sleeps in the assertions). */
+export async function until(
+  what: string,
+  condition: () => Promise<boolean>,
+  timeoutMs = 600_000,
+): Promise<void> {
+  const start = Date.now()
+  while (!(await condition())) {
+    if (Date.now() - start > timeoutMs) throw new Error(`timed out waiting for ${what}`)
+    await new Promise((resolve) => setTimeout(resolve, 250))
+  }
+}
+
+/**
+ * The long run: three acting bots, a Node lockstep client and `page` (already started in `room`
+ * with startLockstepPage) until both have stepped `ticks` past their start, a scene load halfway.
+ * Asserts every checkpoint matched in both with no desync, resync or refusal. `label` names the
+ * browser in the printed line.
+ */
+export async function expectLongSync(
+  server: RunningServer,
+  page: ScriptPage,
+  room: string,
+  ticks: number,
+  label: string,
+): Promise<PageReport> {
+  const bots = await ActiveBots.start(server.url, room, 3, 20, 7)
+  const node = await LockstepBot.connect({ url: server.url, room, name: 'node' })
+  await until(`the ${label} page to sync`, async () => (await readReport(page)).hashesChecked > 0)
+  const start = Math.max(node.runner.sim?.tick ?? 0, (await readReport(page)).tick)
+  let loaded = false
+  await until(
+    `${ticks} ticks in ${label} and Node`,
+    async () => {
+      const r = await readReport(page)
+      const nodeTick = node.runner.sim?.tick ?? 0
+      if (!loaded && nodeTick > start + ticks / 2) {
+        bots.command(0, { k: 'scene', name: 'wrecking-ball' })
+        loaded = true
+      }
+      if (r.desyncs > 0 || node.runner.stats.desyncs > 0 || r.closed) return true
+      return r.tick > start + ticks && nodeTick > start + ticks
+    },
+    900_000,
+  )
+  const r = await readReport(page)
+  console.log(
+    `lockstep ${ticks} ticks: ${label} ${r.hashesChecked} checkpoints, node ${node.runner.stats.hashesChecked}; ` +
+      `room at tick ${server.rooms.get(room)?.tick}, scene ${node.runner.sim?.scene}`,
+  )
+  expect(r.closed).toBe('')
+  expect(r.desyncs, r.problem).toBe(0)
+  expect(node.runner.stats.desyncs, node.runner.lastProblem).toBe(0)
+  expect(r.resyncs + node.runner.stats.resyncs).toBe(0)
+  expect(r.refused + node.runner.stats.refused).toBe(0)
+  expect(r.hashesChecked).toBeGreaterThanOrEqual(Math.floor(ticks / 60) - 2)
+  expect(node.runner.stats.hashesChecked).toBeGreaterThanOrEqual(Math.floor(ticks / 60) - 2)
+  expect(r.verifiedTick).toBeGreaterThan(start + ticks - 60)
+  expect(node.runner.sim?.scene).toBe('wrecking-ball')
+  expect((await server.metrics.desyncs.get()).values[0]?.value ?? 0).toBe(0)
+  await Promise.all([node.close(), bots.stop()])
+  return r
+}
