@@ -22,3 +22,11 @@ export const MIN_SHAPE_EXTENT = 0.001
 export const AABB_MARGIN = 0.1
 /** Re-fattened proxies reach this many displacements ahead along the motion (Box2D v2.4's aabbMultiplier). */
 export const DISPLACEMENT_MULTIPLIER = 4
+/**
+ * A dynamic body in contact with a dynamic body more than this many times heavier is "pinched": one
+ * Gauss-Seidel sweep moves a heavy body's velocity by only about the light/heavy mass ratio per
+ * contact, so its contacts get extra sweeps (see contact-solver.ts).
+ */
+export const PINCH_MASS_RATIO = 10
+/** Extra sweeps over a pinched body's contacts after each solve and relax sweep. */
+export const PINCHED_EXTRA_ITERATIONS = 3

@@ -213,6 +213,7 @@ export class World extends WorldApi {
       this.activeContactCount,
       this.contactSoftness,
       this.staticSoftness,
+      this.awakeCount + 1,
     )
   }
 
