@@ -1,6 +1,6 @@
 /*
  * One connected socket: the WebSocket implementation of PlayerConnection, plus what the transport
- * tracks per socket (strikes for invalid messages, heartbeat, error reply budget) and, once it has
+ * tracks per socket (strikes for invalid messages, heartbeat) and, once it has
  * joined, its room player. Sending goes through sendBytes() so bytes are counted and a socket that
  * is already closing is left alone.
  */
@@ -26,8 +26,6 @@ export class ClientSession implements PlayerConnection {
   alive = true
   /** Bytes sent to this client. */
   bytesSent = 0
-  /** Errors sent since the last heartbeat (error replies are rate limited). */
-  errorsSent = 0
   /** What the client has been sent and not confirmed reading (by acking a later snapshot). */
   readonly unread = new UnreadBytes()
 
@@ -66,9 +64,11 @@ export class ClientSession implements PlayerConnection {
     this.sendBytes(encodeMessage(message))
   }
 
-  /** Send an error (at most 10 per heartbeat interval, so garbage cannot amplify into replies). */
+  /**
+   * Send an error. Every refused message gets one (at most one per message received, and the
+   * message rate bounds those), so a client can account for each input it sent.
+   */
   sendError(code: string, reason: string, seq?: number): void {
-    if (this.errorsSent++ >= 10) return
     this.send(seq === undefined ? { t: 'error', code, reason } : { t: 'error', code, reason, seq })
   }
 

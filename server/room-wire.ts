@@ -56,6 +56,19 @@ export function wireBody(world: World, id: number): WireBody {
   }
 }
 
+/**
+ * Bring a body description up to the world's current pose (quantized x, y, angle and awake), so
+ * an `events` message shows each new body at the tick it carries, after that tick's step.
+ */
+export function refreshPose(world: World, body: WireBody): void {
+  if (!world.hasBody(body.id)) return
+  const p = world.getPosition(body.id, scratch)
+  body.x = quantizePosition(p.x)
+  body.y = quantizePosition(p.y)
+  body.a = quantizeAngle(world.getAngle(body.id))
+  body.awake = world.isAwake(body.id) ? 1 : 0
+}
+
 /** The whole room state at `tick`. */
 export function fullState(
   world: World,

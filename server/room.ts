@@ -11,7 +11,8 @@
  *   2. the simulation's tick: step unless paused, advance the room tick, once a second remove
  *      bodies that left the world
  *   3. send the tick's events (bodies and joints created or removed, room settings) to everyone,
- *      encoded once
+ *      encoded once; new bodies carry their pose after this tick's step, and a spawned body the
+ *      spawner's player id and input seq
  *   4. on snapshot ticks: quantize the world once into a shared frame, then write each player's
  *      delta against its own acknowledged baseline within its byte budget, followed by the
  *      contacts of the body it inspects, if any; a player whose connection has too much buffered
@@ -51,7 +52,7 @@ import type { ServerMetrics } from './metrics.ts'
 import { DROP_CONNECTION, type PlayerConnection } from './player-connection.ts'
 import { RoomPlayer } from './room-player.ts'
 import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
-import { encodeInspections, fillFrame, fullState, wireBody } from './room-wire.ts'
+import { encodeInspections, fillFrame, fullState, refreshPose, wireBody } from './room-wire.ts'
 
 /** A queued input: who sent it, its sequence number and the validated command. */
 interface QueuedInput {
@@ -75,6 +76,8 @@ export class Room {
   /** The tick stream, syncs and desync reports of lockstep and predict players. */
   readonly feed: LockstepFeed
   private queue: QueuedInput[] = []
+  /** The input being applied, so a body it spawns names its player and seq in `events`. */
+  private applying: QueuedInput | null = null
   private events = {
     add: [] as WireBody[],
     remove: [] as number[],
@@ -231,7 +234,9 @@ export class Room {
     this.queue = []
     for (const input of queue) {
       if (this.players.get(input.player.id) !== input.player) continue
+      this.applying = input
       const error = this.apply(input.player, input.cmd)
+      this.applying = null
       if (error) input.player.conn.sendError('refused', error, input.seq)
     }
     for (const p of this.players.values()) {
@@ -286,7 +291,15 @@ export class Room {
   /** The simulation's side effects, as this tick's events. */
   private listener(): SimulationListener {
     return {
-      bodyAdded: (id) => this.events.add.push(wireBody(this.sim.world, id)),
+      bodyAdded: (id) => {
+        const body = wireBody(this.sim.world, id)
+        const input = this.applying
+        if (input?.cmd.k === 'spawn') {
+          body.player = input.player.id
+          body.seq = input.seq
+        }
+        this.events.add.push(body)
+      },
       bodyRemoved: (id) => {
         for (const p of this.players.values()) {
           if (p.inspect === id) p.inspect = 0
@@ -327,6 +340,8 @@ export class Room {
   private flushEvents(): void {
     const e = this.events
     if (e.add.length + e.remove.length + e.jadd.length + e.jremove.length > 0) {
+      // New bodies are shown as they are at this tick, after its step (as a snapshot of it would).
+      for (const body of e.add) refreshPose(this.world, body)
       this.broadcastSnapshotMode({ t: 'events', tick: this.tick, ...e })
       this.events = { add: [], remove: [], jadd: [], jremove: [] }
     }

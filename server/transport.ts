@@ -216,7 +216,12 @@ export class Transport {
     }
   }
 
-  private reject(peer: Peer, code: string, reason: string): void {
+  /**
+   * A refused message: one strike, and an `error` (with the input's `seq` when it has one), except
+   * that the strike which passes --max-rejects closes the socket instead, its reason naming this
+   * refusal.
+   */
+  private reject(peer: Peer, code: string, reason: string, seq?: number): void {
     const session = peer.session
     this.metrics.rejected.inc({ reason: code })
     session.strikes++
@@ -229,21 +234,23 @@ export class Transport {
       this.drop(peer, CLOSE_CODES.policy, `too many invalid messages; last: ${reason}`)
       return
     }
-    session.sendError(code, reason)
+    session.sendError(code, reason, seq)
   }
 
   /**
-   * Over the per-tick input budget: the input is dropped, but it counts as a strike only once per
-   * tick, so a burst after a network hiccup costs little while a sustained flood is disconnected.
+   * Over the per-tick input budget: the input is dropped and answered (`input-budget`, with its
+   * `seq`), but it counts as a strike only once per tick, so a burst after a network hiccup costs
+   * little while a sustained flood is disconnected.
    */
-  private overBudget(peer: Peer, tick: number, reason: string): void {
+  private overBudget(peer: Peer, tick: number, reason: string, seq?: number): void {
     const session = peer.session
     if (session.budgetStrikeTick === tick) {
       this.metrics.rejected.inc({ reason: 'input-budget' })
+      session.sendError('input-budget', reason, seq)
       return
     }
     session.budgetStrikeTick = tick
-    this.reject(peer, 'input-budget', reason)
+    this.reject(peer, 'input-budget', reason, seq)
   }
 
   private receive(peer: Peer, data: RawData, isBinary: boolean): void {
@@ -279,7 +286,7 @@ export class Transport {
         this.drop(peer, CLOSE_CODES.version, result.reason)
         return
       }
-      this.reject(peer, result.code, result.reason)
+      this.reject(peer, result.code, result.reason, result.seq)
       return
     }
     this.dispatch(peer, result.value)
@@ -293,7 +300,7 @@ export class Transport {
     }
     const player = session.player
     if (!player) {
-      this.reject(peer, 'not-joined', 'send join first')
+      this.reject(peer, 'not-joined', 'send join first', message.t === 'input' ? message.seq : undefined)
       return
     }
     const room = this.rooms.get(player.room)
@@ -312,7 +319,7 @@ export class Transport {
           return
         }
         const error = room.queueInput(player, message.seq, message.cmd)
-        if (error) this.overBudget(peer, room.tick, error)
+        if (error) this.overBudget(peer, room.tick, error, message.seq)
         return
       }
       case 'ack':
@@ -444,7 +451,6 @@ export class Transport {
       }
       s.alive = false
       s.strikes = 0
-      s.errorsSent = 0
       try {
         s.ws.ping()
       } catch {

@@ -32,6 +32,9 @@ export interface MirrorBody {
   awake: boolean
   /** Server tick of the last update of this body. */
   tick: number
+  /** For a body a `spawn` input created: the spawner's player id and that input's `seq`. */
+  player?: number
+  seq?: number
 }
 
 /** A player's cursor (m) and grabbed body id (0 when none). */
@@ -65,8 +68,8 @@ export class ClientMirror {
   lastSnapshot: AppliedSnapshot | null = null
   /** The latest contacts of the body this client inspects (null when none, or after a new world). */
   inspected: ContactsMessage | null = null
-  /** Error messages received. */
-  readonly errors: Array<{ code: string; reason: string }> = []
+  /** Error messages received (`seq` when the error refused an input that carried one). */
+  readonly errors: Array<{ code: string; reason: string; seq?: number }> = []
 
   /** Apply one server message; returns an ack to send when it was a snapshot that decoded. */
   handle(message: ServerMessage): AckMessage | null {
@@ -105,7 +108,11 @@ export class ClientMirror {
         this.lastHash = { tick: message.tick, step: message.step, hash: message.hash }
         return null
       case 'error':
-        this.errors.push({ code: message.code, reason: message.reason })
+        this.errors.push(
+          message.seq === undefined || message.seq === null
+            ? { code: message.code, reason: message.reason }
+            : { code: message.code, reason: message.reason, seq: message.seq },
+        )
         return null
       case 'contacts':
         this.inspected = message
@@ -133,7 +140,7 @@ export class ClientMirror {
   }
 
   private addBody(b: WireBody): void {
-    this.bodies.set(b.id, {
+    const body: MirrorBody = {
       id: b.id,
       kind: b.kind,
       shape: b.shape,
@@ -142,7 +149,12 @@ export class ClientMirror {
       angle: dequantizeAngle(b.a),
       awake: b.awake === 1,
       tick: this.tick,
-    })
+    }
+    if (typeof b.player === 'number' && typeof b.seq === 'number') {
+      body.player = b.player
+      body.seq = b.seq
+    }
+    this.bodies.set(b.id, body)
   }
 
   private removeBody(id: number): void {

@@ -2,19 +2,28 @@
  * Framing: one MessagePack value per binary WebSocket frame. msgpackr is configured to write
  * standard MessagePack only (no records, no extensions), so any stock decoder reads the server.
  * Decoding never throws: it returns a result, and every client message must then pass the exact
- * schema check in validate.ts before anything uses it (msgpackr still decodes its extensions on
- * input whatever the options, so the schema check is what keeps Dates, BigInts and typed arrays
- * out of the rooms).
+ * schema check in validate.ts before anything uses it. msgpackr still decodes its extensions on
+ * input whatever the options, so a client frame holding any extension type (or the never-used
+ * header 0xc1) is refused before it is decoded (msgpack-extensions.ts), and the schema check keeps everything else exact.
  */
 import { Packr, Unpackr } from 'msgpackr'
 import type { ClientMessage, ServerMessage } from './messages.ts'
+import { findNonStandard } from './msgpack-extensions.ts'
 import { validateClientMessage, validateServerMessage } from './validate.ts'
 
 const packr = new Packr({ useRecords: false, variableMapSize: true, encodeUndefinedAsNil: true })
 const unpackr = new Unpackr({ useRecords: false, mapsAsObjects: true, int64AsType: 'number' })
 
-/** A decode outcome: the message, or a machine code and a human reason. */
-export type DecodeResult<T> = { ok: true; value: T } | { ok: false; code: string; reason: string }
+/**
+ * A decode outcome: the message, or a machine code and a human reason; a refused `input` whose own
+ * `seq` is a valid sequence number carries it, so the error can echo it.
+ */
+export type DecodeResult<T> =
+  | { ok: true; value: T }
+  | { ok: false; code: string; reason: string; seq?: number }
+
+/** Longest decoder message quoted in a `malformed` reason (characters): it may echo the frame. */
+const MAX_DECODER_MESSAGE = 120
 
 /** True when `value` holds a NaN or an infinity anywhere (typed arrays hold integers here). */
 function hasNonFinite(value: unknown): boolean {
@@ -58,12 +67,20 @@ export function decodeValue(bytes: Uint8Array): DecodeResult<unknown> {
   try {
     return { ok: true, value: unpackr.unpack(bytes) }
   } catch (error) {
-    return { ok: false, code: 'malformed', reason: `not MessagePack: ${(error as Error).message}` }
+    const message = (error as Error).message.slice(0, MAX_DECODER_MESSAGE)
+    return { ok: false, code: 'malformed', reason: `not MessagePack: ${message}` }
   }
 }
 
-/** Decode and validate a message from a client; never throws. */
+/** Decode and validate a message from a client (standard MessagePack, no extensions); never throws. */
 export function decodeClientMessage(bytes: Uint8Array): DecodeResult<ClientMessage> {
+  const at = findNonStandard(bytes)
+  if (at >= 0) {
+    const header = bytes[at]
+    const what =
+      header === 0xc1 ? 'the never-used header 0xc1' : `an extension type (header 0x${header.toString(16)})`
+    return { ok: false, code: 'malformed', reason: `not standard MessagePack: ${what} at byte ${at}` }
+  }
   const decoded = decodeValue(bytes)
   if (!decoded.ok) return decoded
   return validateClientMessage(decoded.value)

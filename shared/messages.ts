@@ -29,6 +29,10 @@ export interface WireBody {
   a: number
   /** 1 when awake, 0 when asleep. */
   awake: 0 | 1
+  /** In `events.add` only, for a body a `spawn` input created: the spawner's player id. */
+  player?: number
+  /** With `player`: the `seq` of the `spawn` input that created the body. */
+  seq?: number
 }
 
 /**

@@ -285,9 +285,24 @@ export function validateClientMessage(value: unknown): DecodeResult<ClientMessag
   try {
     return { ok: true, value: validateClient(value) }
   } catch (error) {
-    if (error instanceof SchemaError) return { ok: false, code: 'invalid', reason: error.message }
-    return { ok: false, code: 'invalid', reason: 'message rejected' }
+    const reason = error instanceof SchemaError ? error.message : 'message rejected'
+    const seq = refusedSeq(value)
+    return seq === undefined
+      ? { ok: false, code: 'invalid', reason }
+      : { ok: false, code: 'invalid', reason, seq }
   }
+}
+
+/**
+ * The `seq` of a refused `input`, when the message is a map with `t: "input"` and a `seq` that
+ * is itself valid (an integer in [0, 2^53 - 1]); otherwise undefined (nothing trustworthy to echo).
+ */
+function refusedSeq(value: unknown): number | undefined {
+  if (typeof value !== 'object' || value === null || Array.isArray(value)) return undefined
+  const m = value as Fields
+  if (m.t !== 'input' || !Object.hasOwn(m, 'seq')) return undefined
+  const seq = m.seq
+  return typeof seq === 'number' && Number.isInteger(seq) && seq >= 0 && seq <= MAX_INT ? seq : undefined
 }
 
 const SERVER_FIELDS: Record<ServerMessage['t'], readonly string[]> = {

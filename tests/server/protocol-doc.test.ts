@@ -76,7 +76,7 @@ describe('PROTOCOL.md', { timeout: 20_000 }, () => {
     bot.join()
     await bot.waitFor(() => bot.mirror.clientId !== 0)
     const other = await BotClient.connect({ url: server.url, room: 'doc', name: 'other' })
-    bot.command({ k: 'spawn', shape: { type: 'box', hw: 0.5, hh: 0.5 }, x: 3, y: 2 })
+    const spawnSeq = bot.command({ k: 'spawn', shape: { type: 'box', hw: 0.5, hh: 0.5 }, x: 3, y: 2 })
     await bot.waitFor(() => bot.mirror.bodies.size > 21)
     const box = [...bot.mirror.bodies.values()].find((b) => b.kind === 2 && b.x > 2)!
     // The tower's lowest block touches the ground and the block above: contacts with points.
@@ -92,7 +92,7 @@ describe('PROTOCOL.md', { timeout: 20_000 }, () => {
       'pulls on the pinned, grabbed box',
     )
     bot.command({ k: 'pause', paused: true })
-    bot.command({ k: 'scene', name: 'does-not-exist' })
+    const badSceneSeq = bot.command({ k: 'scene', name: 'does-not-exist' })
     bot.ping()
     const t0 = bot.mirror.tick
     await bot.waitFor(
@@ -143,6 +143,12 @@ describe('PROTOCOL.md', { timeout: 20_000 }, () => {
     checkFields('FullState', state)
     for (const b of state.bodies as Record<string, unknown>[]) checkFields('Body', b)
     for (const p of welcome.players as Record<string, unknown>[]) checkFields('Player', p)
+    // events.add bodies are Bodies; the spawned box names its spawner and the spawn's seq.
+    const adds = byType.get('events')!.flatMap((e) => e.add as Record<string, unknown>[])
+    for (const b of adds) checkFields('Body', b)
+    expect(adds.find((b) => b.id === box.id)).toMatchObject({ player: bot.mirror.clientId, seq: spawnSeq })
+    // The refused scene load's error echoes its input's seq.
+    expect(byType.get('error')!.some((e) => e.code === 'refused' && e.seq === badSceneSeq)).toBe(true)
     const joints = byType.get('events')!.flatMap((e) => e.jadd as Record<string, unknown>[])
     expect(joints.length).toBeGreaterThan(0)
     const sceneJoints = byType

@@ -1,0 +1,281 @@
+/*
+ * PROTOCOL.md's promises about refusals, the input budget, `events` and number encoding, checked
+ * against a real server with a client built from the document alone (doc-client.ts: `ws` and
+ * @msgpack/msgpack, no shared/ code). Expected values come from the document's rules worked by
+ * hand, not from the server's code.
+ */
+import { readFileSync } from 'node:fs'
+import type { Socket } from 'node:net'
+import { encode } from '@msgpack/msgpack'
+import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import type { RunningServer } from '../../server/server.ts'
+import { type Decoded, DocClient } from './doc-client.ts'
+import { waitUntil } from './raw-client.ts'
+import { startTestServer } from './test-server.ts'
+
+const BOX = { type: 'box', hw: 0.25, hh: 0.25 }
+/** --max-rejects (default 20) and rules.inputsPerTick (default 8) as documented. */
+const MAX_REJECTS = 20
+const INPUTS_PER_TICK = 8
+
+let server: RunningServer
+
+beforeAll(async () => {
+  // A long heartbeat: strikes are forgiven at each one, and these tests count them.
+  server = await startTestServer({ defaultScene: 'empty', heartbeatMs: 60_000 })
+})
+afterAll(async () => {
+  await server.close()
+})
+
+const errors = (c: DocClient): Array<{ code: unknown; seq: unknown }> =>
+  c.all('error').map((e) => ({ code: e.code, seq: e.seq }))
+
+/** Every body of every `events.add` received. */
+const added = (c: DocClient): Array<Record<string, unknown>> =>
+  c
+    .all('events')
+    .flatMap((e) => (e.add as Array<Record<string, unknown>>).map((b) => ({ ...b, tick: e.tick })))
+
+/** Send frames in one TCP write, so the server reads them together within one tick. */
+function sendTogether(c: DocClient, frames: Uint8Array[]): void {
+  const socket = (c.ws as unknown as { _socket: Socket })._socket
+  socket.cork()
+  for (const f of frames) c.sendBytes(f)
+  socket.uncork()
+}
+
+const input = (seq: unknown, cmd: Record<string, unknown>): Uint8Array => encode({ t: 'input', seq, cmd })
+
+describe('PROTOCOL.md refusals', { timeout: 30_000 }, () => {
+  it('answers each refused input with an error carrying its seq (schema-invalid ones too), and none for unreadable seqs', async () => {
+    const c = await DocClient.joined(server.url, 'seqs', 'seqs')
+    const frames = [
+      input(101, { k: 'move', x: 'left', y: 0 }),
+      input(102, { k: 'fly' }),
+      input(103, { k: 'spawn', shape: BOX, x: 1_000_001, y: 0 }),
+      encode({ t: 'input', seq: 104, cmd: { k: 'release' }, extra: 1 }),
+      input(105, { k: 'delete', body: 999_999 }),
+      input(106, { k: 'move', x: Number.NaN, y: 0 }),
+      input(107, { k: 'move', x: new Date(0), y: 0 }), // a timestamp extension: malformed, unread
+      input(-1, { k: 'fly' }),
+      input(1.5, { k: 'fly' }),
+      new Uint8Array([0xc1]),
+      new Uint8Array([...encode({ t: 'ping', id: 1, time: 0 }), 0]),
+    ]
+    for (const f of frames) c.sendBytes(f)
+    await c.waitFor(() => c.all('error').length >= frames.length, 'an error per refused frame')
+    const key = (e: { code: unknown; seq: unknown }): string => `${String(e.code)}:${String(e.seq)}`
+    expect(errors(c).map(key).sort()).toEqual(
+      [
+        'invalid:101',
+        'invalid:102',
+        'invalid:103',
+        'invalid:104',
+        'refused:105',
+        'invalid:106',
+        'malformed:undefined',
+        'invalid:undefined',
+        'invalid:undefined',
+        'malformed:undefined',
+        'malformed:undefined',
+      ].sort(),
+    )
+    // An input before the join: not-joined, with its seq.
+    const early = await DocClient.open(server.url, 'seqs')
+    early.send({ t: 'input', seq: 7, cmd: { k: 'release' } })
+    const notJoined = await early.waitFor((m) => m.t === 'error', 'not-joined')
+    expect([notJoined.code, notJoined.seq]).toEqual(['not-joined', 7])
+    expect(c.close).toBeNull()
+    c.end()
+    early.end()
+  })
+
+  it('answers every refused message until strike 21, which closes with 1008 naming that refusal', async () => {
+    const c = await DocClient.joined(server.url, 'strikes', 'striker')
+    // Room refusals are not strikes: 32 of them, 8 per tick, all answered, the socket stays open.
+    for (let round = 0; round < 4; round++) {
+      for (let i = 0; i < INPUTS_PER_TICK; i++)
+        c.send({ t: 'input', seq: round * 8 + i, cmd: { k: 'delete', body: 1e9 } })
+      await c.waitFor(() => c.all('error').length === (round + 1) * 8, `refusals of round ${round}`)
+    }
+    expect(new Set(c.all('error').map((e) => e.code))).toEqual(new Set(['refused']))
+    expect(c.all('error').map((e) => e.seq)).toEqual([...Array(32).keys()])
+    expect(c.close).toBeNull()
+    // Invalid ones are strikes: 25 sent, 20 answered (more than version 1's 10), the 21st closes.
+    for (let i = 1; i <= 25; i++) c.send({ t: 'input', seq: 100 + i, cmd: { k: `fly${i}` } })
+    const close = await c.closed()
+    expect(close.code).toBe(1008)
+    expect(close.reason).toContain('unknown command "fly21"')
+    const invalid = c.all('error').filter((e) => e.code === 'invalid')
+    expect(invalid.map((e) => e.seq)).toEqual(Array.from({ length: MAX_REJECTS }, (_, i) => 101 + i))
+  })
+
+  it('drops inputs over the per-tick budget, answering each with input-budget and its seq; every spawn is accounted for once', async () => {
+    const c = await DocClient.joined(server.url, 'budget', 'spawner')
+    const count = 40
+    const frames = Array.from({ length: count }, (_, i) =>
+      input(i + 1, { k: 'spawn', shape: BOX, x: -20 + i, y: 5 + (i % 4) }),
+    )
+    sendTogether(c, frames)
+    const answered = (seq: number): number =>
+      added(c).filter((b) => b.seq === seq).length + c.all('error').filter((e) => e.seq === seq).length
+    await c.waitFor(() => frames.every((_, i) => answered(i + 1) > 0), 'every spawn answered')
+    for (let seq = 1; seq <= count; seq++) expect(answered(seq), `spawn ${seq} answered once`).toBe(1)
+    const bodies = added(c)
+    expect(bodies.every((b) => b.player === c.id)).toBe(true)
+    const perTick = new Map<unknown, number>()
+    for (const b of bodies) perTick.set(b.tick, (perTick.get(b.tick) ?? 0) + 1)
+    for (const n of perTick.values()) expect(n).toBeLessThanOrEqual(INPUTS_PER_TICK)
+    const refused = c.all('error')
+    expect(refused.length).toBeGreaterThan(0)
+    expect(new Set(refused.map((e) => e.code))).toEqual(new Set(['input-budget']))
+    expect(bodies.length + refused.length).toBe(count)
+    expect(c.close).toBeNull()
+    c.end()
+  })
+})
+
+describe('PROTOCOL.md events and numbers', { timeout: 30_000 }, () => {
+  it('lists a new body with its pose after the step of the tick the message names, and its spawner', async () => {
+    const a = await DocClient.joined(server.url, 'events', 'a')
+    const b = await DocClient.joined(server.url, 'events', 'b')
+    a.send({ t: 'input', seq: 41, cmd: { k: 'spawn', shape: BOX, x: 2, y: 20, vx: 6 } })
+    const seen = async (c: DocClient): Promise<Record<string, unknown>> => {
+      await c.waitFor(() => added(c).some((x) => x.seq === 41), 'the add event')
+      return added(c).find((x) => x.seq === 41)!
+    }
+    const [forA, forB] = await Promise.all([seen(a), seen(b)])
+    expect(forB).toEqual(forA)
+    expect(forA.player).toBe(a.id)
+    // One 1/60 s step at 6 m/s: 2 m + 0.1 m, quantized to mm; the unstepped pose would be 2000.
+    expect(forA.x).toBe(2100)
+    expect(forA.y as number).toBeLessThan(20_000)
+    // Scene bodies (the welcome's state) name no spawner.
+    const state = a.first('welcome').state as { bodies: Array<Record<string, unknown>> }
+    for (const body of state.bodies) expect(Object.keys(body)).not.toContain('seq')
+    a.end()
+    b.end()
+  })
+
+  it('rounds halves toward +infinity when quantizing positions', async () => {
+    const c = await DocClient.joined(server.url, 'round', 'rounder')
+    // x * 1000 is exactly a half for each; the expected integers follow the documented rule by hand.
+    const cases: Array<[number, number]> = [
+      [0.0025, 3],
+      [-0.0025, -2],
+      [0.0005, 1],
+      [-0.0005, 0],
+      [1.0025, 1003],
+      [-1.0025, -1002],
+    ]
+    for (const [i, [x]] of cases.entries()) {
+      c.send({ t: 'input', seq: i, cmd: { k: 'spawn', shape: BOX, x, y: 10 + 3 * i } })
+    }
+    await c.waitFor(() => added(c).length === cases.length, 'the spawned bodies')
+    for (const [i, [, q]] of cases.entries()) expect(added(c).find((b) => b.seq === i)!.x).toBe(q)
+    c.end()
+  })
+
+  it('sends whole numbers as integers and accepts whole floats for integer fields and the full coordinate range', async () => {
+    const c = await DocClient.joined(server.url, 'numbers', 'numbers')
+    // The welcome's gravity [0, -10]: the key "gravity", then a 2-array of fixints 0 and -10.
+    const gravity = Buffer.from([0xa7, ...Buffer.from('gravity'), 0x92, 0x00, 0xf6])
+    expect(Buffer.from(c.frames[0]).includes(gravity)).toBe(true)
+    // Every number written as a float64, seq and ids included.
+    c.send(
+      { t: 'input', seq: 77, cmd: { k: 'spawn', shape: BOX, x: 1_000_000, y: 3 } },
+      { forceIntegerToFloat: true },
+    )
+    c.send({ t: 'ping', id: 5, time: 12 }, { forceIntegerToFloat: true })
+    await c.waitFor(() => added(c).some((b) => b.seq === 77), 'the float-encoded spawn')
+    const pong = await c.waitFor((m) => m.t === 'pong', 'pong')
+    expect([pong.id, pong.time]).toEqual([5, 12])
+    // x = 1,000,000 m is on the wire range's edge: accepted, clamped to the 500 m world bound.
+    expect(added(c).find((b) => b.seq === 77)!.x).toBe(500_000)
+    expect(c.all('error')).toEqual([])
+    c.end()
+  })
+})
+
+/** Rows of PROTOCOL.md's Scenes table: name, static count, [box, circle, polygon], joints by kind. */
+function documentedScenes(doc: string): Array<{
+  name: string
+  statics: number
+  dynamic: number[]
+  joints: Record<string, number>
+}> {
+  const section = doc.slice(doc.indexOf('### Scenes'), doc.indexOf('### Close codes'))
+  const rows = []
+  for (const line of section.split('\n')) {
+    const m = /^\| `([\w-]+)` \|[^|]*\| (\d+) \| (\d+)\/(\d+)\/(\d+) \| ([^|]*) \|$/.exec(line)
+    if (!m) continue
+    const joints: Record<string, number> = {}
+    for (const part of m[6].split(',')) {
+      const j = /(\d+) (\w+)/.exec(part)
+      if (j) joints[j[2]] = Number(j[1])
+    }
+    rows.push({ name: m[1], statics: Number(m[2]), dynamic: [m[3], m[4], m[5]].map(Number), joints })
+  }
+  return rows
+}
+
+/** A decoded `state`'s contents in the Scenes table's terms. */
+function sceneContents(state: Decoded['state']): {
+  statics: number
+  dynamic: number[]
+  joints: Record<string, number>
+} {
+  const s = state as {
+    bodies: Array<{ kind: number; shape: { type: string } }>
+    joints: Array<{ kind: string }>
+  }
+  const types = ['box', 'circle', 'polygon']
+  const joints: Record<string, number> = {}
+  for (const j of s.joints) joints[j.kind] = (joints[j.kind] ?? 0) + 1
+  return {
+    statics: s.bodies.filter((b) => b.kind === 0).length,
+    dynamic: types.map((t) => s.bodies.filter((b) => b.kind === 2 && b.shape.type === t).length),
+    joints,
+  }
+}
+
+describe('PROTOCOL.md scenes', { timeout: 60_000 }, () => {
+  it("lists the scenes of rules.scenes in order, with the bodies and joints each one's state holds", async () => {
+    const table = documentedScenes(readFileSync('shared/PROTOCOL.md', 'utf8'))
+    const c = await DocClient.joined(server.url, 'scenes', 'loader')
+    expect(table.map((r) => r.name)).toEqual((c.first('welcome').rules as { scenes: string[] }).scenes)
+    let seq = 0
+    let lastLoad = 0
+    for (const row of table) {
+      let state: Decoded | undefined
+      while (!state) {
+        const s = ++seq
+        const from = c.messages.length
+        c.send({ t: 'input', seq: s, cmd: { k: 'scene', name: row.name } })
+        const reply = (): Decoded | undefined =>
+          c.messages
+            .slice(from)
+            .find(
+              (m) =>
+                (m.t === 'state' && (m.state as { scene: string }).scene === row.name) ||
+                (m.t === 'error' && m.seq === s),
+            )
+        await waitUntil(() => reply() !== undefined, `the ${row.name} scene`)
+        const m = reply()!
+        if (m.t === 'state') state = m
+        // Loads are limited to one per 10 ticks: retry once the room is past that.
+        else await c.waitFor((x) => x.t === 'snap' && (x.tick as number) > lastLoad + 10, 'ten ticks')
+      }
+      lastLoad = (state.state as { tick: number }).tick
+      const contents = sceneContents(state.state)
+      expect(contents, row.name).toEqual({ statics: row.statics, dynamic: row.dynamic, joints: row.joints })
+      const s = state.state as { gravity: number[]; bodies: Array<Record<string, unknown>> }
+      expect(s.gravity, row.name).toEqual([0, -10])
+      // The ground: the lowest id, static, 200 m wide, its top at y = 0.
+      const ground = s.bodies.reduce((lo, b) => ((b.id as number) < (lo.id as number) ? b : lo))
+      expect(ground, row.name).toMatchObject({ kind: 0, y: -1000, shape: { type: 'box', hw: 100, hh: 1 } })
+    }
+    c.end()
+  })
+})
