@@ -3,6 +3,7 @@ import { decode } from '@msgpack/msgpack'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
+import { parseSnapshotData } from './doc-client.ts'
 import { startTestServer } from './test-server.ts'
 
 /** Field names per heading of PROTOCOL.md: `### \`name\`` followed by a `| \`field\` | ...` table. */
@@ -25,37 +26,6 @@ function documentedFields(): Map<string, { all: string[]; optional: string[] }> 
     }
   }
   return sections
-}
-
-/** An independent reader of the snapshot `data` layout as PROTOCOL.md describes it. */
-function parseSnapshotData(
-  bytes: Uint8Array,
-): Array<{ id: number; flags: number; x: number; y: number; a: number }> {
-  let i = 0
-  const varint = (): number => {
-    let value = 0
-    let shift = 1
-    for (;;) {
-      const b = bytes[i++]
-      if (b === undefined) throw new Error('truncated')
-      value += (b & 127) * shift
-      if (b < 128) return value
-      shift *= 128
-    }
-  }
-  const zigzag = (): number => {
-    const u = varint()
-    return u % 2 === 0 ? u / 2 : -(u + 1) / 2
-  }
-  const out = []
-  let id = 0
-  for (let n = varint(); n > 0; n--) {
-    const head = varint()
-    id += Math.floor(head / 4)
-    out.push({ id, flags: head % 4, x: zigzag(), y: zigzag(), a: zigzag() })
-  }
-  if (i !== bytes.length) throw new Error('trailing bytes')
-  return out
 }
 
 let server: RunningServer

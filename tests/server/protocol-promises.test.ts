@@ -9,7 +9,7 @@ import type { Socket } from 'node:net'
 import { encode } from '@msgpack/msgpack'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
-import { type Decoded, DocClient } from './doc-client.ts'
+import { type Decoded, DocClient, parseSnapshotData } from './doc-client.ts'
 import { waitUntil } from './raw-client.ts'
 import { startTestServer } from './test-server.ts'
 
@@ -151,6 +151,24 @@ describe('PROTOCOL.md events and numbers', { timeout: 30_000 }, () => {
     // One 1/60 s step at 6 m/s: 2 m + 0.1 m, quantized to mm; the unstepped pose would be 2000.
     expect(forA.x).toBe(2100)
     expect(forA.y as number).toBeLessThan(20_000)
+    // A body added at a snapshot tick (every other tick at 30 snapshots per second) is in that
+    // snapshot as an absolute entry with the very pose of the add event.
+    let seq = 41
+    let match: { add: Record<string, unknown>; snap: Decoded } | undefined
+    while (!match) {
+      const s = ++seq
+      a.send({ t: 'input', seq: s, cmd: { k: 'spawn', shape: BOX, x: -30 + s, y: 10, vx: 3, w: 1 } })
+      await a.waitFor(() => added(a).some((x) => x.seq === s), 'the add event')
+      const add = added(a).find((x) => x.seq === s)!
+      const snap = await a.waitFor(
+        (m) => m.t === 'snap' && (m.tick as number) >= (add.tick as number),
+        'a snap',
+      )
+      if (snap.tick === add.tick) match = { add, snap }
+      expect(seq, 'an add at a snapshot tick within 20 spawns').toBeLessThan(62)
+    }
+    const entry = parseSnapshotData(match.snap.data as Uint8Array).find((e) => e.id === match!.add.id)
+    expect(entry).toEqual({ id: match.add.id, flags: 1 | 2, x: match.add.x, y: match.add.y, a: match.add.a })
     // Scene bodies (the welcome's state) name no spawner.
     const state = a.first('welcome').state as { bodies: Array<Record<string, unknown>> }
     for (const body of state.bodies) expect(Object.keys(body)).not.toContain('seq')
