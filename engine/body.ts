@@ -11,6 +11,7 @@
  */
 import type { Contact } from './contact.ts'
 import type { Joint } from './joint.ts'
+import { polygonGeometry } from './polygon-geometry.ts'
 import { computeMass, type Shape } from './shapes.ts'
 
 /** Body type codes, in the order of BodyType. */
@@ -23,6 +24,8 @@ export class Body {
   readonly id: number
   type: number
   readonly shape: Shape
+  /** The shape's vertices and normals laid out for the narrowphase (polygon-geometry.ts). */
+  readonly geometry: Float64Array
   density: number
   friction: number
   restitution: number
@@ -90,6 +93,7 @@ export class Body {
     this.id = id
     this.type = type
     this.shape = shape
+    this.geometry = polygonGeometry(shape)
     this.density = 1
     this.friction = 0.6
     this.restitution = 0

@@ -31,6 +31,7 @@
 import { LINEAR_SLOP, MAX_POLYGON_VERTICES } from './constants.ts'
 import type { Manifold, ManifoldPoint } from './manifold.ts'
 import { makeFeatureId } from './manifold.ts'
+import { NORMAL_X, NORMAL_Y, polygonGeometry, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
 import type { CircleShape, PolygonShape, Shape } from './shapes.ts'
 
 /** How much more separated B's best face must be than A's to be the reference face (m), 0.0005. */
@@ -40,12 +41,12 @@ const TINY_DISTANCE = 1e-12
 /** Edges whose squared sine of the angle between them is below this count as parallel. */
 const PARALLEL_TOLERANCE = 1e-12
 
-// Scratch polygons in A's shifted frame: vertex x at [i], vertex y at [VY + i], normal at [NX + i], [NY + i].
+// Polygons in A's shifted frame: vertex x at [i], vertex y at [VY + i], normal at [NX + i], [NY + i]
+// (polygon-geometry.ts: A's own geometry array is already laid out this way; B is moved into it).
 const MAX_VERTICES = MAX_POLYGON_VERTICES
 const VY = MAX_VERTICES
-const NX = 2 * MAX_VERTICES
-const NY = 3 * MAX_VERTICES
-const localA = new Float64Array(4 * MAX_VERTICES)
+const NX = NORMAL_X
+const NY = NORMAL_Y
 const localB = new Float64Array(4 * MAX_VERTICES)
 
 // The current call's transforms and speculative distance, unboxed.
@@ -62,7 +63,10 @@ const frame = new Float64Array(9)
 // Results of findMaxSeparation: separation at [0], edge index at [1].
 const found = new Float64Array(2)
 
-/** Fills `out` with the contact manifold of shapeA at transform A and shapeB at transform B. */
+/**
+ * Fills `out` with the contact manifold of shapeA at transform A and shapeB at transform B. For
+ * tests and tools: the world calls collideGeometry with each body's precomputed geometry.
+ */
 export function collideShapes(
   shapeA: Shape,
   ax: number,
@@ -77,12 +81,34 @@ export function collideShapes(
   speculativeDistance: number,
   out: Manifold,
 ): void {
+  const geometryA = polygonGeometry(shapeA)
+  const geometryB = polygonGeometry(shapeB)
+  collideGeometry(shapeA, geometryA, ax, ay, ac, as, shapeB, geometryB, bx, by, bc, bs, speculativeDistance, out)
+}
+
+/** collideShapes with each shape's polygonGeometry given (no allocation). */
+export function collideGeometry(
+  shapeA: Shape,
+  geometryA: Float64Array,
+  ax: number,
+  ay: number,
+  ac: number,
+  as: number,
+  shapeB: Shape,
+  geometryB: Float64Array,
+  bx: number,
+  by: number,
+  bc: number,
+  bs: number,
+  speculativeDistance: number,
+  out: Manifold,
+): void {
   setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
   if (shapeA.type === 'polygon') {
-    if (shapeB.type === 'polygon') polygonsInFrame(shapeA, shapeB, out)
-    else polygonAndCircleInFrame(shapeA, shapeB, false, out)
+    if (shapeB.type === 'polygon') polygonsInFrame(shapeA, geometryA, shapeB, geometryB, out)
+    else polygonAndCircleInFrame(shapeA, geometryA, shapeB, false, out)
   } else if (shapeB.type === 'polygon') {
-    polygonAndCircleInFrame(shapeB, shapeA, true, out)
+    polygonAndCircleInFrame(shapeB, geometryB, shapeA, true, out)
   } else {
     circlesInFrame(shapeA, shapeB, out)
   }
@@ -160,6 +186,7 @@ function circlesInFrame(circleA: CircleShape, circleB: CircleShape, out: Manifol
  */
 function polygonAndCircleInFrame(
   poly: PolygonShape,
+  g: Float64Array,
   circle: CircleShape,
   swapped: boolean,
   out: Manifold,
@@ -175,24 +202,25 @@ function polygonAndCircleInFrame(
   const cy = pc * dy - ps * dx
   const radius = circle.radius
   const count = poly.count
-  const vs = poly.vertices
-  const ns = poly.normals
   // Face of greatest separation.
   let face = 0
   let faceSeparation = Number.NEGATIVE_INFINITY
   for (let i = 0; i < count; i++) {
-    const s = ns[i].x * (cx - vs[i].x) + ns[i].y * (cy - vs[i].y)
+    const s = g[NORMAL_X + i] * (cx - g[VERTEX_X + i]) + g[NORMAL_Y + i] * (cy - g[VERTEX_Y + i])
     if (s > faceSeparation) {
       faceSeparation = s
       face = i
     }
   }
-  const v1 = vs[face]
-  const v2 = vs[face + 1 < count ? face + 1 : 0]
-  const u1 = (cx - v1.x) * (v2.x - v1.x) + (cy - v1.y) * (v2.y - v1.y)
-  const u2 = (cx - v2.x) * (v1.x - v2.x) + (cy - v2.y) * (v1.y - v2.y)
-  let nx = ns[face].x
-  let ny = ns[face].y
+  const next = face + 1 < count ? face + 1 : 0
+  const v1x = g[VERTEX_X + face]
+  const v1y = g[VERTEX_Y + face]
+  const v2x = g[VERTEX_X + next]
+  const v2y = g[VERTEX_Y + next]
+  const u1 = (cx - v1x) * (v2x - v1x) + (cy - v1y) * (v2y - v1y)
+  const u2 = (cx - v2x) * (v1x - v2x) + (cy - v2y) * (v1y - v2y)
+  let nx = g[NORMAL_X + face]
+  let ny = g[NORMAL_Y + face]
   let separation = faceSeparation - radius
   // Face region: the centre projects onto the face (it may be inside the polygon).
   const back = 0.5 * (faceSeparation + radius)
@@ -200,8 +228,8 @@ function polygonAndCircleInFrame(
   let qy = cy - back * ny
   if (faceSeparation > TINY_DISTANCE && (u1 < 0 || u2 < 0)) {
     // Vertex region: the centre is outside, nearest to one end of the face.
-    const vx = u1 < 0 ? v1.x : v2.x
-    const vy = u1 < 0 ? v1.y : v2.y
+    const vx = u1 < 0 ? v1x : v2x
+    const vy = u1 < 0 ? v1y : v2y
     const ex = cx - vx
     const ey = cy - vy
     const distance = Math.sqrt(ex * ex + ey * ey)
@@ -232,11 +260,17 @@ function polygonAndCircleInFrame(
  * face with a tolerance favouring A, then vertex-vertex or the incident edge clipped to the
  * reference side planes.
  */
-function polygonsInFrame(polygonA: PolygonShape, polygonB: PolygonShape, out: Manifold): void {
+function polygonsInFrame(
+  polygonA: PolygonShape,
+  localA: Float64Array,
+  polygonB: PolygonShape,
+  geometryB: Float64Array,
+  out: Manifold,
+): void {
   const countA = polygonA.count
   const countB = polygonB.count
   const spec = frame[SPEC]
-  loadPolygons(polygonA, polygonB)
+  loadPolygonB(localA, geometryB, countB)
   findMaxSeparation(localA, countA, localB, countB)
   const separationA = found[0]
   let edgeA = found[1]
@@ -253,7 +287,7 @@ function polygonsInFrame(polygonA: PolygonShape, polygonB: PolygonShape, out: Ma
   else edgeB = findIncidentEdge(localA, edgeA, localB, countB)
   // Apart by more than a tenth of the slop: the closest features may be two vertices.
   const apart = separationA > 0.1 * LINEAR_SLOP || separationB > 0.1 * LINEAR_SLOP
-  if (!(apart && collideVertices(edgeA, countA, edgeB, countB, out))) {
+  if (!(apart && collideVertices(localA, edgeA, countA, edgeB, countB, out))) {
     if (flip) clipPolygons(localB, countB, edgeB, localA, countA, edgeA, true, out)
     else clipPolygons(localA, countA, edgeA, localB, countB, edgeB, false, out)
   }
@@ -266,8 +300,8 @@ function polygonsInFrame(polygonA: PolygonShape, polygonB: PolygonShape, out: Ma
   const ay = frame[AY]
   const ac = frame[AC]
   const as = frame[AS]
-  const ox = polygonA.vertices[0].x
-  const oy = polygonA.vertices[0].y
+  const ox = localA[VERTEX_X]
+  const oy = localA[VERTEX_Y]
   const nx = out.normalX
   const ny = out.normalY
   out.normalX = ac * nx - as * ny
@@ -281,18 +315,10 @@ function polygonsInFrame(polygonA: PolygonShape, polygonB: PolygonShape, out: Ma
   }
 }
 
-/** Loads A (shifted by its vertex 0) and B (moved into that frame) into the scratch polygons. */
-function loadPolygons(polygonA: PolygonShape, polygonB: PolygonShape): void {
-  const va = polygonA.vertices
-  const na = polygonA.normals
-  const ox = va[0].x
-  const oy = va[0].y
-  for (let i = 0; i < polygonA.count; i++) {
-    localA[i] = va[i].x - ox
-    localA[VY + i] = va[i].y - oy
-    localA[NX + i] = na[i].x
-    localA[NY + i] = na[i].y
-  }
+/** Moves B (its geometry) into A's shifted frame (A's geometry), into the scratch polygon localB. */
+function loadPolygonB(geometryA: Float64Array, geometryB: Float64Array, countB: number): void {
+  const ox = geometryA[VERTEX_X]
+  const oy = geometryA[VERTEX_Y]
   // B relative to the shifted A frame: rotation qA^T qB, translation qA^T (pB - pA - qA o).
   const ac = frame[AC]
   const as = frame[AS]
@@ -304,15 +330,15 @@ function loadPolygons(polygonA: PolygonShape, polygonB: PolygonShape): void {
   const dy = frame[BY] - (frame[AY] + as * ox + ac * oy)
   const px = ac * dx + as * dy
   const py = ac * dy - as * dx
-  const vb = polygonB.vertices
-  const nb = polygonB.normals
-  for (let i = 0; i < polygonB.count; i++) {
-    const vx = vb[i].x
-    const vy = vb[i].y
+  for (let i = 0; i < countB; i++) {
+    const vx = geometryB[VERTEX_X + i]
+    const vy = geometryB[VERTEX_Y + i]
+    const nx = geometryB[NX + i]
+    const ny = geometryB[NY + i]
     localB[i] = qc * vx - qs * vy + px
     localB[VY + i] = qs * vx + qc * vy + py
-    localB[NX + i] = qc * nb[i].x - qs * nb[i].y
-    localB[NY + i] = qs * nb[i].x + qc * nb[i].y
+    localB[NX + i] = qc * nx - qs * ny
+    localB[NY + i] = qs * nx + qc * ny
   }
 }
 
@@ -361,6 +387,7 @@ function findIncidentEdge(ref: Float64Array, edge: number, inc: Float64Array, co
  * Ericson 5.1.9). Returns false when the closest features include an edge interior.
  */
 function collideVertices(
+  localA: Float64Array,
   edgeA: number,
   countA: number,
   edgeB: number,

@@ -8,7 +8,7 @@
  * inherits the impulses of the old point with the same feature id (Box2D's b2UpdateContact).
  */
 import type { Body } from './body.ts'
-import { collideShapes } from './collide.ts'
+import { collideGeometry } from './collide.ts'
 import { Manifold } from './manifold.ts'
 
 /** Multiplier that makes the pair key (a * KEY_SCALE + b) unique for body ids below 2^26. */
@@ -142,7 +142,22 @@ export function clearContact(c: Contact): void {
 export function updateContact(c: Contact, speculativeDistance: number): boolean {
   const a = c.bodyA
   const b = c.bodyB
-  collideShapes(a.shape, a.x, a.y, a.c, a.s, b.shape, b.x, b.y, b.c, b.s, speculativeDistance, scratch)
+  collideGeometry(
+    a.shape,
+    a.geometry,
+    a.x,
+    a.y,
+    a.c,
+    a.s,
+    b.shape,
+    b.geometry,
+    b.x,
+    b.y,
+    b.c,
+    b.s,
+    speculativeDistance,
+    scratch,
+  )
   old[0] = c.id0
   old[1] = c.id1
   old[2] = c.normalImpulse0

@@ -1,0 +1,158 @@
+/*
+ * A/B timing of engine versions (`npx tsx bench/engine-ab.ts A=dir B=dir ...`): each argument
+ * names an engine/ folder (a scratch git worktree's, say `old=/tmp/wt-old/engine`); every version
+ * builds the same scene from its own `scenes.ts` blueprint and steps it in one process,
+ * interleaved in rounds of `--chunk` steps with the first version rotating, so machine load lands
+ * on all versions alike. Prints, per scene and version: median ms per step, CPU ms per step
+ * (process.cpuUsage, which leaves out time spent waiting for a core), the paired ratio to the first
+ * version (median over rounds of the ratio of the round medians) and the world hash after the last
+ * step (equal hashes: the versions stepped bit-identically). Saves bench/results/engine-ab.json.
+ *
+ * Flags: --scenes pyramid-20,pyramid-50,pile-1000 (also pile-N for any N), --rounds 40,
+ * --chunk 10, --warmup 30, --sleep off|on, --out FILE.
+ */
+import { performance } from 'node:perf_hooks'
+import { parseArgs } from 'node:util'
+import { formatTable, machineInfo, median, pairedRatio, saveResults } from './stats.ts'
+
+/** What the benchmark needs from one engine version's index.ts. */
+interface EngineModule {
+  createWorld(def: { gravity: { x: number; y: number }; enableSleep: boolean }): {
+    step(): void
+    hash(): number
+  }
+  buildScene(world: unknown, blueprint: unknown): unknown
+  pyramidScene(rows: number): { gravity: { x: number; y: number } }
+  pileScene(count: number): { gravity: { x: number; y: number } }
+}
+
+interface Version {
+  label: string
+  engine: EngineModule
+}
+
+interface VersionResult {
+  label: string
+  medianMs: number
+  cpuMsPerStep: number
+  pairedToFirst: number
+  medianToFirst: number
+  cpuToFirst: number
+  hash: number
+}
+
+function parseVersion(arg: string): { label: string; dir: string } {
+  const eq = arg.indexOf('=')
+  if (eq <= 0) throw new Error(`a version is LABEL=ENGINE_DIR, got ${JSON.stringify(arg)}`)
+  return { label: arg.slice(0, eq), dir: arg.slice(eq + 1) }
+}
+
+function blueprintOf(engine: EngineModule, scene: string): { gravity: { x: number; y: number } } {
+  const pyramid = /^pyramid-(\d+)$/.exec(scene)
+  if (pyramid) return engine.pyramidScene(Number(pyramid[1]))
+  const pile = /^pile-(\d+)$/.exec(scene)
+  if (pile) return engine.pileScene(Number(pile[1]))
+  throw new Error(`unknown scene ${JSON.stringify(scene)}: use pyramid-N or pile-N`)
+}
+
+function runScene(
+  versions: Version[],
+  scene: string,
+  options: { rounds: number; chunk: number; warmup: number; sleep: boolean },
+): VersionResult[] {
+  const worlds = versions.map(({ engine }) => {
+    const blueprint = blueprintOf(engine, scene)
+    const world = engine.createWorld({ gravity: blueprint.gravity, enableSleep: options.sleep })
+    engine.buildScene(world, blueprint)
+    return world
+  })
+  const samples = versions.map(() => [] as number[])
+  const cpu = versions.map(() => 0)
+  const total = options.warmup + options.rounds * options.chunk
+  for (let round = 0, done = 0; done < total; round++) {
+    const count = Math.min(options.chunk, total - done)
+    const timed = done >= options.warmup
+    for (let k = 0; k < versions.length; k++) {
+      const v = (round + k) % versions.length
+      const world = worlds[v]
+      const cpu0 = process.cpuUsage()
+      for (let s = 0; s < count; s++) {
+        const t0 = performance.now()
+        world.step()
+        if (timed) samples[v].push(performance.now() - t0)
+      }
+      const used = process.cpuUsage(cpu0)
+      if (timed) cpu[v] += (used.user + used.system) / 1000
+    }
+    done += count
+  }
+  const steps = samples[0].length
+  return versions.map((version, v) => ({
+    label: version.label,
+    medianMs: median(samples[v]),
+    cpuMsPerStep: cpu[v] / steps,
+    pairedToFirst: pairedRatio(samples[v], samples[0], options.chunk),
+    medianToFirst: median(samples[v]) / median(samples[0]),
+    cpuToFirst: cpu[v] / cpu[0],
+    hash: worlds[v].hash(),
+  }))
+}
+
+async function main(): Promise<void> {
+  const { values, positionals } = parseArgs({
+    allowPositionals: true,
+    options: {
+      scenes: { type: 'string', default: 'pyramid-20,pyramid-50,pile-1000' },
+      rounds: { type: 'string', default: '40' },
+      chunk: { type: 'string', default: '10' },
+      warmup: { type: 'string', default: '30' },
+      sleep: { type: 'string', default: 'off' },
+      out: { type: 'string' },
+    },
+  })
+  if (positionals.length < 2) throw new Error('give at least two versions: LABEL=ENGINE_DIR ...')
+  const counts = { rounds: Number(values.rounds), chunk: Number(values.chunk), warmup: Number(values.warmup) }
+  for (const [name, value] of Object.entries(counts)) {
+    if (!Number.isInteger(value) || value < (name === 'warmup' ? 0 : 1)) {
+      throw new Error(`--${name} must be a whole number (at least 1, warmup 0), got ${value}`)
+    }
+  }
+  if (values.sleep !== 'off' && values.sleep !== 'on') {
+    throw new Error(`--sleep must be off or on, got ${values.sleep}`)
+  }
+  const versions: Version[] = []
+  for (const { label, dir } of positionals.map(parseVersion)) {
+    const url = new URL(`file://${dir.replace(/\/$/, '')}/index.ts`)
+    versions.push({ label, engine: (await import(url.href)) as EngineModule })
+  }
+  const machine = machineInfo()
+  console.error(`engine A/B, node ${machine.node}, load ${machine.loadAverage.toFixed(2)}`)
+  const results: { scene: string; versions: VersionResult[] }[] = []
+  const rows: string[][] = []
+  for (const scene of values.scenes.split(',')) {
+    const t0 = performance.now()
+    const out = runScene(versions, scene, { ...counts, sleep: values.sleep === 'on' })
+    console.error(`  ${scene}: ${((performance.now() - t0) / 1000).toFixed(1)} s`)
+    results.push({ scene, versions: out })
+    for (const r of out) {
+      rows.push([
+        scene,
+        r.label,
+        r.medianMs.toFixed(3),
+        r.cpuMsPerStep.toFixed(3),
+        r.pairedToFirst.toFixed(3),
+        r.medianToFirst.toFixed(3),
+        r.cpuToFirst.toFixed(3),
+        `0x${r.hash.toString(16).padStart(8, '0')}`,
+      ])
+    }
+  }
+  const header = ['scene', 'version', 'median ms', 'cpu ms', 'paired/first', 'median/first', 'cpu/first', 'hash']
+  console.log(formatTable(header, rows))
+  const loadAtEnd = machineInfo().loadAverage
+  console.log(`load average ${machine.loadAverage.toFixed(2)} at start, ${loadAtEnd.toFixed(2)} at end`)
+  const path = values.out ?? new URL('./results/engine-ab.json', import.meta.url).pathname
+  saveResults(path, { benchmark: 'engine-ab', machine: { ...machine, loadAtEnd }, counts, results })
+}
+
+await main()
