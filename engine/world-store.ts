@@ -8,6 +8,7 @@ import { BroadPhase, PairBuffer } from './broad-phase.ts'
 import { SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
 import type { Contact } from './contact.ts'
 import { IslandBuilder } from './island.ts'
+import { VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
 import type { Joint } from './joint.ts'
 import { circle } from './shapes.ts'
 import { Softness } from './softness.ts'
@@ -153,11 +154,16 @@ export class WorldStore {
     let minY = Number.POSITIVE_INFINITY
     let maxX = Number.NEGATIVE_INFINITY
     let maxY = Number.NEGATIVE_INFINITY
-    const vertices = shape.vertices
+    const g = b.geometry
+    const bx = b.x
+    const by = b.y
+    const c = b.c
+    const s = b.s
     for (let i = 0; i < shape.count; i++) {
-      const v = vertices[i]
-      const x = b.x + b.c * v.x - b.s * v.y
-      const y = b.y + b.s * v.x + b.c * v.y
+      const vx = g[VERTEX_X + i]
+      const vy = g[VERTEX_Y + i]
+      const x = bx + c * vx - s * vy
+      const y = by + s * vx + c * vy
       if (x < minX) minX = x
       if (y < minY) minY = y
       if (x > maxX) maxX = x
