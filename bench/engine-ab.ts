@@ -157,7 +157,17 @@ async function main(): Promise<void> {
       ])
     }
   }
-  const header = ['scene', 'version', 'median ms', 'cpu ms', 'paired/first', 'median/first', 'cpu/first', 'best/first', 'hash']
+  const header = [
+    'scene',
+    'version',
+    'median ms',
+    'cpu ms',
+    'paired/first',
+    'median/first',
+    'cpu/first',
+    'best/first',
+    'hash',
+  ]
   console.log(formatTable(header, rows))
   const loadAtEnd = machineInfo().loadAverage
   console.log(`load average ${machine.loadAverage.toFixed(2)} at start, ${loadAtEnd.toFixed(2)} at end`)

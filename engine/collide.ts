@@ -83,7 +83,22 @@ export function collideShapes(
 ): void {
   const geometryA = polygonGeometry(shapeA)
   const geometryB = polygonGeometry(shapeB)
-  collideGeometry(shapeA, geometryA, ax, ay, ac, as, shapeB, geometryB, bx, by, bc, bs, speculativeDistance, out)
+  collideGeometry(
+    shapeA,
+    geometryA,
+    ax,
+    ay,
+    ac,
+    as,
+    shapeB,
+    geometryB,
+    bx,
+    by,
+    bc,
+    bs,
+    speculativeDistance,
+    out,
+  )
 }
 
 /** collideShapes with each shape's polygonGeometry given (no allocation). */
