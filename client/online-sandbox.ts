@@ -22,6 +22,7 @@ import {
   TICK_RATE,
 } from '../shared/index.ts'
 import { Connection } from './connection.ts'
+import { InputOutbox } from './input-outbox.ts'
 import { type Pose, SnapshotTimeline } from './interpolation.ts'
 import { viewJoints } from './joint-view.ts'
 import { labFromServer } from './lab.ts'
@@ -81,10 +82,12 @@ export class OnlineSandbox implements Sandbox {
   private readonly viewById = new Map<number, ViewBody>()
   private viewDirty = true
   private pendingMove: Command | null = null
-  /** Commands waiting for room in the input budget, in order. */
-  private readonly outbox: Command[] = []
-  private sentThisFrame = 0
-  private queuedNoticeShown = false
+  /** Commands waiting for room in the input budget, in order (and spawns followed until seen). */
+  private readonly outbox = new InputOutbox(
+    (cmd) => this.transmit(cmd, this.outboxNow),
+    (text) => this.tell(text),
+  )
+  private outboxNow = 0
   /** This page asked for a scene load or reset: the next new world is its own doing. */
   private ownLoad = false
   private seq = 0
@@ -158,8 +161,12 @@ export class OnlineSandbox implements Sandbox {
       this.rttMs = now - message.time
       return
     }
-    if (message.t === 'error' && (message.code === 'refused' || message.code === 'input-budget')) {
-      this.tell(message.reason)
+    if (message.t === 'error' && message.code === 'refused') this.tell(message.reason)
+    if (message.t === 'error' && message.code !== 'input-budget' && message.seq !== undefined)
+      this.outbox.spawns.refused(message.seq)
+    if (message.t === 'events') for (const b of message.add) this.outbox.spawns.added(b)
+    if (message.t === 'error' && message.code === 'input-budget') {
+      this.tell(`The server dropped some of your inputs (${message.reason}).`)
     }
     if (message.t === 'events' && this.ownGrab && message.remove.includes(this.ownGrab)) {
       this.tell(
@@ -178,11 +185,13 @@ export class OnlineSandbox implements Sandbox {
           sessionStorage.setItem(TOKEN_KEY + this.options.room, message.token)
         } catch {}
         this.ownGrab = 0
+        this.outbox.spawns.clear()
         this.resetTimeline(message.state.tick, now, message.rules)
         this.reinspect(now)
         break
       case 'state':
         this.ownGrab = 0
+        this.outbox.spawns.clear()
         this.resetTimeline(message.state.tick, now, this.mirror.rules)
         this.reinspect(now)
         break
@@ -224,8 +233,11 @@ export class OnlineSandbox implements Sandbox {
   }
 
   update(nowMs: number): void {
-    this.sentThisFrame = 0
-    if (this.connection?.isJoined) this.drainOutbox(nowMs)
+    this.outbox.startFrame()
+    if (this.connection?.isJoined) {
+      this.outbox.resendDropped(this.mirror.tick, Math.ceil(((this.rttMs ?? 200) * TICK_RATE) / 1000))
+      this.drainOutbox(nowMs)
+    }
     if (this.pendingMove && this.outbox.length === 0) {
       this.transmit(this.pendingMove, nowMs)
       this.pendingMove = null
@@ -386,36 +398,23 @@ export class OnlineSandbox implements Sandbox {
     this.drainOutbox(now)
   }
 
-  /**
-   * Send queued commands, at most a share of the room's per-tick input budget per animation frame
-   * (two frames' worth can land in one server tick, and moves and pings need room too), so that
-   * the server never drops one: a burst of clicks is spread over a few frames instead, and the
-   * player is told it is queued.
-   */
-  private drainOutbox(now: number): void {
-    const perTick = this.mirror.rules?.inputsPerTick ?? 8
-    const quota = Math.max(1, Math.floor((perTick - 2) / 3))
-    while (this.outbox.length > 0 && this.sentThisFrame < quota) {
-      this.transmit(this.outbox.shift()!, now)
-      this.sentThisFrame++
-    }
-    if (this.outbox.length > 0 && !this.queuedNoticeShown) {
-      this.queuedNoticeShown = true
-      this.tell(
-        `Sending ${this.outbox.length} more inputs over the next frames: the room takes ${perTick} per tick.`,
-      )
-    }
-    if (this.outbox.length === 0) this.queuedNoticeShown = false
-  }
-
   /** Show the player a notice. */
   private tell(text: string): void {
     this.notice.count++
     this.notice.latest = text
   }
 
+  /** Send one command now; spawns are followed until the world shows them. */
   private transmit(cmd: Command, now: number): void {
-    if (this.connection) this.up.add(this.connection.send({ t: 'input', seq: ++this.seq, cmd }), now)
+    if (!this.connection) return
+    this.up.add(this.connection.send({ t: 'input', seq: ++this.seq, cmd }), now)
+    if (cmd.k === 'spawn') this.outbox.spawns.sent(this.seq, cmd, this.mirror.tick)
+  }
+
+  /** Send what the input budget allows of the queued commands. */
+  private drainOutbox(now: number): void {
+    this.outboxNow = now
+    this.outbox.drain(this.mirror.rules?.inputsPerTick ?? 8)
   }
 
   color(): string {
