@@ -8,7 +8,7 @@ import { SCENES } from '../engine/index.ts'
 import { Camera } from './camera.ts'
 import { FpsMeter, hudText } from './hud.ts'
 import { computeFreeBody, describeFreeBody, type FreeBody } from './lab.ts'
-import { cleanRoomName, roomLink, showLobby } from './lobby.ts'
+import { cleanRoomName, offlineLink, roomLink, showLobby } from './lobby.ts'
 import { shapeRadius } from './picking.ts'
 import { type DebugLayers, Renderer } from './renderer.ts'
 import type { Sandbox, ViewBody } from './sandbox.ts'
@@ -29,6 +29,7 @@ export class App {
   private lastHud = 0
   private fittedScene = ''
   private lastToastCount = 0
+  private toastTimer: ReturnType<typeof setTimeout> | undefined
   private frameHandle = 0
 
   constructor(
@@ -40,12 +41,16 @@ export class App {
     this.renderer = new Renderer(canvas, this.camera)
     this.tools = new ToolController(canvas, this.camera, () => this.sandbox)
     this.renderer.resize()
-    window.addEventListener('resize', () => this.renderer.resize())
+    window.addEventListener('resize', () => {
+      this.renderer.resize()
+      this.placePanels()
+    })
     window.addEventListener('blur', () => this.tools.cancel())
     window.addEventListener('keydown', (e) => this.key(e))
     this.wireToolbar()
     $('help-rows').innerHTML = helpRows()
     this.setTool('grab')
+    this.placePanels()
     this.frameHandle = requestAnimationFrame((t) => this.frame(t))
   }
 
@@ -58,6 +63,10 @@ export class App {
       this.sandbox.send({ k: 'scene', name: scene.value })
       scene.blur()
     })
+    // Open (focused), the picker describes each scene; closed, it names the scene only.
+    scene.addEventListener('focus', () => this.labelScenes(true))
+    scene.addEventListener('mousedown', () => this.labelScenes(true))
+    scene.addEventListener('blur', () => this.labelScenes(false))
     const click = (id: string, action: ShortcutAction): void =>
       $(id).addEventListener('click', () => this.act(action))
     click('pause', 'pause')
@@ -73,6 +82,7 @@ export class App {
     $('layers').addEventListener('click', () => {
       $('layers-panel').hidden = !$('layers-panel').hidden
       this.syncToggles()
+      this.placePanels()
     })
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-layer]')) {
       b.addEventListener('click', () => this.act(`layer:${b.dataset.layer}` as ShortcutAction))
@@ -80,10 +90,12 @@ export class App {
     $('mode').textContent = this.sandbox.mode === 'online' ? 'Offline' : 'Online'
     $('mode').addEventListener('click', () => {
       location.href =
-        this.sandbox.mode === 'online' ? `?offline&scene=${this.sandbox.scene()}` : roomLink(this.room)
+        this.sandbox.mode === 'online'
+          ? offlineLink(this.room, this.sandbox.scene() || 'pyramid')
+          : roomLink(this.room)
     })
     $('go-offline').addEventListener('click', () => {
-      location.href = `?offline&scene=${this.sandbox.scene() || 'pyramid'}`
+      location.href = offlineLink(this.room, this.sandbox.scene() || 'pyramid')
     })
     $('retry').addEventListener('click', () => this.sandbox.retry())
     $('create-room').addEventListener('click', () => {
@@ -102,6 +114,20 @@ export class App {
     const g = this.sandbox.gravity()
     $('gravity').setAttribute('aria-pressed', String(g.x !== 0 || g.y !== 0))
     $('pause').setAttribute('aria-pressed', String(this.sandbox.paused()))
+  }
+
+  /**
+   * Tell the CSS where the toolbar ends (--bar-bottom) and where the panels under it end
+   * (--panels-bottom: the Debug layer row when open): on a phone the toolbar wraps onto several
+   * rows and the HUD, the layer row and notices are placed below it.
+   */
+  placePanels(): void {
+    const bar = $('toolbar').getBoundingClientRect().bottom
+    const layers = $('layers-panel')
+    const below = layers.hidden ? bar : layers.getBoundingClientRect().bottom
+    const root = document.documentElement.style
+    root.setProperty('--bar-bottom', `${Math.round(bar)}px`)
+    root.setProperty('--panels-bottom', `${Math.round(below)}px`)
   }
 
   /** Switch the active tool. */
@@ -236,13 +262,35 @@ export class App {
     return body
   }
 
+  /**
+   * Fill the scene picker: each option names its scene and, while the picker is open, says what
+   * the scene holds (SCENES' descriptions); closed, it shows the name alone so the toolbar keeps
+   * its width, with the description as its tooltip.
+   */
   private syncScenePicker(): void {
     const select = $<HTMLSelectElement>('scene')
     const names = this.sandbox.rules()?.scenes ?? Object.keys(SCENES)
     if (select.options.length !== names.length) {
-      select.innerHTML = names.map((n) => `<option value="${n}">${n}</option>`).join('')
+      select.replaceChildren(
+        ...names.map((n) => {
+          const option = document.createElement('option')
+          option.value = n
+          option.dataset.description = sceneDescription(n)
+          return option
+        }),
+      )
+      this.labelScenes(false)
     }
     select.value = this.sandbox.scene()
+    select.title = `Scene: ${sceneDescription(select.value)}`
+  }
+
+  /** Scene options as "name: description" (picker open) or "name" (closed). */
+  private labelScenes(open: boolean): void {
+    for (const option of $<HTMLSelectElement>('scene').options) {
+      const description = option.dataset.description
+      option.textContent = open && description ? `${option.value}: ${description}` : option.value
+    }
   }
 
   private refreshPanels(selected: ViewBody | null): void {
@@ -254,6 +302,7 @@ export class App {
     }
     $('pause').textContent = s.paused() ? 'Play' : 'Pause'
     this.syncToggles()
+    this.placePanels()
     if ($<HTMLSelectElement>('scene').value !== s.scene()) this.syncScenePicker()
     $('lab').hidden = !selected
     if (selected) {
@@ -285,7 +334,9 @@ export class App {
       this.lastToastCount = notices.count
       $('toast').hidden = false
       $('toast').textContent = notices.latest ?? ''
-      setTimeout(() => ($('toast').hidden = true), 3000)
+      // Each notice stays 4 s, however soon the next one replaces it.
+      clearTimeout(this.toastTimer)
+      this.toastTimer = setTimeout(() => ($('toast').hidden = true), 4000)
     }
   }
 
@@ -308,6 +359,11 @@ export class App {
     cancelAnimationFrame(this.frameHandle)
     this.sandbox.dispose()
   }
+}
+
+/** What a scene holds (SCENES' description), or '' for a scene this page does not know. */
+function sceneDescription(name: string): string {
+  return Object.hasOwn(SCENES, name) ? SCENES[name].description : ''
 }
 
 /** The tools in toolbar order (re-exported for tests and the README). */

@@ -13,11 +13,28 @@ export interface RoomInfo {
   scene: string
 }
 
-/** The URL of a room on this page. */
+/** The URL of a room on this page (the access key and player name carried over). */
 export function roomLink(room: string): string {
+  return pageLink({ room })
+}
+
+/**
+ * The URL of this page in offline mode with `scene`, remembering the room it came from, so that
+ * going back online returns to the same room.
+ */
+export function offlineLink(room: string, scene: string): string {
+  return pageLink({ offline: '', room, scene })
+}
+
+/** This page's URL with these parameters, plus the current key and name if any. */
+function pageLink(params: Record<string, string>): string {
   const url = new URL(location.href)
-  const key = url.searchParams.get('key')
-  url.search = `?room=${encodeURIComponent(room)}${key ? `&key=${encodeURIComponent(key)}` : ''}`
+  const keep = new URLSearchParams(params)
+  for (const name of ['key', 'name']) {
+    const value = url.searchParams.get(name)
+    if (value) keep.set(name, value)
+  }
+  url.search = `?${keep.toString().replace(/^offline=&/, 'offline&')}`
   return url.toString()
 }
 

@@ -72,3 +72,33 @@ export function pickBody(
   }
   return null
 }
+
+/** Distance (m) from a point to the segment a-b (to a when they coincide, as for a pin). */
+export function distanceToSegment(p: Vec2, ax: number, ay: number, bx: number, by: number): number {
+  const dx = bx - ax
+  const dy = by - ay
+  const l2 = dx * dx + dy * dy
+  const t = l2 > 0 ? Math.max(0, Math.min(1, ((p.x - ax) * dx + (p.y - ay) * dy) / l2)) : 0
+  return Math.hypot(p.x - (ax + t * dx), p.y - (ay + t * dy))
+}
+
+/**
+ * The joint drawn nearest a point within `reach` (m): measured to the line between its anchors (a
+ * rope, rod or spring) or to its anchor (a pin); null when none is that close.
+ */
+export function pickJoint<J extends { ax: number; ay: number; bx: number; by: number }>(
+  joints: readonly J[],
+  p: Vec2,
+  reach: number,
+): J | null {
+  let best: J | null = null
+  let bestDistance = reach
+  for (const j of joints) {
+    const d = distanceToSegment(p, j.ax, j.ay, j.bx, j.by)
+    if (d <= bestDistance) {
+      best = j
+      bestDistance = d
+    }
+  }
+  return best
+}

@@ -27,11 +27,14 @@ export interface ToolOverlay {
   color: string
   /** Own grab: world point on the body the line ends at. */
   grabAnchor: Vec2 | null
-  /** Spawn preview: a ghost body and a throw vector. */
+  /** Spawn preview: a ghost body (drawn at ghostAlpha opacity) and a throw vector. */
   ghost: ViewBody | null
+  ghostAlpha: number
   throwTo: Vec2 | null
   /** Rope preview from a world point to the cursor. */
   ropeFrom: Vec2 | null
+  /** The joint the cut tool would remove here, marked. */
+  cutJoint: ViewJoint | null
 }
 
 /** Everything one frame shows. */
@@ -54,6 +57,22 @@ const STYLE = {
   asleep: ['#2c4360', '#4f6a8c'],
   kinematic: ['#7a5cc4', '#b7a0f0'],
 } as const
+
+/** The mark on the joint the cut tool points at. */
+export const CUT_MARK = '#ff3b30'
+
+/** Name labels: font, plate colour and padding (CSS px). */
+const LABEL_FONT = '12px system-ui, sans-serif'
+/** The plate behind a player's name: near-black, so every player colour reads on it. */
+export const LABEL_PLATE = 'rgba(10, 12, 16, 0.85)'
+/** Name text colour. */
+export const LABEL_TEXT = '#ffffff'
+const LABEL_PAD = 4
+
+/** Where a cursor's name label goes (CSS px): up and to the right of the cursor at (x, y). */
+export function labelBox(x: number, y: number, textWidth: number) {
+  return { x: x + 8, y: y - 24, width: textWidth + 2 * LABEL_PAD + 2, height: 18 }
+}
 
 /** Draws frames on one canvas. */
 export class Renderer {
@@ -307,7 +326,7 @@ export class Renderer {
     ctx.lineWidth = this.lineWidth(2)
     ctx.strokeStyle = o.color
     if (o.ghost) {
-      ctx.globalAlpha = 0.5
+      ctx.globalAlpha = o.ghostAlpha
       ctx.beginPath()
       this.traceBody(o.ghost)
       ctx.fillStyle = o.color
@@ -327,6 +346,20 @@ export class Renderer {
       ctx.lineTo(o.cursor.x, o.cursor.y)
       ctx.stroke()
       ctx.setLineDash([])
+    }
+    if (o.cutJoint) {
+      const j = o.cutJoint
+      ctx.strokeStyle = CUT_MARK
+      ctx.lineWidth = this.lineWidth(5)
+      ctx.beginPath()
+      ctx.moveTo(j.ax, j.ay)
+      ctx.lineTo(j.bx, j.by)
+      ctx.stroke()
+      ctx.beginPath()
+      ctx.arc(j.bx, j.by, this.lineWidth(7), 0, 2 * Math.PI)
+      ctx.stroke()
+      ctx.lineWidth = this.lineWidth(2)
+      ctx.strokeStyle = o.color
     }
     if (o.grabAnchor && o.cursor) {
       ctx.beginPath()
@@ -361,16 +394,28 @@ export class Renderer {
     }
   }
 
+  /**
+   * Players' names beside their cursors: white on a dark plate edged in the player's colour. The
+   * label reads over anything (white on the plate is about 17:1), including a body drawn in the
+   * player's own colour (the one it holds); the colour still says whose cursor it is.
+   */
   private drawCursorLabels(cursors: readonly ViewCursor[]): void {
     const ctx = this.ctx
-    ctx.font = '12px system-ui, sans-serif'
+    ctx.font = LABEL_FONT
     ctx.textAlign = 'left'
-    ctx.textBaseline = 'bottom'
+    ctx.textBaseline = 'middle'
     const p = { x: 0, y: 0 }
     for (const c of cursors) {
       this.camera.toScreen(c.x, c.y, p)
+      const box = labelBox(p.x, p.y, ctx.measureText(c.name).width)
+      ctx.fillStyle = LABEL_PLATE
+      ctx.beginPath()
+      ctx.roundRect(box.x, box.y, box.width, box.height, 4)
+      ctx.fill()
       ctx.fillStyle = c.color
-      ctx.fillText(c.name, p.x + 8, p.y - 6)
+      ctx.fillRect(box.x, box.y + 2, 3, box.height - 4)
+      ctx.fillStyle = LABEL_TEXT
+      ctx.fillText(c.name, box.x + LABEL_PAD + 2, box.y + box.height / 2)
     }
   }
 }

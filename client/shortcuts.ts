@@ -12,6 +12,7 @@ export type ShortcutAction =
   | 'tool:delete'
   | 'tool:pin'
   | 'tool:rope'
+  | 'tool:cut'
   | 'tool:inspect'
   | 'pause'
   | 'step'
@@ -31,7 +32,11 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
   { keys: ['g', '1'], action: 'tool:grab', help: 'Grab and throw: drag a body' },
   { keys: ['c', '2'], action: 'tool:circle', help: 'Spawn circle: click to drop, drag to throw' },
   { keys: ['b', '3'], action: 'tool:box', help: 'Spawn box: click to drop, drag to throw' },
-  { keys: ['p', '4'], action: 'tool:polygon', help: 'Spawn polygon (3-8 sides, cycling)' },
+  {
+    keys: ['p', '4'],
+    action: 'tool:polygon',
+    help: 'Spawn polygon (3-8 sides, cycling; the next one is shown at the pointer)',
+  },
   { keys: ['x', '5'], action: 'tool:delete', help: 'Delete: click a body' },
   {
     keys: ['n', '6'],
@@ -39,6 +44,7 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
     help: 'Pin: click a body to pin it to what is under it (or the world)',
   },
   { keys: ['l', '7'], action: 'tool:rope', help: 'Rope: drag from one body (or space) to another' },
+  { keys: ['u', '9'], action: 'tool:cut', help: 'Cut: click a pin, rope, rod or spring to remove it' },
   { keys: ['i', '8'], action: 'tool:inspect', help: 'Inspect: click a body to see its free-body diagram' },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },

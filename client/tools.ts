@@ -12,12 +12,12 @@
 import type { Vec2 } from '../engine/index.ts'
 import type { WireShape } from '../shared/index.ts'
 import type { Camera } from './camera.ts'
-import { pickBody, toLocal, toWorld } from './picking.ts'
+import { pickBody, pickJoint, toLocal, toWorld } from './picking.ts'
 import type { ToolOverlay } from './renderer.ts'
-import type { Sandbox, ViewBody } from './sandbox.ts'
+import type { Sandbox, ViewBody, ViewJoint } from './sandbox.ts'
 
 /** The tools, in toolbar order. */
-export const TOOLS = ['grab', 'circle', 'box', 'polygon', 'delete', 'pin', 'rope', 'inspect'] as const
+export const TOOLS = ['grab', 'circle', 'box', 'polygon', 'delete', 'pin', 'rope', 'cut', 'inspect'] as const
 /** A tool name. */
 export type ToolName = (typeof TOOLS)[number]
 
@@ -26,6 +26,8 @@ const THROW_GAIN = 4
 const MAX_THROW = 40
 /** A press that moves less than this (CSS px) is a click. */
 const CLICK_SLOP = 6
+/** The cut tool takes the joint within this distance of the pointer (CSS px). */
+const CUT_REACH = 12
 /** Cursor updates while not grabbing are sent at most this often (ms). */
 const HOVER_INTERVAL = 50
 
@@ -38,6 +40,18 @@ type Action =
   | { kind: 'pinch'; distance: number; mid: Vec2 }
 
 const dynamic = (b: ViewBody): boolean => b.kind === 2
+const isSpawnTool = (tool: ToolName): boolean => tool === 'circle' || tool === 'box' || tool === 'polygon'
+/** The preview body's fixed fields. */
+const GHOST: ViewBody = {
+  id: 0,
+  kind: 2,
+  shape: { type: 'circle', radius: 0.5 },
+  x: 0,
+  y: 0,
+  angle: 0,
+  awake: true,
+  grabColor: null,
+}
 
 /** Pointer, wheel and pinch handling for the canvas. */
 export class ToolController {
@@ -49,6 +63,7 @@ export class ToolController {
   private cursor: Vec2 | null = null
   private lastHover = 0
   private polygonSides = 3
+  private preview: { key: string; shape: WireShape } | null = null
 
   constructor(
     private readonly canvas: HTMLCanvasElement,
@@ -127,6 +142,12 @@ export class ToolController {
         this.action = { kind: 'rope', a: any ? any.id : 0, anchor: w }
         return
       }
+      case 'cut': {
+        const joint = this.jointAt(w)
+        if (!joint) break
+        sandbox.send({ k: 'unjoint', joint: joint.id })
+        return
+      }
       case 'inspect':
         this.action = { kind: 'pan', moved: 0, clickBody: hit ?? pickBody(bodies, w) }
         return
@@ -134,11 +155,16 @@ export class ToolController {
     this.action = { kind: 'pan', moved: 0, clickBody: null }
   }
 
-  private spawnShape(): WireShape {
+  /** The pin, rope, rod or spring the cut tool would remove at a world point, or null. */
+  private jointAt(w: Vec2): ViewJoint | null {
+    return pickJoint(this.sandbox().joints(), w, CUT_REACH / this.camera.scale)
+  }
+
+  /** The shape the active spawn tool drops next (polygons: the side count cycles 3 to 8 per drop). */
+  spawnShape(): WireShape {
     if (this.tool === 'circle') return { type: 'circle', radius: 0.5 }
     if (this.tool === 'box') return { type: 'box', hw: 0.5, hh: 0.5 }
     const n = this.polygonSides
-    this.polygonSides = n >= 8 ? 3 : n + 1
     const v: number[] = []
     for (let i = 0; i < n; i++) {
       const a = (2 * Math.PI * i) / n + Math.PI / 2
@@ -204,6 +230,7 @@ export class ToolController {
       const drag = Math.hypot(w.x - a.at.x, w.y - a.at.y) * this.camera.scale
       const v = drag < CLICK_SLOP ? { x: 0, y: 0 } : throwVelocity(a.at, w)
       sandbox.send({ k: 'spawn', shape: a.shape, x: a.at.x, y: a.at.y, vx: v.x, vy: v.y })
+      if (a.shape.type === 'polygon') this.polygonSides = this.polygonSides >= 8 ? 3 : this.polygonSides + 1
     } else if (a.kind === 'rope') this.tieRope(a, w)
     else if (a.kind === 'pan' && a.moved < CLICK_SLOP && this.tool === 'inspect') {
       this.selected = a.clickBody && a.clickBody.kind === 2 ? a.clickBody.id : 0
@@ -254,6 +281,8 @@ export class ToolController {
       ghost: null,
       throwTo: null,
       ropeFrom: null,
+      cutJoint: null,
+      ghostAlpha: 0.5,
     }
     if (a.kind === 'grab') {
       const body = this.sandbox()
@@ -262,19 +291,22 @@ export class ToolController {
       if (body) o.grabAnchor = toWorld(body, a.lx, a.ly)
       else this.action = { kind: 'none' }
     } else if (a.kind === 'spawn') {
-      o.ghost = {
-        id: 0,
-        kind: 2,
-        shape: a.shape,
-        x: a.at.x,
-        y: a.at.y,
-        angle: 0,
-        awake: true,
-        grabColor: null,
-      }
+      o.ghost = { ...GHOST, shape: a.shape, x: a.at.x, y: a.at.y }
       o.throwTo = this.cursor
+    } else if (a.kind === 'none' && this.cursor && isSpawnTool(this.tool)) {
+      // Hovering with a spawn tool: the shape the next click drops, faint, at the pointer.
+      o.ghost = { ...GHOST, shape: this.previewShape(), x: this.cursor.x, y: this.cursor.y }
+      o.ghostAlpha = 0.25
     } else if (a.kind === 'rope') o.ropeFrom = a.anchor
+    else if (this.tool === 'cut' && this.cursor) o.cutJoint = this.jointAt(this.cursor)
     return o
+  }
+
+  /** The next spawn shape, rebuilt only when it changes (the preview is drawn every frame). */
+  private previewShape(): WireShape {
+    const key = `${this.tool}:${this.polygonSides}`
+    if (this.preview?.key !== key) this.preview = { key, shape: this.spawnShape() }
+    return this.preview.shape
   }
 
   /** The body grabbed by this player, 0 when none. */

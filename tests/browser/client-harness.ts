@@ -54,6 +54,21 @@ export async function openSandbox(
   return { context, page, errors }
 }
 
+/** Load a scene in the page's room and wait until the page shows it with its joints. */
+export async function loadScene(page: Page, scene: string, joints: number): Promise<void> {
+  await page.waitForFunction(
+    ([name, count]) => {
+      const s = window.concord.sandbox
+      if (s.scene() === name && s.joints().length === count) return true
+      // Scene loads are rate limited per room: ask again until the room takes it.
+      if (s.scene() !== name) s.send({ k: 'scene', name })
+      return false
+    },
+    [scene, joints] as const,
+    { polling: 500, timeout: 20_000 },
+  )
+}
+
 /** A body as the page draws it (pose in metres). */
 export interface PageBody {
   id: number

@@ -13,6 +13,7 @@ import { launchBrowser } from './chromium.ts'
 import {
   ARTIFACTS,
   bodies,
+  loadScene,
   openSandbox,
   pickTool,
   screenOfBody,
@@ -33,21 +34,6 @@ afterAll(async () => {
   await browser?.close()
   await server?.close()
 })
-
-/** Load a scene in the page's room and wait until the page shows it with its joints. */
-async function loadScene(page: Page, scene: string, joints: number): Promise<void> {
-  await page.waitForFunction(
-    ([name, count]) => {
-      const s = window.concord.sandbox
-      if (s.scene() === name && s.joints().length === count) return true
-      // Scene loads are rate limited per room: ask again until the room takes it.
-      if (s.scene() !== name) s.send({ k: 'scene', name })
-      return false
-    },
-    [scene, joints] as const,
-    { polling: 500, timeout: 20_000 },
-  )
-}
 
 /*
  * In the page, as source text (functions compiled for Node may carry helpers the page lacks): for
