@@ -44,6 +44,9 @@ export async function openSandbox(
     hasTouch: options.touch ?? false,
     isMobile: false,
   })
+  // Waits are for conditions; on a machine at load 20 a page can take well over Playwright's
+  // default 30 s to reach one, so every wait on these pages may take 90 s before it fails.
+  context.setDefaultTimeout(90_000)
   const page = await context.newPage()
   const errors = collectErrors(page)
   await page.goto(url)
@@ -65,7 +68,7 @@ export async function loadScene(page: Page, scene: string, joints: number): Prom
       return false
     },
     [scene, joints] as const,
-    { polling: 500, timeout: 20_000 },
+    { polling: 500, timeout: 90_000 },
   )
 }
 

@@ -282,7 +282,7 @@ describe('with the server stopped', () => {
     server = await startClientServer(server.port)
     const page = watcher!.page
     await page.waitForFunction(() => window.concord.sandbox.status().state === 'connected', undefined, {
-      timeout: 20_000,
+      timeout: 90_000,
     })
     await page.waitForFunction(() => window.concord.sandbox.bodies().length > 200)
     // The panels refresh four times a second: the banner goes and the HUD names the room.

@@ -94,7 +94,7 @@ function jointPixels(
   return page.evaluate(`${JOINT_PIXELS}([${radius}, ${JSON.stringify(JOINT_COLORS)}])`)
 }
 
-describe('joints', { timeout: 90_000 }, () => {
+describe('joints', { timeout: 300_000 }, () => {
   it('draws every joint of each joint scene, read back from the canvas along the joint', async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=joint-scenes`)
     const scenes: Array<[string, number, string[]]> = [
@@ -144,7 +144,7 @@ describe('joints', { timeout: 90_000 }, () => {
         return /rod \d+: [\d.]+ N/.test(text) && net !== null && Number(net[1]) < limit
       },
       0.1 * mg,
-      { timeout: 30_000 },
+      { timeout: 90_000 },
     )
     const text = (await page.textContent('#lab-text'))!
     expect(text).toContain("the server's contact impulses")
@@ -180,7 +180,7 @@ describe('joints', { timeout: 90_000 }, () => {
         return /contact with/.test(text) && net !== null && Number(net[1]) < limit
       },
       0.05 * mg,
-      { timeout: 30_000 },
+      { timeout: 90_000 },
     )
     const text = (await page.textContent('#lab-text'))!
     const normals = [...text.matchAll(/normal ([\d.]+) N/g)].reduce((sum, m) => sum + Number(m[1]), 0)

@@ -57,7 +57,7 @@ describe('the sandbox page in lockstep modes', () => {
     )
     // A small scene: the re-simulation cost grows with the bodies (see bench/results for the pyramid).
     await page.evaluate(() => window.concord.sandbox.send({ k: 'scene', name: 'tower' }))
-    await page.waitForFunction(() => window.concord.sandbox.scene() === 'tower', null, { timeout: 30_000 })
+    await page.waitForFunction(() => window.concord.sandbox.scene() === 'tower', null, { timeout: 90_000 })
     await pickTool(page, 'grab')
     const target = (await bodies(page)).filter((b) => b.kind === 2).sort((a, b) => b.y - a.y)[0]
     expect(target).toBeDefined()
@@ -87,7 +87,7 @@ describe('the sandbox page in lockstep modes', () => {
     }, target.id)
     await page.mouse.move(at.x + 150, at.y - 150)
     await page.waitForFunction(() => (window as unknown as { framesToMove: number }).framesToMove > 0, null, {
-      timeout: 30_000,
+      timeout: 90_000,
     })
     const frames = await page.evaluate(() => (window as unknown as { framesToMove: number }).framesToMove)
     console.log(`predict: the grabbed body moved ${frames} frames after the pointer`)

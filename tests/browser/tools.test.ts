@@ -39,7 +39,7 @@ const joints = (page: Page): Promise<PageJoint[]> =>
 const dynamicCount = (page: Page): Promise<number> =>
   page.evaluate(() => window.concord.sandbox.bodies().filter((b: { kind: number }) => b.kind === 2).length)
 
-describe('tools', { timeout: 60_000 }, () => {
+describe('tools', { timeout: 300_000 }, () => {
   it("cuts a player's pin and a scene's rope with a click, leaving every other joint", async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=cut`)
     await loadScene(page, 'wrecking-ball', 1)
@@ -136,7 +136,7 @@ describe('tools', { timeout: 60_000 }, () => {
   })
 })
 
-describe('rooms and players', { timeout: 60_000 }, () => {
+describe('rooms and players', { timeout: 300_000 }, () => {
   it('returns to the same room after going offline and back online', async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=round-trip&name=ann`)
     await page.click('#mode')
