@@ -54,6 +54,9 @@ import { RoomPlayer } from './room-player.ts'
 import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
 import { encodeInspections, fillFrame, fullState, refreshPose, wireBody } from './room-wire.ts'
 
+/** How many ticks' worth of inputs over the budget may wait for later ticks before refusals. */
+export const WAITING_TICKS = 4
+
 /** A queued input: who sent it, its sequence number and the validated command. */
 interface QueuedInput {
   player: RoomPlayer
@@ -208,24 +211,44 @@ export class Room {
   }
 
   /**
-   * Queue an input for the next tick; returns an error reason when over the per-tick budget. A
-   * move replaces the same player's move already queued for this tick (only the latest cursor
-   * position matters), so fast mice never use up the budget.
+   * Queue an input for the next tick; returns an error reason when the budget is spent. A move
+   * replaces the same player's move already queued (only the latest cursor position matters), so
+   * fast mice never use up the budget. Inputs over a tick's budget wait, in order, for the next
+   * ticks (up to WAITING_TICKS ticks' worth), so a burst after a network or server hiccup loses
+   * nothing; only beyond that is an input refused.
    */
   queueInput(player: RoomPlayer, seq: number, cmd: Command): string | null {
-    if (cmd.k === 'move' && player.queuedMove >= 0) {
-      const queued = this.queue[player.queuedMove]
-      queued.seq = seq
-      queued.cmd = cmd
+    const budget = this.config.inputsPerTick
+    const waiting = player.waiting
+    if (cmd.k === 'move') {
+      const last = waiting[waiting.length - 1]
+      if (last?.cmd.k === 'move') {
+        last.seq = seq
+        last.cmd = cmd
+        return null
+      }
+      if (waiting.length === 0 && player.queuedMove >= 0) {
+        const queued = this.queue[player.queuedMove]
+        queued.seq = seq
+        queued.cmd = cmd
+        return null
+      }
+    }
+    if (waiting.length === 0 && player.inputsThisTick < budget) {
+      this.enqueue(player, seq, cmd)
       return null
     }
-    if (player.inputsThisTick >= this.config.inputsPerTick) {
-      return `input budget exceeded: at most ${this.config.inputsPerTick} inputs per tick`
+    if (waiting.length >= budget * WAITING_TICKS) {
+      return `input budget exceeded: at most ${budget} inputs per tick, ${budget * WAITING_TICKS} more waiting`
     }
+    waiting.push({ seq, cmd })
+    return null
+  }
+
+  private enqueue(player: RoomPlayer, seq: number, cmd: Command): void {
     player.inputsThisTick++
     if (cmd.k === 'move') player.queuedMove = this.queue.length
     this.queue.push({ player, seq, cmd })
-    return null
   }
 
   /** Run one tick (see the file comment). */
@@ -242,6 +265,10 @@ export class Room {
     for (const p of this.players.values()) {
       p.inputsThisTick = 0
       p.queuedMove = -1
+      // Waiting inputs go first into the next tick's budget, ahead of anything sent later.
+      const take = Math.min(p.waiting.length, this.config.inputsPerTick)
+      for (let i = 0; i < take; i++) this.enqueue(p, p.waiting[i].seq, p.waiting[i].cmd)
+      p.waiting.splice(0, take)
     }
     this.sim.runTick()
     this.flushEvents()

@@ -116,6 +116,40 @@ describe('a room driven tick by tick with fake connections', () => {
     expect(a.received.at(-1)).toEqual({ t: 'players', players: [{ id: 1, name: 'ada', color: '#e6194b' }] })
   })
 
+  it('inputs over a tick\'s budget wait for the next ticks in order; only beyond 4 ticks\' worth are refused', () => {
+    const room = makeRoom({ inputsPerTick: 8, maxBodies: 500 })
+    const a = join(room, 'ada')
+    const before = room.world.bodyCount
+    // 60 spawns in one tick, each at its own x so the order of creation can be read back.
+    const refused: number[] = []
+    for (let i = 0; i < 60; i++) {
+      const spawn = { k: 'spawn', shape: { type: 'circle', radius: 0.2 }, x: -20 + i * 0.5, y: 5 } as const
+      if (room.queueInput(a.player!, i + 1, spawn) !== null) refused.push(i + 1)
+      // A move in the middle of the burst waits in its place; a second move right after it
+      // replaces it there (only the latest cursor position matters).
+      if (i === 20) {
+        expect(room.queueInput(a.player!, 1000, { k: 'move', x: 1, y: 1 })).toBeNull()
+        expect(room.queueInput(a.player!, 1001, { k: 'move', x: 2, y: 2 })).toBeNull()
+      }
+    }
+    // 8 this tick, then 32 waiting: spawns 9-21, the move, spawns 22-39; spawns 40-60 refused.
+    expect(refused).toEqual(Array.from({ length: 21 }, (_, i) => 40 + i))
+    expect(room.queueInput(a.player!, 1002, { k: 'move', x: 3, y: 3 })).toMatch(/budget exceeded/)
+    const created: number[] = []
+    for (let t = 1; t <= 6; t++) {
+      room.runTick()
+      created.push(room.world.bodyCount - before)
+    }
+    // Hand count: 8 inputs per tick, the move taking one of the third tick's 8.
+    expect(created).toEqual([8, 16, 23, 31, 39, 39])
+    const xs = room.world
+      .bodyIds()
+      .filter((id) => room.world.getBodyType(id) === 'dynamic')
+      .map((id) => room.world.getPosition(id).x)
+    expect(xs).toEqual(Array.from({ length: 39 }, (_, i) => -20 + i * 0.5))
+    expect(room.sim.saveState().players).toEqual([{ id: a.player!.id, grab: null, cursorX: 2, cursorY: 2 }])
+  })
+
   it('skips snapshots to a connection with too much buffered, then closes it if it stays behind', () => {
     const room = makeRoom({ snapshotRate: 60, sendBufferBytes: 10_000, slowClientSeconds: 1 })
     const fast = join(room, 'fast')
