@@ -111,9 +111,11 @@ describe('PROTOCOL.md refusals', { timeout: 30_000 }, () => {
     expect(invalid.map((e) => e.seq)).toEqual(Array.from({ length: MAX_REJECTS }, (_, i) => 101 + i))
   })
 
-  it('drops inputs over the per-tick budget, answering each with input-budget and its seq; every spawn is accounted for once', async () => {
+  it('keeps inputs over the per-tick budget waiting (4 ticks\' worth), refuses the rest with input-budget and its seq; every spawn is accounted for once', async () => {
     const c = await DocClient.joined(server.url, 'budget', 'spawner')
-    const count = 40
+    // 8 for the coming tick and 32 waiting are always kept; of the other 20, those arriving
+    // before a tick drains the waiting room are kept too, the rest refused.
+    const count = 60
     const frames = Array.from({ length: count }, (_, i) =>
       input(i + 1, { k: 'spawn', shape: BOX, x: -20 + i, y: 5 + (i % 4) }),
     )
@@ -127,6 +129,10 @@ describe('PROTOCOL.md refusals', { timeout: 30_000 }, () => {
     const perTick = new Map<unknown, number>()
     for (const b of bodies) perTick.set(b.tick, (perTick.get(b.tick) ?? 0) + 1)
     for (const n of perTick.values()) expect(n).toBeLessThanOrEqual(INPUTS_PER_TICK)
+    expect(bodies.length).toBeGreaterThanOrEqual(INPUTS_PER_TICK * 5)
+    // Applied in the order sent: the kept spawns' seqs rise with their ticks.
+    const keptSeqs = bodies.map((b) => b.seq as number)
+    expect(keptSeqs).toEqual([...keptSeqs].sort((x, y) => x - y))
     const refused = c.all('error')
     expect(refused.length).toBeGreaterThan(0)
     expect(new Set(refused.map((e) => e.code))).toEqual(new Set(['input-budget']))
