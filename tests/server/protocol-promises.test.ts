@@ -111,7 +111,7 @@ describe('PROTOCOL.md refusals', { timeout: 30_000 }, () => {
     expect(invalid.map((e) => e.seq)).toEqual(Array.from({ length: MAX_REJECTS }, (_, i) => 101 + i))
   })
 
-  it('keeps inputs over the per-tick budget waiting (4 ticks\' worth), refuses the rest with input-budget and its seq; every spawn is accounted for once', async () => {
+  it("keeps inputs over the per-tick budget waiting (4 ticks' worth), refuses the rest with input-budget and its seq; every spawn is accounted for once", async () => {
     const c = await DocClient.joined(server.url, 'budget', 'spawner')
     // 8 for the coming tick and 32 waiting are always kept; of the other 20, those arriving
     // before a tick drains the waiting room are kept too, the rest refused.

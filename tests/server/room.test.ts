@@ -116,7 +116,7 @@ describe('a room driven tick by tick with fake connections', () => {
     expect(a.received.at(-1)).toEqual({ t: 'players', players: [{ id: 1, name: 'ada', color: '#e6194b' }] })
   })
 
-  it('inputs over a tick\'s budget wait for the next ticks in order; only beyond 4 ticks\' worth are refused', () => {
+  it("inputs over a tick's budget wait for the next ticks in order; only beyond 4 ticks' worth are refused", () => {
     const room = makeRoom({ inputsPerTick: 8, maxBodies: 500 })
     const a = join(room, 'ada')
     const before = room.world.bodyCount
