@@ -1,0 +1,297 @@
+/*
+ * docs/replay-format.md is a contract: a reader written from the document alone (below: its own
+ * bitwise CRC-32, @msgpack/msgpack instead of the code's msgpackr, Node's zlib) parses a real log
+ * recorded by a server, every record as the document describes it, and agrees with the code's
+ * reader record by record; it cuts a torn tail where the code does. The document's tables
+ * (record kinds, preamble, limits) are compared with the code's constants.
+ */
+import { mkdtemp, readFile } from 'node:fs/promises'
+import { tmpdir } from 'node:os'
+import { join } from 'node:path'
+import { inflateSync } from 'node:zlib'
+import { decode } from '@msgpack/msgpack'
+import { beforeAll, describe, expect, it } from 'vitest'
+import { loadWorld, pyramidScene, SAVE_FORMAT_VERSION } from '../../engine/index.ts'
+import { BotClient } from '../../server/bot-client.ts'
+import { listLogNames } from '../../server/replay-files.ts'
+import { PROTOCOL_VERSION, TICK_RATE } from '../../shared/constants.ts'
+import { crc32 } from '../../shared/crc32.ts'
+import {
+  MAX_RECORD_BYTES,
+  PREAMBLE_BYTES,
+  RECORD_OVERHEAD,
+  REPLAY_FORMAT_VERSION,
+  REPLAY_MAGIC,
+  RecordType,
+} from '../../shared/replay-log.ts'
+import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
+import { startTestServer } from './test-server.ts'
+
+const DOC = 'docs/replay-format.md'
+let doc: string
+let log: Uint8Array
+
+/** CRC-32 as the document defines it, bit by bit (no table). */
+function docCrc(bytes: Uint8Array): number {
+  let c = 0xffffffff
+  for (const b of bytes) {
+    c ^= b
+    for (let k = 0; k < 8; k++) c = c & 1 ? (c >>> 1) ^ 0xedb88320 : c >>> 1
+  }
+  return (c ^ 0xffffffff) >>> 0
+}
+
+type DocRecord = { type: number; tick: number; end: number; fields: Record<string, unknown> }
+type DocRead = { preamble: number[]; records: DocRecord[]; ending: 'close' | 'boundary' | 'torn' | 'corrupt' }
+
+const isMap = (v: unknown): v is Record<string, unknown> =>
+  typeof v === 'object' && v !== null && !Array.isArray(v) && !(v instanceof Uint8Array)
+const isInt = (v: unknown): boolean => Number.isInteger(v)
+const STATE_KEYS = ['tick', 'scene', 'paused', 'stepRequested', 'lastLoadTick', 'players', 'userJoints']
+
+/** Throws unless `v` is a state map as the document's State table says. */
+function checkState(v: unknown): void {
+  if (!isMap(v)) throw new Error('state is not a map')
+  expect(Object.keys(v).sort()).toEqual([...STATE_KEYS].sort())
+  expect(isInt(v.tick) && typeof v.scene === 'string' && typeof v.paused === 'boolean').toBe(true)
+  expect(v.lastLoadTick === null || isInt(v.lastLoadTick)).toBe(true)
+  for (const p of v.players as unknown[]) {
+    if (!isMap(p)) throw new Error('player is not a map')
+    expect(isInt(p.id) && Number.isFinite(p.cursorX) && Number.isFinite(p.cursorY)).toBe(true)
+    expect(p.grab === null || (isMap(p.grab) && isInt(p.grab.joint) && isInt(p.grab.body))).toBe(true)
+  }
+  for (const j of v.userJoints as unknown[]) {
+    if (!isMap(j)) throw new Error('joint is not a map')
+    expect(['pin', 'rod', 'rope', 'spring']).toContain(j.kind)
+    for (const k of ['limit', 'motor', 'collide']) expect(typeof j[k]).toBe('boolean')
+  }
+}
+
+/** Throws unless `z`/`world` are a saved world as the document says; returns the inflated bytes. */
+function savedWorld(m: Record<string, unknown>): Uint8Array {
+  expect([0, 1]).toContain(m.z)
+  expect(m.world).toBeInstanceOf(Uint8Array)
+  return m.z === 1 ? new Uint8Array(inflateSync(m.world as Uint8Array)) : (m.world as Uint8Array)
+}
+
+/** A reader written from the document: framing, CRC, kinds and fields, order, torn tails. */
+function docRead(bytes: Uint8Array): DocRead {
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength)
+  const magic = new TextDecoder().decode(bytes.subarray(0, 8))
+  if (magic !== 'CNCRDLOG' || view.getUint16(8, true) !== 1) throw new Error('not a version 1 log')
+  const preamble = [8, 10, 12, 14].map((o) => view.getUint16(o, true))
+  const records: DocRecord[] = []
+  let at = 16
+  let ending: DocRead['ending'] = 'boundary'
+  while (at < bytes.length) {
+    if (bytes.length - at < 4) {
+      ending = 'torn'
+      break
+    }
+    const L = view.getUint32(at, true)
+    if (L < 5 || L > 67108864) {
+      ending = 'corrupt'
+      break
+    }
+    if (at + 4 + L + 4 > bytes.length) {
+      ending = 'torn'
+      break
+    }
+    if (docCrc(bytes.subarray(at, at + 4 + L)) !== view.getUint32(at + 4 + L, true)) {
+      ending = 'corrupt'
+      break
+    }
+    const type = bytes[at + 4]
+    const tick = view.getUint32(at + 5, true)
+    const payload = bytes.subarray(at + 9, at + 4 + L)
+    const prev = records.at(-1)
+    if ((records.length === 0) !== (type === 1) || (prev && (prev.type === 8 || tick < prev.tick))) {
+      ending = 'corrupt'
+      break
+    }
+    const pv = new DataView(payload.buffer, payload.byteOffset, payload.byteLength)
+    let fields: Record<string, unknown>
+    switch (type) {
+      case 2:
+      case 3:
+        fields = {
+          player: pv.getUint32(0, true),
+          ...(decode(payload.subarray(4)) as Record<string, unknown>),
+        }
+        break
+      case 4:
+        expect(payload.length).toBe(4)
+        fields = { player: pv.getUint32(0, true) }
+        break
+      case 6:
+        expect(payload.length).toBe(8)
+        fields = { hash: pv.getUint32(0, true), step: pv.getUint32(4, true) }
+        break
+      case 1:
+      case 5:
+      case 7:
+      case 8:
+        fields = decode(payload) as Record<string, unknown>
+        break
+      default:
+        throw new Error(`unknown type ${type}`)
+    }
+    records.push({ type, tick, end: at + 4 + L + 4, fields })
+    at += 4 + L + 4
+  }
+  if (ending === 'boundary' && records.at(-1)?.type === 8) ending = 'close'
+  return { preamble, records, ending }
+}
+
+beforeAll(async () => {
+  doc = await readFile(DOC, 'utf8')
+  const dir = await mkdtemp(join(tmpdir(), 'concord-format-'))
+  const server = await startTestServer({
+    record: true,
+    replayDir: dir,
+    keyframeTicks: 60,
+    defaultScene: 'tower',
+  })
+  const a = await BotClient.connect({ url: server.url, room: 'doc', name: 'ada' })
+  const b = await BotClient.connect({ url: server.url, room: 'doc', name: 'bob' })
+  const room = server.rooms.get('doc')!
+  const dynamic = (): number[] => [...a.mirror.bodies.values()].filter((x) => x.kind === 2).map((x) => x.id)
+  await a.waitFor(() => dynamic().length > 3, 'bodies')
+  const [first, second] = dynamic()
+  a.command({ k: 'grab', body: first, lx: 0, ly: 0 })
+  const body = a.mirror.bodies.get(second)!
+  b.command({ k: 'pin', a: 0, b: second, x: body.x, y: body.y })
+  for (let i = 0; room.tick < 200; i++) {
+    a.command({ k: 'move', x: Math.sin(i / 4) * 2, y: 4 })
+    if (i === 5) room.loadBlueprint('small pyramid', pyramidScene(4))
+    await a.waitFor(() => a.mirror.tick >= Math.min(room.tick, 200) - 1)
+    await new Promise((r) => setTimeout(r, 15))
+  }
+  await b.close()
+  await a.waitFor(() => room.players.size === 1, 'bob leaves')
+  await a.close()
+  await server.close()
+  const name = (await listLogNames(dir)).find((n) => n.startsWith('doc-'))!
+  log = new Uint8Array(await readFile(join(dir, name)))
+}, 60_000)
+
+describe('docs/replay-format.md', () => {
+  it("lists exactly the code's record kinds, preamble values and limits", () => {
+    const kinds = [...doc.matchAll(/^\| (\d+) \| ([a-z]+) \|/gm)].map((m) => [m[2], Number(m[1])])
+    expect(Object.fromEntries(kinds)).toEqual(RecordType)
+    expect(doc).toContain(`ASCII \`CNCRDLOG\``)
+    expect(new TextDecoder().decode(REPLAY_MAGIC)).toBe('CNCRDLOG')
+    expect(doc).toContain(`# Concord replay log format, version ${REPLAY_FORMAT_VERSION}`)
+    expect(doc).toContain(`\`${REPLAY_FORMAT_VERSION}\` (this document)`)
+    expect(doc).toContain(`\`SAVE_FORMAT_VERSION\`, now \`${SAVE_FORMAT_VERSION}\``)
+    expect(doc).toContain(`now \`${PROTOCOL_VERSION}\``)
+    expect(doc).toContain(`\`${TICK_RATE}\` |`)
+    expect(doc).toContain(`L <= ${MAX_RECORD_BYTES}`)
+    expect(doc).toContain(`(${RECORD_OVERHEAD} bytes of framing around the payload)`)
+    expect(doc).toContain('preamble (16 bytes)')
+    expect(PREAMBLE_BYTES).toBe(16)
+    const check = new TextEncoder().encode('123456789')
+    expect(docCrc(check)).toBe(0xcbf43926)
+    expect(crc32(check)).toBe(0xcbf43926)
+    expect(doc).toContain('`0xCBF43926`')
+  })
+
+  it("a reader written from the document parses a real log as the code's reader does", () => {
+    const ours = docRead(log)
+    expect(ours.ending).toBe('close')
+    expect(ours.preamble).toEqual([REPLAY_FORMAT_VERSION, SAVE_FORMAT_VERSION, PROTOCOL_VERSION, TICK_RATE])
+    const code = new ReplayLogReader().push(log)
+    expect(ours.records.length).toBe(code.length)
+    const seen = new Set<number>()
+    const hashAt = new Map<number, number>()
+    for (const [i, r] of ours.records.entries()) {
+      const c = code[i]
+      seen.add(r.type)
+      expect(RecordType[c.type], `record ${i}`).toBe(r.type)
+      expect(r.tick).toBe(c.tick)
+      const f = r.fields
+      switch (c.type) {
+        case 'header':
+          expect(Object.keys(f).sort()).toEqual([
+            'controls',
+            'host',
+            'maxBodies',
+            'pid',
+            'room',
+            'scene',
+            'start',
+            'state',
+            'world',
+            'z',
+          ])
+          expect(f.room).toBe('doc')
+          checkState(f.state)
+          expect(loadWorld(savedWorld(f)).hash()).toBe(
+            loadWorld(c.z === 1 ? inflateSync(c.world) : c.world).hash(),
+          )
+          break
+        case 'command':
+          expect({ ...f }).toEqual({ player: c.player, ...c.cmd })
+          break
+        case 'join':
+          expect(f).toEqual({ player: c.player, name: c.name, color: c.color })
+          break
+        case 'leave':
+          expect(f).toEqual({ player: c.player })
+          break
+        case 'hash':
+          expect(f).toEqual({ hash: c.hash, step: c.step })
+          hashAt.set(r.tick, c.hash)
+          break
+        case 'world':
+          expect(f.scene).toBe('small pyramid')
+          savedWorld(f)
+          break
+        case 'keyframe': {
+          checkState(f.state)
+          expect((f.state as { tick: number }).tick).toBe(r.tick)
+          // A keyframe holds the state at the end of its tick: its world hashes to that tick's hash.
+          const hash = loadWorld(savedWorld(f)).hash()
+          if (hashAt.has(r.tick)) expect(hash, `keyframe at ${r.tick}`).toBe(hashAt.get(r.tick))
+          break
+        }
+        case 'close':
+          expect(typeof f.reason).toBe('string')
+          expect(isInt(f.end)).toBe(true)
+          break
+      }
+    }
+    expect([...seen].sort()).toEqual([1, 2, 3, 4, 5, 6, 7, 8])
+    expect(ours.records.filter((r) => r.type === 7).every((r) => r.tick % 60 === 0)).toBe(true)
+    expect(ours.records.filter((r) => r.type === 6 && r.tick % 60 === 0).length).toBeGreaterThanOrEqual(3)
+  })
+
+  it('cuts torn tails and corrupt records where the code does, keeping the same intact prefix', () => {
+    const ends = docRead(log).records.map((r) => r.end)
+    for (let k = 0; k < 40; k++) {
+      const cut = 17 + Math.floor((((k * 7919) % 1000) / 1000) * (log.length - 17))
+      const ours = docRead(log.subarray(0, cut))
+      const reader = new ReplayLogReader()
+      reader.push(log.subarray(0, cut))
+      const code = reader.finish()
+      const intact = ends.filter((e) => e <= cut).at(-1) ?? 16
+      expect(ours.records.at(-1)?.end ?? 16).toBe(intact)
+      expect(code.intactBytes).toBe(intact)
+      // The code calls a log cut inside its header invalid (no header to start from).
+      if (ours.records.length === 0) expect(code.state).toBe('invalid')
+      else expect(ours.ending === 'torn').toBe(code.state === 'torn')
+      // A flipped bit inside the last intact record makes it, and nothing after, unusable.
+      if (ours.records.length > 1) {
+        const flipped = log.slice(0, cut)
+        flipped[intact - 6] ^= 0x10
+        const bad = docRead(flipped)
+        const before = ends.filter((e) => e < intact).at(-1) ?? 16
+        expect(bad.ending).toBe('corrupt')
+        expect(bad.records.at(-1)?.end ?? 16).toBe(before)
+        const r2 = new ReplayLogReader()
+        r2.push(flipped)
+        expect(r2.finish()).toMatchObject({ state: 'corrupt', intactBytes: before })
+      }
+    }
+  })
+})
