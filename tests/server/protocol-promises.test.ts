@@ -142,6 +142,34 @@ describe('PROTOCOL.md refusals', { timeout: 30_000 }, () => {
   })
 })
 
+describe('PROTOCOL.md input budget', { timeout: 30_000 }, () => {
+  it('lets a move replace the waiting move without counting, while pings count', async () => {
+    const c = await DocClient.joined(server.url, 'coalesce', 'mover')
+    const spawns = Array.from({ length: INPUTS_PER_TICK - 1 }, (_, i) =>
+      input(i + 1, { k: 'spawn', shape: BOX, x: -10 + 2 * i, y: 5 }),
+    )
+    const moves = Array.from({ length: 20 }, (_, i) => input(100 + i, { k: 'move', x: i + 1, y: 2 }))
+    // 7 spawns and one move fill the budget of 8; the 19 later moves replace the waiting one.
+    sendTogether(c, [...spawns, ...moves, encode({ t: 'ping', id: 9, time: 0 })])
+    await c.waitFor(() => added(c).length === spawns.length, 'every spawn applied')
+    const refused = await c.waitFor((m) => m.t === 'error', 'the ping refused')
+    expect([refused.code, refused.seq]).toEqual(['input-budget', undefined])
+    const me = c.id
+    const cursor = (): number[] | undefined => {
+      for (const snap of c.all('snap').reverse()) {
+        const flat = snap.cursors as number[]
+        for (let i = 0; i + 3 < flat.length; i += 4) if (flat[i] === me) return flat.slice(i, i + 4)
+      }
+      return undefined
+    }
+    await c.waitFor(() => (cursor()?.[1] ?? 0) !== 0, 'my moved cursor in a snapshot')
+    expect(cursor()).toEqual([me, 20_000, 2_000, 0])
+    expect(c.all('error')).toHaveLength(1)
+    expect(c.all('pong')).toEqual([])
+    c.end()
+  })
+})
+
 describe('PROTOCOL.md events and numbers', { timeout: 30_000 }, () => {
   it('lists a new body with its pose after the step of the tick the message names, and its spawner', async () => {
     const a = await DocClient.joined(server.url, 'events', 'a')
