@@ -210,6 +210,24 @@ describe('PROTOCOL.md events and numbers', { timeout: 30_000 }, () => {
     b.end()
   })
 
+  it('keeps a clockwise polygon counter-clockwise and refuses collinear, too-close or concave points', async () => {
+    const c = await DocClient.joined(server.url, 'polygons', 'shaper')
+    const spawn = (seq: number, v: number[]): void =>
+      c.send({ t: 'input', seq, cmd: { k: 'spawn', shape: { type: 'polygon', v }, x: 4 * seq, y: 5 } })
+    spawn(1, [0, 0, 0, 1, 1, 0]) // clockwise
+    spawn(2, [0, 0, 1, 0, 2, 0, 1, 1]) // three points in a line
+    spawn(3, [0, 0, 0.0005, 0, 0.5, 0.5]) // two points 0.5 mm apart
+    spawn(4, [0, 0, 1, 0, 0.2, 0.2, 0, 1]) // concave
+    await c.waitFor(() => added(c).length + c.all('error').length === 4, 'four answers')
+    expect(added(c).map((b) => [b.seq, b.shape])).toEqual([[1, { type: 'polygon', v: [1, 0, 0, 1, 0, 0] }]])
+    expect(c.all('error').map((e) => [e.code, e.seq])).toEqual([
+      ['refused', 2],
+      ['refused', 3],
+      ['refused', 4],
+    ])
+    c.end()
+  })
+
   it('rounds halves toward +infinity when quantizing positions', async () => {
     const c = await DocClient.joined(server.url, 'round', 'rounder')
     // x * 1000 is exactly a half for each; the expected integers follow the documented rule by hand.
