@@ -84,6 +84,8 @@ export const CLOSE_CODES = {
   moved: 4006,
   /** The room was closed for going over its tick budget again and again (error `overloaded` first). */
   overloaded: 4007,
+  /** The thread running the room failed (error `room-lost` first); rejoin: it is rebuilt from its log when recorded. */
+  roomLost: 4008,
   /** The room directory (Redis) could not be asked; try again later (RFC 6455 1013). */
   tryAgain: 1013,
 } as const
