@@ -1,5 +1,5 @@
-// Build with esbuild: the server (server/main.ts -> dist/server.js, Node, runtime packages left
-// external), the bots, the container health check, and, when the browser client exists, the minified client
+// Build with esbuild: the server (server/main.ts -> dist/server.js, and server/room-worker.ts ->
+// dist/room-worker.js for --workers; Node, runtime packages left external), the bots, the container health check, and, when the browser client exists, the minified client
 // (scripts/build-client.mjs) and the benchmark page (scripts/build-bench-page.mjs, served as /bench.html). Usage: node scripts/build.mjs
 import { stat } from 'node:fs/promises'
 import { build } from 'esbuild'
@@ -12,8 +12,13 @@ const exists = (path) =>
     () => false,
   )
 
-// The server, the bots and the container health check: Node bundles, runtime packages left external.
-const OUTPUTS = { main: 'dist/server.js', bots: 'dist/bots.js', healthcheck: 'dist/healthcheck.js' }
+// The server, its room worker thread (loaded from beside dist/server.js), the bots and the container health check: Node bundles, runtime packages left external.
+const OUTPUTS = {
+  main: 'dist/server.js',
+  'room-worker': 'dist/room-worker.js',
+  bots: 'dist/bots.js',
+  healthcheck: 'dist/healthcheck.js',
+}
 for (const [name, outfile] of Object.entries(OUTPUTS)) {
   await build({
     entryPoints: [`server/${name}.ts`],

@@ -1,7 +1,7 @@
 /*
  * One connected socket: the WebSocket implementation of PlayerConnection, plus what the transport
  * tracks per socket (strikes for invalid messages, heartbeat) and, once it has
- * joined, its room player. Sending goes through sendBytes() so bytes are counted and a socket that
+ * joined, its seat in a room. Sending goes through sendBytes() so bytes are counted and a socket that
  * is already closing is left alone.
  */
 
@@ -11,13 +11,13 @@ import { encodeMessage } from '../shared/index.ts'
 import { cutUtf8 } from './close-reason.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { DROP_CONNECTION, type PlayerConnection } from './player-connection.ts'
-import type { RoomPlayer } from './room-player.ts'
+import type { RoomSeat } from './room-host.ts'
 import { UnreadBytes } from './unread-bytes.ts'
 
 /** A socket and, once joined, its player in a room; the room sees it as a PlayerConnection. */
 export class ClientSession implements PlayerConnection {
-  /** The room player, once joined (null before the join and after leaving). */
-  player: RoomPlayer | null = null
+  /** Its place in a room, once it has asked to join (null before and after leaving). */
+  seat: RoomSeat | null = null
   /** Invalid messages since the last heartbeat. */
   strikes = 0
   /** Room tick of the last strike for exceeding the input budget (one strike per tick at most). */
@@ -79,7 +79,7 @@ export class ClientSession implements PlayerConnection {
 
   /** Player id for logs (0 before joining). */
   get id(): number {
-    return this.player?.id ?? 0
+    return this.seat?.playerId ?? 0
   }
 
   /**

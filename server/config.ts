@@ -55,6 +55,7 @@ export interface ServerConfig {
   redisUrl: string
   publicUrl: string
   directoryTtlSeconds: number
+  workers: number
 }
 
 /** When the recorder calls fsync: never, after each once-a-second flush, or after every tick's write. */
@@ -384,6 +385,16 @@ export const SETTINGS: readonly Setting[] = [
     min: 1,
     max: 60,
     help: 'a room over its tick budget this many times within a second is closed',
+  },
+  {
+    key: 'workers',
+    flag: '--workers',
+    env: 'WORKERS',
+    kind: 'int',
+    fallback: 0,
+    min: 0,
+    max: 256,
+    help: 'room worker threads; rooms are spread over them (0 = every room on the main thread)',
   },
   {
     key: 'redisUrl',

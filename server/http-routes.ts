@@ -14,7 +14,8 @@ import type { Logger } from 'pino'
 import { parseRequestTarget } from './http-request-url.ts'
 import type { ServerMetrics } from './metrics.ts'
 import type { Recordings } from './recordings.ts'
-import type { RoomManager } from './room-manager.ts'
+import type { RoomHost } from './room-host.ts'
+import type { RoomSummary } from './worker-protocol.ts'
 
 const TYPES: Record<string, string> = {
   '.html': 'text/html; charset=utf-8',
@@ -33,9 +34,11 @@ const TYPES: Record<string, string> = {
 /** What the routes need to answer. */
 export interface RouteContext {
   staticDir: string
-  rooms: RoomManager
+  rooms: RoomHost
   recordings?: Recordings
   metrics: ServerMetrics
+  /** The /metrics text when it is more than the registry's (room workers' metrics merged in). */
+  metricsText?: () => Promise<string>
   log: Logger
   /** False while shutting down (readiness fails so load balancers stop sending players). */
   ready: () => boolean
@@ -69,7 +72,7 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
           ? send(res, 200, 'text/plain', 'ready\n')
           : send(res, 503, 'text/plain', 'shutting down\n')
       case '/metrics':
-        ctx.metrics.registry.metrics().then(
+        ;(ctx.metricsText ?? (() => ctx.metrics.registry.metrics()))().then(
           (text) => send(res, 200, ctx.metrics.registry.contentType, text),
           () => send(res, 500, 'text/plain', 'metrics failed\n'),
         )
@@ -92,16 +95,8 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
 }
 
 /** The open rooms for the lobby. */
-export function listRooms(
-  rooms: RoomManager,
-): Array<{ name: string; players: number; bodies: number; scene: string; tick: number }> {
-  return rooms.list().map((r) => ({
-    name: r.name,
-    players: r.players.size,
-    bodies: r.world.bodyCount,
-    scene: r.scene,
-    tick: r.tick,
-  }))
+export function listRooms(rooms: RoomHost): RoomSummary[] {
+  return rooms.summaries()
 }
 
 /** Send one replay log; 400 for a name that is not a plain file name, 404 for any other non-log. */

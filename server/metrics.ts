@@ -25,6 +25,7 @@ export interface ServerMetrics {
   connectionsRefused: Counter<'reason'>
   recorderFailures: Counter
   roomsRecovered: Counter
+  workersFailed: Counter
 }
 
 /** Create the metrics on a fresh registry; `processMetrics` adds Node's default process metrics. */
@@ -116,6 +117,11 @@ export function createMetrics(processMetrics: boolean): ServerMetrics {
     roomsRecovered: new Counter({
       name: 'concord_rooms_recovered_total',
       help: 'Rooms reopened from their logs after a crash',
+      registers,
+    }),
+    workersFailed: new Counter({
+      name: 'concord_room_workers_failed_total',
+      help: 'Room worker threads that died (their clients were closed with 4008, their rooms rebuilt from logs when recording)',
       registers,
     }),
   }

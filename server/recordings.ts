@@ -27,6 +27,11 @@ function writerAlive(writer: { host: string; pid: number }): boolean {
   }
 }
 
+/** The room a log belongs to (its name up to the timestamp). */
+export function roomOfLog(name: string): string {
+  return name.slice(0, name.search(/-\d{8}T/))
+}
+
 /** The server's recorders (see the file comment). */
 export class Recordings {
   readonly recorders = new Map<string, RoomRecorder>()
@@ -36,6 +41,8 @@ export class Recordings {
   private readonly recovered = new Map<string, RecoveredRoom>()
   /** Tests inject failing file operations here. */
   openLog: OpenLog | undefined
+  /** Called when a room was rebuilt from its log (room, log, tick and hash of the checkpoint). */
+  onRecovered: ((room: string, log: string, tick: number, hash: number) => void) | null = null
 
   constructor(
     private readonly config: ServerConfig,
@@ -53,22 +60,12 @@ export class Recordings {
   /**
    * Create the directory and, with --recover, rebuild the rooms of logs without a clean close
    * (they are reopened when `rooms` creates them, which this does). Call before opening any room.
+   * With room workers, `reopen` is called with each room and log instead: the worker that will hold
+   * the room rebuilds it (reopen() there).
    */
-  async start(rooms: RoomManager): Promise<void> {
-    rooms.onRoomCreated = (room) => this.attach(room)
-    rooms.onRoomClosed = (room) => this.detach(room)
-    if (!this.enabled) return
-    try {
-      await mkdir(this.dir, { recursive: true })
-    } catch (error) {
-      this.enabled = false
-      this.metrics.recorderFailures.inc()
-      this.log.error(
-        { dir: this.dir, err: (error as Error).message },
-        'cannot create the replay directory; not recording',
-      )
-      return
-    }
+  async start(rooms: RoomManager, reopen?: (room: string, log: string) => void): Promise<void> {
+    this.hook(rooms)
+    if (!(await this.prepare())) return
     if (!this.config.recover) return
     if (this.config.redisUrl) {
       // Rooms belong to whichever server claims them in the directory; reopening one here could
@@ -77,21 +74,60 @@ export class Recordings {
       return
     }
     for (const name of await this.unclosedLogs()) {
-      try {
-        const recovered = await recoverLog(this.dir, name)
-        await truncateToCheckpoint(this.dir, recovered)
-        this.recovered.set(recovered.room, recovered)
-        rooms.getOrCreate(recovered.room)
-      } catch (error) {
-        this.log.error({ log: name, err: (error as Error).message }, 'cannot recover a room from its log')
+      if (reopen) {
+        reopen(roomOfLog(name), name)
+        continue
       }
+      await this.reopen(rooms, name).catch((error: Error) =>
+        this.log.error({ log: name, err: error.message }, 'cannot recover a room from its log'),
+      )
     }
+  }
+
+  /** Record the rooms `rooms` creates (a recorder each) and close their logs when they go. */
+  hook(rooms: RoomManager): void {
+    rooms.onRoomCreated = (room) => this.attach(room)
+    rooms.onRoomClosed = (room) => this.detach(room)
+  }
+
+  /** Create the replay directory when recording; false when not recording (off, or it failed). */
+  async prepare(): Promise<boolean> {
+    if (!this.enabled) return false
+    try {
+      await mkdir(this.dir, { recursive: true })
+      return true
+    } catch (error) {
+      this.enabled = false
+      this.metrics.recorderFailures.inc()
+      this.log.error(
+        { dir: this.dir, err: (error as Error).message },
+        'cannot create the replay directory; not recording',
+      )
+      return false
+    }
+  }
+
+  /**
+   * Rebuild the room of log `name` (truncated to its last checkpoint) and open it in `rooms`,
+   * which continues the log; throws an Error naming the problem when the log cannot be recovered.
+   */
+  async reopen(rooms: RoomManager, name: string): Promise<RecoveredRoom> {
+    const recovered = await recoverLog(this.dir, name)
+    await truncateToCheckpoint(this.dir, recovered)
+    this.recovered.set(recovered.room, recovered)
+    if (!rooms.getOrCreate(recovered.room)) this.recovered.delete(recovered.room)
+    return recovered
+  }
+
+  /** The newest log of `room` when it has no clean close (its writer died), else null. */
+  async unclosedLogOf(room: string): Promise<string | null> {
+    return (await this.unclosedLogs()).find((name) => roomOfLog(name) === room) ?? null
   }
 
   /** The newest log of each room, when it has no clean close. */
   private async unclosedLogs(): Promise<string[]> {
     const newest = new Map<string, string>()
-    for (const name of await listLogNames(this.dir)) newest.set(name.slice(0, name.search(/-\d{8}T/)), name)
+    for (const name of await listLogNames(this.dir)) newest.set(roomOfLog(name), name)
     const out: string[] = []
     for (const name of newest.values()) {
       const summary = await summarize(this.dir, name, this.openNames).catch(() => null)
@@ -145,6 +181,7 @@ export class Recordings {
       { room: room.name, log: recovered.name, tick, hash, logHash: recovered.hash },
       'room recovered from its log',
     )
+    this.onRecovered?.(room.name, recovered.name, recovered.tick, recovered.hash)
   }
 
   private detach(room: Room): void {

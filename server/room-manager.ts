@@ -24,6 +24,8 @@ export class RoomManager {
   onRoomClosed: ((room: Room) => void) | null = null
   /** Called after every clock tick with the number of ticks run so far (liveness, Agones pings). */
   onTick: ((tick: number) => void) | null = null
+  /** Called before each room's tick (a room worker's test faults). */
+  beforeRoomTick: ((room: Room) => void) | null = null
   private ticks = 0
 
   /** Per room: ticks over the tick budget in the current one-second window. */
@@ -35,6 +37,8 @@ export class RoomManager {
     private readonly log: Logger,
     /** The clock room ticks are timed with (ms); tests pass their own. */
     private readonly now: () => number = () => performance.now(),
+    /** The `loop` label of this manager's tick histogram ("main", or "worker-N" in a room worker). */
+    private readonly loopName = 'main',
   ) {
     this.clock = new TickClock(
       STEP_SECONDS,
@@ -76,6 +80,7 @@ export class RoomManager {
     for (const room of this.rooms.values()) {
       const start = this.now()
       try {
+        this.beforeRoomTick?.(room)
         room.runTick()
       } catch (error) {
         // A bug in one room must not take the process down with every other room.
@@ -87,7 +92,7 @@ export class RoomManager {
       this.metrics.tickSeconds.observe(ms / 1000)
       if (this.config.roomTickBudgetMs > 0 && ms > this.config.roomTickBudgetMs) this.overran(room)
     }
-    this.metrics.loopTickSeconds.observe({ loop: 'main' }, (this.now() - loopStart) / 1000)
+    this.metrics.loopTickSeconds.observe({ loop: this.loopName }, (this.now() - loopStart) / 1000)
     if (++this.ticks % TICK_RATE === 0) {
       this.overBudget.clear()
       this.disposeIdle()

@@ -19,9 +19,11 @@ import { createRequestHandler } from './http-routes.ts'
 import { createMetrics, type ServerMetrics } from './metrics.ts'
 import { Recordings } from './recordings.ts'
 import { RoomDirectory } from './room-directory.ts'
+import { LocalRoomHost, type RoomHost } from './room-host.ts'
 import { RoomManager } from './room-manager.ts'
 import { TickHealth } from './tick-health.ts'
 import { Transport } from './transport.ts'
+import { WorkerPool } from './worker-pool.ts'
 
 /** A running server. */
 export interface RunningServer {
@@ -30,7 +32,12 @@ export interface RunningServer {
   url: string
   config: ServerConfig
   http: Server
+  /** The rooms on this thread (all of them with --workers 0, none otherwise). */
   rooms: RoomManager
+  /** Where rooms run: this thread's RoomManager or the worker pool. */
+  host: RoomHost
+  /** The room worker threads (--workers N), or null. */
+  pool: WorkerPool | null
   /** The room recorders and the replay directory. */
   recordings: Recordings
   transport: Transport
@@ -66,13 +73,17 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   const metrics = createMetrics(options.processMetrics ?? true)
   const rooms = new RoomManager(config, metrics, log)
   const recordings = new Recordings(config, metrics, log)
-  await recordings.start(rooms)
-  const transport = new Transport(config, rooms, metrics, log)
+  const health = new TickHealth(config.stallSeconds * 1000)
+  const pool =
+    config.workers > 0 ? new WorkerPool(config, metrics, log, health, recordings, config.workers) : null
+  const host: RoomHost = pool ?? new LocalRoomHost(rooms, config.maxRooms)
+  // With workers, the worker that holds a crashed room's new copy rebuilds it from the log.
+  await recordings.start(rooms, pool ? (room, logName) => pool.reopen(room, logName) : undefined)
+  const transport = new Transport(config, host, metrics, log)
   const directory = config.redisUrl
     ? new RoomDirectory(config.redisUrl, config.directoryTtlSeconds * 1000, log)
     : null
   await directory?.connect()
-  const health = new TickHealth(config.stallSeconds * 1000)
   let agones: AgonesLink | null = null
   rooms.onTick = (tick) => {
     health.beat('main')
@@ -83,9 +94,10 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   const guard = new ConnectionGuard(config, metrics, transport.warnings)
   const routes = createRequestHandler({
     staticDir: config.staticDir,
-    rooms,
+    rooms: host,
     recordings,
     metrics,
+    metricsText: pool ? () => pool.metricsText() : undefined,
     log,
     ready: () => ready,
     health: () => health.problem(),
@@ -115,7 +127,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
       setTimeout(() => socket.destroy(), 1000).unref()
     } else socket.destroy()
   })
-  if (!config.redisUrl) rooms.getOrCreate(config.defaultRoom)
+  if (!config.redisUrl) host.open(config.defaultRoom)
   health.beat('main')
   rooms.clock.start()
   await new Promise<void>((resolve, reject) => {
@@ -131,9 +143,11 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     const shared = directory
     await shared.register(publicUrl(config, port))
     transport.directory = shared
-    rooms.onRoomDisposed = (name) => void shared.release(name).catch(() => {})
-    shared.onLost = (name) => rooms.close(name, CLOSE_CODES.moved, `room ${name} moved to another server`)
-    if ((await shared.claim(config.defaultRoom)).holder === 'self') rooms.getOrCreate(config.defaultRoom)
+    const release = (name: string): void => void shared.release(name).catch(() => {})
+    rooms.onRoomDisposed = release
+    if (pool) pool.onRoomDisposed = release
+    shared.onLost = (name) => host.close(name, CLOSE_CODES.moved, `room ${name} moved to another server`)
+    if ((await shared.claim(config.defaultRoom)).holder === 'self') host.open(config.defaultRoom)
   }
   log.info({ port, host: config.host }, 'listening')
   const env = options.env ?? process.env
@@ -161,6 +175,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
       await transport.closeAll(CLOSE_CODES.goingAway, reason, 2000)
       rooms.clock.stop()
       health.remove('main')
+      await pool?.stop(reason)
       await recordings.closeAll(reason)
       http.closeAllConnections()
       await listenerClosed
@@ -187,6 +202,8 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     config,
     http,
     rooms,
+    host,
+    pool,
     recordings,
     transport,
     guard,

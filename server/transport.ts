@@ -35,7 +35,7 @@ import { LogLimiter } from './log-limiter.ts'
 import { MessageBudget } from './message-budget.ts'
 import type { ServerMetrics } from './metrics.ts'
 import type { RoomDirectory } from './room-directory.ts'
-import type { RoomManager } from './room-manager.ts'
+import type { RoomHost } from './room-host.ts'
 
 /** Time a dropped client's socket stays open for its close frame to leave (ms). */
 export const DROP_GRACE_MS = 1000
@@ -73,7 +73,8 @@ export class Transport {
 
   constructor(
     private readonly config: ServerConfig,
-    private readonly rooms: RoomManager,
+    /** Where rooms run: this thread or the worker pool. */
+    private readonly rooms: RoomHost,
     private readonly metrics: ServerMetrics,
     private readonly log: Logger,
   ) {
@@ -165,7 +166,7 @@ export class Transport {
     this.peers.set(session, peer)
     this.metrics.connections.set(this.sessions.size)
     const joinTimer = setTimeout(() => {
-      if (!session.player) this.drop(peer, CLOSE_CODES.joinTimeout, 'no join message in time')
+      if (!session.seat) this.drop(peer, CLOSE_CODES.joinTimeout, 'no join message in time')
     }, this.config.joinTimeoutMs)
     ws.on('error', (error) => {
       this.log.debug({ err: error.message, player: session.id }, 'socket error')
@@ -179,10 +180,10 @@ export class Transport {
       this.sessions.delete(session)
       this.peers.delete(session)
       this.metrics.connections.set(this.sessions.size)
-      const player = session.player
-      if (player) {
-        session.player = null
-        this.rooms.get(player.room)?.leave(player)
+      const seat = session.seat
+      if (seat) {
+        session.seat = null
+        seat.leave()
         this.metrics.clients.set(this.rooms.playerCount)
       }
     })
@@ -298,67 +299,40 @@ export class Transport {
       this.join(peer, message)
       return
     }
-    const player = session.player
-    if (!player) {
+    const seat = session.seat
+    if (!seat) {
       this.reject(peer, 'not-joined', 'send join first', message.t === 'input' ? message.seq : undefined)
       return
     }
-    const room = this.rooms.get(player.room)
-    if (!room || !player.joined) {
+    if (!seat.open) {
       this.drop(peer, CLOSE_CODES.internal, 'room closed')
       return
     }
-    switch (message.t) {
-      case 'input': {
-        if (!peer.access.controls && ROOM_CONTROL_COMMANDS.includes(message.cmd.k)) {
-          session.sendError(
-            'refused',
-            `${message.cmd.k} is a room control: it needs the admin key`,
-            message.seq,
-          )
-          return
-        }
-        const error = room.queueInput(player, message.seq, message.cmd)
-        if (error) this.overBudget(peer, room.tick, error, message.seq)
-        return
-      }
-      case 'ack':
-        player.encoder.ack(message.tick)
-        session.unread.acknowledged(message.tick)
-        return
-      case 'ping':
-        // Pings share the input budget, so they cannot be used to amplify traffic.
-        if (++player.inputsThisTick > this.config.inputsPerTick) {
-          this.overBudget(peer, room.tick, 'too many pings')
-          return
-        }
-        session.send({
-          t: 'pong',
-          id: message.id,
-          time: message.time,
-          tick: room.tick + this.rooms.clock.fraction,
-        })
-        return
-      case 'desync':
-      case 'resync': {
-        // Lockstep reports share the input budget too; the feed bounds the saved worlds they cause.
-        if (++player.inputsThisTick > this.config.inputsPerTick) {
-          this.overBudget(peer, room.tick, `too many ${message.t} messages`)
-          return
-        }
-        const refused =
-          message.t === 'desync'
-            ? room.feed.reportDesync(player.id, message.tick, message.hash, message.server)
-            : room.feed.requestSync(player.id)
-        if (refused) this.reject(peer, 'invalid', refused)
-        return
-      }
+    if (message.t === 'input' && !peer.access.controls && ROOM_CONTROL_COMMANDS.includes(message.cmd.k)) {
+      session.sendError('refused', `${message.cmd.k} is a room control: it needs the admin key`, message.seq)
+      return
     }
+    // The client has read everything up to the snapshot it acknowledges (the slow-reader rule).
+    if (message.t === 'ack') session.unread.acknowledged(message.tick)
+    seat.deliver(message)
+  }
+
+  /** A strike the room reported: over the input budget (once per tick), or a refused message. */
+  private roomStrike(
+    peer: Peer,
+    code: 'input-budget' | 'invalid',
+    reason: string,
+    tick: number,
+    seq: number | undefined,
+  ): void {
+    if (peer.dropped) return
+    if (code === 'input-budget') this.overBudget(peer, tick, reason, seq)
+    else this.reject(peer, code, reason, seq)
   }
 
   private join(peer: Peer, message: Extract<ClientMessage, { t: 'join' }>): void {
     const session = peer.session
-    if (session.player) {
+    if (session.seat) {
       this.reject(peer, 'already-joined', 'this socket has already joined a room')
       return
     }
@@ -378,7 +352,7 @@ export class Transport {
       this.drop(peer, CLOSE_CODES.forbidden, reason)
       return
     }
-    if (this.directory && !this.rooms.get(name)) {
+    if (this.directory && !this.rooms.has(name)) {
       this.joinThroughDirectory(this.directory, peer, message, name)
       return
     }
@@ -399,16 +373,17 @@ export class Transport {
     const session = peer.session
     directory.claim(name).then(
       (where) => {
-        if (peer.dropped || !session.open || session.player) return
+        if (peer.dropped || !session.open || session.seat) return
         if (where.holder === 'self') {
           try {
-            this.joinHere(peer, message, name)
+            // At the room limit nothing is opened: give the claim back.
+            this.joinHere(peer, message, name, () => {
+              if (!this.rooms.has(name)) directory.release(name).catch(() => {})
+            })
           } catch (error) {
             this.log.error({ err: error, room: name }, 'join after the directory claim failed')
             this.drop(peer, CLOSE_CODES.internal, 'join failed')
           }
-          // At the room limit nothing was opened: give the claim back.
-          if (!this.rooms.get(name)) directory.release(name).catch(() => {})
           return
         }
         session.send({ t: 'moved', room: name, url: where.url })
@@ -423,21 +398,29 @@ export class Transport {
     )
   }
 
-  private joinHere(peer: Peer, message: Extract<ClientMessage, { t: 'join' }>, name: string): void {
+  private joinHere(
+    peer: Peer,
+    message: Extract<ClientMessage, { t: 'join' }>,
+    name: string,
+    afterRefusal?: () => void,
+  ): void {
     const session = peer.session
-    const room = this.rooms.getOrCreate(name)
-    if (!room) {
-      session.sendError('full', `the server has reached its limit of ${this.config.maxRooms} rooms`)
-      this.drop(peer, CLOSE_CODES.full, 'too many rooms')
-      return
-    }
-    const joined = room.join(session, message.name, message.token, message.mode)
-    if (typeof joined === 'string') {
-      session.sendError('full', joined)
-      this.drop(peer, CLOSE_CODES.full, joined)
-      return
-    }
-    session.player = joined
+    const seat = this.rooms.join({
+      conn: session,
+      room: name,
+      name: message.name,
+      token: message.token,
+      mode: message.mode,
+      strike: (code, reason, tick, seq) => this.roomStrike(peer, code, reason, tick, seq),
+      refused: (error, reason) => {
+        session.seat = null
+        session.sendError('full', error)
+        this.drop(peer, CLOSE_CODES.full, reason)
+        afterRefusal?.()
+      },
+    })
+    if (!seat) return
+    session.seat = seat
     this.metrics.clients.set(this.rooms.playerCount)
   }
 

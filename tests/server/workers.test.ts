@@ -1,0 +1,209 @@
+/*
+ * Rooms on worker threads (--workers N), against a real server on 127.0.0.1 with real WebSocket
+ * clients: rooms spread over workers play normally; a pathological room delays only the rooms on
+ * its own worker (measured in room ticks seen by clients, never in wall time); a worker that dies
+ * is reported in the log and /metrics, its clients get error `room-lost` and close 4008, and with
+ * recording on its room is rebuilt from its log at the log's last durable checkpoint and can be
+ * rejoined and played.
+ */
+import { mkdtemp } from 'node:fs/promises'
+import { tmpdir } from 'node:os'
+import { join } from 'node:path'
+import { Writable } from 'node:stream'
+import pino from 'pino'
+import { afterEach, describe, expect, it } from 'vitest'
+import { BotClient } from '../../server/bot-client.ts'
+import { listLogNames, scanLog } from '../../server/replay-files.ts'
+import type { RunningServer } from '../../server/server.ts'
+import { CLOSE_CODES } from '../../shared/index.ts'
+import { startTestServer } from './test-server.ts'
+
+const servers: RunningServer[] = []
+const bots: BotClient[] = []
+afterEach(async () => {
+  await Promise.all(bots.splice(0).map((b) => b.close()))
+  await Promise.all(servers.splice(0).map((s) => s.close()))
+})
+
+async function start(overrides: Parameters<typeof startTestServer>[0], logger?: pino.Logger) {
+  const server = await startTestServer(overrides, logger)
+  servers.push(server)
+  return server
+}
+
+async function bot(server: RunningServer, room: string, name: string): Promise<BotClient> {
+  const b = await BotClient.connect({ url: server.url, room, name })
+  bots.push(b)
+  return b
+}
+
+/** Poll until `check` holds (generous timeout for a loaded machine). */
+async function until(
+  check: () => boolean | Promise<boolean>,
+  what: string,
+  timeoutMs = 20_000,
+): Promise<void> {
+  const end = Date.now() + timeoutMs
+  while (!(await check())) {
+    if (Date.now() > end) throw new Error(`timed out waiting for ${what}`)
+    await new Promise((resolve) => setTimeout(resolve, 25))
+  }
+}
+
+async function metricsText(server: RunningServer): Promise<string> {
+  const res = await fetch(`${server.url}/metrics`)
+  return res.text()
+}
+
+/** A logger whose lines (main thread) the test can read. */
+function capture(): { logger: pino.Logger; lines: Array<Record<string, unknown>> } {
+  const lines: Array<Record<string, unknown>> = []
+  const sink = new Writable({
+    write(chunk, _enc, done) {
+      for (const line of String(chunk).split('\n')) if (line.trim()) lines.push(JSON.parse(line))
+      done()
+    },
+  })
+  return { logger: pino({ level: 'info' }, sink), lines }
+}
+
+/** Spawn a box with `b`, wait for it, drag it right, wait until it is seen past x = 5. */
+async function spawnAndDrag(b: BotClient): Promise<number> {
+  const before = new Set(b.mirror.bodies.keys())
+  b.command({ k: 'spawn', shape: { type: 'circle', radius: 0.5 }, x: 0, y: 3 })
+  const spawned = (): number | undefined => [...b.mirror.bodies.keys()].find((id) => !before.has(id))
+  await b.waitFor(() => spawned() !== undefined, 'the spawn')
+  const id = spawned() as number
+  b.command({ k: 'grab', body: id, lx: 0, ly: 0 })
+  b.command({ k: 'move', x: 6, y: 4 })
+  await b.waitFor(() => (b.mirror.bodies.get(id)?.x ?? 0) > 5, 'the drag')
+  b.command({ k: 'release' })
+  return id
+}
+
+describe('rooms on worker threads', { timeout: 60_000 }, () => {
+  it('places rooms on the least loaded worker; rooms on two workers play normally; /rooms and /metrics show them', async () => {
+    const server = await start({ workers: 2 })
+    expect(server.pool?.workerIds).toEqual([1, 2])
+    const a = await bot(server, 'alpha', 'ada')
+    const b = await bot(server, 'beta', 'bob')
+    // The default room opened first: alpha goes to the other worker, beta to the default room's.
+    expect(server.pool?.workerOf('lobby')).toBe(1)
+    expect(server.pool?.workerOf('alpha')).toBe(2)
+    expect(server.pool?.workerOf('beta')).toBe(1)
+    // Nothing runs on the main thread.
+    expect(server.rooms.list()).toHaveLength(0)
+    await Promise.all([spawnAndDrag(a), spawnAndDrag(b)])
+    // A second player in alpha sees what the first does.
+    const c = await bot(server, 'alpha', 'cyd')
+    expect([...c.mirror.bodies.values()].filter((x) => x.kind === 2)).toHaveLength(1)
+    await until(async () => {
+      const rooms = (await (await fetch(`${server.url}/rooms`)).json()) as Array<{
+        name: string
+        players: number
+        bodies: number
+      }>
+      const alpha = rooms.find((r) => r.name === 'alpha')
+      return (
+        alpha?.players === 2 && alpha.bodies === 1 && rooms.some((r) => r.name === 'beta' && r.players === 1)
+      )
+    }, '/rooms to list alpha with 2 players and 1 body, beta with 1 player')
+    await until(async () => {
+      const text = await metricsText(server)
+      return (
+        /concord_room_tick_seconds_count\{worker="1"\} [1-9]/.test(text) &&
+        /concord_room_tick_seconds_count\{worker="2"\} [1-9]/.test(text)
+      )
+    }, 'per-worker tick histograms in /metrics')
+    expect(a.failure ?? b.failure ?? c.failure).toBeNull()
+  })
+
+  /** Ticks the neighbour and the hog advance while the hog's room busy-waits 200 ms per tick. */
+  async function hogAndNeighbour(workers: number): Promise<{ hog: number; calm: number; same: boolean }> {
+    const server = await start({ workers, roomTickBudgetMs: 0 })
+    const hog = await bot(server, 'hog', 'hog')
+    const calm = await bot(server, 'calm', 'calm')
+    const same = server.pool?.workerOf('hog') === server.pool?.workerOf('calm')
+    server.pool?.fault('hog', { kind: 'busy', room: 'hog', ms: 200 })
+    // Let the fault take hold: the hog's ticks slow down.
+    const t0 = hog.mirror.tick
+    await hog.waitFor(() => hog.mirror.tick >= t0 + 2, 'the hog to tick')
+    const hog0 = hog.mirror.tick
+    const calm0 = calm.mirror.tick
+    await hog.waitFor(() => hog.mirror.tick >= hog0 + 12, 'the hog to advance 12 ticks')
+    return { hog: hog.mirror.tick - hog0, calm: calm.mirror.tick - calm0, same }
+  }
+
+  it('a room that hogs its worker does not slow a room on another worker', async () => {
+    const { hog, calm, same } = await hogAndNeighbour(2)
+    expect(same).toBe(false)
+    // At 200 ms a tick the hog runs at most 5 ticks a second; the neighbour runs 60.
+    expect(calm).toBeGreaterThanOrEqual(4 * hog)
+  })
+
+  it('control: on one shared worker the same hog slows its neighbour too', async () => {
+    const { hog, calm, same } = await hogAndNeighbour(1)
+    expect(same).toBe(true)
+    expect(calm).toBeLessThan(2 * hog)
+  })
+
+  it('a worker that dies is reported, its clients get 4008, and its recorded room comes back from its log', async () => {
+    const dir = await mkdtemp(join(tmpdir(), 'concord-workers-'))
+    const { logger, lines } = capture()
+    const server = await start({ workers: 2, record: true, recover: true, replayDir: dir }, logger)
+    const first = await bot(server, 'phoenix', 'ada')
+    const body = await spawnAndDrag(first)
+    // Wait until the log holds a checkpoint after the spawn: that state is durable.
+    const spawnTick = first.mirror.tick
+    let durable = { tick: -1, hash: 0 }
+    const logName = async (): Promise<string | undefined> =>
+      (await listLogNames(dir)).filter((n) => n.startsWith('phoenix-')).pop()
+    const hashes = async (): Promise<Map<number, number>> => {
+      const out = new Map<number, number>()
+      const name = await logName()
+      if (name) await scanLog(join(dir, name), (r) => r.type === 'hash' && out.set(r.tick, r.hash))
+      return out
+    }
+    await until(async () => {
+      for (const [tick, hash] of await hashes()) if (tick > spawnTick + 60) durable = { tick, hash }
+      return durable.tick > 0
+    }, 'a checkpoint after the spawn in the log')
+    const worker = server.pool?.workerOf('phoenix')
+    server.pool?.fault('phoenix', { kind: 'exit' })
+
+    await first.closed
+    expect(first.closeCode).toBe(CLOSE_CODES.roomLost)
+    expect(first.received.some((m) => m.t === 'error' && m.code === 'room-lost')).toBe(true)
+    await until(
+      () => lines.some((l) => l.msg === 'room worker died; its rooms are lost'),
+      'the death log line',
+    )
+    const died = lines.find((l) => l.msg === 'room worker died; its rooms are lost') as Record<
+      string,
+      unknown
+    >
+    expect(died.worker).toBe(worker)
+    expect(died.rooms).toContain('phoenix')
+    expect(await metricsText(server)).toMatch(/concord_room_workers_failed_total 1/)
+    expect(server.pool?.workerIds).toHaveLength(2)
+    expect(server.pool?.workerIds).not.toContain(worker)
+
+    await until(
+      () => lines.some((l) => l.msg === 'room rebuilt from its log on a worker' && l.room === 'phoenix'),
+      'the rebuild',
+    )
+    const rebuilt = lines.find((l) => l.msg === 'room rebuilt from its log on a worker') as {
+      tick: number
+      hash: number
+    }
+    // The rebuilt room is the log's last durable checkpoint: at or after the one seen, same hash as written.
+    expect(rebuilt.tick).toBeGreaterThanOrEqual(durable.tick)
+    expect((await hashes()).get(rebuilt.tick)).toBe(rebuilt.hash)
+
+    const again = await bot(server, 'phoenix', 'ada again')
+    expect(again.mirror.tick).toBeGreaterThanOrEqual(rebuilt.tick)
+    expect(again.mirror.bodies.has(body)).toBe(true)
+    await spawnAndDrag(again)
+    expect(again.failure).toBeNull()
+  })
+})
