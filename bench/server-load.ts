@@ -23,8 +23,11 @@ export interface TimedServer {
   take(): TickTimes
 }
 
-/** Start a server in this process for load tests; every loop tick is timed. */
-export async function startTimedServer(): Promise<TimedServer> {
+/**
+ * Start a server in this process for load tests; every loop tick is timed. With `workers` > 0 the
+ * rooms run on worker threads and their loops are timed there (WorkerPool.takeLoopStats).
+ */
+export async function startTimedServer(workers = 0): Promise<TimedServer> {
   const config = loadConfig(
     [],
     {},
@@ -40,6 +43,7 @@ export async function startTimedServer(): Promise<TimedServer> {
       roomIdleSeconds: 5,
       // Measure raw capacity: no room is closed for going over the per-room tick budget.
       roomTickBudgetMs: 0,
+      workers,
     },
   )
   const server = await startServer(config, { logger: pino({ level: 'silent' }), processMetrics: false })

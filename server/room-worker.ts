@@ -63,6 +63,15 @@ rooms.beforeRoomTick = (room) => {
   }
 }
 
+/** Loop tick durations since the last stats (ms). */
+let loopMs: number[] = []
+const tickAll = rooms.tickAll.bind(rooms)
+rooms.tickAll = () => {
+  const start = performance.now()
+  tickAll()
+  loopMs.push(performance.now() - start)
+}
+
 let lastTicks = 0
 function flush(ticks: number, always: boolean): void {
   lastTicks = ticks
@@ -78,7 +87,11 @@ async function postStats(): Promise<void> {
     rooms: rooms.list().map(roomSummary),
     metrics: await metrics.registry.getMetricsAsJSON(),
     openLogs: [...recordings.openNames],
+    loopMs,
+    overruns: rooms.clock.overruns,
+    heapMb: process.memoryUsage().heapUsed / 2 ** 20,
   }
+  loopMs = []
   port?.postMessage(message)
 }
 

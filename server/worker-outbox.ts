@@ -12,8 +12,15 @@ import type { PlayerConnection } from './player-connection.ts'
 import type { RoomPlayer } from './room-player.ts'
 import type { FromWorker, FromWorkerOp } from './worker-protocol.ts'
 
-/** Bytes of the first batch buffer; it grows to the largest tick seen. */
+/** Bytes of the smallest batch buffer. */
 const INITIAL_BYTES = 64 * 1024
+
+/** The next batch's buffer: room for as much as the last one held (a big tick does not stay big). */
+function bufferSizeFor(used: number): number {
+  let size = INITIAL_BYTES
+  while (size < used) size *= 2
+  return size
+}
 
 /** The ordered sends and operations of one worker since the last flush. */
 export class Outbox {
@@ -51,7 +58,7 @@ export class Outbox {
     if (this.used > 0) {
       // The filled buffer is handed over (transferred); the next batch gets a fresh one.
       buf = this.buf.buffer as ArrayBuffer
-      this.buf = new Uint8Array(this.buf.length)
+      this.buf = new Uint8Array(bufferSizeFor(this.used))
     }
     const message: FromWorker = { t: 'batch', ticks, buf, ops: this.ops }
     this.used = 0

@@ -86,6 +86,10 @@ class WorkerLink {
   readonly pendingJoins = new Map<string, number>()
   summaries: RoomSummary[] = []
   metrics: Metrics = []
+  /** Loop tick times (ms) collected while sampling, dropped ticks and heap from the last stats. */
+  loopMs: number[] = []
+  overruns = 0
+  heapMb = 0
   openLogs: string[] = []
   exited = false
   private pending: ToWorker[] = []
@@ -123,6 +127,8 @@ export class WorkerPool implements RoomHost {
   private nextConn = 1
   private nextId = 1
   private closing = false
+  /** Whether loop tick times are being collected (benchmarks). */
+  private sampling = false
   /** Called when a room is gone for good (e.g. to release it in the room directory). */
   onRoomDisposed: ((name: string) => void) | null = null
 
@@ -207,6 +213,19 @@ export class WorkerPool implements RoomHost {
     this.roomLinks.get(room)?.post({ op: 'fault', fault })
   }
 
+  /**
+   * Benchmarks: each worker's loop tick times (ms) since the last call, from its once-a-second
+   * stats (collection starts with the first call), its dropped ticks so far and its heap (MB).
+   */
+  takeLoopStats(): Array<{ worker: number; loopMs: number[]; overruns: number; heapMb: number }> {
+    this.sampling = true
+    return this.links.map((link) => {
+      const loopMs = link.loopMs
+      link.loopMs = []
+      return { worker: link.id, loopMs, overruns: link.overruns, heapMb: link.heapMb }
+    })
+  }
+
   /** /metrics: this process's metrics with every worker's merged in (worker label). */
   async metricsText(): Promise<string> {
     const own = (await this.metrics.registry.getMetricsAsJSON()) as Metrics
@@ -281,6 +300,9 @@ export class WorkerPool implements RoomHost {
     if (message.t === 'stats') {
       link.summaries = message.rooms
       link.metrics = message.metrics
+      link.overruns = message.overruns
+      link.heapMb = message.heapMb
+      if (this.sampling) link.loopMs.push(...message.loopMs)
       for (const name of link.openLogs) this.recordings.openNames.delete(name)
       link.openLogs = message.openLogs
       for (const name of link.openLogs) this.recordings.openNames.add(name)

@@ -83,6 +83,12 @@ export type FromWorker =
       rooms: RoomSummary[]
       metrics: MetricObjectWithValues<MetricValue<string>>[]
       openLogs: string[]
+      /** Wall time of each loop tick since the last stats (ms; for benchmarks). */
+      loopMs: number[]
+      /** Ticks the worker's clock has dropped since it started. */
+      overruns: number
+      /** The worker's JavaScript heap (MB). */
+      heapMb: number
     }
   /** Shutdown finished: every log is closed. */
   | { t: 'closed' }
