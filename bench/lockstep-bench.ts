@@ -11,23 +11,22 @@
  *
  * Part 2, rollback cost: what a predicting client pays per rollback, in Node: copy the confirmed
  * simulation (cloneSimulation: world save + load) and re-simulate 4, 8 or 16 ticks, in a 20-row
- * pyramid (210 boxes) and a 1,000-body pile, both awake. Mean of REPS runs each.
+ * pyramid (210 boxes) and a 1,000-body pile, both awake (rollback-cost.ts; median of REPS runs
+ * each). The same in Chromium: npm run bench:lockstep-browser.
  * Flags: --quick (10 s of bandwidth instead of 30).
  */
 import { mkdirSync, writeFileSync } from 'node:fs'
-import { performance } from 'node:perf_hooks'
 import pino from 'pino'
-import { Prng, pileScene, pyramidScene, type SceneBlueprint } from '../engine/index.ts'
+import { Prng, pileScene } from '../engine/index.ts'
 import { BotClient } from '../server/bot-client.ts'
 import { driveBot } from '../server/bots.ts'
 import { loadConfig } from '../server/config.ts'
 import { LockstepBot } from '../server/lockstep-bot.ts'
 import { startServer } from '../server/server.ts'
-import { cloneSimulation, RoomSimulation } from '../shared/index.ts'
-import { worldFromBlueprint } from '../shared/room-simulation.ts'
+import { formatRollbackCost, measureRollbackScenes } from './rollback-cost.ts'
 
 const quick = process.argv.includes('--quick')
-const REPS = 10
+const REPS = 15
 
 async function bandwidth(): Promise<Record<string, number>> {
   const config = loadConfig([], {}, { port: 0, logLevel: 'silent', defaultScene: 'empty', maxBodies: 5000 })
@@ -73,47 +72,12 @@ async function bandwidth(): Promise<Record<string, number>> {
   return result
 }
 
-function rollbackCost(blueprint: SceneBlueprint, warmTicks: number): Record<string, number> {
-  const sim = new RoomSimulation({ name: 'bench', scene: 'empty', maxBodies: 5000, controls: true })
-  const built = worldFromBlueprint(blueprint)
-  sim.loadWorld(blueprint.name, built.world, built.joints)
-  for (let i = 0; i < warmTicks; i++) sim.runTick()
-  const out: Record<string, number> = { bodies: sim.world.bodyCount, awake: sim.world.awakeBodyCount() }
-  const options = { maxBodies: 5000, controls: true, name: '' }
-  let copyMs = 0
-  for (let r = 0; r < REPS; r++) {
-    const t = performance.now()
-    cloneSimulation(sim, options)
-    copyMs += performance.now() - t
-  }
-  out.copyMs = copyMs / REPS
-  for (const depth of [4, 8, 16]) {
-    let total = 0
-    for (let r = 0; r < REPS; r++) {
-      const t = performance.now()
-      const copy = cloneSimulation(sim, options)
-      for (let k = 0; k < depth; k++) copy.runTick()
-      total += performance.now() - t
-    }
-    out[`rollback${depth}Ms`] = total / REPS
-  }
-  return out
-}
-
 const loadAverage = async (): Promise<number[]> => (await import('node:os')).loadavg()
 
 const results: Record<string, unknown> = { date: new Date().toISOString(), loadBefore: await loadAverage() }
-const rollback = {
-  pyramid210: rollbackCost(pyramidScene(20), 10),
-  pile1000: rollbackCost(pileScene(1000), 30),
-}
+const rollback = measureRollbackScenes(REPS)
 results.rollbackNode = rollback
-for (const [name, r] of Object.entries(rollback)) {
-  console.log(
-    `rollback ${name} (${r.bodies} bodies, ${r.awake} awake): copy ${r.copyMs.toFixed(2)} ms; ` +
-      `copy + 4 ticks ${r.rollback4Ms.toFixed(2)} ms, + 8 ${r.rollback8Ms.toFixed(2)} ms, + 16 ${r.rollback16Ms.toFixed(2)} ms`,
-  )
-}
+for (const [name, r] of Object.entries(rollback)) console.log(formatRollbackCost('Node', name, r))
 const bw = await bandwidth()
 results.bandwidth = bw
 console.log(
