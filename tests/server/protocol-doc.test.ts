@@ -1,32 +1,10 @@
-import { readFileSync } from 'node:fs'
 import { decode } from '@msgpack/msgpack'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { parseSnapshotData } from './doc-client.ts'
+import { documentedFields } from './doc-tables.ts'
 import { startTestServer } from './test-server.ts'
-
-/** Field names per heading of PROTOCOL.md: `### \`name\`` followed by a `| \`field\` | ...` table. */
-function documentedFields(): Map<string, { all: string[]; optional: string[] }> {
-  const doc = readFileSync('shared/PROTOCOL.md', 'utf8')
-  const sections = new Map<string, { all: string[]; optional: string[] }>()
-  let current: { all: string[]; optional: string[] } | null = null
-  for (const line of doc.split('\n')) {
-    const heading = /^### `(\w+)`/.exec(line)
-    if (heading) {
-      current = { all: [], optional: [] }
-      sections.set(heading[1], current)
-      continue
-    }
-    if (line.startsWith('#')) current = null
-    const row = /^\|\s*`(\w+)`\s*\|[^|]*\|(.*)\|$/.exec(line)
-    if (current && row) {
-      current.all.push(row[1])
-      if (row[2].trim().startsWith('optional')) current.optional.push(row[1])
-    }
-  }
-  return sections
-}
 
 let server: RunningServer
 
