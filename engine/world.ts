@@ -342,14 +342,27 @@ function shouldCollide(a: Body, b: Body): boolean {
   return true
 }
 
-/** Merges sorted `fresh` contacts into the sorted `contacts` array in place, O(n + k). */
+/**
+ * Merges sorted `fresh` contacts into the sorted `contacts` array in place. Each fresh contact's
+ * place is found by binary search, and the old contacts after it move up as a block: O(k log n)
+ * key reads instead of one per moved contact (a key read touches the contact object, a cache miss
+ * in a big world), plus the pointer moves.
+ */
 function mergeContacts(contacts: Contact[], fresh: Contact[]): void {
-  let i = contacts.length - 1
-  let j = fresh.length - 1
-  let w = contacts.length + fresh.length - 1
-  contacts.length = w + 1
-  while (j >= 0) {
-    if (i >= 0 && contacts[i].key > fresh[j].key) contacts[w--] = contacts[i--]
-    else contacts[w--] = fresh[j--]
+  let end = contacts.length
+  contacts.length = end + fresh.length
+  for (let j = fresh.length - 1; j >= 0; j--) {
+    const key = fresh[j].key
+    // First old contact in [0, end) with a larger key (fresh keys are never in `contacts`).
+    let lo = 0
+    let hi = end
+    while (lo < hi) {
+      const mid = (lo + hi) >>> 1
+      if (contacts[mid].key > key) hi = mid
+      else lo = mid + 1
+    }
+    for (let m = end - 1; m >= lo; m--) contacts[m + j + 1] = contacts[m]
+    contacts[lo + j] = fresh[j]
+    end = lo
   }
 }
