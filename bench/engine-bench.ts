@@ -10,9 +10,11 @@
  * cores, turbo, thermal) therefore lands on all engines alike, and all worlds are sampled at the
  * same simulated time, so a scene's busy phase (a pile landing) weighs equally on each.
  *
- * Per step we report the median, p95 and mean (ms), and for every peer the ratio concord/peer
- * (Concord's time over the peer's: below 1 Concord is faster) on medians, on means, and paired in
- * time (median over rounds of the ratio of the round medians). The targets (issue 13, sleep off):
+ * Per step we report the median, p95 and mean (ms) and the process's CPU time during the engine's
+ * chunks (ms per step; time spent waiting for a core does not count, so on a loaded machine it is
+ * the steadiest figure), and for every peer the ratio concord/peer (Concord's time over the
+ * peer's: below 1 Concord is faster) on medians, on means, paired in time (median over rounds of
+ * the ratio of the round medians) and on CPU time. The targets (issue 13, sleep off):
  * Concord at most 1.3x box2d3-wasm on pile-1000, pyramid-50 and pyramid-20, and faster than Rapier
  * on every scene; the older ones stay printed (planck/concord >= 5, concord/box2d-wasm <= 2). A
  * fast engine whose pyramid falls is not a fast engine, so each run also checks the scene at the
@@ -82,6 +84,8 @@ interface EngineResult {
   buildMs: number
   /** Per-step times (ms). */
   steps: Summary
+  /** CPU time of the process during this engine's timed steps, per step (ms): waiting for a core does not count. */
+  cpuMsPerStep: number
   /** Garbage-collection pauses during this engine's steps, averaged per step (ms). */
   gcMsPerStep: number
   check: SceneCheck
@@ -104,6 +108,8 @@ interface CaseResult {
 interface ConcordRatio {
   median: number
   mean: number
+  /** CPU time per step over the peer's (the steadiest ratio on a loaded machine). */
+  cpu: number
   /** Paired in time: median over rounds of the ratio of the two engines' round medians. */
   paired: number
 }
@@ -135,7 +141,12 @@ interface Chunk {
   end: number
 }
 
-function timeRounds(peers: PeerWorld[], steps: number, chunks: Chunk[] = []): number[][] {
+function timeRounds(
+  peers: PeerWorld[],
+  steps: number,
+  chunks: Chunk[] = [],
+  cpuMs: number[] = peers.map(() => 0),
+): number[][] {
   const samples = peers.map(() => [] as number[])
   const rounds = Math.ceil(steps / CHUNK_STEPS)
   for (let round = 0; round < rounds; round++) {
@@ -145,11 +156,14 @@ function timeRounds(peers: PeerWorld[], steps: number, chunks: Chunk[] = []): nu
       const peer = peers[e]
       const out = samples[e]
       const start = performance.now()
+      const cpu0 = process.cpuUsage()
       for (let s = 0; s < count; s++) {
         const t0 = performance.now()
         peer.step()
         out.push(performance.now() - t0)
       }
+      const used = process.cpuUsage(cpu0)
+      cpuMs[e] += (used.user + used.system) / 1000
       chunks.push({ engine: e, start, end: performance.now() })
     }
   }
@@ -189,11 +203,13 @@ async function runCase(
   }
   const starts = peers.map((p) => p.readBodies())
   timeRounds(peers, warmupSteps)
-  const samples = timeRounds(peers, timedSteps, chunks)
+  const cpuMs = peers.map(() => 0)
+  const samples = timeRounds(peers, timedSteps, chunks, cpuMs)
   const engines: CaseResult['engines'] = {}
   names.forEach((name, e) => {
     const check = checkScene(scene.kind, blueprint, starts[e], peers[e].readBodies(), peers[e].awakeCount())
-    engines[name] = { buildMs: buildMs[e], steps: summarize(samples[e]), gcMsPerStep: 0, check }
+    const steps = summarize(samples[e])
+    engines[name] = { buildMs: buildMs[e], steps, cpuMsPerStep: cpuMs[e] / steps.n, gcMsPerStep: 0, check }
     peers[e].dispose()
   })
   const concordOver: CaseResult['concordOver'] = {}
@@ -206,6 +222,7 @@ async function runCase(
     const ratio = {
       median: concord.steps.median / peer.steps.median,
       mean: concord.steps.mean / peer.steps.mean,
+      cpu: concord.cpuMsPerStep / peer.cpuMsPerStep,
       paired: pairedRatio(samples[ci], samples[e], CHUNK_STEPS),
     }
     concordOver[name] = ratio
@@ -241,6 +258,7 @@ function printResults(results: CaseResult[]): void {
         fmt(e.steps.median, 3),
         fmt(e.steps.p95, 3),
         fmt(e.steps.mean, 3),
+        fmt(e.cpuMsPerStep, 3),
         fmt(e.gcMsPerStep, 3),
         String(c.awake),
         fmt(c.topDx, 3),
@@ -257,6 +275,7 @@ function printResults(results: CaseResult[]): void {
     'median ms',
     'p95 ms',
     'mean ms',
+    'cpu ms',
     'gc ms',
     'awake',
     'top dx m',
@@ -272,10 +291,13 @@ function printResults(results: CaseResult[]): void {
       const ratio = r.concordOver[name]
       const target = r.targets[name]
       const mark = target === undefined ? '' : target.met ? ' ok' : ' MISSED'
-      return [`${fmt(ratio?.median)}${mark}`, fmt(ratio?.mean), fmt(ratio?.paired)]
+      return [`${fmt(ratio?.median)}${mark}`, fmt(ratio?.mean), fmt(ratio?.paired), fmt(ratio?.cpu)]
     }),
   ])
-  const ratioHeader = ['concord / peer', ...peers.flatMap((name) => [`${name} median`, 'mean', 'paired'])]
+  const ratioHeader = [
+    'concord / peer',
+    ...peers.flatMap((name) => [`${name} median`, 'mean', 'paired', 'cpu']),
+  ]
   console.log(`${formatTable(ratioHeader, ratioRows)}`)
   console.log(
     'concord/peer below 1: Concord is faster. Targets (sleep off, medians): box2d3-wasm <= 1.3 on\n' +
