@@ -142,6 +142,74 @@ describe('PROTOCOL.md refusals', { timeout: 30_000 }, () => {
   })
 })
 
+describe('PROTOCOL.md accepted values', { timeout: 30_000 }, () => {
+  it('accepts each documented range up to its edge and refuses just beyond it as invalid, then clamps', async () => {
+    const c = await DocClient.joined(server.url, 'ranges', 'ranger')
+    const spawn = (extra: Record<string, unknown>, i: number): Record<string, unknown> => ({
+      k: 'spawn',
+      shape: BOX,
+      x: -40 + 3 * i,
+      y: 30 + 5 * i, // apart: the 10 m shapes touch nothing
+      ...extra,
+    })
+    // [command, the answer the document promises]: 'add' (applied), 'refused' (valid, not applied), 'invalid'.
+    const cases: Array<[Record<string, unknown>, string]> = [
+      [spawn({ angle: 1000 }, 0), 'add'],
+      [spawn({ angle: 1000.01 }, 1), 'invalid'],
+      [spawn({ vx: 1e6 }, 2), 'add'],
+      [spawn({ vx: 1e6 + 1 }, 3), 'invalid'],
+      [spawn({ w: 1e6 }, 4), 'add'],
+      [spawn({ shape: { type: 'circle', radius: 0.05 } }, 5), 'add'],
+      [spawn({ shape: { type: 'circle', radius: 0.049 } }, 6), 'invalid'],
+      [spawn({ shape: { type: 'box', hw: 10, hh: 0.05 } }, 7), 'add'],
+      [spawn({ shape: { type: 'box', hw: 10.001, hh: 1 } }, 8), 'invalid'],
+      [spawn({ shape: { type: 'polygon', v: [0, 0, 10, 0, 0, 10] } }, 9), 'add'],
+      [spawn({ shape: { type: 'polygon', v: [0, 0, 10.5, 0, 0, 10] } }, 10), 'invalid'],
+      [{ k: 'grab', body: 999_999, lx: 1000, ly: -1000 }, 'refused'],
+      [{ k: 'grab', body: 999_999, lx: 1000.5, ly: 0 }, 'invalid'],
+      [{ k: 'delete', body: 2 ** 53 - 1 }, 'refused'],
+      [{ k: 'delete', body: 0 }, 'invalid'],
+      [{ k: 'delete', body: 2 ** 53 }, 'invalid'],
+      [{ k: 'pin', a: 0, b: 999_999, x: -1e6, y: 1e6 }, 'refused'],
+      [{ k: 'pin', a: 0, b: 999_999, x: -1e6 - 1, y: 0 }, 'invalid'],
+      [{ k: 'scene', name: 'x'.repeat(32) }, 'refused'],
+      [{ k: 'scene', name: 'x'.repeat(33) }, 'invalid'],
+      [{ k: 'unjoint', joint: 999_999 }, 'refused'],
+      [spawn({ w: 100 }, 21), 'add'],
+    ]
+    cases.forEach(([cmd], seq) => {
+      c.send({ t: 'input', seq, cmd })
+    })
+    const answer = (seq: number): string | undefined =>
+      added(c).some((b) => b.seq === seq)
+        ? 'add'
+        : (c.all('error').find((e) => e.seq === seq)?.code as string | undefined)
+    await c.waitFor(() => cases.every((_, seq) => answer(seq) !== undefined), 'every case answered')
+    expect(cases.map((_, seq) => answer(seq))).toEqual(cases.map(([, expected]) => expected))
+    // The clamps, after the one step the add event's pose includes: vx 1e6 -> 100 m/s moves x by
+    // 100/60 m; w 1e6 turns the box exactly as w 100 does (and it turned).
+    const pose = (seq: number): Record<string, unknown> => added(c).find((b) => b.seq === seq)!
+    expect(pose(2).x).toBe(Math.round((-40 + 3 * 2 + 100 / 60) * 1000))
+    expect(pose(4).a).toBe(pose(21).a)
+    expect(pose(4).a).toBeGreaterThan(0)
+    // The largest seq comes back whole; one beyond it cannot be echoed.
+    c.send({ t: 'input', seq: 2 ** 53 - 1, cmd: { k: 'unjoint', joint: 1 } })
+    c.send({ t: 'input', seq: 2 ** 53, cmd: { k: 'unjoint', joint: 1 } })
+    await c.waitFor(
+      () => c.all('error').length === 2 + cases.filter(([, e]) => e !== 'add').length,
+      'two more',
+    )
+    // (the invalid one is answered at once, the refused one when the room applies its tick)
+    const lastTwo = c
+      .all('error')
+      .slice(-2)
+      .map((e) => [e.code, e.seq])
+    expect(lastTwo).toContainEqual(['refused', 2 ** 53 - 1])
+    expect(lastTwo).toContainEqual(['invalid', undefined])
+    c.end()
+  })
+})
+
 describe('PROTOCOL.md input budget', { timeout: 30_000 }, () => {
   it('lets a move replace the waiting move without counting, while pings count', async () => {
     const c = await DocClient.joined(server.url, 'coalesce', 'mover')
