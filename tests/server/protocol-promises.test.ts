@@ -4,13 +4,11 @@
  * @msgpack/msgpack, no shared/ code). Expected values come from the document's rules worked by
  * hand, not from the server's code.
  */
-import { readFileSync } from 'node:fs'
 import type { Socket } from 'node:net'
 import { encode } from '@msgpack/msgpack'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
 import { type Decoded, DocClient, parseSnapshotData } from './doc-client.ts'
-import { waitUntil } from './raw-client.ts'
 import { startTestServer } from './test-server.ts'
 
 const BOX = { type: 'box', hw: 0.25, hh: 0.25 }
@@ -332,88 +330,6 @@ describe('PROTOCOL.md events and numbers', { timeout: 30_000 }, () => {
     // x = 1,000,000 m is on the wire range's edge: accepted, clamped to the 500 m world bound.
     expect(added(c).find((b) => b.seq === 77)!.x).toBe(500_000)
     expect(c.all('error')).toEqual([])
-    c.end()
-  })
-})
-
-/** Rows of PROTOCOL.md's Scenes table: name, static count, [box, circle, polygon], joints by kind. */
-function documentedScenes(doc: string): Array<{
-  name: string
-  statics: number
-  dynamic: number[]
-  joints: Record<string, number>
-}> {
-  const section = doc.slice(doc.indexOf('### Scenes'), doc.indexOf('### Close codes'))
-  const rows = []
-  for (const line of section.split('\n')) {
-    const m = /^\| `([\w-]+)` \|[^|]*\| (\d+) \| (\d+)\/(\d+)\/(\d+) \| ([^|]*) \|$/.exec(line)
-    if (!m) continue
-    const joints: Record<string, number> = {}
-    for (const part of m[6].split(',')) {
-      const j = /(\d+) (\w+)/.exec(part)
-      if (j) joints[j[2]] = Number(j[1])
-    }
-    rows.push({ name: m[1], statics: Number(m[2]), dynamic: [m[3], m[4], m[5]].map(Number), joints })
-  }
-  return rows
-}
-
-/** A decoded `state`'s contents in the Scenes table's terms. */
-function sceneContents(state: Decoded['state']): {
-  statics: number
-  dynamic: number[]
-  joints: Record<string, number>
-} {
-  const s = state as {
-    bodies: Array<{ kind: number; shape: { type: string } }>
-    joints: Array<{ kind: string }>
-  }
-  const types = ['box', 'circle', 'polygon']
-  const joints: Record<string, number> = {}
-  for (const j of s.joints) joints[j.kind] = (joints[j.kind] ?? 0) + 1
-  return {
-    statics: s.bodies.filter((b) => b.kind === 0).length,
-    dynamic: types.map((t) => s.bodies.filter((b) => b.kind === 2 && b.shape.type === t).length),
-    joints,
-  }
-}
-
-describe('PROTOCOL.md scenes', { timeout: 60_000 }, () => {
-  it("lists the scenes of rules.scenes in order, with the bodies and joints each one's state holds", async () => {
-    const table = documentedScenes(readFileSync('shared/PROTOCOL.md', 'utf8'))
-    const c = await DocClient.joined(server.url, 'scenes', 'loader')
-    expect(table.map((r) => r.name)).toEqual((c.first('welcome').rules as { scenes: string[] }).scenes)
-    let seq = 0
-    let lastLoad = 0
-    for (const row of table) {
-      let state: Decoded | undefined
-      while (!state) {
-        const s = ++seq
-        const from = c.messages.length
-        c.send({ t: 'input', seq: s, cmd: { k: 'scene', name: row.name } })
-        const reply = (): Decoded | undefined =>
-          c.messages
-            .slice(from)
-            .find(
-              (m) =>
-                (m.t === 'state' && (m.state as { scene: string }).scene === row.name) ||
-                (m.t === 'error' && m.seq === s),
-            )
-        await waitUntil(() => reply() !== undefined, `the ${row.name} scene`)
-        const m = reply()!
-        if (m.t === 'state') state = m
-        // Loads are limited to one per 10 ticks: retry once the room is past that.
-        else await c.waitFor((x) => x.t === 'snap' && (x.tick as number) > lastLoad + 10, 'ten ticks')
-      }
-      lastLoad = (state.state as { tick: number }).tick
-      const contents = sceneContents(state.state)
-      expect(contents, row.name).toEqual({ statics: row.statics, dynamic: row.dynamic, joints: row.joints })
-      const s = state.state as { gravity: number[]; bodies: Array<Record<string, unknown>> }
-      expect(s.gravity, row.name).toEqual([0, -10])
-      // The ground: the lowest id, static, 200 m wide, its top at y = 0.
-      const ground = s.bodies.reduce((lo, b) => ((b.id as number) < (lo.id as number) ? b : lo))
-      expect(ground, row.name).toMatchObject({ kind: 0, y: -1000, shape: { type: 'box', hw: 100, hh: 1 } })
-    }
     c.end()
   })
 })
