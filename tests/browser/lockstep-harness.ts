@@ -5,12 +5,17 @@
  * pass: snapshot-mode bots acting in one room (spawns, grabs, drags, pins, ropes, unjoints,
  * deletes, a scene load halfway), a Node LockstepBot and the page stepping the same room, until
  * both are `ticks` past where they started; every hash checkpoint must match, with no desync.
- * Chromium drives it through playwright-core (lockstep.test.ts), Firefox ESR through
+ * Then the perturbed page: the same bundle with the engine's own sin replaced by the browser's
+ * Math.sin; a bot spawns bodies at angles where the two differ (found in an unperturbed page of the
+ * same browser), and the page must report the desync within one hash interval, be repaired by a
+ * sync and be counted in the server's /metrics.
+ * Chromium drives both through playwright-core (lockstep.test.ts), Firefox ESR through
  * puppeteer-core over WebDriver BiDi (lockstep-firefox.test.ts).
  */
 import { readFile } from 'node:fs/promises'
 import { build, type Plugin } from 'esbuild'
 import { expect } from 'vitest'
+import { BotClient } from '../../server/bot-client.ts'
 import { LockstepBot } from '../../server/lockstep-bot.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { ActiveBots } from '../server/lockstep-bots.ts'
@@ -133,4 +138,52 @@ export async function expectLongSync(
   expect((await server.metrics.desyncs.get()).values[0]?.value ?? 0).toBe(0)
   await Promise.all([node.close(), bots.stop()])
   return r
+}
+
+/** A page the harness may open and close: `open` starts lockstep-page code in `room`. */
+export type OpenPage = (code: string, room: string) => Promise<ScriptPage & { close(): Promise<void> }>
+
+/**
+ * The perturbed run: a page whose engine uses the browser's Math.sin joins `room`, bodies are
+ * spawned at angles where that sin differs from the engine's; asserts the desync is reported within
+ * one hash interval (60 ticks, plus 30 for the spawns to land in the stream), repaired by a sync,
+ * followed by a verified checkpoint, and counted in /metrics. Returns the angles used.
+ */
+export async function expectSinPerturbationCaught(
+  server: RunningServer,
+  open: OpenPage,
+  room: string,
+): Promise<number[]> {
+  const plain = await open(await bundleLockstepPage(false), `${room}-probe`)
+  const angles = (await plain.evaluate('globalThis.concordLockstep.anglesWhereSinDiffers()')) as number[]
+  await plain.close()
+  expect(angles.length, 'angles where Math.sin differs from the engine sin').toBeGreaterThan(0)
+  const page = await open(await bundleLockstepPage(true), room)
+  await until(
+    'the perturbed page to verify a checkpoint',
+    async () => (await readReport(page)).hashesChecked >= 1,
+  )
+  const before = (await server.metrics.desyncs.get()).values[0]?.value ?? 0
+  const spawner = await BotClient.connect({ url: server.url, room, name: 'spawner' })
+  const spawnTick = server.rooms.get(room)?.tick ?? 0
+  for (const angle of angles.slice(0, 5)) {
+    spawner.command({ k: 'spawn', shape: { type: 'box', hw: 0.5, hh: 0.2 }, x: angle * 3, y: 5, angle })
+  }
+  await until('the desync and the repair', async () => {
+    const r = await readReport(page)
+    return r.desyncs >= 1 && r.resyncs >= 1 && r.state === 'running'
+  })
+  const r = await readReport(page)
+  const detectedAt = Number(r.problem.match(/tick (\d+)/)?.[1])
+  expect(detectedAt - spawnTick).toBeLessThanOrEqual(60 + 30)
+  await until(
+    'a verified checkpoint after the repair',
+    async () => (await readReport(page)).verifiedTick > detectedAt,
+  )
+  expect((await server.metrics.desyncs.get()).values[0]?.value ?? 0).toBeGreaterThan(before)
+  const metrics = await fetch(`${server.url}/metrics`).then((res) => res.text())
+  expect(metrics).toMatch(/concord_desyncs_total [1-9]/)
+  await page.close()
+  await spawner.close()
+  return angles
 }

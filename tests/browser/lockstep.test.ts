@@ -8,13 +8,12 @@
  * when the machine keeps up.
  *
  * Then a perturbed page: the same bundle with the engine's own sin replaced by Chromium's
- * Math.sin. A bot spawns bodies at angles where the two differ (found in the unperturbed page);
- * the perturbed client must report the desync within one hash interval, be repaired by a sync and
- * be counted in the server's /metrics.
+ * Math.sin (lockstep-harness.ts expectSinPerturbationCaught). A bot spawns bodies at angles where
+ * the two differ (found in the unperturbed page); the perturbed client must report the desync
+ * within one hash interval, be repaired by a sync and be counted in the server's /metrics.
  */
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
-import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { driveClock } from '../server/lockstep-bots.ts'
 import { startTestServer } from '../server/test-server.ts'
@@ -22,9 +21,8 @@ import { launchBrowser } from './chromium.ts'
 import {
   bundleLockstepPage,
   expectLongSync,
-  readReport,
+  expectSinPerturbationCaught,
   startLockstepPage,
-  until,
 } from './lockstep-harness.ts'
 
 const TICKS = 10_000
@@ -62,40 +60,6 @@ describe('lockstep in Chromium and Node', () => {
   }, 960_000)
 
   it('a page whose engine uses Math.sin is caught within one hash interval, repaired and counted', async () => {
-    const plain = await openPage(await bundleLockstepPage(false), 'ls-sin-probe')
-    const angles = await plain.evaluate(() =>
-      (
-        globalThis as never as { concordLockstep: { anglesWhereSinDiffers(): number[] } }
-      ).concordLockstep.anglesWhereSinDiffers(),
-    )
-    await plain.close()
-    expect(angles.length).toBeGreaterThan(0)
-    const page = await openPage(await bundleLockstepPage(true), 'ls-sin')
-    await until(
-      'the perturbed page to verify a checkpoint',
-      async () => (await readReport(page)).hashesChecked >= 1,
-    )
-    const before = (await server.metrics.desyncs.get()).values[0]?.value ?? 0
-    const spawner = await BotClient.connect({ url: server.url, room: 'ls-sin', name: 'spawner' })
-    const spawnTick = server.rooms.get('ls-sin')?.tick ?? 0
-    for (const angle of angles.slice(0, 5)) {
-      spawner.command({ k: 'spawn', shape: { type: 'box', hw: 0.5, hh: 0.2 }, x: angle * 3, y: 5, angle })
-    }
-    await until('the desync and the repair', async () => {
-      const r = await readReport(page)
-      return r.desyncs >= 1 && r.resyncs >= 1 && r.state === 'running'
-    })
-    const r = await readReport(page)
-    const detectedAt = Number(r.problem.match(/tick (\d+)/)?.[1])
-    expect(detectedAt - spawnTick).toBeLessThanOrEqual(60 + 30)
-    await until(
-      'a verified checkpoint after the repair',
-      async () => (await readReport(page)).verifiedTick > detectedAt,
-    )
-    expect((await server.metrics.desyncs.get()).values[0]?.value ?? 0).toBeGreaterThan(before)
-    const metrics = await fetch(`${server.url}/metrics`).then((res) => res.text())
-    expect(metrics).toMatch(/concord_desyncs_total [1-9]/)
-    await page.close()
-    await spawner.close()
+    await expectSinPerturbationCaught(server, openPage, 'ls-sin')
   }, 300_000)
 })
