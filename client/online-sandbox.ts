@@ -164,7 +164,7 @@ export class OnlineSandbox implements Sandbox {
     if (message.t === 'error' && message.code === 'refused') this.tell(message.reason)
     if (message.t === 'error' && message.code !== 'input-budget' && message.seq !== undefined)
       this.outbox.spawns.refused(message.seq)
-    if (message.t === 'events') for (const b of message.add) this.outbox.spawns.added(b)
+    if (message.t === 'events') for (const b of message.add) this.outbox.spawns.added(b, this.mirror.clientId)
     if (message.t === 'error' && message.code === 'input-budget') {
       this.tell(`The server dropped some of your inputs (${message.reason}).`)
     }

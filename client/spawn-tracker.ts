@@ -1,12 +1,13 @@
 /*
  * Spawns the player clicked, followed until the server confirms them, so that none is lost. The
  * page paces its inputs within the room's per-tick budget, but a server that stalls (a loaded
- * machine) reads the inputs of several frames in one tick and drops the excess; it reports that
- * at most once per tick, without saying which inputs it dropped. So each spawn sent is kept until
- * an `events` message adds a dynamic body with its shape where it was dropped (the add event
- * carries the body's pose at creation, in mm), or the server refuses it by its seq (a full room:
- * not worth sending again). One still unconfirmed once the room has run RESEND_TICKS plus a round
- * trip of ticks past the tick it was sent at was dropped: it is sent again, at most MAX_SENDS times.
+ * machine) reads the inputs of several frames in one tick and may refuse the excess. So each
+ * spawn sent is kept until an `events` message adds its body: one naming this player and one of
+ * the spawn's seqs (PROTOCOL.md: a spawned body carries its spawner's `player` and `seq`), or,
+ * from a server that does not name spawners, a dynamic body with its shape where it was dropped;
+ * or until the server refuses it by its seq (a full room: not worth sending again). One still
+ * unconfirmed once the room has run RESEND_TICKS plus a round trip of ticks past the tick it was
+ * sent at was dropped: it is sent again, at most MAX_SENDS times.
  */
 import { clampToWorld, type SpawnCommand, type WireBody, type WireShape } from '../shared/index.ts'
 
@@ -16,7 +17,8 @@ export const RESEND_TICKS = 30
 export const MAX_SENDS = 3
 
 interface PendingSpawn {
-  seq: number
+  /** Every seq this spawn went out with (the latest last): any of them may come back. */
+  seqs: number[]
   cmd: SpawnCommand
   /** The room's tick as this page knew it when the spawn was sent. */
   sentTick: number
@@ -45,15 +47,25 @@ export class SpawnTracker {
   sent(seq: number, cmd: SpawnCommand, tick: number): void {
     const known = this.pending.find((p) => p.cmd === cmd)
     if (known) {
-      known.seq = seq
+      known.seqs.push(seq)
       known.sentTick = tick
       known.sends++
-    } else this.pending.push({ seq, cmd, sentTick: tick, sends: 1 })
+    } else this.pending.push({ seqs: [seq], cmd, sentTick: tick, sends: 1 })
   }
 
-  /** A body was added: the oldest pending spawn it matches is confirmed. */
-  added(body: WireBody): void {
+  /**
+   * A body was added: the pending spawn it names (player `ownId`, one of its seqs) is confirmed;
+   * a body naming another player confirms nothing; one naming none confirms the oldest pending
+   * spawn it matches by shape and point.
+   */
+  added(body: WireBody, ownId = 0): void {
     if (body.kind !== 2) return
+    if (typeof body.player === 'number' && typeof body.seq === 'number' && ownId !== 0) {
+      const seq = body.seq
+      const mine = body.player === ownId ? this.pending.findIndex((p) => p.seqs.includes(seq)) : -1
+      if (mine >= 0) this.pending.splice(mine, 1)
+      return
+    }
     const i = this.pending.findIndex((p) => {
       const at = clampToWorld(p.cmd.x, p.cmd.y)
       // Created at the spawn point; a little slack in case the pose is read after the first step.
@@ -69,7 +81,7 @@ export class SpawnTracker {
 
   /** The server refused input `seq` (not dropped it): forget it if it was a spawn. */
   refused(seq: number): void {
-    const i = this.pending.findIndex((p) => p.seq === seq)
+    const i = this.pending.findIndex((p) => p.seqs.includes(seq))
     if (i >= 0) this.pending.splice(i, 1)
   }
 

@@ -39,6 +39,24 @@ describe('SpawnTracker', () => {
     expect(t.overdue(100 + RESEND_TICKS + 11, 10)).toEqual([b])
   })
 
+  it("confirms by the player and seq an add event names: not another player's body at the same point, any seq the spawn went out with", () => {
+    const t = new SpawnTracker()
+    const a = circle(1, 2)
+    const b = circle(3, 2)
+    t.sent(1, a, 100)
+    t.sent(2, b, 100)
+    t.added({ ...added(a), player: 9, seq: 1 }, 4) // another player's seq 1, at a's very point
+    t.added({ ...added(a), player: 4, seq: 3 }, 4) // ours, a seq never sent
+    expect(t.size).toBe(2)
+    t.sent(5, a, 140) // a sent again with seq 5; the first send (seq 1) arrives late
+    t.added({ ...added(a, 0.7), player: 4, seq: 1 }, 4) // named: the pose need not match
+    expect(t.size).toBe(1)
+    t.added({ ...added(a), player: 4, seq: 5 }, 4) // the resend's body confirms nothing more
+    expect(t.size).toBe(1)
+    t.refused(2)
+    expect(t.size).toBe(0)
+  })
+
   it('matches a spawn clamped to the world bounds where the server put it', () => {
     const t = new SpawnTracker()
     t.sent(1, circle(5000, 2), 0)
