@@ -7,6 +7,7 @@
  * being rebuilt from its log holds back everything after it until it is open, so a client that
  * rejoins at once finds the recovered room, never a new empty one.
  */
+import { readFileSync } from 'node:fs'
 import { parentPort, workerData } from 'node:worker_threads'
 import pino from 'pino'
 import { Counter } from 'prom-client'
@@ -63,13 +64,20 @@ rooms.beforeRoomTick = (room) => {
   }
 }
 
-/** Loop tick durations since the last stats (ms). */
+/** Loop tick durations since the last stats (ms), and their CPU time on this thread once measured. */
 let loopMs: number[] = []
+let cpuMs: number[] = []
+let measureCpu = false
+/** CPU time of this thread (ms): Linux's per-thread scheduler statistics (Node 20 has no per-thread CPU clock). */
+const threadCpuMs = (): number =>
+  Number(readFileSync('/proc/thread-self/schedstat', 'utf8').split(' ')[0]) / 1e6
 const tickAll = rooms.tickAll.bind(rooms)
 rooms.tickAll = () => {
   const start = performance.now()
+  const cpu = measureCpu ? threadCpuMs() : 0
   tickAll()
   loopMs.push(performance.now() - start)
+  if (measureCpu) cpuMs.push(threadCpuMs() - cpu)
 }
 
 let lastTicks = 0
@@ -88,10 +96,12 @@ async function postStats(): Promise<void> {
     metrics: await metrics.registry.getMetricsAsJSON(),
     openLogs: [...recordings.openNames],
     loopMs,
+    cpuMs,
     overruns: rooms.clock.overruns,
     heapMb: process.memoryUsage().heapUsed / 2 ** 20,
   }
   loopMs = []
+  cpuMs = []
   port?.postMessage(message)
 }
 
@@ -165,6 +175,17 @@ function handle(op: ToWorker): void {
       return
     case 'fault':
       fault(op.fault)
+      return
+    case 'measure-cpu':
+      try {
+        threadCpuMs()
+        measureCpu = true
+      } catch (error) {
+        log.warn(
+          { err: (error as Error).message },
+          'no per-thread CPU time here; loop ticks are timed in wall time only',
+        )
+      }
       return
     case 'shutdown':
       void shutdown(op.reason)

@@ -88,6 +88,7 @@ class WorkerLink {
   metrics: Metrics = []
   /** Loop tick times (ms) collected while sampling, dropped ticks and heap from the last stats. */
   loopMs: number[] = []
+  cpuMs: number[] = []
   overruns = 0
   heapMb = 0
   openLogs: string[] = []
@@ -214,15 +215,24 @@ export class WorkerPool implements RoomHost {
   }
 
   /**
-   * Benchmarks: each worker's loop tick times (ms) since the last call, from its once-a-second
-   * stats (collection starts with the first call), its dropped ticks so far and its heap (MB).
+   * Benchmarks: each worker's loop tick times since the last call (wall ms, and CPU ms on the
+   * worker's thread where Linux reports it), from its once-a-second stats (collection starts with
+   * the first call), its dropped ticks so far and its heap (MB).
    */
-  takeLoopStats(): Array<{ worker: number; loopMs: number[]; overruns: number; heapMb: number }> {
+  takeLoopStats(): Array<{
+    worker: number
+    loopMs: number[]
+    cpuMs: number[]
+    overruns: number
+    heapMb: number
+  }> {
+    if (!this.sampling) for (const link of this.links) link.post({ op: 'measure-cpu' })
     this.sampling = true
     return this.links.map((link) => {
-      const loopMs = link.loopMs
+      const { loopMs, cpuMs } = link
       link.loopMs = []
-      return { worker: link.id, loopMs, overruns: link.overruns, heapMb: link.heapMb }
+      link.cpuMs = []
+      return { worker: link.id, loopMs, cpuMs, overruns: link.overruns, heapMb: link.heapMb }
     })
   }
 
@@ -302,7 +312,10 @@ export class WorkerPool implements RoomHost {
       link.metrics = message.metrics
       link.overruns = message.overruns
       link.heapMb = message.heapMb
-      if (this.sampling) link.loopMs.push(...message.loopMs)
+      if (this.sampling) {
+        link.loopMs.push(...message.loopMs)
+        link.cpuMs.push(...message.cpuMs)
+      }
       for (const name of link.openLogs) this.recordings.openNames.delete(name)
       link.openLogs = message.openLogs
       for (const name of link.openLogs) this.recordings.openNames.add(name)

@@ -42,6 +42,8 @@ export type ToWorker =
     }
   | { op: 'close-room'; room: string; code: number; reason: string }
   | { op: 'fault'; fault: WorkerFault }
+  /** Benchmarks: time each loop tick's CPU on the worker's own thread too (Linux). */
+  | { op: 'measure-cpu' }
   | { op: 'shutdown'; reason: string }
 
 /** Worker to main thread, in order; `at`/`len` locate a send's bytes in the batch buffer. */
@@ -85,6 +87,8 @@ export type FromWorker =
       openLogs: string[]
       /** Wall time of each loop tick since the last stats (ms; for benchmarks). */
       loopMs: number[]
+      /** CPU time of the worker's thread in each of those ticks (ms), once asked to measure it. */
+      cpuMs: number[]
       /** Ticks the worker's clock has dropped since it started. */
       overruns: number
       /** The worker's JavaScript heap (MB). */

@@ -47,6 +47,22 @@ describe('server configuration', () => {
   }
 })
 
+describe('--workers', () => {
+  it('takes a worker count from 0 (rooms on the main thread) to 256, and refuses anything else naming the setting', () => {
+    expect(loadConfig([], {}).workers).toBe(0)
+    expect(loadConfig(['--workers', '3'], {}).workers).toBe(3)
+    expect(loadConfig([], { WORKERS: '2' }).workers).toBe(2)
+    expect(() => loadConfig(['--workers', '-1'], {})).toThrow(
+      '--workers must be an integer in [0, 256], got "-1"',
+    )
+    expect(() => loadConfig([], { WORKERS: '1.5' })).toThrow(
+      'WORKERS must be an integer in [0, 256], got "1.5"',
+    )
+    expect(() => loadConfig(['--workers', '257'], {})).toThrow(/--workers/)
+    expect(() => loadConfig(['--workers', 'all'], {})).toThrow(/--workers/)
+  })
+})
+
 describe('the README settings table', () => {
   it('lists every setting with its flag, environment variable and default', async () => {
     const { readFileSync } = await import('node:fs')

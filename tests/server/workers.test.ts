@@ -147,6 +147,26 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
     expect(calm).toBeLessThan(2 * hog)
   })
 
+  it('/healthz fails naming a worker whose loop is silent, while the other worker and the main thread tick', async () => {
+    const server = await start({ workers: 2, roomTickBudgetMs: 0, stallSeconds: 2 })
+    const stuck = await bot(server, 'stuck', 'sam')
+    const healthy = async (): Promise<{ status: number; text: string }> => {
+      const res = await fetch(`${server.url}/healthz`)
+      return { status: res.status, text: await res.text() }
+    }
+    expect((await healthy()).status).toBe(200)
+    const worker = server.pool?.workerOf('stuck')
+    // One tick of this room now holds its worker for 8 s: no batch, no beat for longer than 2 s.
+    server.pool?.fault('stuck', { kind: 'busy', room: 'stuck', ms: 8000 })
+    await until(async () => (await healthy()).status === 503, '/healthz to fail')
+    const { text } = await healthy()
+    expect(text).toContain(`worker-${worker} silent for`)
+    expect(text).not.toContain('main silent')
+    const other = server.pool?.workerIds.find((id) => id !== worker)
+    expect(text).not.toContain(`worker-${other} silent`)
+    expect(stuck.failure).toBeNull()
+  })
+
   it('a worker that dies is reported, its clients get 4008, and its recorded room comes back from its log', async () => {
     const dir = await mkdtemp(join(tmpdir(), 'concord-workers-'))
     const { logger, lines } = capture()
