@@ -75,6 +75,8 @@ export class ContactConstraints {
   stateB = new Int32Array(64)
   pointCount = new Int32Array(64)
   count = 0
+  /** 0, 1, 2, ...: every constraint, in solve order. */
+  all = identity(64)
   /** Constraints touching a pinched body (see solveContacts), in solve order, and their count. */
   pinched = new Int32Array(64)
   pinchedCount = 0
@@ -92,7 +94,15 @@ export class ContactConstraints {
     this.stateB = new Int32Array(size)
     this.pointCount = new Int32Array(size)
     this.pinched = new Int32Array(size)
+    this.all = identity(size)
   }
+}
+
+/** The array 0, 1, ..., n - 1. */
+function identity(n: number): Int32Array {
+  const a = new Int32Array(n)
+  for (let i = 0; i < n; i++) a[i] = i
+  return a
 }
 
 /** Fills point record `o` of constraint `oc` from the contact's point j (0 or 1). */
@@ -241,27 +251,27 @@ export function solveContacts(
   ctx: StepContext,
   useBias: boolean,
 ): void {
-  solveContactRange(k, state, ctx, useBias, null, k.count)
+  solveContactRange(k, state, ctx, useBias, k.all, k.count)
   if (k.pinchedCount === 0) return
   for (let it = 0; it < PINCHED_EXTRA_ITERATIONS; it++) {
     solveContactRange(k, state, ctx, useBias, k.pinched, k.pinchedCount)
   }
 }
 
-/** One Gauss-Seidel sweep over constraints indices[0..count) (all constraints in order when indices is null). */
+/** One Gauss-Seidel sweep over constraints indices[0], ..., indices[count - 1]. */
 function solveContactRange(
   k: ContactConstraints,
   state: Float64Array,
   ctx: StepContext,
   useBias: boolean,
-  indices: Int32Array | null,
+  indices: Int32Array,
   count: number,
 ): void {
   const invH = ctx.invH
   const maxPushSpeed = ctx.maxPushSpeed
   const d = k.data
   for (let q = 0; q < count; q++) {
-    const i = indices === null ? q : indices[q]
+    const i = indices[q]
     const o = i * CONSTRAINT_STRIDE
     const sa = k.stateA[i]
     const sb = k.stateB[i]
