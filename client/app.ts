@@ -5,9 +5,11 @@
  * so the page does not know whether the physics runs here or on the server.
  */
 import { SCENES } from '../engine/index.ts'
+import { TICK_RATE } from '../shared/index.ts'
 import { Camera } from './camera.ts'
 import { FpsMeter, hudText } from './hud.ts'
 import { computeFreeBody, describeFreeBody, type FreeBody } from './lab.ts'
+import { LabPlot } from './lab-plot.ts'
 import { cleanRoomName, offlineLink, roomLink, showLobby } from './lobby.ts'
 import { shapeRadius } from './picking.ts'
 import { type DebugLayers, Renderer } from './renderer.ts'
@@ -26,6 +28,8 @@ export class App {
   readonly fps = new FpsMeter()
   /** Latest free-body diagram (null when nothing is selected). */
   freeBody: FreeBody | null = null
+  /** The selected body's speed and kinetic energy over the last seconds. */
+  readonly labPlot = new LabPlot(TICK_RATE)
   private lastHud = 0
   private fittedScene = ''
   private lastToastCount = 0
@@ -238,6 +242,10 @@ export class App {
     s.inspect(selected?.id ?? 0)
     const lab = selected ? s.lab(selected.id) : null
     this.freeBody = selected && lab ? computeFreeBody(selected.id, lab) : null
+    if (selected && this.freeBody) {
+      this.labPlot.add(selected.id, s.stats().tick, this.freeBody)
+      this.labPlot.draw($<HTMLCanvasElement>('lab-plot'))
+    } else if (!selected) this.labPlot.clear()
     this.renderer.draw({
       bodies: s.bodies(),
       joints: s.joints(),
