@@ -11,11 +11,14 @@ import { FpsMeter, hudText } from './hud.ts'
 import { computeFreeBody, describeFreeBody, type FreeBody } from './lab.ts'
 import { LabPlot } from './lab-plot.ts'
 import { cleanRoomName, offlineLink, roomLink, showLobby } from './lobby.ts'
-import { shapeRadius } from './picking.ts'
+import { pickBody, shapeRadius } from './picking.ts'
 import { type DebugLayers, Renderer } from './renderer.ts'
 import type { Sandbox, ViewBody } from './sandbox.ts'
 import { helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
 import { TOOLS, ToolController, type ToolName } from './tools.ts'
+
+/** Shortest time between two changes of the hovered body whose contacts are drawn online (ms). */
+const HOVER_MS = 150
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string): T => document.getElementById(id) as T
 
@@ -31,6 +34,8 @@ export class App {
   /** The selected body's speed and kinetic energy over the last seconds. */
   readonly labPlot = new LabPlot(TICK_RATE)
   private lastHud = 0
+  /** The body inspected for the contacts layer while nothing is selected, and when it was chosen. */
+  private hover = { body: 0, at: Number.NEGATIVE_INFINITY }
   private fittedScene = ''
   private lastToastCount = 0
   private toastTimer: ReturnType<typeof setTimeout> | undefined
@@ -239,7 +244,7 @@ export class App {
       this.syncScenePicker()
     }
     const selected = this.selectedBody()
-    s.inspect(selected?.id ?? 0)
+    s.inspect(selected?.id ?? this.hoverInspect(now))
     const lab = selected ? s.lab(selected.id) : null
     this.freeBody = selected && lab ? computeFreeBody(selected.id, lab) : null
     if (selected && this.freeBody) {
@@ -260,6 +265,21 @@ export class App {
       this.lastHud = now
       this.refreshPanels(selected)
     }
+  }
+
+  /**
+   * With the contacts layer on and nothing selected, the body under the pointer is inspected, so
+   * an online room streams its contacts to draw (a room sends one body's contacts to a player: all
+   * of them would not fit the bandwidth budget). The choice changes at most every HOVER_MS so a
+   * sweep over a pile does not flood the room with inspect commands.
+   */
+  private hoverInspect(now: number): number {
+    if (!this.layers.contacts || this.sandbox.mode !== 'online') return 0
+    if (now - this.hover.at < HOVER_MS) return this.hover.body
+    const p = this.tools.pointer
+    const body = p ? pickBody(this.sandbox.bodies(), p, (b) => b.kind === 2) : null
+    if (body && body.id !== this.hover.body) this.hover = { body: body.id, at: now }
+    return this.hover.body
   }
 
   private selectedBody(): ViewBody | null {

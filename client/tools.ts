@@ -309,6 +309,11 @@ export class ToolController {
     return this.preview.shape
   }
 
+  /** Where the pointer is (world m), null when it is not over the canvas. */
+  get pointer(): Vec2 | null {
+    return this.cursor
+  }
+
   /** The body grabbed by this player, 0 when none. */
   get grabbing(): number {
     return this.action.kind === 'grab' ? this.action.body : 0

@@ -35,7 +35,7 @@ afterAll(async () => {
 
 const Y0 = 8
 
-describe('lab plot', { timeout: 60_000 }, () => {
+describe('lab plot', { timeout: 300_000 }, () => {
   it('plots a dropped circle: speed rising at g, peaks at sqrt(2 g h) and m g h, energy 1/2 m v^2', async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?offline&scene=empty`)
     await page.evaluate((y) => {

@@ -136,6 +136,77 @@ describe('tools', { timeout: 300_000 }, () => {
   })
 })
 
+describe('contacts layer online', { timeout: 300_000 }, () => {
+  it('draws the contacts of the body under the pointer, each on its outline, and follows the pointer', async () => {
+    const { context, page, errors } = await openSandbox(browser, `${base}/?room=contacts-layer`)
+    await page.evaluate(() => window.concord.sandbox.send({ k: 'pause', paused: true }))
+    await page.waitForFunction(() => window.concord.sandbox.paused())
+    await page.click('#layers')
+    await page.click('[data-layer="contacts"]')
+    expect(await page.getAttribute('[data-layer="contacts"]', 'aria-pressed')).toBe('true')
+    // Two boxes in the pyramid's middle rows, neither selected: hover one, then the other.
+    const picks = await page.evaluate(() => {
+      const boxes = window.concord.sandbox
+        .bodies()
+        .filter((b: { kind: number }) => b.kind === 2)
+        .map((b: { id: number; x: number; y: number }) => ({ id: b.id, x: b.x, y: b.y }))
+      const row = (y: number) => boxes.filter((b: { y: number }) => Math.abs(b.y - y) < 0.2)
+      const ys = [...new Set(boxes.map((b: { y: number }) => Math.round(b.y * 2) / 2))].sort((a, b) => a - b)
+      return [row(ys[4])[3], row(ys[8])[2]]
+    })
+    for (const box of picks) {
+      const at = await screenOf(page, box.x, box.y)
+      await page.mouse.move(at.x, at.y)
+      await page.waitForFunction((id) => {
+        const c = window.concord.sandbox.contacts()
+        return (
+          c !== null &&
+          c.length > 0 &&
+          c.every((k: { bodyA: number; bodyB: number }) => k.bodyA === id || k.bodyB === id)
+        )
+      }, box.id)
+      const contacts = await page.evaluate(() =>
+        window.concord.sandbox.contacts()!.map((c) => ({
+          other: c.bodyA,
+          b: c.bodyB,
+          points: c.points.map((p) => p.point),
+        })),
+      )
+      // A box inside the pyramid rests on two boxes and carries two: at least four neighbours.
+      const others = new Set(contacts.map((c) => (c.other === box.id ? c.b : c.other)))
+      expect(others.size).toBeGreaterThanOrEqual(4)
+      for (const c of contacts) {
+        for (const p of c.points) {
+          // On the 1 m box's outline (within the contact slop), drawn where the page shows it.
+          const edge = Math.max(Math.abs(p.x - box.x), Math.abs(p.y - box.y))
+          expect(Math.abs(edge - 0.5)).toBeLessThan(0.03)
+          const s = await screenOf(page, p.x, p.y)
+          expect(await redNear(page, s.x, s.y)).toBe(true)
+        }
+      }
+    }
+    expect(await page.isHidden('#lab')).toBe(true)
+    await page.screenshot({ path: `${ARTIFACTS}/contacts-online.png` })
+    expect(errors).toEqual([])
+    await context.close()
+  })
+})
+
+/** Whether a contact point's mark (#ff5050) is painted within 3 px of a viewport point. */
+function redNear(page: Page, x: number, y: number): Promise<boolean> {
+  return page.evaluate(
+    ([sx, sy]) => {
+      const canvas = window.concord.renderer.canvas as HTMLCanvasElement
+      const r = canvas.getBoundingClientRect()
+      const d = canvas.getContext('2d')!.getImageData(sx - r.left - 3, sy - r.top - 3, 7, 7).data
+      for (let i = 0; i < d.length; i += 4)
+        if (Math.abs(d[i] - 255) + Math.abs(d[i + 1] - 80) + Math.abs(d[i + 2] - 80) < 60) return true
+      return false
+    },
+    [x, y],
+  )
+}
+
 describe('rooms and players', { timeout: 300_000 }, () => {
   it('returns to the same room after going offline and back online', async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=round-trip&name=ann`)
