@@ -359,9 +359,12 @@ export class App {
     }
     const notices = s.notices()
     if (notices.count !== this.lastToastCount) {
+      // Every notice since the last refresh (up to the few a mode keeps), one per line.
+      const fresh = notices.count - this.lastToastCount
       this.lastToastCount = notices.count
+      const lines = notices.recent ? notices.recent.slice(-fresh) : [notices.latest ?? '']
       $('toast').hidden = false
-      $('toast').textContent = notices.latest ?? ''
+      $('toast').textContent = lines.join('\n')
       // Each notice stays 4 s, however soon the next one replaces it.
       clearTimeout(this.toastTimer)
       this.toastTimer = setTimeout(() => ($('toast').hidden = true), 4000)

@@ -3,8 +3,9 @@
  * inputs per player per tick and drops the rest, so commands are sent at most a share of that
  * budget per animation frame (two frames' worth can land in one server tick, and moves and pings
  * need room too): a burst of clicks is spread over a few frames, and the player is told it is
- * queued. A server that stalls still reads several frames' inputs in one tick and drops some;
- * the spawns among them are followed (SpawnTracker) and queued again, so no clicked spawn is lost.
+ * queued. A server that stalls still reads several frames' inputs in one tick and drops some,
+ * answering each by its seq: the spawns among them (SpawnTracker) are queued again, so no
+ * clicked spawn is lost.
  */
 import type { Command } from '../shared/index.ts'
 import { SpawnTracker } from './spawn-tracker.ts'
@@ -16,6 +17,7 @@ export class InputOutbox {
   private readonly queue: Command[] = []
   private sentThisFrame = 0
   private queuedNoticeShown = false
+  private resent = 0
 
   constructor(
     /** Send one command now (the sender reports spawns to `spawns.sent`). */
@@ -55,13 +57,18 @@ export class InputOutbox {
     if (this.queue.length === 0) this.queuedNoticeShown = false
   }
 
-  /** Queue again, first, the spawns the server dropped by room tick `tick` (round trip `rttTicks`), and say so. */
-  resendDropped(tick: number, rttTicks: number): void {
-    if (this.spawns.size === 0) return
-    const again = this.spawns.overdue(tick, rttTicks)
-    if (again.length === 0) return
-    this.queue.unshift(...again)
-    this.queuedNoticeShown = true // this notice says it: no second one about the queue
-    this.tell(`The server dropped ${again.length} of your spawns (it was busy): sending them again.`)
+  /** The server dropped input `seq` over the budget: a spawn goes first in the queue again. */
+  dropped(seq: number): void {
+    const again = this.spawns.dropped(seq)
+    if (!again) return
+    this.queue.unshift(again)
+    this.resent++
+  }
+
+  /** How many dropped spawns were queued again since the last call (for one notice per frame). */
+  takeResent(): number {
+    const n = this.resent
+    this.resent = 0
+    return n
   }
 }

@@ -88,6 +88,8 @@ export class OnlineSandbox implements Sandbox {
     (text) => this.tell(text),
   )
   private outboxNow = 0
+  /** Inputs the server dropped over the budget since the last notice. */
+  private droppedInputs = 0
   /** This page asked for a scene load or reset: the next new world is its own doing. */
   private ownLoad = false
   private seq = 0
@@ -108,7 +110,7 @@ export class OnlineSandbox implements Sandbox {
   /** The body this player inspects (0 for none), and the lab data last built for it. */
   private inspected = 0
   private labCache: { message: ContactsMessage; data: LabData } | null = null
-  private readonly notice = { count: 0, latest: null as string | null }
+  private readonly notice = { count: 0, latest: null as string | null, recent: [] as string[] }
   private readonly serverStats: ServerStats
 
   constructor(private readonly options: OnlineOptions) {
@@ -162,12 +164,12 @@ export class OnlineSandbox implements Sandbox {
       return
     }
     if (message.t === 'error' && message.code === 'refused') this.tell(message.reason)
-    if (message.t === 'error' && message.code !== 'input-budget' && message.seq !== undefined)
-      this.outbox.spawns.refused(message.seq)
-    if (message.t === 'events') for (const b of message.add) this.outbox.spawns.added(b, this.mirror.clientId)
-    if (message.t === 'error' && message.code === 'input-budget') {
-      this.tell(`The server dropped some of your inputs (${message.reason}).`)
+    if (message.t === 'error' && message.seq !== undefined) {
+      if (message.code === 'input-budget') this.outbox.dropped(message.seq)
+      else this.outbox.spawns.refused(message.seq)
     }
+    if (message.t === 'events') for (const b of message.add) this.outbox.spawns.added(b, this.mirror.clientId)
+    if (message.t === 'error' && message.code === 'input-budget') this.droppedInputs++
     if (message.t === 'events' && this.ownGrab && message.remove.includes(this.ownGrab)) {
       this.tell(
         `The body you were holding (${this.ownGrab}) was deleted by another player or left the world.`,
@@ -235,7 +237,7 @@ export class OnlineSandbox implements Sandbox {
   update(nowMs: number): void {
     this.outbox.startFrame()
     if (this.connection?.isJoined) {
-      this.outbox.resendDropped(this.mirror.tick, Math.ceil(((this.rttMs ?? 200) * TICK_RATE) / 1000))
+      this.reportDropped()
       this.drainOutbox(nowMs)
     }
     if (this.pendingMove && this.outbox.length === 0) {
@@ -398,17 +400,31 @@ export class OnlineSandbox implements Sandbox {
     this.drainOutbox(now)
   }
 
+  /** One notice for the inputs the server dropped since the last frame, and the spawns sent again. */
+  private reportDropped(): void {
+    const resent = this.outbox.takeResent()
+    if (this.droppedInputs === 0 && resent === 0) return
+    const perTick = this.mirror.rules?.inputsPerTick
+    const again = resent > 0 ? `; sending the ${resent} spawns among them again` : ''
+    this.tell(
+      `The server dropped ${this.droppedInputs} of your inputs: more than ${perTick ?? 'its budget of'} inputs per tick arrived at once${again}.`,
+    )
+    this.droppedInputs = 0
+  }
+
   /** Show the player a notice. */
   private tell(text: string): void {
     this.notice.count++
     this.notice.latest = text
+    this.notice.recent.push(text)
+    if (this.notice.recent.length > 3) this.notice.recent.shift()
   }
 
   /** Send one command now; spawns are followed until the world shows them. */
   private transmit(cmd: Command, now: number): void {
     if (!this.connection) return
     this.up.add(this.connection.send({ t: 'input', seq: ++this.seq, cmd }), now)
-    if (cmd.k === 'spawn') this.outbox.spawns.sent(this.seq, cmd, this.mirror.tick)
+    if (cmd.k === 'spawn') this.outbox.spawns.sent(this.seq, cmd)
   }
 
   /** Send what the input budget allows of the queued commands. */
@@ -476,7 +492,7 @@ export class OnlineSandbox implements Sandbox {
     return this.labCache.data
   }
 
-  notices(): { count: number; latest: string | null } {
+  notices(): { count: number; latest: string | null; recent: readonly string[] } {
     return this.notice
   }
 

@@ -159,8 +159,11 @@ export interface Sandbox {
   inspect(bodyId: number): void
   /** Free-body data for one body, or null when it does not exist or its data has not arrived. */
   lab(bodyId: number): LabData | null
-  /** Problems the server reported about this player's inputs: how many so far and the newest. */
-  notices(): { count: number; latest: string | null }
+  /**
+   * Problems the server reported about this player's inputs: how many so far, the newest, and
+   * (where a mode keeps them) the last few, oldest first, so two in quick succession both show.
+   */
+  notices(): { count: number; latest: string | null; recent?: readonly string[] }
   /** Reconnect now instead of waiting for the backoff (no-op offline). */
   retry(): void
   /** Close sockets and timers. */

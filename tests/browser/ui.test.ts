@@ -207,9 +207,9 @@ describe('notices', { timeout: 300_000 }, () => {
     await page.evaluate(() => window.concord.sandbox.send({ k: 'scene', name: 'empty' }))
     await page.waitForFunction(() => window.concord.sandbox.scene() === 'empty')
     const perTick = await page.evaluate(() => window.concord.sandbox.rules()!.inputsPerTick)
-    // Bypass the page's pacing (as a second tab, a script or a stalled server would): 3x the
-    // budget in one go, so the server must drop some.
-    const sent = 3 * perTick
+    // Bypass the page's pacing (as a script or a long stall would): 12 ticks' worth in one go.
+    // The server applies a tick's worth, keeps 4 ticks' worth waiting and must refuse the rest.
+    const sent = 12 * perTick
     // Every notice shown, in order (a later one replaces an earlier one on screen).
     await page.evaluate(() => {
       const shown: string[] = []
@@ -233,10 +233,19 @@ describe('notices', { timeout: 300_000 }, () => {
     await page.evaluate((n) => {
       const raw = window.concord.sandbox as unknown as { transmit(cmd: unknown, now: number): void }
       for (let i = 0; i < n; i++)
-        raw.transmit({ k: 'spawn', shape: { type: 'circle', radius: 0.3 }, x: -12 + i * 0.5, y: 3 }, 0)
+        raw.transmit(
+          {
+            k: 'spawn',
+            shape: { type: 'circle', radius: 0.3 },
+            x: -20 + (i % 40),
+            y: 3 + Math.floor(i / 40),
+          },
+          0,
+        )
     }, sent)
-    await shown(`The server dropped some of your inputs .*${perTick} inputs per tick`)
-    await shown('dropped \\d+ of your spawns .*sending them again')
+    await shown(
+      `The server dropped \\d+ of your inputs: more than ${perTick} inputs per tick .*sending the \\d+ spawns among them again`,
+    )
     // Every spawn arrives once: none lost, none doubled (still so a second of server ticks later).
     const count = () =>
       page.evaluate(
