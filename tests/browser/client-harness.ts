@@ -36,10 +36,10 @@ export function collectErrors(page: Page): string[] {
 export async function openSandbox(
   browser: Browser,
   url: string,
-  options: { touch?: boolean; pixelRatio?: number } = {},
+  options: { touch?: boolean; pixelRatio?: number; size?: { width: number; height: number } } = {},
 ): Promise<{ context: BrowserContext; page: Page; errors: string[] }> {
   const context = await browser.newContext({
-    viewport: { width: 1000, height: 700 },
+    viewport: options.size ?? { width: 1000, height: 700 },
     deviceScaleFactor: options.pixelRatio ?? 1,
     hasTouch: options.touch ?? false,
     isMobile: false,

@@ -6,7 +6,7 @@
  * and offline mode runs with the server stopped. Screenshots of the main scenes are saved under
  * test-results/browser-client/ as artifacts.
  */
-import { copyFile, readFile } from 'node:fs/promises'
+import { readFile } from 'node:fs/promises'
 import type { Browser, BrowserContext, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
@@ -290,9 +290,4 @@ describe('with the server stopped', () => {
     await page.waitForFunction(() => document.getElementById('hud')!.textContent!.includes('room phoenix'))
     await watcher!.context.close()
   })
-})
-
-/** Keep the README screenshot current when asked: UPDATE_README_SCREENSHOT=1. */
-afterAll(async () => {
-  if (process.env.UPDATE_README_SCREENSHOT) await copyFile(`${ARTIFACTS}/two-players.png`, 'docs/sandbox.png')
 })

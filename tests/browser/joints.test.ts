@@ -5,6 +5,7 @@
  * hanging cradle ball and on a bridge plank at rest, with the rod's and pins' pulls listed; and a
  * rope keeps the two boxes it ties from sinking into each other.
  */
+import { copyFile } from 'node:fs/promises'
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { JOINT_COLORS } from '../../client/joint-drawing.ts'
@@ -31,6 +32,8 @@ beforeAll(async () => {
 })
 
 afterAll(async () => {
+  // Keep the README screenshot current when asked: UPDATE_README_SCREENSHOT=1.
+  if (process.env.UPDATE_README_SCREENSHOT) await copyFile(`${ARTIFACTS}/readme.png`, 'docs/sandbox.png')
   await browser?.close()
   await server?.close()
 })
@@ -119,6 +122,69 @@ describe('joints', { timeout: 300_000 }, () => {
     }
     expect(errors).toEqual([])
     await context.close()
+  })
+
+  it("draws two players' joints on the chain bridge: the scene's pins, a player's rope, another's held box (the README screenshot)", async () => {
+    const a = await openSandbox(browser, `${base}/?room=showcase&name=ada`, {
+      size: { width: 1200, height: 720 },
+    })
+    await loadScene(a.page, 'chain-bridge', 21)
+    const b = await openSandbox(browser, `${base}/?room=showcase&name=grace`, {
+      size: { width: 1200, height: 720 },
+    })
+    await a.page.waitForFunction(() => window.concord.sandbox.stats().players === 2)
+    // Grace lifts a box off the bridge; Ada ties a ball to the sky with a rope.
+    const held = await b.page.evaluate(() => {
+      const boxes = window.concord.sandbox
+        .bodies()
+        .filter(
+          (v: { kind: number; shape: { type: string; hh?: number } }) =>
+            v.kind === 2 && (v.shape.hh ?? 0) > 0.2,
+        )
+      const t = boxes[boxes.length - 1] as { id: number; x: number; y: number }
+      const target = { x: t.x + 1.5, y: t.y + 3 }
+      window.concord.sandbox.send({ k: 'grab', body: t.id, lx: 0, ly: 0 })
+      window.concord.sandbox.send({ k: 'move', ...target })
+      return { id: t.id, ...target }
+    })
+    const ball = await a.page.evaluate(
+      () =>
+        window.concord.sandbox
+          .bodies()
+          .find(
+            (v: { kind: number; shape: { type: string } }) => v.kind === 2 && v.shape.type === 'circle',
+          ) as {
+          id: number
+          x: number
+          y: number
+        },
+    )
+    await a.page.evaluate(
+      (t) =>
+        window.concord.sandbox.send({ k: 'rope', a: 0, b: t.id, ax: t.x - 1, ay: t.y + 4, bx: t.x, by: t.y }),
+      ball,
+    )
+    await a.page.waitForFunction(
+      () => window.concord.sandbox.joints().length === 22 && window.concord.sandbox.cursors().length === 1,
+    )
+    await a.page.evaluate(() => {
+      window.concord.act('fit')
+      window.concord.act('layer:joints')
+    })
+    // The held box has reached the cursor on the watching page (within 0.5 m).
+    await waitForBody(a.page, held.id, `Math.hypot(b.x - ${held.x}, b.y - ${held.y}) < 0.5`, 90_000)
+    await a.page.mouse.move(300, 400)
+    await a.page.waitForSelector('#toast', { state: 'hidden' }) // the scene load's rate-limit notice
+    await a.page.waitForFunction(() => new Promise((r) => requestAnimationFrame(() => r(true))))
+    const seen = await jointPixels(a.page, 3)
+    expect(seen).toHaveLength(22)
+    expect([...new Set(seen.map((j) => j.kind))].sort()).toEqual(['pin', 'rope'])
+    for (const j of seen) expect(j.hits, `${j.kind} ${j.id} drawn`).toBe(j.onCanvas)
+    await a.page.screenshot({ path: `${ARTIFACTS}/readme.png` })
+    expect(a.errors).toEqual([])
+    expect(b.errors).toEqual([])
+    await a.context.close()
+    await b.context.close()
   })
 
   it("shows a net force near zero on a hanging cradle ball, with its rod's pull listed (online)", async () => {
