@@ -61,9 +61,9 @@ export class Recordings {
    * Create the directory and, with --recover, rebuild the rooms of logs without a clean close
    * (they are reopened when `rooms` creates them, which this does). Call before opening any room.
    * With room workers, `reopen` is called with each room and log instead: the worker that will hold
-   * the room rebuilds it (reopen() there).
+   * the room rebuilds it (reopen() there); this resolves once every one has answered.
    */
-  async start(rooms: RoomManager, reopen?: (room: string, log: string) => void): Promise<void> {
+  async start(rooms: RoomManager, reopen?: (room: string, log: string) => Promise<void>): Promise<void> {
     this.hook(rooms)
     if (!(await this.prepare())) return
     if (!this.config.recover) return
@@ -73,15 +73,17 @@ export class Recordings {
       this.log.info('room directory in use: rooms are not reopened from logs')
       return
     }
+    const rebuilt: Promise<void>[] = []
     for (const name of await this.unclosedLogs()) {
       if (reopen) {
-        reopen(roomOfLog(name), name)
+        rebuilt.push(reopen(roomOfLog(name), name))
         continue
       }
       await this.reopen(rooms, name).catch((error: Error) =>
         this.log.error({ log: name, err: error.message }, 'cannot recover a room from its log'),
       )
     }
+    await Promise.all(rebuilt)
   }
 
   /** Record the rooms `rooms` creates (a recorder each) and close their logs when they go. */

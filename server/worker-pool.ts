@@ -128,6 +128,8 @@ export class WorkerPool implements RoomHost {
   private nextConn = 1
   private nextId = 1
   private closing = false
+  /** Rooms being rebuilt from their logs at startup: called when the worker has answered. */
+  private readonly reopening = new Map<string, () => void>()
   /** Whether loop tick times are being collected (benchmarks). */
   private sampling = false
   /** Called when a room is gone for good (e.g. to release it in the room directory). */
@@ -171,9 +173,14 @@ export class WorkerPool implements RoomHost {
     this.roomLinks.get(name)?.post({ op: 'close-room', room: name, code, reason })
   }
 
-  /** Rebuild a room from log `log` on a worker (startup recovery). */
-  reopen(room: string, log: string): void {
-    this.place(room)?.post({ op: 'open', room, log })
+  /** Rebuild a room from log `log` on a worker (startup recovery); resolves once the worker has answered. */
+  reopen(room: string, log: string): Promise<void> {
+    const link = this.place(room)
+    if (!link) return Promise.resolve()
+    return new Promise((resolve) => {
+      this.reopening.set(room, resolve)
+      link.post({ op: 'open', room, log })
+    })
   }
 
   summaries(): RoomSummary[] {
@@ -379,18 +386,26 @@ export class WorkerPool implements RoomHost {
         this.onRoomDisposed?.(op.room)
         return
       case 'recovered':
+        this.reopened(op.room)
         this.log.info(
           { room: op.room, log: op.log, tick: op.tick, hash: op.hash, worker: link.id },
           'room rebuilt from its log on a worker',
         )
         return
       case 'recover-failed':
+        this.reopened(op.room)
         this.log.error(
           { room: op.room, err: op.reason, worker: link.id },
           'cannot rebuild a room from its log',
         )
         return
     }
+  }
+
+  /** A startup rebuild was answered (done or failed). */
+  private reopened(room: string): void {
+    this.reopening.get(room)?.()
+    this.reopening.delete(room)
   }
 
   /** A join was answered: one fewer pending for its room. */
@@ -420,7 +435,10 @@ export class WorkerPool implements RoomHost {
       seat.session.close(CLOSE_CODES.roomLost, reason)
     }
     link.seats.clear()
-    for (const room of rooms) this.roomLinks.delete(room)
+    for (const room of rooms) {
+      this.roomLinks.delete(room)
+      this.reopened(room)
+    }
     this.metrics.rooms.set(this.roomLinks.size)
     this.spawn()
     for (const room of rooms) {
