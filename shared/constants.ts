@@ -95,3 +95,10 @@ export const ROOM_CONTROL_COMMANDS: readonly string[] = ['scene', 'pause', 'step
 
 /** How far beyond a body's outline a pin or rope anchor may lie (m): a lever arm stays short. */
 export const ANCHOR_MARGIN = 0.5
+
+/** Spawn material ranges: density (kg/m^2), friction and restitution (dimensionless), [min, max]. */
+export const SPAWN_MATERIAL = {
+  density: [0.05, 100],
+  friction: [0, 2],
+  restitution: [0, 1],
+} as const

@@ -109,7 +109,10 @@ export interface RoomRules {
 
 // ---------------------------------------------------------------- client -> server
 
-/** Spawn a dynamic body; position (m), angle (rad), velocities (m/s, rad/s). */
+/**
+ * Spawn a dynamic body; position (m), angle (rad), velocities (m/s, rad/s); optional material:
+ * density (kg/m^2, default 1), friction (default 0.6), restitution (default 0).
+ */
 export interface SpawnCommand {
   k: 'spawn'
   shape: WireShape
@@ -119,6 +122,9 @@ export interface SpawnCommand {
   vx?: number
   vy?: number
   w?: number
+  density?: number
+  friction?: number
+  restitution?: number
 }
 /** Grab a body at a local point (m); the grab target starts at that point's world position. */
 export interface GrabCommand {

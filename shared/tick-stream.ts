@@ -70,6 +70,10 @@ export function entryArguments(action: StreamAction): unknown[] {
         action.vx ?? null,
         action.vy ?? null,
         action.w ?? null,
+        // The material only when given, so entries without it keep their 7 arguments.
+        ...(action.density === undefined && action.friction === undefined && action.restitution === undefined
+          ? []
+          : [action.density ?? null, action.friction ?? null, action.restitution ?? null]),
       ]
     case 'grab':
       return [action.body, action.lx, action.ly]
@@ -140,13 +144,21 @@ function decodeAction(code: Code, a: unknown[]): StreamAction {
       arity(0)
       return { k: 'leave' }
     case 2: {
-      arity(7)
+      if (a.length !== 10) arity(7)
       const cmd: Command = { k: 'spawn', shape: shape(a[0]), x: num(a[1], 'x'), y: num(a[2], 'y') }
       const [angle, vx, vy, w] = [opt(a[3], 'angle'), opt(a[4], 'vx'), opt(a[5], 'vy'), opt(a[6], 'w')]
       if (angle !== undefined) cmd.angle = angle
       if (vx !== undefined) cmd.vx = vx
       if (vy !== undefined) cmd.vy = vy
       if (w !== undefined) cmd.w = w
+      const [density, friction, restitution] = [
+        opt(a[7], 'density'),
+        opt(a[8], 'friction'),
+        opt(a[9], 'restitution'),
+      ]
+      if (density !== undefined) cmd.density = density
+      if (friction !== undefined) cmd.friction = friction
+      if (restitution !== undefined) cmd.restitution = restitution
       return cmd
     }
     case 3:

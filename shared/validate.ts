@@ -18,6 +18,7 @@ import {
   MIN_SHAPE_EXTENT,
   PROTOCOL_VERSION,
   ROOM_NAME_PATTERN,
+  SPAWN_MATERIAL,
 } from './constants.ts'
 import type { ClientMessage, Command, ServerMessage, WireShape } from './messages.ts'
 
@@ -68,6 +69,14 @@ function num(value: unknown, what: string, limit: number): number {
 
 function optNum(value: unknown, what: string, limit: number): number | undefined {
   return value === undefined || value === null ? undefined : num(value, what, limit)
+}
+
+function optRange(value: unknown, what: string, [min, max]: readonly [number, number]): number | undefined {
+  if (value === undefined || value === null) return undefined
+  if (typeof value !== 'number' || !Number.isFinite(value) || value < min || value > max) {
+    throw new SchemaError(`${what} must be a finite number in [${min}, ${max}]`)
+  }
+  return value
 }
 
 function str(value: unknown, what: string, maxLength: number): string {
@@ -124,6 +133,9 @@ function validateCommand(value: unknown): Command {
       'vx',
       'vy',
       'w',
+      'density',
+      'friction',
+      'restitution',
       'body',
       'lx',
       'ly',
@@ -144,11 +156,11 @@ function validateCommand(value: unknown): Command {
       value,
       `${String(k)} command`,
       ['k', ...allowed],
-      allowed.filter((n) => !['angle', 'vx', 'vy', 'w'].includes(n)),
+      allowed.filter((n) => !['angle', 'vx', 'vy', 'w', 'density', 'friction', 'restitution'].includes(n)),
     )
   switch (k) {
     case 'spawn': {
-      const c = f(['shape', 'x', 'y', 'angle', 'vx', 'vy', 'w'])
+      const c = f(['shape', 'x', 'y', 'angle', 'vx', 'vy', 'w', 'density', 'friction', 'restitution'])
       const cmd: Command = { k, shape: validateShape(c.shape), x: coord(c.x, 'x'), y: coord(c.y, 'y') }
       const angle = optNum(c.angle, 'angle', 1e3)
       const vx = optNum(c.vx, 'vx', MAX_COORD)
@@ -158,6 +170,10 @@ function validateCommand(value: unknown): Command {
       if (vx !== undefined) cmd.vx = vx
       if (vy !== undefined) cmd.vy = vy
       if (w !== undefined) cmd.w = w
+      for (const key of ['density', 'friction', 'restitution'] as const) {
+        const v = optRange(c[key], key, SPAWN_MATERIAL[key])
+        if (v !== undefined) cmd[key] = v
+      }
       return cmd
     }
     case 'grab': {

@@ -51,7 +51,10 @@ function guarded<T>(command: string, create: () => T): WorldResult<T> {
   }
 }
 
-/** Create the dynamic body a spawn command asks for: position and speeds clamped, friction 0.6. */
+/**
+ * Create the dynamic body a spawn command asks for: position and speeds clamped; density 1,
+ * friction 0.6 and restitution 0 unless the command gives them (validated in SPAWN_MATERIAL's ranges).
+ */
 export function spawnBody(world: World, cmd: SpawnCommand): WorldResult<BodyId> {
   return guarded('spawn', () =>
     world.createBody({
@@ -61,7 +64,9 @@ export function spawnBody(world: World, cmd: SpawnCommand): WorldResult<BodyId> 
       angle: cmd.angle ?? 0,
       linearVelocity: { x: clampTo(cmd.vx ?? 0, MAX_SPAWN_SPEED), y: clampTo(cmd.vy ?? 0, MAX_SPAWN_SPEED) },
       angularVelocity: clampTo(cmd.w ?? 0, MAX_SPAWN_SPEED),
-      friction: 0.6,
+      density: cmd.density ?? 1,
+      friction: cmd.friction ?? 0.6,
+      restitution: cmd.restitution ?? 0,
     }),
   )
 }

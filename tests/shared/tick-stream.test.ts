@@ -31,6 +31,10 @@ const ACTIONS: Array<[StreamAction, unknown[]]> = [
   [{ k: 'step' }, [12]],
   [{ k: 'reset' }, [13]],
   [{ k: 'gravity', x: 0, y: -9.81 }, [14, 0, -9.81]],
+  [
+    { k: 'spawn', shape: { type: 'circle', radius: 0.5 }, x: 0, y: 3, friction: 0.1, restitution: 0.9 },
+    [2, { type: 'circle', radius: 0.5 }, 0, 3, null, null, null, null, null, 0.1, 0.9],
+  ],
 ]
 
 describe('tick stream entries', () => {

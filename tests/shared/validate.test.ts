@@ -87,6 +87,38 @@ describe('client message validation', () => {
       { t: 'input', seq: 1, cmd: { k: 'inspect', body: Number.POSITIVE_INFINITY } },
     ],
     ['an inspect of a body past 2^53', { t: 'input', seq: 1, cmd: { k: 'inspect', body: 2 ** 53 } }],
+    [
+      'a spawn of density 0 (below 0.05 kg/m^2)',
+      {
+        t: 'input',
+        seq: 1,
+        cmd: { k: 'spawn', shape: { type: 'circle', radius: 1 }, x: 0, y: 0, density: 0 },
+      },
+    ],
+    [
+      'a spawn of friction 2.5 (above 2)',
+      {
+        t: 'input',
+        seq: 1,
+        cmd: { k: 'spawn', shape: { type: 'circle', radius: 1 }, x: 0, y: 0, friction: 2.5 },
+      },
+    ],
+    [
+      'a spawn of restitution 1.01 (above 1)',
+      {
+        t: 'input',
+        seq: 1,
+        cmd: { k: 'spawn', shape: { type: 'circle', radius: 1 }, x: 0, y: 0, restitution: 1.01 },
+      },
+    ],
+    [
+      'a spawn of NaN-like string friction',
+      {
+        t: 'input',
+        seq: 1,
+        cmd: { k: 'spawn', shape: { type: 'circle', radius: 1 }, x: 0, y: 0, friction: '0.5' },
+      },
+    ],
     ['an inspect of a string body', { t: 'input', seq: 1, cmd: { k: 'inspect', body: '3' } }],
     ['an inspect with an extra field', { t: 'input', seq: 1, cmd: { k: 'inspect', body: 3, x: 1 } }],
     ['an inspect with an unknown field', { t: 'input', seq: 1, cmd: { k: 'inspect', body: 3, all: true } }],
@@ -133,5 +165,21 @@ describe('client message validation', () => {
       mode: 'snapshot',
     })
     expect(r.ok && r.value.t === 'join' && r.value.name).toBe('abc')
+  })
+})
+
+describe('spawn material', () => {
+  it('accepts density, friction and restitution at the ends of their ranges and keeps them', () => {
+    const cmd = {
+      k: 'spawn',
+      shape: { type: 'circle', radius: 1 },
+      x: 0,
+      y: 0,
+      density: 0.05,
+      friction: 2,
+      restitution: 1,
+    }
+    const r = validateClientMessage({ t: 'input', seq: 1, cmd })
+    expect(r.ok && r.value).toEqual({ t: 'input', seq: 1, cmd })
   })
 })

@@ -273,3 +273,67 @@ describe('pin and rope anchors must lie on or near their bodies', () => {
     expect(w.jointIds().length).toBe(1)
   })
 })
+
+describe('spawn material', () => {
+  it('gives a spawned body the density asked for (mass = density x area), and 1 otherwise', () => {
+    const world = zeroG()
+    const made = spawnBody(world, {
+      k: 'spawn',
+      shape: { type: 'box', hw: 0.5, hh: 0.25 },
+      x: 0,
+      y: 0,
+      density: 4,
+    })
+    const plain = spawnBody(world, { k: 'spawn', shape: { type: 'box', hw: 0.5, hh: 0.25 }, x: 3, y: 0 })
+    if (!made.ok || !plain.ok) throw new Error('spawn refused')
+    expect(world.getMass(made.value)).toBeCloseTo(4 * 0.5, 12)
+    expect(world.getMass(plain.value)).toBeCloseTo(0.5, 12)
+  })
+
+  it('bounces a ball dropped at 5 m/s back at restitution x 5 m/s, and not at all by default', () => {
+    const rebound = (restitution?: number): number => {
+      const world = zeroG()
+      world.createBody({ type: 'static', shape: box(5, 1), position: { x: 0, y: -1 } })
+      const r = spawnBody(world, {
+        k: 'spawn',
+        shape: { type: 'circle', radius: 0.5 },
+        x: 0,
+        y: 2,
+        vy: -5,
+        restitution,
+      })
+      if (!r.ok) throw new Error(r.reason)
+      let best = -Infinity
+      for (let i = 0; i < 60; i++) {
+        world.step()
+        best = Math.max(best, world.getLinearVelocity(r.value).y)
+      }
+      return best
+    }
+    expect(rebound(0.8) / 5).toBeCloseTo(0.8, 1)
+    expect(rebound()).toBeLessThan(0.1)
+  })
+
+  it('slides a box 6x farther on friction 0.1 than on the default 0.6 (distance v^2 / (2 mu g))', () => {
+    const slide = (friction?: number): number => {
+      const world = createWorld({ gravity: { x: 0, y: -10 } })
+      world.createBody({ type: 'static', shape: box(100, 1), position: { x: 0, y: -1 }, friction: 1 })
+      const r = spawnBody(world, {
+        k: 'spawn',
+        shape: { type: 'box', hw: 0.5, hh: 0.5 },
+        x: 0,
+        y: 0.5,
+        vx: 4,
+        friction,
+      })
+      if (!r.ok) throw new Error(r.reason)
+      for (let i = 0; i < 600; i++) world.step()
+      return world.getPosition(r.value).x
+    }
+    // Contacts mix friction as sqrt(f1 f2) with the ground's 1: mu = sqrt(0.1), sqrt(0.6).
+    const low = slide(0.1)
+    const plain = slide()
+    expect(low / (16 / (2 * Math.sqrt(0.1) * 10))).toBeCloseTo(1, 1)
+    expect(plain / (16 / (2 * Math.sqrt(0.6) * 10))).toBeCloseTo(1, 1)
+  })
+})
