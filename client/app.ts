@@ -15,6 +15,7 @@ import { pickBody, shapeRadius } from './picking.ts'
 import { type DebugLayers, Renderer } from './renderer.ts'
 import type { Sandbox, ViewBody } from './sandbox.ts'
 import { helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
+import { SpawnPanel } from './spawn-settings.ts'
 import { TOOLS, ToolController, type ToolName } from './tools.ts'
 
 /** Shortest time between two changes of the hovered body whose contacts are drawn online (ms). */
@@ -27,6 +28,8 @@ export class App {
   readonly camera = new Camera()
   readonly renderer: Renderer
   readonly tools: ToolController
+  /** Size and material sliders for the spawn tools. */
+  readonly spawnPanel: SpawnPanel
   readonly layers: DebugLayers = { contacts: false, joints: false, aabbs: false, ids: false }
   readonly fps = new FpsMeter()
   /** Latest free-body diagram (null when nothing is selected). */
@@ -48,7 +51,8 @@ export class App {
   ) {
     const canvas = $<HTMLCanvasElement>('view')
     this.renderer = new Renderer(canvas, this.camera)
-    this.tools = new ToolController(canvas, this.camera, () => this.sandbox)
+    this.spawnPanel = new SpawnPanel($('spawn-panel'))
+    this.tools = new ToolController(canvas, this.camera, () => this.sandbox, this.spawnPanel.settings)
     this.renderer.resize()
     window.addEventListener('resize', () => {
       this.renderer.resize()
@@ -131,11 +135,19 @@ export class App {
    * rows and the HUD, the layer row and notices are placed below it.
    */
   placePanels(): void {
-    const bar = $('toolbar').getBoundingClientRect().bottom
-    const layers = $('layers-panel')
-    const below = layers.hidden ? bar : layers.getBoundingClientRect().bottom
     const root = document.documentElement.style
+    const bar = $('toolbar').getBoundingClientRect().bottom
     root.setProperty('--bar-bottom', `${Math.round(bar)}px`)
+    // Stacked under the toolbar at the left: the Debug layer row, then the spawn sliders.
+    let below = bar
+    for (const [id, property] of [
+      ['layers-panel', '--layers-top'],
+      ['spawn-panel', '--spawn-top'],
+    ]) {
+      root.setProperty(property, `${Math.round(below)}px`)
+      const panel = $(id)
+      if (!panel.hidden) below = panel.getBoundingClientRect().bottom
+    }
     root.setProperty('--panels-bottom', `${Math.round(below)}px`)
   }
 
@@ -147,6 +159,8 @@ export class App {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
       b.classList.toggle('active', b.dataset.tool === tool)
     }
+    this.spawnPanel.show(tool === 'circle' || tool === 'box' || tool === 'polygon')
+    this.placePanels()
   }
 
   private key(e: KeyboardEvent): void {

@@ -15,6 +15,7 @@ import type { Camera } from './camera.ts'
 import { pickBody, pickJoint, toLocal, toWorld } from './picking.ts'
 import type { ToolOverlay } from './renderer.ts'
 import type { Sandbox, ViewBody, ViewJoint } from './sandbox.ts'
+import { SPAWN_DEFAULTS, type SpawnSettings } from './spawn-settings.ts'
 
 /** The tools, in toolbar order. */
 export const TOOLS = ['grab', 'circle', 'box', 'polygon', 'delete', 'pin', 'rope', 'cut', 'inspect'] as const
@@ -69,6 +70,8 @@ export class ToolController {
     private readonly canvas: HTMLCanvasElement,
     private readonly camera: Camera,
     private readonly sandbox: () => Sandbox,
+    /** Size and material of spawned shapes (the spawn panel's sliders). */
+    private readonly spawn: SpawnSettings = { ...SPAWN_DEFAULTS },
   ) {
     canvas.addEventListener('pointerdown', (e) => this.down(e))
     canvas.addEventListener('pointermove', (e) => this.move(e))
@@ -160,15 +163,20 @@ export class ToolController {
     return pickJoint(this.sandbox().joints(), w, CUT_REACH / this.camera.scale)
   }
 
-  /** The shape the active spawn tool drops next (polygons: the side count cycles 3 to 8 per drop). */
+  /**
+   * The shape the active spawn tool drops next, scaled by the spawn settings' size (polygons: the
+   * side count cycles 3 to 8 per drop).
+   */
   spawnShape(): WireShape {
-    if (this.tool === 'circle') return { type: 'circle', radius: 0.5 }
-    if (this.tool === 'box') return { type: 'box', hw: 0.5, hh: 0.5 }
+    const k = this.spawn.size
+    const r3 = (v: number): number => Math.round(v * 1000) / 1000
+    if (this.tool === 'circle') return { type: 'circle', radius: r3(0.5 * k) }
+    if (this.tool === 'box') return { type: 'box', hw: r3(0.5 * k), hh: r3(0.5 * k) }
     const n = this.polygonSides
     const v: number[] = []
     for (let i = 0; i < n; i++) {
       const a = (2 * Math.PI * i) / n + Math.PI / 2
-      v.push(Math.round(0.6 * Math.cos(a) * 1000) / 1000, Math.round(0.6 * Math.sin(a) * 1000) / 1000)
+      v.push(r3(0.6 * k * Math.cos(a)), r3(0.6 * k * Math.sin(a)))
     }
     return { type: 'polygon', v }
   }
@@ -229,7 +237,18 @@ export class ToolController {
     else if (a.kind === 'spawn') {
       const drag = Math.hypot(w.x - a.at.x, w.y - a.at.y) * this.camera.scale
       const v = drag < CLICK_SLOP ? { x: 0, y: 0 } : throwVelocity(a.at, w)
-      sandbox.send({ k: 'spawn', shape: a.shape, x: a.at.x, y: a.at.y, vx: v.x, vy: v.y })
+      const { density, friction, restitution } = this.spawn
+      sandbox.send({
+        k: 'spawn',
+        shape: a.shape,
+        x: a.at.x,
+        y: a.at.y,
+        vx: v.x,
+        vy: v.y,
+        density,
+        friction,
+        restitution,
+      })
       if (a.shape.type === 'polygon') this.polygonSides = this.polygonSides >= 8 ? 3 : this.polygonSides + 1
     } else if (a.kind === 'rope') this.tieRope(a, w)
     else if (a.kind === 'pan' && a.moved < CLICK_SLOP && this.tool === 'inspect') {
@@ -304,7 +323,7 @@ export class ToolController {
 
   /** The next spawn shape, rebuilt only when it changes (the preview is drawn every frame). */
   private previewShape(): WireShape {
-    const key = `${this.tool}:${this.polygonSides}`
+    const key = `${this.tool}:${this.polygonSides}:${this.spawn.size}`
     if (this.preview?.key !== key) this.preview = { key, shape: this.spawnShape() }
     return this.preview.shape
   }

@@ -11,7 +11,15 @@ import { LABEL_TEXT, labelBox } from '../../client/renderer.ts'
 import { SCENES } from '../../engine/index.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from './chromium.ts'
-import { ARTIFACTS, loadScene, openSandbox, pickTool, screenOf, startClientServer } from './client-harness.ts'
+import {
+  ARTIFACTS,
+  loadScene,
+  openSandbox,
+  pickTool,
+  screenOf,
+  screenOfBody,
+  startClientServer,
+} from './client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
@@ -118,6 +126,54 @@ describe('tools', { timeout: 300_000 }, () => {
     }
     expect(spawnedSides).toEqual([3, 4, 5, 6, 7, 8, 3])
     await page.screenshot({ path: `${ARTIFACTS}/polygon-preview.png` })
+    expect(errors).toEqual([])
+    await context.close()
+  })
+
+  it('drops shapes of the size, density and restitution set on the spawn sliders: radius, m = rho pi r^2, a bounce', async () => {
+    const { context, page, errors } = await openSandbox(browser, `${base}/?room=spawn-material`)
+    await loadScene(page, 'empty', 0)
+    expect(await page.isHidden('#spawn-panel')).toBe(true)
+    await pickTool(page, 'circle')
+    await page.waitForSelector('#spawn-panel', { state: 'visible' })
+    await page.fill('[data-spawn="size"]', '2')
+    await page.fill('[data-spawn="density"]', '5')
+    await page.fill('[data-spawn="restitution"]', '0.9')
+    const drop = await screenOf(page, 0, 6)
+    await page.mouse.click(drop.x, drop.y)
+    await page.waitForFunction(() =>
+      window.concord.sandbox.bodies().some((b: { kind: number }) => b.kind === 2),
+    )
+    const ball = await page.evaluate(
+      () =>
+        window.concord.sandbox.bodies().find((b: { kind: number }) => b.kind === 2) as {
+          id: number
+          shape: { radius: number }
+        },
+    )
+    expect(ball.shape.radius).toBe(1)
+    // It bounces: after touching the ground it rises again by more than 40 % of its fall.
+    await page.evaluate((id) => {
+      const w = window as unknown as { bounce: { low: boolean; high: boolean } }
+      w.bounce = { low: false, high: false }
+      const watch = () => {
+        const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
+        if (b && b.y < 1.1) w.bounce.low = true
+        if (b && w.bounce.low && b.y > 1 + 0.4 * 5) w.bounce.high = true
+        if (!w.bounce.high) requestAnimationFrame(watch)
+      }
+      watch()
+    }, ball.id)
+    await page.waitForFunction(() => (window as unknown as { bounce: { high: boolean } }).bounce.high)
+    // Its mass is 5 kg/m^2 x pi x 1 m^2, as the lab reads it from the server.
+    await pickTool(page, 'inspect')
+    await page.evaluate(() => window.concord.sandbox.send({ k: 'pause', paused: true }))
+    await page.waitForFunction(() => window.concord.sandbox.paused())
+    const at = await screenOfBody(page, ball.id)
+    await page.mouse.click(at.x, at.y)
+    await page.waitForFunction(() => /mass [\d.]+ kg/.test(document.getElementById('lab-text')!.textContent!))
+    const mass = Number(/mass ([\d.]+) kg/.exec((await page.textContent('#lab-text'))!)![1])
+    expect(mass).toBeCloseTo(5 * Math.PI, 1)
     expect(errors).toEqual([])
     await context.close()
   })
