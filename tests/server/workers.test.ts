@@ -166,6 +166,65 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
     expect(stuck.failure).toBeNull()
   })
 
+  it('the slow-reader rule works across the thread boundary: a client that reads slowly is skipped and closed, a normal one stays', async () => {
+    // As tests/server/slow-reader.test.ts, with the room on a worker: the worker's room sees the
+    // unread bytes the main thread measures from the client's acks.
+    const server = await start({
+      workers: 2,
+      snapshotRate: 60,
+      clientBandwidth: 10_000_000,
+      sendBufferBytes: 64 * 1024,
+      slowClientSeconds: 1,
+      heartbeatMs: 600_000,
+      inputsPerTick: 100,
+    })
+    /** The sum of a metric's series from the workers (worker label). */
+    const sum = async (name: string): Promise<number> => {
+      let total = 0
+      for (const line of (await metricsText(server)).split('\n'))
+        if (line.startsWith(`${name}{`) && line.includes('worker="')) total += Number(line.split(' ').pop())
+      return total
+    }
+    const normal = await bot(server, 'slow', 'normal')
+    normal.command({ k: 'scene', name: 'pyramid' })
+    await normal.waitFor(() => normal.mirror.bodies.size > 200, 'the pyramid')
+    const slow = await bot(server, 'slow', 'slow')
+    let snapshots = 0
+    normal.onServerMessage = (m) => {
+      if (m.t === 'snap' && ++snapshots % 6 === 0) normal.command({ k: 'reset' })
+    }
+    const socket = (slow.ws as unknown as { _socket: import('node:net').Socket })._socket
+    socket.pause()
+    let chunks = 0
+    const reader = setInterval(() => {
+      socket.once('data', () => {
+        chunks++
+        socket.pause()
+      })
+      socket.resume()
+    }, 1500)
+    const players = async (): Promise<number> => {
+      const rooms = (await (await fetch(`${server.url}/rooms`)).json()) as Array<{
+        name: string
+        players: number
+      }>
+      return rooms.find((r) => r.name === 'slow')?.players ?? -1
+    }
+    try {
+      await until(async () => (await players()) === 1, 'the slow reader to be closed', 60_000)
+    } finally {
+      clearInterval(reader)
+      slow.ws.terminate()
+    }
+    expect(chunks).toBeGreaterThan(0)
+    // Closed by the room's rule on its worker (not by the main thread's hard limit); worker metrics arrive once a second.
+    await until(async () => (await sum('concord_slow_clients_closed_total')) === 1, 'the slow-reader metric')
+    expect(await sum('concord_snapshots_skipped_total')).toBeGreaterThan(0)
+    const tick = normal.mirror.tick
+    await normal.waitFor(() => normal.mirror.tick >= tick + 10, 'more snapshots for the normal reader')
+    expect(await players()).toBe(1)
+  })
+
   it('a worker that dies is reported, its clients get 4008, and its recorded room comes back from its log', async () => {
     const dir = await mkdtemp(join(tmpdir(), 'concord-workers-'))
     const { logger, lines } = capture()
