@@ -1,6 +1,8 @@
 /*
  * Warnings caused by clients are rate limited: a misbehaving peer must not be able to turn its
  * frames into log lines (one raw socket once made the server write 140 MB of warnings in 3 s).
+ * The tick loop's overrun warnings are limited the same way, so a loaded machine does not log
+ * one line per late tick.
  * Each key (a client id, an IP address) may log `perWindow` warnings per window; further ones are
  * counted, and the first warning of a later window reports how many were suppressed, so nothing is
  * silently lost and the log grows by at most perWindow lines per key per window.
@@ -20,6 +22,8 @@ export class LogLimiter {
     /** Window length (ms); usually 10 s. */
     private readonly windowMs = 10_000,
     private readonly now: () => number = Date.now,
+    /** The line that reports suppressed warnings at the start of a later window. */
+    private readonly suppressedMsg = 'warnings about misbehaving clients were suppressed',
   ) {
     this.windowStart = now()
   }
@@ -29,7 +33,7 @@ export class LogLimiter {
     const now = this.now()
     if (now - this.windowStart >= this.windowMs) {
       if (this.suppressed > 0) {
-        this.log.warn({ suppressed: this.suppressed }, 'warnings about misbehaving clients were suppressed')
+        this.log.warn({ suppressed: this.suppressed }, this.suppressedMsg)
       }
       this.counts.clear()
       this.suppressed = 0

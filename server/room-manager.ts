@@ -8,6 +8,7 @@ import type { Logger } from 'pino'
 import { STEP_SECONDS } from '../engine/index.ts'
 import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
 import type { ServerConfig } from './config.ts'
+import { LogLimiter } from './log-limiter.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { Room } from './room.ts'
 import { TickClock } from './tick-clock.ts'
@@ -28,6 +29,9 @@ export class RoomManager {
   beforeRoomTick: ((room: Room) => void) | null = null
   private ticks = 0
 
+  /** At most 3 overrun warnings per 10 s; the next window's first line counts the rest. */
+  private readonly overrunLog: LogLimiter
+
   /** Per room: ticks over the tick budget in the current one-second window. */
   private readonly overBudget = new Map<string, number>()
 
@@ -40,13 +44,18 @@ export class RoomManager {
     /** The `loop` label of this manager's tick histogram ("main", or "worker-N" in a room worker). */
     private readonly loopName = 'main',
   ) {
+    this.overrunLog = new LogLimiter(log, 3, 10_000, Date.now, 'tick loop overrun warnings were suppressed')
     this.clock = new TickClock(
       STEP_SECONDS,
       () => this.tickAll(),
       (n) => {
         metrics.overruns.inc(n)
         for (const name of this.rooms.keys()) metrics.roomDroppedTicks.inc({ room: name }, n)
-        log.warn({ dropped: n, rooms: this.rooms.size }, 'tick loop fell behind; dropped ticks')
+        this.overrunLog.warn(
+          'overrun',
+          { dropped: n, rooms: this.rooms.size },
+          'tick loop fell behind; dropped ticks',
+        )
       },
     )
   }

@@ -241,3 +241,21 @@ describe('per-room tick budget', () => {
     expect(rooms.get('bursty')).toBeDefined()
   })
 })
+
+describe('the tick loop on a machine that keeps falling behind', () => {
+  it('logs at most 3 overrun warnings per 10 s, however many ticks it drops (one line per event, not per tick)', () => {
+    const lines: Array<{ msg: string; dropped?: number }> = []
+    const log = pino({ level: 'warn' }, { write: (line: string) => lines.push(JSON.parse(line)) })
+    const config = loadConfig([], {}, { defaultScene: 'empty', logLevel: 'silent' })
+    const metrics = createMetrics(false)
+    const rooms = new RoomManager(config, metrics, log)
+    rooms.getOrCreate('late')
+    // 200 wake-ups, each 10 ticks late: 4 run, 6 dropped every time.
+    rooms.clock.reset(0)
+    for (let i = 1; i <= 200; i++) rooms.clock.pump((i * 10 * 1000) / 60)
+    expect(rooms.clock.overruns).toBe(200 * 6)
+    const overruns = lines.filter((l) => l.msg === 'tick loop fell behind; dropped ticks')
+    expect(overruns.length).toBe(3)
+    expect(overruns.map((l) => l.dropped)).toEqual([6, 6, 6])
+  })
+})
