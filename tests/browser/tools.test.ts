@@ -322,6 +322,15 @@ describe('rooms and players', { timeout: 300_000 }, () => {
         c.length === 1 && c[0].body === id && s.bodies().find((v: { id: number }) => v.id === id)?.grabColor
       )
     }, box)
+    // The remote cursor glides along the delayed, smoothed timeline: wait until it rests at the
+    // holder's pointer (0, 4) and two more frames are drawn, so the pixels read are of that pose.
+    await a.page.waitForFunction(() => {
+      const c = window.concord.sandbox.cursors()[0] as { x: number; y: number } | undefined
+      return c !== undefined && Math.abs(c.x) < 1e-3 && Math.abs(c.y - 4) < 1e-3
+    })
+    await a.page.evaluate(
+      () => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => done(null)))),
+    )
     // Pixels in the label's box: the white name on the dark plate, not the body's colour around it.
     const cursor = await a.page.evaluate(
       () => window.concord.sandbox.cursors()[0] as { x: number; y: number; name: string },

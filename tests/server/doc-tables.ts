@@ -33,17 +33,22 @@ export function documentedFields(): Map<string, DocumentedFields> {
   return sections
 }
 
-/** The `ticks` entry kinds: kind number to its name and argument names, from the kind table. */
-export function documentedEntryKinds(): Map<number, { name: string; args: string[] }> {
+/**
+ * The `ticks` entry kinds: kind number to its name, its argument names, and the arguments that
+ * follow a "then" (sent only when the input gave any of them, so an entry has either `args` or
+ * `args` + `optional` arguments), from the kind table.
+ */
+export function documentedEntryKinds(): Map<number, { name: string; args: string[]; optional: string[] }> {
   const lines = readFileSync('shared/PROTOCOL.md', 'utf8').split('\n')
   const start = lines.findIndex((l) => /^\|\s*kind\s*\|\s*entry\s*\|/.test(l))
   if (start < 0) throw new Error('PROTOCOL.md has no "| kind | entry |" table')
-  const kinds = new Map<number, { name: string; args: string[] }>()
+  const kinds = new Map<number, { name: string; args: string[]; optional: string[] }>()
+  const names = (text: string): string[] => [...text.matchAll(/`(\w+)`/g)].map((m) => m[1])
   for (const line of lines.slice(start + 2)) {
     const row = /^\|\s*(\d+)\s*\|\s*`?(\w+)`?\s*\|(.*)\|$/.exec(line)
     if (!row) break
-    const args = [...row[3].matchAll(/`(\w+)`/g)].map((m) => m[1])
-    kinds.set(Number(row[1]), { name: row[2], args })
+    const [required, later = ''] = row[3].split(/\bthen\b/)
+    kinds.set(Number(row[1]), { name: row[2], args: names(required), optional: names(later) })
   }
   return kinds
 }
