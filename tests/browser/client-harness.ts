@@ -18,7 +18,12 @@ const DIST = 'test-results/browser-client/dist'
 export async function startClientServer(port = 0): Promise<RunningServer> {
   await mkdir(ARTIFACTS, { recursive: true })
   if (port === 0) await buildClient(DIST)
-  const config = loadConfig([], {}, { port, staticDir: DIST, logLevel: 'silent', heartbeatMs: 60_000 })
+  // No recording: these pages do not need logs, and a test must not leave files in ./replays.
+  const config = loadConfig(
+    [],
+    {},
+    { port, staticDir: DIST, logLevel: 'silent', heartbeatMs: 60_000, record: false },
+  )
   return startServer(config, { processMetrics: false })
 }
 
