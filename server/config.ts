@@ -4,6 +4,7 @@
  * message naming the setting, never silently replaced.
  */
 
+import { availableParallelism } from 'node:os'
 import { SCENES } from '../engine/index.ts'
 import { ROOM_NAME_PATTERN } from '../shared/index.ts'
 import { checkSecurityConfig, SECURITY_SETTINGS } from './config-security.ts'
@@ -72,6 +73,8 @@ export interface Setting {
   fallback: number | string | boolean
   min?: number
   max?: number
+  /** How --help and the README state a default that depends on the machine (e.g. "one per core"). */
+  shown?: string
   help: string
 }
 
@@ -391,10 +394,11 @@ export const SETTINGS: readonly Setting[] = [
     flag: '--workers',
     env: 'WORKERS',
     kind: 'int',
-    fallback: 0,
+    fallback: Math.min(256, availableParallelism()),
     min: 0,
     max: 256,
-    help: 'room worker threads; rooms are spread over them (0 = every room on the main thread)',
+    shown: 'one per core',
+    help: 'room worker threads, one per core by default; rooms are spread over them (0 = every room on the main thread)',
   },
   {
     key: 'redisUrl',
@@ -506,7 +510,7 @@ export function loadConfig(
 export function helpText(): string {
   const rows = SETTINGS.map(
     (s) =>
-      `  ${`${s.flag} <${s.kind}>`.padEnd(28)} ${s.env.padEnd(22)} ${String(s.fallback).padEnd(12)} ${s.help}`,
+      `  ${`${s.flag} <${s.kind}>`.padEnd(28)} ${s.env.padEnd(22)} ${(s.shown ?? String(s.fallback)).padEnd(12)} ${s.help}`,
   )
   return [
     'Usage: node dist/server.js [options]',

@@ -77,6 +77,11 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   const pool =
     config.workers > 0 ? new WorkerPool(config, metrics, log, health, recordings, config.workers) : null
   const host: RoomHost = pool ?? new LocalRoomHost(rooms, config.maxRooms)
+  // Listen only once every worker runs its loop: a booting worker is neither joinable nor healthy.
+  await pool?.ready.catch(async (error: Error) => {
+    await pool.stop('a room worker failed to start')
+    throw error
+  })
   // With workers, the worker that holds a crashed room's new copy rebuilds it from the log.
   await recordings.start(rooms, pool ? (room, logName) => pool.reopen(room, logName) : undefined)
   const transport = new Transport(config, host, metrics, log)

@@ -93,6 +93,10 @@ class WorkerLink {
   heapMb = 0
   openLogs: string[] = []
   exited = false
+  /** Set by the worker's first message: its code loaded and its loop runs. */
+  started = false
+  /** The last error the thread threw (named when it dies before starting). */
+  lastError = ''
   private pending: ToWorker[] = []
   private scheduled = false
 
@@ -134,6 +138,12 @@ export class WorkerPool implements RoomHost {
   private sampling = false
   /** Called when a room is gone for good (e.g. to release it in the room directory). */
   onRoomDisposed: ((name: string) => void) | null = null
+  /**
+   * Resolves once every worker has started its loop (its first message); rejects, naming the
+   * worker and its error, when one ends before that (e.g. dist/room-worker.js missing).
+   */
+  readonly ready: Promise<void>
+  private startup: { resolve: () => void; reject: (error: Error) => void } | null = null
 
   constructor(
     private readonly config: ServerConfig,
@@ -143,6 +153,11 @@ export class WorkerPool implements RoomHost {
     private readonly recordings: Recordings,
     readonly size: number,
   ) {
+    this.ready = new Promise((resolve, reject) => {
+      this.startup = { resolve, reject }
+    })
+    // Nobody may be waiting yet when a worker fails (startServer awaits soon after): no unhandled rejection.
+    this.ready.catch(() => {})
     for (let i = 0; i < size; i++) this.spawn()
   }
 
@@ -308,12 +323,23 @@ export class WorkerPool implements RoomHost {
         this.log.error({ worker: id, err: error }, 'handling a room worker message failed')
       }
     })
-    worker.on('error', (error) => this.log.error({ worker: id, err: error }, 'room worker threw'))
+    worker.on('error', (error) => {
+      link.lastError = error.message
+      this.log.error({ worker: id, err: error }, 'room worker threw')
+    })
     worker.on('exit', (code) => this.lost(link, code))
     return link
   }
 
   private receive(link: WorkerLink, message: FromWorker): void {
+    if (!link.started) {
+      link.started = true
+      this.health.beat(link.loop)
+      if (this.startup && this.links.every((l) => l.started)) {
+        this.startup.resolve()
+        this.startup = null
+      }
+    }
     if (message.t === 'stats') {
       link.summaries = message.rooms
       link.metrics = message.metrics
@@ -425,6 +451,14 @@ export class WorkerPool implements RoomHost {
     this.links.splice(this.links.indexOf(link), 1)
     for (const name of link.openLogs) this.recordings.openNames.delete(name)
     if (this.closing) return
+    if (!link.started) {
+      // It never ran: replacing it would fail the same way, over and over.
+      const error = `room worker ${link.id} ended before starting (exit code ${code}): ${link.lastError || 'no error reported'}`
+      this.log.error({ worker: link.id, exitCode: code, err: link.lastError }, 'room worker failed to start')
+      this.startup?.reject(new Error(error))
+      this.startup = null
+      return
+    }
     const rooms = [...link.rooms].filter((room) => this.roomLinks.get(room) === link)
     this.metrics.workersFailed.inc()
     this.log.error({ worker: link.id, exitCode: code, rooms }, 'room worker died; its rooms are lost')

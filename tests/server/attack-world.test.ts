@@ -10,12 +10,18 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { encodeMessage } from '../../shared/index.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
 
 beforeAll(async () => {
-  server = await startTestServer({ defaultScene: 'pyramid', inputsPerTick: 100, heartbeatMs: 60_000 })
+  // Rooms on the main thread: this file reads a room's joints (sim.userJoints).
+  server = await startTestServer({
+    ...inProcessRooms,
+    defaultScene: 'pyramid',
+    inputsPerTick: 100,
+    heartbeatMs: 60_000,
+  })
 })
 afterAll(async () => {
   await server.close()

@@ -3,12 +3,13 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { PROTOCOL_VERSION } from '../../shared/index.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
 
 beforeAll(async () => {
-  server = await startTestServer({ maxBodies: 40, maxRejects: 20, heartbeatMs: 60_000 })
+  // Rooms on the main thread: this file reads rooms' worlds.
+  server = await startTestServer({ ...inProcessRooms, maxBodies: 40, maxRejects: 20, heartbeatMs: 60_000 })
 })
 afterAll(async () => {
   await server.close()

@@ -1,5 +1,6 @@
+import { execFileSync } from 'node:child_process'
 import { describe, expect, it } from 'vitest'
-import { defaultConfig, loadConfig, SETTINGS } from '../../server/config.ts'
+import { defaultConfig, helpText, loadConfig, SETTINGS } from '../../server/config.ts'
 
 describe('server configuration', () => {
   it('flags beat environment variables, which beat defaults', () => {
@@ -48,8 +49,22 @@ describe('server configuration', () => {
 })
 
 describe('--workers', () => {
+  it('defaults to one worker per core, and --help says so', () => {
+    // The oracle: the cores Node may use here (nproc), counted independently of server/config.ts.
+    const cores = Number(execFileSync('nproc', { encoding: 'utf8', env: { PATH: process.env.PATH } }).trim())
+    expect(cores).toBeGreaterThan(0)
+    expect(loadConfig([], {}).workers).toBe(cores)
+    expect(loadConfig([], { WORKERS: '' }).workers).toBe(cores)
+    const row = helpText()
+      .split('\n')
+      .find((l) => l.trimStart().startsWith('--workers'))
+    expect(row).toContain('one per core')
+    expect(row).toContain('0 = every room on the main thread')
+  })
+
   it('takes a worker count from 0 (rooms on the main thread) to 256, and refuses anything else naming the setting', () => {
-    expect(loadConfig([], {}).workers).toBe(0)
+    expect(loadConfig(['--workers', '0'], {}).workers).toBe(0)
+    expect(loadConfig([], { WORKERS: '0' }).workers).toBe(0)
     expect(loadConfig(['--workers', '3'], {}).workers).toBe(3)
     expect(loadConfig([], { WORKERS: '2' }).workers).toBe(2)
     expect(() => loadConfig(['--workers', '-1'], {})).toThrow(
@@ -75,7 +90,9 @@ describe('the README settings table', () => {
       expect(row).toContain(`\`${s.env}\``)
       const cells = row!.split('|').map((c) => c.trim())
       const documented = cells[3]
-      expect(s.fallback === '' ? documented.startsWith('(') : documented === String(s.fallback)).toBe(true)
+      if (s.shown) expect(documented, `README default of ${s.flag}`).toBe(s.shown)
+      else
+        expect(s.fallback === '' ? documented.startsWith('(') : documented === String(s.fallback)).toBe(true)
     }
   })
 })

@@ -1,6 +1,7 @@
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
+import { waitUntil } from './raw-client.ts'
 import { startTestServer } from './test-server.ts'
 
 let server: RunningServer
@@ -54,8 +55,11 @@ describe('HTTP routes', { timeout: 20_000 }, () => {
     const bot = await BotClient.connect({ url: server.url, room: 'brief', name: 'x' })
     const watcher = await BotClient.connect({ url: server.url, room: 'lobby', name: 'w' })
     await bot.close()
-    await watcher.waitFor(() => server.rooms.get('brief') === undefined, 'disposal')
-    expect(server.rooms.get('lobby')).toBeDefined()
+    await waitUntil(() => !server.host.has('brief'), 'disposal')
+    expect(server.host.has('lobby')).toBe(true)
+    const listed = (await (await fetch(`${server.url}/rooms`)).json()) as Array<{ name: string }>
+    expect(listed.map((r) => r.name)).not.toContain('brief')
+    expect(listed.map((r) => r.name)).toContain('lobby')
     await watcher.close()
   })
 })

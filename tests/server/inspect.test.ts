@@ -17,12 +17,13 @@ import {
   MAX_INSPECT_CONTACTS,
   type ServerMessage,
 } from '../../shared/index.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
 
 beforeAll(async () => {
-  server = await startTestServer({ defaultScene: 'ramp' })
+  // Rooms on the main thread: this file reads a room's server-side players.
+  server = await startTestServer({ ...inProcessRooms, defaultScene: 'ramp' })
 })
 afterAll(async () => {
   await server.close()

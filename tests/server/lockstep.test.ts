@@ -11,13 +11,15 @@ import { ROOM_SYNC_BURST, SYNC_BURST } from '../../server/lockstep-feed.ts'
 import type { RunningServer } from '../../server/server.ts'
 import type { RoomSimulation, SyncMessage } from '../../shared/index.ts'
 import { ActiveBots, driveClock } from './lockstep-bots.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
 let stopClock: () => void
 
 beforeAll(async () => {
-  server = await startTestServer({ roomControls: true, maxRejects: 20 })
+  // Rooms on the main thread: this file reads room ticks and drives the main tick clock by hand
+  // (lockstep-bots.ts driveClock).
+  server = await startTestServer({ ...inProcessRooms, roomControls: true, maxRejects: 20 })
   stopClock = driveClock(server, 180)
 })
 

@@ -10,11 +10,12 @@ import WebSocket from 'ws'
 import type { RunningServer } from '../../server/server.ts'
 import { MAX_CATCH_UP } from '../../server/tick-clock.ts'
 import { decodeServerMessage, encodeMessage, PROTOCOL_VERSION } from '../../shared/index.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
 beforeAll(async () => {
-  server = await startTestServer()
+  // Rooms on the main thread: this file drives the main tick clock by hand to drop ticks in its rooms.
+  server = await startTestServer(inProcessRooms)
 })
 afterAll(async () => {
   await server.close()

@@ -18,7 +18,7 @@ import type { RunningServer } from '../../server/server.ts'
 import { type Decoded, DocClient } from './doc-client.ts'
 import { documentedEntryKinds, documentedFields } from './doc-tables.ts'
 import { waitUntil } from './raw-client.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 /** FNV-1a, 32-bit, written here from its definition (not the engine's). */
 function fnv1a32(bytes: Uint8Array): number {
@@ -30,7 +30,8 @@ function fnv1a32(bytes: Uint8Array): number {
 let server: RunningServer
 
 beforeAll(async () => {
-  server = await startTestServer({ roomControls: true })
+  // Rooms on the main thread: this file waits on a room's own tick.
+  server = await startTestServer({ ...inProcessRooms, roomControls: true })
 })
 afterAll(async () => {
   await server.close()

@@ -8,7 +8,7 @@ import type { LogFile } from '../../server/recorder.ts'
 import { listLogNames } from '../../server/replay-files.ts'
 import { replayLog } from '../../server/replay-tool.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 const servers: RunningServer[] = []
 afterAll(async () => {
@@ -16,7 +16,8 @@ afterAll(async () => {
 })
 
 async function start(overrides: Parameters<typeof startTestServer>[0]): Promise<RunningServer> {
-  const server = await startTestServer(overrides)
+  // Rooms on the main thread: this file compares the live room's world with its log.
+  const server = await startTestServer({ ...inProcessRooms, ...overrides })
   servers.push(server)
   return server
 }

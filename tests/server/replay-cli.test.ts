@@ -8,7 +8,7 @@ import { listLogNames } from '../../server/replay-files.ts'
 import { crc32 } from '../../shared/crc32.ts'
 import { PREAMBLE_BYTES } from '../../shared/replay-log.ts'
 import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let dir: string
 let log: Uint8Array
@@ -17,7 +17,9 @@ let ends: number[]
 
 beforeAll(async () => {
   dir = await mkdtemp(join(tmpdir(), 'concord-cli-'))
+  // Rooms on the main thread: this file waits on the live room's tick.
   const server = await startTestServer({
+    ...inProcessRooms,
     record: true,
     replayDir: dir,
     keyframeTicks: 60,

@@ -25,7 +25,7 @@ import {
   RecordType,
 } from '../../shared/replay-log.ts'
 import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 const DOC = 'docs/replay-format.md'
 let doc: string
@@ -146,7 +146,9 @@ function docRead(bytes: Uint8Array): DocRead {
 beforeAll(async () => {
   doc = await readFile(DOC, 'utf8')
   const dir = await mkdtemp(join(tmpdir(), 'concord-format-'))
+  // Rooms on the main thread: this file reads the live room's world and tick.
   const server = await startTestServer({
+    ...inProcessRooms,
     record: true,
     replayDir: dir,
     keyframeTicks: 60,

@@ -4,12 +4,14 @@ import { BotClient } from '../../server/bot-client.ts'
 import type { ClientSession } from '../../server/client-session.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { hardBufferLimit } from '../../server/transport.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
 
 beforeAll(async () => {
+  // Rooms on the main thread: this file reaches a client's server-side socket through its room.
   server = await startTestServer({
+    ...inProcessRooms,
     defaultScene: 'pile',
     snapshotRate: 60,
     clientBandwidth: 10_000_000,

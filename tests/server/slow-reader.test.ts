@@ -12,14 +12,17 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { capturingLogger, waitUntil } from './raw-client.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 const capture = capturingLogger('info')
 let server: RunningServer
 
 beforeAll(async () => {
+  // Rooms on the main thread: this file reads the room's players and the slow-reader log line
+  // (the same rule across the thread boundary: workers.test.ts).
   server = await startTestServer(
     {
+      ...inProcessRooms,
       // Only the room under test runs a scene that moves: the default room stays empty.
       defaultScene: 'empty',
       snapshotRate: 60,

@@ -2,13 +2,14 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { MAX_ANGLE_ERROR, MAX_POSITION_ERROR } from '../../shared/index.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
 
 beforeAll(async () => {
   // A large budget so every moving body is in every snapshot and each can be checked.
-  server = await startTestServer({ defaultScene: 'pile', clientBandwidth: 10_000_000 })
+  // Rooms on the main thread: this file builds scenes in rooms' worlds directly.
+  server = await startTestServer({ ...inProcessRooms, defaultScene: 'pile', clientBandwidth: 10_000_000 })
 })
 afterAll(async () => {
   await server.close()

@@ -1,12 +1,13 @@
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
 
 beforeAll(async () => {
-  server = await startTestServer()
+  // Rooms on the main thread: this file reads rooms' worlds and players.
+  server = await startTestServer(inProcessRooms)
 })
 afterAll(async () => {
   await server.close()
