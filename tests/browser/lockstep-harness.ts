@@ -124,7 +124,7 @@ export async function expectLongSync(
   const r = await readReport(page)
   console.log(
     `lockstep ${ticks} ticks: ${label} ${r.hashesChecked} checkpoints, node ${node.runner.stats.hashesChecked}; ` +
-      `room at tick ${server.rooms.get(room)?.tick}, scene ${node.runner.sim?.scene}`,
+      `room at tick ${server.host.summaries().find((x) => x.name === room)?.tick}, scene ${node.runner.sim?.scene}`,
   )
   expect(r.closed).toBe('')
   expect(r.desyncs, r.problem).toBe(0)
@@ -135,7 +135,7 @@ export async function expectLongSync(
   expect(node.runner.stats.hashesChecked).toBeGreaterThanOrEqual(Math.floor(ticks / 60) - 2)
   expect(r.verifiedTick).toBeGreaterThan(start + ticks - 60)
   expect(node.runner.sim?.scene).toBe('wrecking-ball')
-  expect((await server.metrics.desyncs.get()).values[0]?.value ?? 0).toBe(0)
+  expect(await desyncsCounted(server)).toBe(0)
   await Promise.all([node.close(), bots.stop()])
   return r
 }
@@ -163,9 +163,10 @@ export async function expectSinPerturbationCaught(
     'the perturbed page to verify a checkpoint',
     async () => (await readReport(page)).hashesChecked >= 1,
   )
-  const before = (await server.metrics.desyncs.get()).values[0]?.value ?? 0
+  const before = await desyncsCounted(server)
   const spawner = await BotClient.connect({ url: server.url, room, name: 'spawner' })
-  const spawnTick = server.rooms.get(room)?.tick ?? 0
+  // The room's tick when the spawner joined (its welcome): the spawns land at or after it.
+  const spawnTick = spawner.mirror.tick
   for (const angle of angles.slice(0, 5)) {
     spawner.command({ k: 'spawn', shape: { type: 'box', hw: 0.5, hh: 0.2 }, x: angle * 3, y: 5, angle })
   }
@@ -180,10 +181,19 @@ export async function expectSinPerturbationCaught(
     'a verified checkpoint after the repair',
     async () => (await readReport(page)).verifiedTick > detectedAt,
   )
-  expect((await server.metrics.desyncs.get()).values[0]?.value ?? 0).toBeGreaterThan(before)
-  const metrics = await fetch(`${server.url}/metrics`).then((res) => res.text())
-  expect(metrics).toMatch(/concord_desyncs_total [1-9]/)
+  // Rooms on workers report their metrics once a second: wait for the count to arrive.
+  await until('the desync counted in /metrics', async () => (await desyncsCounted(server)) > before)
   await page.close()
   await spawner.close()
   return angles
+}
+
+/** concord_desyncs_total from /metrics, summed over every series (the main thread's and each worker's). */
+export async function desyncsCounted(server: RunningServer): Promise<number> {
+  const text = await fetch(`${server.url}/metrics`).then((res) => res.text())
+  let total = 0
+  for (const line of text.split('\n')) {
+    if (/^concord_desyncs_total(\{[^}]*\})? /.test(line)) total += Number(line.split(' ').pop())
+  }
+  return total
 }

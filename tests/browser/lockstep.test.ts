@@ -16,7 +16,7 @@ import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
 import { driveClock } from '../server/lockstep-bots.ts'
-import { startTestServer } from '../server/test-server.ts'
+import { inProcessRooms, startTestServer } from '../server/test-server.ts'
 import { launchBrowser } from './chromium.ts'
 import {
   bundleLockstepPage,
@@ -32,7 +32,8 @@ let stopClock: () => void
 let browser: Browser
 
 beforeAll(async () => {
-  server = await startTestServer({ roomControls: true, heartbeatMs: 5000 })
+  // Rooms on the main thread: driveClock runs them faster than real time from the main tick clock.
+  server = await startTestServer({ ...inProcessRooms, roomControls: true, heartbeatMs: 5000 })
   stopClock = driveClock(server, 240)
   browser = await launchBrowser()
 }, 120_000)

@@ -54,16 +54,17 @@ async function recordSession(replayDir: string): Promise<void> {
     const ids = dynamic()
     a.command({ k: 'grab', body: ids[0], lx: 0, ly: 0 })
     if (ids.length > 3) b.command({ k: 'rope', a: ids[1], b: ids[2], ax: 0, ay: 0, bx: 0, by: 0 })
-    const live = recording.rooms.get(ROOM)!
+    // The room's tick as ada sees it (the rooms run on worker threads, out of this thread's reach).
+    const tick = (): number => a.mirror.tick
     let i = 0
-    while (live.tick < TICKS) {
+    while (tick() < TICKS) {
       i++
       a.command({ k: 'move', x: Math.sin(i / 5) * 3, y: 5 + Math.cos(i / 7) })
       if (i === 20)
         b.command({ k: 'spawn', shape: { type: 'box', hw: 0.3, hh: 0.3 }, x: -2, y: 9, vx: 0, vy: 0 })
       if (i === 30) b.command({ k: 'gravity', x: 1, y: -9 })
       if (i === 60) b.command({ k: 'scene', name: 'joints' })
-      await a.waitFor(() => live.tick >= Math.min(TICKS, i * 3), 'room ticks')
+      await a.waitFor(() => tick() >= Math.min(TICKS, i * 3), 'room ticks')
     }
     await a.close()
     await b.close()

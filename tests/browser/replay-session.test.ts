@@ -21,7 +21,7 @@ import type { RunningServer } from '../../server/server.ts'
 import type { ReplayReport } from '../../shared/replay-headless.ts'
 import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
 import { ActiveBots, driveClock } from '../server/lockstep-bots.ts'
-import { startTestServer } from '../server/test-server.ts'
+import { inProcessRooms, startTestServer } from '../server/test-server.ts'
 import { launchBrowser } from './chromium.ts'
 import type { ReplayCheck } from './replay-check-page.ts'
 
@@ -39,7 +39,14 @@ afterAll(async () => {
 
 /** Record the session; returns the log's bytes. */
 async function record(dir: string): Promise<Uint8Array> {
-  server = await startTestServer({ record: true, replayDir: dir, defaultScene: 'tower', heartbeatMs: 60_000 })
+  // Rooms on the main thread: this file drives the main tick clock by hand and reads the room's tick.
+  server = await startTestServer({
+    ...inProcessRooms,
+    record: true,
+    replayDir: dir,
+    defaultScene: 'tower',
+    heartbeatMs: 60_000,
+  })
   stopClock = driveClock(server, 300)
   const bots = await ActiveBots.start(server.url, ROOM, 3, 20, 7)
   const room = server.rooms.get(ROOM)!

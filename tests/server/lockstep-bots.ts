@@ -50,8 +50,10 @@ export class ActiveBots {
   }
 }
 
-/** Run the server's rooms from a timer at `ticksPerSecond` instead of its 60 Hz clock. */
+/** Run the server's rooms from a timer at `ticksPerSecond` instead of its 60 Hz clock (rooms on the main thread). */
 export function driveClock(server: RunningServer, ticksPerSecond: number): () => void {
+  if (server.pool)
+    throw new Error('driveClock needs the rooms on the main thread: start the server with inProcessRooms')
   server.rooms.clock.stop()
   const start = performance.now()
   let ran = 0
