@@ -20,8 +20,10 @@
  */
 import {
   type ClientMessage,
+  DEFAULT_HOLD,
   decodeEntries,
   inflate,
+  MAX_HOLD,
   type RoomRules,
   type RoomSimulation,
   restoreSyncPayload,
@@ -38,6 +40,11 @@ export interface LockstepOptions {
   playout?: Partial<PlayoutOptions>
   /** Ticks simulated at most per advance() (catching up after a stall), 120. */
   maxStepsPerAdvance?: number
+  /**
+   * Empty ticks the server may hold back (join.hold, 1-60). Default: the playout's smallest delay,
+   * so a held run never makes the newest tick received lag the tick to play (see `hold`).
+   */
+  hold?: number
   /** Called when a sync has been restored (the view should forget bodies it drew). */
   onRestored?(sim: RoomSimulation): void
 }
@@ -92,10 +99,18 @@ export class LockstepClient {
   private syncs = 0
   private generation = 0
   private readonly maxSteps: number
+  /**
+   * What the owner sends as join.hold. A held empty run makes the newest tick received lag the
+   * server by up to hold - 1 ticks; the playout plays at least `minDelay` behind the server's
+   * tick, so a hold of minDelay keeps the one tick of margin the stream had at the old fixed 2.
+   */
+  readonly hold: number
 
   constructor(protected readonly options: LockstepOptions) {
     this.playout = new PlayoutClock(options.playout)
     this.maxSteps = options.maxStepsPerAdvance ?? 120
+    const hold = options.hold ?? Math.floor(options.playout?.minDelay ?? DEFAULT_HOLD)
+    this.hold = Math.min(MAX_HOLD, Math.max(1, hold))
   }
 
   /** Newest tick received from the server. */

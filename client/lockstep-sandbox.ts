@@ -104,6 +104,7 @@ export class LockstepSandbox implements Sandbox {
       room: this.options.room,
       name: this.options.name,
       mode: this.options.mode,
+      hold: this.runner.hold,
     }
   }
 

@@ -30,7 +30,10 @@ interface PendingInput {
   /** Tick it was applied at in the present (re-assigned when it turns out late). */
   tick: number
   cmd: Command
-  /** Newest confirmed tick when it was sent (for the lead measurement). */
+  /**
+   * The server's tick as estimated when it was sent (for the lead measurement): the playout's
+   * smooth estimate, not the newest tick received, which lags by up to the hold when idle.
+   */
   sentAt: number
   /** Time it was sent (ms), to drop inputs the server refused. */
   time: number
@@ -67,6 +70,12 @@ export interface PredictStats {
 const FORGET_AFTER_MS = 3000
 /** Largest lead (ticks): half a second. */
 const MAX_LEAD = 30
+/**
+ * Empty ticks the server may hold back for a predicting client (join.hold): its present runs
+ * ahead assuming nobody else acts, which an empty run only confirms, so it may wait as long as the
+ * present may lead; the confirmed state then lags the server by at most half a second when idle.
+ */
+export const PREDICT_HOLD = MAX_LEAD
 
 const sameAction = (a: Command, b: StreamEntry['action']): boolean =>
   a.k === b.k && JSON.stringify(entryArguments(a)) === JSON.stringify(entryArguments(b))
@@ -95,7 +104,11 @@ export class PredictClient extends LockstepClient {
   private readonly clock: () => number
 
   constructor(protected readonly predictOptions: PredictOptions) {
-    super({ ...predictOptions, playout: { minDelay: 0, ...predictOptions.playout } })
+    super({
+      hold: PREDICT_HOLD,
+      ...predictOptions,
+      playout: { minDelay: 0, ...predictOptions.playout },
+    })
     this.clock = predictOptions.clock ?? (() => 0)
   }
 
@@ -106,7 +119,7 @@ export class PredictClient extends LockstepClient {
     if (cmd.k === 'inspect' || !this.present || this.state !== 'running') return seq
     const tick = this.present.tick + 1
     this.applyOwn(this.present, cmd)
-    this.pending.push({ tick, cmd, sentAt: this.newestTick, time: nowMs })
+    this.pending.push({ tick, cmd, sentAt: Math.floor(this.playout.estimate(nowMs)), time: nowMs })
     return seq
   }
 

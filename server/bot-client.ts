@@ -31,6 +31,8 @@ export interface BotOptions {
   origin?: string
   /** How to follow the room (default 'snapshot'); lockstep-bot.ts runs the lockstep modes. */
   mode?: JoinMode
+  /** join.hold for the lockstep modes (the server's default when absent). */
+  hold?: number
 }
 
 /** A connected protocol client. */
@@ -99,8 +101,8 @@ export class BotClient {
     return BotClient.connect({ ...options, url: bot.movedTo }, maxMoves - 1)
   }
 
-  /** Send the join message. */
-  join(version = PROTOCOL_VERSION): void {
+  /** Send the join message (`hold` for the lockstep modes: join.hold, the server's default when absent). */
+  join(version = PROTOCOL_VERSION, hold = this.options.hold): void {
     const join: ClientMessage = {
       t: 'join',
       v: version,
@@ -109,6 +111,7 @@ export class BotClient {
       mode: this.options.mode ?? 'snapshot',
     }
     if (this.options.token) join.token = this.options.token
+    if (hold !== undefined && join.mode !== 'snapshot') join.hold = hold
     this.send(join)
   }
 

@@ -16,25 +16,29 @@ export class LockstepBot {
   private constructor(
     readonly bot: BotClient,
     mode: 'lockstep' | 'predict',
+    hold: number | undefined,
   ) {
     const send = bot.send.bind(bot)
     this.runner =
       mode === 'predict'
-        ? new PredictClient({ send, clock: () => performance.now() })
-        : new LockstepClient({ send })
+        ? new PredictClient({ send, clock: () => performance.now(), ...(hold === undefined ? {} : { hold }) })
+        : new LockstepClient({ send, ...(hold === undefined ? {} : { hold }) })
     bot.onServerMessage = (message) => this.runner.handle(message, performance.now())
   }
 
-  /** Connect, join and start stepping every `frameMs` (16 ms: a 60 Hz page). */
+  /**
+   * Connect, join and start stepping every `frameMs` (16 ms: a 60 Hz page). The join's hold is
+   * `options.hold` when given, else the runner's own (lockstep 2, predict 30).
+   */
   static async connect(
     options: Omit<BotOptions, 'mode'>,
     mode: 'lockstep' | 'predict' = 'lockstep',
     frameMs = 16,
   ): Promise<LockstepBot> {
     const bot = new BotClient({ ...options, mode })
-    const client = new LockstepBot(bot, mode)
+    const client = new LockstepBot(bot, mode, options.hold)
     await bot.opened
-    bot.join()
+    bot.join(undefined, client.runner.hold)
     await bot.waitFor(() => client.runner.playerId !== 0, 'welcome')
     client.timer = setInterval(() => client.frame(), frameMs)
     return client

@@ -7,12 +7,14 @@
  * the tick it belongs to (observers see the completed-tick count; the entry is part of the next
  * tick). At the end of every room tick, after the simulation's tick:
  *
- *   1. the unsent ticks are flushed as one `ticks` message when the tick had entries, carries a
- *      hash checkpoint (every HASH_INTERVAL ticks), or the unsent run reached MAX_RUN ticks: a run
- *      of empty ticks costs one short message. Encoded once, sent to every live follower.
+ *   1. a tick with entries or a hash checkpoint (every HASH_INTERVAL ticks) is flushed at once to
+ *      every live follower: one `ticks` message covering that follower's unsent run up to this
+ *      tick. Empty ticks are held back per follower, up to its `hold` (join.hold, DEFAULT_HOLD
+ *      unless it said, at most MAX_HOLD): a run of empty ticks costs one short message per hold.
+ *      Followers whose unsent runs start at the same tick share one encoding.
  *   2. followers waiting for a sync get one, if the rate limits allow: the saved simulation at
  *      this tick (sync-payload.ts), zlib-compressed when that is at least 10 % smaller, encoded
- *      once for everyone served at this tick. The next `ticks` message starts at the next tick.
+ *      once for everyone served at this tick. Their next `ticks` message starts at the next tick.
  *
  * A follower waits for a sync after joining, after a world load from outside a command (a
  * benchmark's blueprint), and after asking (a desync report or a resync request). While it waits
@@ -30,9 +32,11 @@ import { deflateSync } from 'node:zlib'
 import type { Logger } from 'pino'
 import {
   type Command,
+  DEFAULT_HOLD,
   encodeEntry,
   encodeMessage,
   encodeSyncPayload,
+  MAX_HOLD,
   type RoomSimulation,
   type StreamEntry,
   TICK_RATE,
@@ -43,8 +47,6 @@ import type { PlayerConnection } from './player-connection.ts'
 
 /** Ticks between hash checkpoints in the stream (one a second). */
 export const HASH_INTERVAL = TICK_RATE
-/** Longest run of ticks held back before it is sent (ticks): 2, so followers hear at 30 Hz at least. */
-export const MAX_RUN = 2
 /** Checkpoints remembered for desync reports: a minute's worth. */
 export const CHECKPOINTS_KEPT = 60
 /** Syncs a follower may get back to back. */
@@ -70,15 +72,17 @@ export interface Follower {
   reportedTick: number
   /** Syncs sent to it. */
   syncs: number
+  /** Longest run of empty ticks held back for it (ticks, 1..MAX_HOLD). */
+  hold: number
+  /** First tick not yet sent to it. */
+  runStart: number
 }
 
 /** The lockstep feed of one room (see the file comment). */
 export class LockstepFeed implements SimulationObserver {
   readonly followers = new Map<number, Follower>()
-  /** Entries not yet sent, ascending ticks. */
+  /** Entries of the current tick, not yet sent. */
   private pending: StreamEntry[] = []
-  /** First tick not yet sent. */
-  private runStart: number
   private roomTokens = ROOM_SYNC_BURST
   private roomRefilledAt: number
   private readonly checkpoints = new Map<number, number>()
@@ -92,7 +96,6 @@ export class LockstepFeed implements SimulationObserver {
     private readonly metrics: ServerMetrics,
     private readonly log: Logger,
   ) {
-    this.runStart = sim.tick + 1
     this.roomRefilledAt = sim.tick
     sim.observers.push(this)
   }
@@ -107,7 +110,18 @@ export class LockstepFeed implements SimulationObserver {
       refilledAt: this.sim.tick,
       reportedTick: -1,
       syncs: 0,
+      hold: DEFAULT_HOLD,
+      runStart: this.sim.tick + 1,
     })
+  }
+
+  /**
+   * Set how many empty ticks may be held back for a follower (join.hold, validated to
+   * 1..MAX_HOLD by the transport); ignored for players that are not followers.
+   */
+  setHold(id: number, hold: number): void {
+    const f = this.followers.get(id)
+    if (f) f.hold = Math.min(MAX_HOLD, Math.max(1, Math.floor(hold)))
   }
 
   /** Stop following (the player left). */
@@ -174,30 +188,35 @@ export class LockstepFeed implements SimulationObserver {
       this.checkpoints.set(tick, hash)
       this.checkpoints.delete(tick - HASH_INTERVAL * CHECKPOINTS_KEPT)
     }
-    const hasEntries = this.pending.length > 0 && this.pending[this.pending.length - 1].tick === tick
+    const hasEntries = this.pending.length > 0
     const anyWaiting = this.serveableWaiting()
-    if (hasEntries || hash !== undefined || tick - this.runStart + 1 >= MAX_RUN || anyWaiting) {
-      this.flush(tick, hash)
-    }
+    this.flush(tick, hasEntries || hash !== undefined, hash)
+    this.pending = []
     if (anyWaiting) this.serveSyncs()
   }
 
-  private flush(last: number, hash: number | undefined): void {
-    if (last < this.runStart) return
-    const live = [...this.followers.values()].filter((f) => !f.waiting)
-    if (live.length > 0) {
-      const message = {
-        t: 'ticks' as const,
-        tick: this.runStart,
-        n: last - this.runStart + 1,
-        c: this.pending.map((e) => encodeEntry(e, this.runStart)),
-        ...(hash === undefined ? {} : { hash }),
+  /** Send every live follower its unsent run up to `last` when it is due (or `now`). */
+  private flush(last: number, now: boolean, hash: number | undefined): void {
+    let encoded: Map<number, Uint8Array> | null = null
+    for (const f of this.followers.values()) {
+      if (f.waiting || last < f.runStart) continue
+      if (!now && last - f.runStart + 1 < f.hold) continue
+      encoded ??= new Map()
+      let bytes = encoded.get(f.runStart)
+      if (!bytes) {
+        const start = f.runStart
+        bytes = encodeMessage({
+          t: 'ticks' as const,
+          tick: start,
+          n: last - start + 1,
+          c: this.pending.map((e) => encodeEntry(e, start)),
+          ...(hash === undefined ? {} : { hash }),
+        })
+        encoded.set(start, bytes)
       }
-      const bytes = encodeMessage(message)
-      for (const f of live) f.conn.sendBytes(bytes)
+      f.conn.sendBytes(bytes)
+      f.runStart = last + 1
     }
-    this.pending = []
-    this.runStart = last + 1
   }
 
   /** Refill the buckets; whether some waiting follower can be served now. */
@@ -232,6 +251,7 @@ export class LockstepFeed implements SimulationObserver {
       f.tokens--
       this.roomTokens--
       f.waiting = false
+      f.runStart = this.sim.tick + 1
       f.syncs++
       f.conn.sendBytes(bytes)
     }

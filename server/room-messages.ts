@@ -1,16 +1,25 @@
 /*
  * What a joined player's messages do in its room: inputs are queued for the next tick, acks move
- * the player's snapshot baseline, pings are answered with the room tick, lockstep reports go to
- * the feed. The same code runs on the main thread (--workers 0) and inside a room worker; the
- * transport validates every message, checks access and counts it against the message rate first,
- * and turns the strikes reported here into its own strike rules.
+ * the player's snapshot baseline, pings are answered with the room tick, lockstep reports (and a
+ * join's hold) go to the feed. The same code runs on the main thread (--workers 0) and inside a
+ * room worker; the transport validates every message, checks access and counts it against the
+ * message rate first, and turns the strikes reported here into its own strike rules.
  */
 import type { ClientMessage } from '../shared/index.ts'
 import type { Room } from './room.ts'
 import type { RoomPlayer } from './room-player.ts'
 
-/** The messages a joined player sends to its room (everything but `join`). */
-export type RoomMessage = Exclude<ClientMessage, { t: 'join' }>
+/**
+ * A lockstep or predict player's `join.hold`, handed to its room right after the join (the join
+ * itself travels to a room worker without it): never a message a client sends.
+ */
+export interface HoldMessage {
+  t: 'hold'
+  hold: number
+}
+
+/** The messages a joined player sends to its room (everything but `join`), and its join's hold. */
+export type RoomMessage = Exclude<ClientMessage, { t: 'join' }> | HoldMessage
 
 /** A strike against the sender: over its per-tick input budget, or a message its room refused (`seq` of an input). */
 export type Strike = (
@@ -44,6 +53,9 @@ export function handleRoomMessage(
         return
       }
       player.conn.send({ t: 'pong', id: message.id, time: message.time, tick: room.tick + clockFraction })
+      return
+    case 'hold':
+      room.feed.setHold(player.id, message.hold)
       return
     case 'desync':
     case 'resync': {

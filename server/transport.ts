@@ -421,6 +421,9 @@ export class Transport {
     })
     if (!seat) return
     session.seat = seat
+    // The feed holds empty ticks for lockstep players; the join reaches a room worker without it.
+    if (message.hold !== undefined && message.mode !== 'snapshot')
+      seat.deliver({ t: 'hold', hold: message.hold })
     this.metrics.clients.set(this.rooms.playerCount)
   }
 

@@ -57,6 +57,16 @@ export const MAX_ROPE_LENGTH = 100
 /** Most contacts one `contacts` message carries (each has at most 2 points): about 2 kB. */
 export const MAX_INSPECT_CONTACTS = 16
 
+/**
+ * Largest `join.hold` (ticks): the most empty ticks the server may hold back before it sends them
+ * to a lockstep or predict client as one `ticks` message (a hash checkpoint, every 60 ticks, is
+ * sent at once anyway).
+ */
+export const MAX_HOLD = 60
+
+/** Hold (ticks) for a lockstep or predict client whose join does not say: 2, the stream at 30 Hz at least. */
+export const DEFAULT_HOLD = 2
+
 /** Largest reconnect token length (characters). */
 export const MAX_TOKEN_LENGTH = 64
 

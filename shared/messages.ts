@@ -238,6 +238,11 @@ export interface JoinMessage {
   mode: JoinMode
   /** Reconnect token from an earlier welcome, to keep the same player id. */
   token?: string
+  /**
+   * Lockstep and predict: the most empty ticks (1-60) the server may hold back and send as one
+   * `ticks` message (DEFAULT_HOLD when absent); ignored in snapshot mode.
+   */
+  hold?: number
 }
 /** One input command with the client's sequence number. */
 export interface InputMessage {

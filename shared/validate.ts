@@ -12,6 +12,7 @@
 import type { DecodeResult } from './codec.ts'
 import {
   MAX_GRAVITY,
+  MAX_HOLD,
   MAX_NAME_LENGTH,
   MAX_SHAPE_EXTENT,
   MAX_TOKEN_LENGTH,
@@ -228,7 +229,7 @@ function validateJoin(value: unknown): ClientMessage {
   const m = fields(
     value,
     'join',
-    ['t', 'v', 'room', 'name', 'mode', 'token'],
+    ['t', 'v', 'room', 'name', 'mode', 'token', 'hold'],
     ['t', 'v', 'room', 'name', 'mode'],
   )
   const room = str(m.room, 'room', 32)
@@ -241,6 +242,7 @@ function validateJoin(value: unknown): ClientMessage {
     throw new SchemaError('mode must be "snapshot", "lockstep" or "predict"')
   const join: ClientMessage = { t: 'join', v: PROTOCOL_VERSION, room, name, mode: m.mode }
   if (m.token !== undefined && m.token !== null) join.token = str(m.token, 'token', MAX_TOKEN_LENGTH)
+  if (m.hold !== undefined && m.hold !== null) join.hold = int(m.hold, 'hold', 1, MAX_HOLD)
   return join
 }
 
@@ -248,7 +250,7 @@ function validateClient(value: unknown): ClientMessage {
   const t = fields(
     value,
     'message',
-    ['t', 'v', 'room', 'name', 'mode', 'token', 'seq', 'cmd', 'tick', 'id', 'time', 'hash', 'server'],
+    ['t', 'v', 'room', 'name', 'mode', 'token', 'hold', 'seq', 'cmd', 'tick', 'id', 'time', 'hash', 'server'],
     ['t'],
   ).t
   switch (t) {
