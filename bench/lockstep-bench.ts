@@ -61,7 +61,12 @@ async function phase(room: { tick: number }, clients: Counted, seconds: number) 
 const HOLDS = [2, 30, 60]
 
 async function bandwidth() {
-  const config = loadConfig([], {}, { port: 0, logLevel: 'silent', defaultScene: 'empty', maxBodies: 5000 })
+  // Rooms on the main thread: the bench loads a blueprint into its room and reads its tick.
+  const config = loadConfig(
+    [],
+    {},
+    { port: 0, logLevel: 'silent', defaultScene: 'empty', maxBodies: 5000, workers: 0 },
+  )
   const server = await startServer(config, { logger: pino({ level: 'silent' }), processMetrics: false })
   const url = server.url
   const room = server.rooms.getOrCreate('bw')

@@ -16,13 +16,14 @@ import type { RunningServer } from '../../server/server.ts'
 import type { TicksMessage } from '../../shared/index.ts'
 import { type Decoded, DocClient } from './doc-client.ts'
 import { driveClock } from './lockstep-bots.ts'
-import { startTestServer } from './test-server.ts'
+import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
 let pings = 0
 
 beforeAll(async () => {
-  server = await startTestServer({ roomControls: true })
+  // The test runs the room ticks itself: rooms on the main thread.
+  server = await startTestServer({ ...inProcessRooms, roomControls: true })
   server.rooms.clock.stop()
 })
 afterAll(async () => {
