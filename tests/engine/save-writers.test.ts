@@ -1,0 +1,106 @@
+/*
+ * The save writers (engine/world-state.ts) name every field instead of looping over the field
+ * lists (for speed); the readers loop over the lists. Here each writer's bytes are compared with
+ * an independent writer that loops over the lists, on objects whose every listed field holds a
+ * distinct value, so a field left out, written twice or out of order changes the bytes.
+ */
+import { describe, expect, it } from 'vitest'
+import { Body, DYNAMIC } from '../../engine/body.ts'
+import { Contact } from '../../engine/contact.ts'
+import { Joint } from '../../engine/joint.ts'
+import { ByteWriter } from '../../engine/save-format.ts'
+import { box } from '../../engine/shapes.ts'
+import {
+  BODY_MATERIAL_FIELDS,
+  BODY_STATE_FIELDS,
+  JOINT_FIELDS,
+  POINT_FIELDS,
+  writeBody,
+  writeContact,
+  writeJoint,
+} from '../../engine/world-state.ts'
+
+type Fields = Record<string, number>
+
+/** Give every listed field a value of its own: 1.5, 2.5, 3.5 ... */
+function distinct(target: object, fields: readonly string[], start: number): number {
+  let v = start
+  for (const f of fields) (target as Fields)[f] = v++ + 0.5
+  return v
+}
+
+const bytesOf = (write: (w: ByteWriter) => void): number[] => {
+  const w = new ByteWriter()
+  write(w)
+  return [...w.bytes.subarray(0, w.length)]
+}
+
+function makeBodies(): [Body, Body] {
+  const a = new Body(3, DYNAMIC, box(0.5, 0.25))
+  const b = new Body(7, DYNAMIC, box(1, 2))
+  return [a, b]
+}
+
+describe('save writers follow the field lists', () => {
+  it('writeBody writes the material and state fields in list order', () => {
+    const [body] = makeBodies()
+    const next = distinct(body, BODY_MATERIAL_FIELDS, 0)
+    distinct(body, BODY_STATE_FIELDS, next)
+    body.enableSleep = true
+    body.awake = true
+    const fast = bytesOf((w) => writeBody(w, body))
+    const oracle = bytesOf((w) => {
+      w.f64(body.id)
+      w.u8(body.type)
+      // box shape: kind 1, half width, half height
+      w.u8(1)
+      w.f64(0.5)
+      w.f64(0.25)
+      for (const f of BODY_MATERIAL_FIELDS) w.f64(body[f])
+      w.u8(2 | 8)
+      for (const f of BODY_STATE_FIELDS) w.f64(body[f])
+    })
+    expect(fast).toEqual(oracle)
+  })
+
+  it('writeContact writes each point field in list order, for 0, 1 and 2 points', () => {
+    const [a, b] = makeBodies()
+    for (const points of [0, 1, 2]) {
+      const c = new Contact(a, b)
+      const next = distinct(c, POINT_FIELDS[0], 100)
+      distinct(c, POINT_FIELDS[1], next)
+      c.normalX = 0.6
+      c.normalY = -0.8
+      c.touching = points > 0
+      c.pointCount = points
+      const fast = bytesOf((w) => writeContact(w, c))
+      const oracle = bytesOf((w) => {
+        w.f64(a.id)
+        w.f64(b.id)
+        w.u8(points > 0 ? 1 : 0)
+        w.u8(points)
+        w.f64(0.6)
+        w.f64(-0.8)
+        for (let j = 0; j < points; j++) for (const f of POINT_FIELDS[j]) w.f64((c as unknown as Fields)[f])
+      })
+      expect(fast, `${points} points`).toEqual(oracle)
+    }
+  })
+
+  it('writeJoint writes the joint fields in list order', () => {
+    const [a, b] = makeBodies()
+    const j = new Joint(11, 1, a, b)
+    distinct(j, JOINT_FIELDS, 200)
+    j.enableMotor = true
+    const fast = bytesOf((w) => writeJoint(w, j))
+    const oracle = bytesOf((w) => {
+      w.f64(11)
+      w.u8(1)
+      w.f64(a.id)
+      w.f64(b.id)
+      w.u8(2)
+      for (const f of JOINT_FIELDS) w.f64(j[f])
+    })
+    expect(fast).toEqual(oracle)
+  })
+})
