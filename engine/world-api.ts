@@ -52,6 +52,7 @@ export class WorldApi extends WorldStore {
 
   /** Creates a body; ids are handed out 1, 2, 3... and never reused. Throws on an invalid definition. */
   createBody(def: BodyDef): BodyId {
+    this.revision++
     const typeIndex = BODY_TYPES.indexOf(def.type ?? 'dynamic')
     if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${def.type}`)
     const body = new Body(this.nextBodyId, typeIndex, checkShape(def.shape))
@@ -88,6 +89,7 @@ export class WorldApi extends WorldStore {
 
   /** Destroys a body, its contacts and its joints, and wakes everything it touched. */
   destroyBody(id: BodyId): void {
+    this.revision++
     const body = this.body(id)
     for (const j of body.joints.slice()) this.destroyJoint(j.id)
     for (const c of body.contacts.slice()) {
@@ -204,6 +206,7 @@ export class WorldApi extends WorldStore {
 
   /** Teleports a body (origin in m, angle in rad) and wakes it. */
   setTransform(id: BodyId, position: Vec2, angle: number): void {
+    this.revision++
     const b = this.body(id)
     finiteVec('position', position)
     finite('angle', angle)
@@ -220,6 +223,7 @@ export class WorldApi extends WorldStore {
 
   /** Sets the velocity of the centre of mass (m/s) and wakes the body. */
   setLinearVelocity(id: BodyId, v: Vec2): void {
+    this.revision++
     const b = this.body(id)
     finiteVec('linearVelocity', v)
     if (b.type === STATIC) return
@@ -231,6 +235,7 @@ export class WorldApi extends WorldStore {
 
   /** Sets the angular velocity (rad/s) and wakes the body. */
   setAngularVelocity(id: BodyId, w: number): void {
+    this.revision++
     const b = this.body(id)
     finite('angularVelocity', w)
     if (b.type === STATIC || b.fixedRotation) return
@@ -241,6 +246,7 @@ export class WorldApi extends WorldStore {
 
   /** Wakes a body's island, or puts it to sleep. */
   setAwake(id: BodyId, awake: boolean): void {
+    this.revision++
     const b = this.body(id)
     if (awake) this.islands.wake(b)
     else this.islands.sleep(b)
@@ -251,6 +257,7 @@ export class WorldApi extends WorldStore {
    * velocity is clamped to the speed limits (MAX_LINEAR_SPEED, maxAngularSpeed), whatever the impulse.
    */
   applyLinearImpulse(id: BodyId, impulse: Vec2, point: Vec2): void {
+    this.revision++
     const b = this.body(id)
     finiteVec('impulse', impulse)
     finiteVec('point', point)
@@ -269,6 +276,7 @@ export class WorldApi extends WorldStore {
 
   /** Sets gravity (m/s^2) and wakes every body so the change takes effect. */
   setGravity(g: Vec2): void {
+    this.revision++
     finiteVec('gravity', g)
     if (g.x === this.gravityX && g.y === this.gravityY) return
     this.gravityX = g.x
@@ -302,6 +310,7 @@ export class WorldApi extends WorldStore {
 
   /** Creates a joint; ids are handed out 1, 2, 3... and never reused. Wakes both bodies. */
   createJoint(def: JointDef): JointId {
+    this.revision++
     const g = Math.sqrt(this.gravityX * this.gravityX + this.gravityY * this.gravityY) || 10
     const joint = buildJoint(def, this.nextJointId, (id) => this.body(id), this.ground, g)
     this.nextJointId++
@@ -311,6 +320,7 @@ export class WorldApi extends WorldStore {
 
   /** Inserts a joint in id order, links it to its bodies, removes their contact unless they may collide, and wakes them. */
   protected addJoint(joint: Joint): void {
+    this.revision++
     this.jointList.push(joint)
     this.jointMap.set(joint.id, joint)
     joint.bodyA.joints.push(joint)
@@ -328,6 +338,7 @@ export class WorldApi extends WorldStore {
 
   /** Destroys a joint and wakes both bodies so nothing hangs in mid-air. */
   destroyJoint(id: JointId): void {
+    this.revision++
     const joint = this.joint(id)
     this.jointList.splice(this.jointList.indexOf(joint), 1)
     this.jointMap.delete(id)
@@ -353,6 +364,7 @@ export class WorldApi extends WorldStore {
 
   /** Moves a mouse joint's target (m) and wakes its body. */
   setJointTarget(id: JointId, target: Vec2): void {
+    this.revision++
     const joint = this.joint(id)
     if (joint.type !== MOUSE)
       throw new RangeError(`joint ${id} is a ${JOINT_TYPE_NAMES[joint.type]} joint, not a mouse joint`)

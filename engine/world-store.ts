@@ -78,6 +78,11 @@ export class WorldStore {
   gravityX: number
   gravityY: number
   tickCount = 0
+  /**
+   * Bumped by every step and every public method that changes the world (World.hash() is cached
+   * until it changes: a room and its recorder hash the same tick).
+   */
+  revision = 0
   nextBodyId = 1
   nextJointId = 1
 

@@ -59,6 +59,7 @@ import { resolveWorldDef } from './world-store.ts'
 export class World extends WorldApi {
   /** Advances the world by exactly one fixed step of 1/60 s. */
   step(): void {
+    this.revision++
     this.updatePairs()
     this.collide()
     this.buildSolverSets()
@@ -85,10 +86,20 @@ export class World extends WorldApi {
     return saveWorld(this.writer, this)
   }
 
-  /** A 32-bit unsigned hash (FNV-1a) of the whole simulation state: the payload that save() writes. */
+  /**
+   * A 32-bit unsigned hash (FNV-1a) of the whole simulation state: the payload that save() writes.
+   * Computed once per revision (nothing changed since the last call: the same value).
+   */
   hash(): number {
-    return hashWorld(this.writer, this)
+    if (this.hashedRevision !== this.revision) {
+      this.hashValue = hashWorld(this.writer, this)
+      this.hashedRevision = this.revision
+    }
+    return this.hashValue
   }
+
+  private hashedRevision = -1
+  private hashValue = 0
 
   private readonly writer = new ByteWriter()
   /** Contacts created this step (sorted), and destroyed contacts kept for reuse. */
