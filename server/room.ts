@@ -14,7 +14,8 @@
  *      encoded once; new bodies carry their pose after this tick's step, and a spawned body the
  *      spawner's player id and input seq
  *   4. on snapshot ticks: quantize the world once into a shared frame, then write each player's
- *      delta against its own acknowledged baseline within its byte budget, followed by the
+ *      delta against its own acknowledged baseline within its byte budget (players whose
+ *      baselines are equal, the usual case, share one encoded message), followed by the
  *      contacts of the body it inspects, if any; a player whose connection has too much buffered
  *      is skipped, and closed if it stays behind
  *   5. every second: a state hash checkpoint, forget departed players past the reconnect window
@@ -32,6 +33,7 @@ import { SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
 import {
   ByteWriter,
   type Command,
+  type EncodeStats,
   encodeMessage,
   isMovable,
   type JoinMode,
@@ -40,6 +42,7 @@ import {
   quantizePosition,
   type RoomRules,
   type ServerMessage,
+  type SnapshotEncoder,
   TICK_RATE,
   type WireBody,
   type WireJoint,
@@ -56,6 +59,12 @@ import { encodeInspections, fillFrame, fullState, refreshPose, wireBody } from '
 
 /** How many ticks' worth of inputs over the budget may wait for later ticks before refusals. */
 export const WAITING_TICKS = 4
+
+/** A snapshot encoded this tick, for players with the same baseline (SnapshotEncoder.follow). */
+interface SharedSnapshot {
+  encoder: SnapshotEncoder
+  bytes: Uint8Array
+}
 
 /** A queued input: who sent it, its sequence number and the validated command. */
 interface QueuedInput {
@@ -400,18 +409,26 @@ export class Room {
     for (const p of this.players.values()) if (p.inspect !== 0) inspected.add(p.inspect)
     const contacts = encodeInspections(this.world, this.tick, inspected, this.sim.userJoints)
     let staleness = 0
+    const shared: SharedSnapshot[] = []
     for (const p of this.players.values()) {
       if (p.lockstep) continue
-      staleness = Math.max(staleness, this.sendSnapshot(p, cursors, contacts.get(p.inspect)))
+      staleness = Math.max(staleness, this.sendSnapshot(p, cursors, contacts.get(p.inspect), shared))
     }
     this.lastMaxStaleness = staleness
   }
 
   /**
    * Send one player its snapshot and, when it inspects a body, that body's contacts; or skip both
-   * when its connection has too much buffered. Returns the snapshot's staleness.
+   * when its connection has too much buffered. Returns the snapshot's staleness. A player whose
+   * baseline equals that of a player already encoded this tick gets the same message bytes
+   * (SnapshotEncoder.follow); otherwise its encode joins `shared` for the players after it.
    */
-  private sendSnapshot(player: RoomPlayer, cursors: number[], contacts: Uint8Array | undefined): number {
+  private sendSnapshot(
+    player: RoomPlayer,
+    cursors: number[],
+    contacts: Uint8Array | undefined,
+    shared: SharedSnapshot[],
+  ): number {
     if (player.dropped) return 0
     const buffered = player.conn.buffered()
     if (buffered > this.config.sendBufferBytes) {
@@ -436,12 +453,25 @@ export class Room {
       return 0
     }
     player.behindSince = -1
-    this.writer.reset()
-    const base = player.encoder.referenceTick
-    const stats = player.encoder.encode(this.writer, this.frame, this.tick, this.budget, this.weight)
-    const data = this.writer.bytes.subarray(0, this.writer.length)
+    let bytes: Uint8Array | null = null
+    let stats: EncodeStats | null = null
+    for (const s of shared) {
+      stats = player.encoder.follow(s.encoder, this.frame, this.tick, this.budget)
+      if (stats) {
+        bytes = s.bytes
+        break
+      }
+    }
+    if (!bytes || !stats) {
+      this.writer.reset()
+      const base = player.encoder.referenceTick
+      stats = player.encoder.encode(this.writer, this.frame, this.tick, this.budget, this.weight)
+      const data = this.writer.bytes.subarray(0, this.writer.length)
+      bytes = encodeMessage({ t: 'snap', tick: this.tick, base, data, cursors })
+      shared.push({ encoder: player.encoder, bytes })
+    }
     // Marked as the snapshot of this tick: its ack tells how far the client has read.
-    player.conn.sendBytes(encodeMessage({ t: 'snap', tick: this.tick, base, data, cursors }), this.tick)
+    player.conn.sendBytes(bytes, this.tick)
     if (contacts) player.conn.sendBytes(contacts)
     return stats.maxStaleness
   }

@@ -114,6 +114,23 @@ export class QuantizedFrame {
     this.count = other.count
   }
 
+  /** True if both frames hold the same bodies with the same poses and awake bits. */
+  equals(other: QuantizedFrame): boolean {
+    if (this.count !== other.count) return false
+    for (let i = 0; i < this.count; i++) {
+      const id = this.ids[i]
+      if (
+        other.ids[i] !== id ||
+        this.x[id] !== other.x[id] ||
+        this.y[id] !== other.y[id] ||
+        this.a[id] !== other.a[id] ||
+        this.flags[id] !== other.flags[id]
+      )
+        return false
+    }
+    return true
+  }
+
   /** True if the body's pose and awake bit equal those in `other` (both must have it). */
   sameAs(other: QuantizedFrame, id: number): boolean {
     return (

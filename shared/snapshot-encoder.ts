@@ -12,6 +12,11 @@
  * sent; otherwise each candidate's priority grows every snapshot (faster when awake or important,
  * e.g. grabbed) and the highest-priority bodies that fit are sent and reset to zero (Fiedler,
  * "State Synchronization"), so every body is refreshed eventually and bandwidth stays bounded.
+ *
+ * Clients of one room usually acknowledge the same snapshots, so their references are equal. An
+ * encode that fitted the budget depends only on the frame and the reference, so another client
+ * with an equal reference can take it over (`follow`): the same update bytes, and the same
+ * bookkeeping as its own encode would have done, without writing anything again.
  */
 import type { ByteWriter } from './byte-io.ts'
 import { FRAME_AWAKE, QuantizedFrame } from './quantized-frame.ts'
@@ -52,6 +57,8 @@ export class SnapshotEncoder {
   private sizes = new Int32Array(64)
   private readonly histogram = new Int32Array(PRIORITY_BUCKETS)
   private chosen = new Int32Array(64)
+  /** The last encode: its tick, whether every candidate fitted, its updates and stats. */
+  private last = { tick: -1, complete: false, updates: new Int32Array(0), candidates: 0, bytes: 0 }
 
   /** Start over from a full state the client received (welcome or state message). */
   reset(frame: QuantizedFrame, tick: number): void {
@@ -132,7 +139,40 @@ export class SnapshotEncoder {
     }
     writeUpdates(out, frame, ref, ids, count)
     this.remember(tick, updates)
+    this.last = { tick, complete: count === n, updates, candidates: n, bytes }
     return { candidates: n, sent: count, maxStaleness }
+  }
+
+  /**
+   * Take over `leader`'s encode of `frame` at `tick` when it applies to this client too: the
+   * leader encoded this tick, every candidate fitted its budget and fits `budget` (this client's),
+   * and both references are equal (same tick and same poses). Then this client's encode would
+   * write the same bytes (the caller sends the leader's message), and this does that encode's
+   * bookkeeping: pending snapshot, priorities and waiting times. Returns the stats, or null when
+   * the encode does not apply (then call encode).
+   */
+  follow(leader: SnapshotEncoder, frame: QuantizedFrame, tick: number, budget: number): EncodeStats | null {
+    const last = leader.last
+    if (last.tick !== tick || !last.complete || last.bytes > budget) return null
+    if (leader.referenceTick !== this.referenceTick || !this.reference.equals(leader.reference)) return null
+    this.grow(frame.capacity, frame.count)
+    // Bodies equal to the reference are not waiting; the candidates (every update) were all sent.
+    for (let i = 0; i < frame.count; i++) {
+      const id = frame.ids[i]
+      this.priority[id] = 0
+      if (frame.sameAs(this.reference, id)) this.waitingSince[id] = -1
+    }
+    const u = last.updates
+    let maxStaleness = 0
+    for (let k = 0; k < u.length; k += 5) {
+      const id = u[k]
+      const since = this.waitingSince[id]
+      maxStaleness = Math.max(maxStaleness, since < 0 ? 0 : tick - since)
+      this.waitingSince[id] = tick
+    }
+    this.remember(tick, u)
+    this.last = { tick, complete: true, updates: u, candidates: last.candidates, bytes: last.bytes }
+    return { candidates: last.candidates, sent: last.candidates, maxStaleness }
   }
 
   /**
