@@ -48,6 +48,18 @@ const WORKER_METRICS = new Set([
   'concord_worker_bytes_out_total',
 ])
 
+/**
+ * Room metrics only rooms count: with every room on a worker, this thread's own copies stay empty
+ * and are left out of /metrics. An empty unlabelled series listed first would otherwise read as
+ * the total to anything taking the first match (the page's HUD read its tick time as none).
+ */
+const ROOM_ONLY_METRICS = new Set([
+  'concord_room_tick_seconds',
+  'concord_snapshots_skipped_total',
+  'concord_desyncs_total',
+  'concord_rooms_closed_over_budget_total',
+])
+
 /** How long shutdown waits for workers to close their logs (ms). */
 const SHUTDOWN_WAIT_MS = 3000
 
@@ -260,7 +272,9 @@ export class WorkerPool implements RoomHost {
 
   /** /metrics: this process's metrics with every worker's merged in (worker label). */
   async metricsText(): Promise<string> {
-    const own = (await this.metrics.registry.getMetricsAsJSON()) as Metrics
+    const own = ((await this.metrics.registry.getMetricsAsJSON()) as Metrics).filter(
+      (m) => !ROOM_ONLY_METRICS.has(m.name),
+    )
     const parts = [own, ...this.links.map((l) => l.metrics.filter((m) => WORKER_METRICS.has(m.name)))]
     return AggregatorRegistry.aggregate(parts).metrics()
   }

@@ -1,4 +1,5 @@
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { meanTickMs } from '../../client/server-stats.ts'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { waitUntil } from './raw-client.ts'
@@ -24,7 +25,18 @@ describe('HTTP routes', { timeout: 20_000 }, () => {
     }>
     expect(rooms.find((r) => r.name === 'listed')?.players).toBe(1)
     expect(rooms.find((r) => r.name === 'lobby')?.players).toBe(0)
-    const metrics = await (await fetch(`${server.url}/metrics`)).text()
+    // Rooms on workers report their metrics once a second: wait for the first report.
+    let metrics = ''
+    await waitUntil(async () => {
+      metrics = await (await fetch(`${server.url}/metrics`)).text()
+      return metrics.includes('concord_room_tick_seconds_bucket')
+    }, 'the room metrics')
+    // Rooms tick only on the workers: every room tick series names its worker, and the page's HUD
+    // (client/server-stats.ts) reads a mean tick time from the text (not an empty series of this thread).
+    const roomTick = metrics.split('\n').filter((l) => l.startsWith('concord_room_tick_seconds'))
+    expect(roomTick.length).toBeGreaterThan(0)
+    for (const line of roomTick) expect(line).toMatch(/\{(.*,)?worker="\d+"/)
+    expect(meanTickMs(metrics, null)?.meanMs).toBeGreaterThan(0)
     for (const name of [
       'concord_rooms 2',
       'concord_clients 1',

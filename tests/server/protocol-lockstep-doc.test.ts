@@ -18,7 +18,7 @@ import type { RunningServer } from '../../server/server.ts'
 import { type Decoded, DocClient } from './doc-client.ts'
 import { documentedEntryKinds, documentedFields } from './doc-tables.ts'
 import { waitUntil } from './raw-client.ts'
-import { inProcessRooms, startTestServer } from './test-server.ts'
+import { startTestServer } from './test-server.ts'
 
 /** FNV-1a, 32-bit, written here from its definition (not the engine's). */
 function fnv1a32(bytes: Uint8Array): number {
@@ -30,8 +30,7 @@ function fnv1a32(bytes: Uint8Array): number {
 let server: RunningServer
 
 beforeAll(async () => {
-  // Rooms on the main thread: this file waits on a room's own tick.
-  server = await startTestServer({ ...inProcessRooms, roomControls: true })
+  server = await startTestServer({ roomControls: true })
 })
 afterAll(async () => {
   await server.close()
@@ -104,8 +103,15 @@ describe('PROTOCOL.md, Lockstep and predict', { timeout: 90_000 }, () => {
       () => kindsSeen(ls).has(13) && kindsSeen(ls).has(1),
       'the reset and the leave in the stream',
     )
-    const resetAt = server.rooms.get(room)?.tick ?? 0
-    await waitUntil(() => (server.rooms.get(room)?.tick ?? 0) > resetAt + 12, 'the scene-load limit')
+    // The room's tick from the stream itself: the reset's entry, and the last tick covered so far.
+    const resetAt = Math.max(
+      ...entries(ls)
+        .filter((x) => x.e[2] === 13)
+        .map((x) => x.tick),
+    )
+    const covered = (): number =>
+      Math.max(0, ...ls.all('ticks').map((m) => (m.tick as number) + (m.n as number) - 1))
+    await waitUntil(() => covered() > resetAt + 12, 'the scene-load limit')
     actor.command({ k: 'scene', name: 'tower' })
     await waitUntil(() => kindsSeen(ls).size === 15, 'all 15 entry kinds', 30_000)
 

@@ -8,7 +8,7 @@ import { listLogNames } from '../../server/replay-files.ts'
 import { crc32 } from '../../shared/crc32.ts'
 import { PREAMBLE_BYTES } from '../../shared/replay-log.ts'
 import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
-import { inProcessRooms, startTestServer } from './test-server.ts'
+import { startTestServer } from './test-server.ts'
 
 let dir: string
 let log: Uint8Array
@@ -17,9 +17,7 @@ let ends: number[]
 
 beforeAll(async () => {
   dir = await mkdtemp(join(tmpdir(), 'concord-cli-'))
-  // Rooms on the main thread: this file waits on the live room's tick.
   const server = await startTestServer({
-    ...inProcessRooms,
     record: true,
     replayDir: dir,
     keyframeTicks: 60,
@@ -27,8 +25,8 @@ beforeAll(async () => {
   })
   const bot = await BotClient.connect({ url: server.url, room: 'cli', name: 'ada' })
   bot.command({ k: 'spawn', shape: { type: 'circle', radius: 0.5 }, x: 0, y: 12 })
-  const room = server.rooms.get('cli')!
-  for (let i = 0; room.tick < 200; i++) {
+  // The room's tick as ada sees it: the room runs (and records) on a worker thread.
+  for (let i = 0; bot.mirror.tick < 200; i++) {
     bot.command({ k: 'move', x: i % 7, y: 3 })
     await new Promise((r) => setTimeout(r, 30))
   }
