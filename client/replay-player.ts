@@ -4,8 +4,9 @@
  *
  * "The state at tick T" is the simulation with its room tick at T and every record of ticks up to
  * and including T applied: exactly what the room held after its commands at T, before the step to
- * T + 1. Seeking to T restores the newest keyframe at or before T (the header is the first one)
- * and applies the records after it, so a seek costs at most one keyframe interval of simulation.
+ * T + 1. Seeking to T restores the newest keyframe at or before T (the header is the first one;
+ * a delta keyframe is decoded through its chain from the last whole one, see deltaChain) and
+ * applies the records after it, so a seek costs at most one keyframe interval of simulation.
  * Playing forward applies the same records in the same order, so a seek and a play-through reach
  * bit-identical worlds (the hash check below is on in both).
  *
@@ -16,6 +17,7 @@ import type { Preamble, ReplayRecord } from '../shared/replay-log.ts'
 import { type ReadStatus, ReplayLogReader } from '../shared/replay-log-reader.ts'
 import {
   type Divergence,
+  deltaChain,
   type HeaderRecord,
   type Inflate,
   incompatibility,
@@ -79,11 +81,15 @@ export class ReplayPlayer {
   /** The first hash (or refused command) that did not match the log, kept across seeks. */
   mismatch: Divergence | null = null
   private next = 0
+  /** The header, then every keyframe, in log order (what deltaChain walks). */
+  private readonly stored: Array<HeaderRecord | KeyframeRecord>
 
   private constructor(
     readonly log: LoadedLog,
     private readonly runner: ReplayRunner,
-  ) {}
+  ) {
+    this.stored = [log.header, ...log.keyframes.map((i) => log.records[i] as KeyframeRecord)]
+  }
 
   /** A player at the log's first tick. */
   static async open(log: LoadedLog, inflate: Inflate, listener?: SimulationListener): Promise<ReplayPlayer> {
@@ -131,9 +137,7 @@ export class ReplayPlayer {
       return
     }
     const k = this.keyframeBefore(target)
-    const from: KeyframeRecord | HeaderRecord =
-      k < 0 ? this.log.header : (this.log.records[k] as KeyframeRecord)
-    await this.runner.restore(from)
+    await this.runner.restore(deltaChain(this.stored, k < 0 ? 0 : this.log.keyframes.indexOf(k) + 1))
     this.next = k + 1
     await this.forwardTo(target)
   }

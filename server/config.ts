@@ -38,6 +38,7 @@ export interface ServerConfig {
   record: boolean
   replayFsync: string
   keyframeTicks: number
+  keyframeBudget: number
   replayMaxBytes: number
   replayKeep: number
   recover: boolean
@@ -313,6 +314,16 @@ export const SETTINGS: readonly Setting[] = [
     min: 60,
     max: 216_000,
     help: 'ticks between saved-world keyframes in a log (seek and recovery start points)',
+  },
+  {
+    key: 'keyframeBudget',
+    flag: '--keyframe-budget',
+    env: 'KEYFRAME_BUDGET',
+    kind: 'int',
+    fallback: 12,
+    min: 0,
+    max: 100_000,
+    help: 'MB of keyframes a log may hold per hour (a busy room gets fewer keyframes); 0 for no limit',
   },
   {
     key: 'replayMaxBytes',

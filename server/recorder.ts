@@ -1,12 +1,14 @@
 /*
  * One room's recorder: an observer of the room's RoomSimulation that appends every state change
  * to the room's log (format: shared/replay-log.ts). It never blocks the tick loop: records are
- * encoded into memory as they happen (keyframe compression runs on libuv's pool), and a chain of
- * asynchronous writes appends them, at least once a second (every tick with fsync "always"), and
- * on close. Each flush ends with a hash record for the current tick, so the durable part of a log
- * always ends at a verified checkpoint: crash recovery resumes exactly there.
+ * kept in memory as they happen, and a chain of asynchronous writes appends them, at least once a
+ * second (every tick with fsync "always"), and on close. The small records of a flush go out as
+ * one deflated block record (compression runs on libuv's pool, like keyframes'). Each flush ends
+ * with a hash record for the current tick, so the durable part of a log always ends at a verified
+ * checkpoint: crash recovery resumes exactly there.
  *
- * A hash record every 60 ticks, a keyframe (state + saved world) every keyframeTicks. A log past
+ * A hash record every 60 ticks; a keyframe (state + saved world, whole or as a delta against the
+ * previous one) at multiples of keyframeTicks as keyframe-policy.ts decides. A log past
  * maxBytes is closed (reason "rotated") and a new one starts with a header at the current state.
  * Any write error stops recording for this room: one log line, concord_recorder_failures_total,
  * and the room keeps running.
@@ -19,14 +21,19 @@ import { deflate } from 'node:zlib'
 import type { Logger } from 'pino'
 import type { Counter } from 'prom-client'
 import { SAVE_FORMAT_VERSION } from '../engine/index.ts'
+import { encodeByteDelta } from '../shared/byte-delta.ts'
 import { type Command, PROTOCOL_VERSION, TICK_RATE } from '../shared/index.ts'
 import {
+  type BlockableRecord,
+  encodeBlockEntries,
   encodePreamble,
   encodeRecord,
+  frameBlock,
   REPLAY_FORMAT_VERSION,
   type ReplayRecord,
 } from '../shared/replay-log.ts'
 import type { RoomSimulation, SimulationObserver } from '../shared/room-simulation.ts'
+import { KeyframePolicy } from './keyframe-policy.ts'
 import { logFileName, pruneLogs } from './replay-files.ts'
 
 const deflateAsync = promisify(deflate)
@@ -59,9 +66,11 @@ export interface RecorderOptions {
   dir: string
   fsync: 'none' | 'interval' | 'always'
   keyframeTicks: number
+  /** Keyframe bytes allowed per hour of a log (0 or absent: no limit), see keyframe-policy.ts. */
+  keyframeBudget?: number
   maxBytes: number
   keep: number
-  /** Deflate saved worlds (header, keyframes, world loads). */
+  /** Deflate saved worlds (header, keyframes, world loads) and write delta keyframes. */
   compress: boolean
   log: Logger
   failures: Counter
@@ -79,7 +88,14 @@ export class RoomRecorder implements SimulationObserver {
   /** Bytes written or queued in the current log. */
   bytes = 0
   private queue: Array<Uint8Array | Promise<Uint8Array>> = []
+  /** Small records not yet sealed into a block. */
+  private small: BlockableRecord[] = []
   private pendingBytes = 0
+  /** Bumped per file, so a late compression result corrects the right file's size. */
+  private generation = 0
+  /** The saved world of the last header or keyframe of this file (a delta's base), or null. */
+  private base: Uint8Array | null = null
+  private readonly keyframes: KeyframePolicy
   private file: Promise<LogFile> | null = null
   private chain: Promise<void> = Promise.resolve()
   /** Records queued since the last hash or keyframe. */
@@ -93,6 +109,7 @@ export class RoomRecorder implements SimulationObserver {
     private readonly options: RecorderOptions,
   ) {
     this.openLog = options.openLog ?? openLogFile
+    this.keyframes = new KeyframePolicy(options.keyframeTicks, options.keyframeBudget ?? 0, TICK_RATE)
   }
 
   /** Start a new log at the simulation's current state and begin observing. */
@@ -109,6 +126,9 @@ export class RoomRecorder implements SimulationObserver {
   resume(name: string, size: number): void {
     this.name = name
     this.bytes = size
+    this.generation++
+    this.base = null
+    this.keyframes.reset(this.sim.tick, false, 0)
     this.options.openNames.add(name)
     this.file = this.openLog(join(this.options.dir, name), 'append')
     this.file.catch((error) => this.fail(error))
@@ -117,15 +137,15 @@ export class RoomRecorder implements SimulationObserver {
   }
 
   command(tick: number, playerId: number, cmd: Command): void {
-    this.push({ type: 'command', tick, player: playerId, cmd })
+    this.pushSmall({ type: 'command', tick, player: playerId, cmd })
   }
 
   join(tick: number, playerId: number, name: string, color: string): void {
-    this.push({ type: 'join', tick, player: playerId, name, color })
+    this.pushSmall({ type: 'join', tick, player: playerId, name, color })
   }
 
   leave(tick: number, playerId: number): void {
-    this.push({ type: 'leave', tick, player: playerId })
+    this.pushSmall({ type: 'leave', tick, player: playerId })
   }
 
   worldLoaded(tick: number, scene: string): void {
@@ -135,7 +155,8 @@ export class RoomRecorder implements SimulationObserver {
   ticked(tick: number): void {
     if (this.failed) return
     if (tick % TICK_RATE === 0) this.pushHash()
-    if (tick % this.options.keyframeTicks === 0) this.pushKeyframe()
+    const keyframe = this.keyframes.decide(tick)
+    if (keyframe !== 'none') this.pushKeyframe(keyframe)
     if (this.bytes >= this.options.maxBytes) this.rotate()
     else if (this.options.fsync === 'always') this.flush()
   }
@@ -144,6 +165,7 @@ export class RoomRecorder implements SimulationObserver {
   flush(): Promise<void> {
     if (this.failed || !this.file) return this.chain
     if (this.dirty) this.pushHash()
+    this.sealBlock()
     if (this.queue.length === 0) return this.chain
     const batch = this.queue
     const file = this.file
@@ -169,7 +191,7 @@ export class RoomRecorder implements SimulationObserver {
     if (this.closed) return
     this.closed = true
     this.stopObserving()
-    if (!this.failed) this.push({ type: 'close', tick: this.sim.tick, reason, end: Date.now() })
+    if (!this.failed) this.pushSmall({ type: 'close', tick: this.sim.tick, reason, end: Date.now() })
     await this.closeFile()
   }
 
@@ -213,6 +235,7 @@ export class RoomRecorder implements SimulationObserver {
     this.name = base
     this.options.openNames.add(base)
     this.bytes = 0
+    this.generation++
     this.file = (async () => {
       for (let counter = 0; ; counter++) {
         const name = counter === 0 ? base : logFileName(this.room, now, counter)
@@ -243,7 +266,10 @@ export class RoomRecorder implements SimulationObserver {
     const state = sim.saveState()
     const tick = sim.tick
     const scene = sim.scene
-    this.pushWorld(sim.world.save(), (z, world) => ({
+    const saved = sim.world.save()
+    this.base = this.options.compress ? saved : null
+    this.keyframes.reset(tick, this.base !== null, saved.length * 0.63)
+    this.pushWorld(saved, (z, world) => ({
       type: 'header',
       tick,
       room: this.room,
@@ -261,50 +287,104 @@ export class RoomRecorder implements SimulationObserver {
   }
 
   private rotate(): void {
-    this.push({ type: 'close', tick: this.sim.tick, reason: 'rotated', end: Date.now() })
+    this.pushSmall({ type: 'close', tick: this.sim.tick, reason: 'rotated', end: Date.now() })
     this.closeFile().catch(() => {})
     this.newFile(Date.now())
   }
 
   private pushHash(): void {
-    this.push({ type: 'hash', tick: this.sim.tick, hash: this.sim.world.hash(), step: this.sim.world.tick })
+    this.pushSmall({
+      type: 'hash',
+      tick: this.sim.tick,
+      hash: this.sim.world.hash(),
+      step: this.sim.world.tick,
+    })
     this.dirty = false
   }
 
-  private pushKeyframe(): void {
+  private pushKeyframe(kind: 'full' | 'delta'): void {
+    this.sealBlock()
     const state = this.sim.saveState()
     const tick = this.sim.tick
-    this.pushWorld(this.sim.world.save(), (z, world) => ({ type: 'keyframe', tick, state, z, world }))
+    const saved = this.sim.world.save()
+    const policy = this.keyframes
+    const generation = this.generation
+    const base = this.options.compress ? this.base : null
+    const written = kind === 'delta' && base ? 'delta' : 'full'
+    const delta = written === 'delta' && base ? encodeByteDelta(base, saved) : null
+    // Measured: a saved world deflates about 1.6x, a delta's literals about 1.1x.
+    const estimate = delta ? delta.length * 0.9 : saved.length * 0.63
+    policy.record(written, estimate)
+    const count = (bytes: Uint8Array): Uint8Array => {
+      if (generation === this.generation) policy.settle(written, estimate, bytes.length)
+      return bytes
+    }
+    if (delta) {
+      this.base = saved
+      this.queueDeflated(delta, saved.length / 4, (world) =>
+        count(encodeRecord({ type: 'keyframe', tick, state, z: 2, world })),
+      )
+    } else {
+      if (this.options.compress) this.base = saved
+      this.pushWorld(saved, (z, world) => ({ type: 'keyframe', tick, state, z, world }), count)
+    }
     this.dirty = false
   }
 
-  private pushWorld(saved: Uint8Array, make: (z: 0 | 1, world: Uint8Array) => ReplayRecord): void {
+  private pushWorld(
+    saved: Uint8Array,
+    make: (z: 0 | 1, world: Uint8Array) => ReplayRecord,
+    count: (bytes: Uint8Array) => Uint8Array = (bytes) => bytes,
+  ): void {
     if (this.failed) return
+    this.sealBlock()
     if (!this.options.compress) {
-      this.push(make(0, saved))
+      this.queueBytes(count(encodeRecord(make(0, saved))))
+      this.dirty = true
       return
     }
-    // Estimated size until compressed (for rotation and the memory bound): a quarter.
-    const estimate = saved.length / 4
-    this.bytes += estimate
-    this.pendingBytes += estimate
+    this.queueDeflated(saved, saved.length / 4, (world) => count(encodeRecord(make(1, world))))
+  }
+
+  /**
+   * Queue a record whose payload is deflated on libuv's pool; `estimate` counts for rotation and
+   * the memory bound until the real size is known.
+   */
+  private queueDeflated(raw: Uint8Array, estimate: number, make: (zlib: Uint8Array) => Uint8Array): void {
+    this.grow(estimate)
+    const generation = this.generation
     this.queue.push(
-      deflateAsync(saved).then((z) =>
-        encodeRecord(make(1, new Uint8Array(z.buffer, z.byteOffset, z.length))),
-      ),
+      deflateAsync(raw).then((z) => {
+        const record = make(new Uint8Array(z.buffer, z.byteOffset, z.length))
+        if (generation === this.generation) this.bytes += record.length - estimate
+        return record
+      }),
     )
   }
 
-  private push(r: ReplayRecord): void {
+  private pushSmall(r: BlockableRecord): void {
     if (this.failed) return
-    this.queueBytes(encodeRecord(r))
+    this.small.push(r)
     this.dirty = true
+  }
+
+  /** Queue the small records gathered since the last block or big record as one block. */
+  private sealBlock(): void {
+    if (this.small.length === 0) return
+    const records = this.small
+    this.small = []
+    const entries = encodeBlockEntries(records)
+    this.queueDeflated(entries, entries.length / 2, (zlib) => frameBlock(records[0].tick, zlib))
   }
 
   private queueBytes(bytes: Uint8Array): void {
     this.queue.push(bytes)
-    this.bytes += bytes.length
-    this.pendingBytes += bytes.length
+    this.grow(bytes.length)
+  }
+
+  private grow(bytes: number): void {
+    this.bytes += bytes
+    this.pendingBytes += bytes
     if (this.pendingBytes > MAX_PENDING_BYTES)
       this.fail(new Error(`${this.pendingBytes} bytes waiting for a disk that does not keep up`))
   }
@@ -313,6 +393,7 @@ export class RoomRecorder implements SimulationObserver {
     if (this.failed) return
     this.failed = true
     this.queue = []
+    this.small = []
     this.pendingBytes = 0
     this.stopObserving()
     this.options.openNames.delete(this.name)

@@ -152,6 +152,7 @@ export class Recordings {
       dir: this.dir,
       fsync: this.config.replayFsync as 'none' | 'interval' | 'always',
       keyframeTicks: this.config.keyframeTicks,
+      keyframeBudget: this.config.keyframeBudget * 1_000_000,
       maxBytes: this.config.replayMaxBytes,
       keep: this.config.replayKeep,
       compress: true,

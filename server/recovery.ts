@@ -35,7 +35,8 @@ export const inflateNode = (bytes: Uint8Array): Uint8Array => new Uint8Array(inf
  * the file; call truncateToCheckpoint before appending.
  */
 export async function recoverLog(dir: string, name: string): Promise<RecoveredRoom> {
-  let base: KeyframeRecord | null = null
+  /** Keyframes from the last whole one (a delta chain decodes from there). */
+  let chain: KeyframeRecord[] = []
   let since: ReplayRecord[] = []
   let pending: ReplayRecord[] = []
   let maxPlayerId = 0
@@ -44,7 +45,7 @@ export async function recoverLog(dir: string, name: string): Promise<RecoveredRo
     if (r.type === 'join' && r.player > maxPlayerId) maxPlayerId = r.player
     if (r.type === 'header') return
     if (r.type === 'keyframe') {
-      base = r
+      chain = r.z === 2 ? [...chain, r] : [r]
       since = []
       pending = []
       checkpointHash = null
@@ -60,8 +61,7 @@ export async function recoverLog(dir: string, name: string): Promise<RecoveredRo
   if (!scan.header || !scan.preamble) throw new Error(`${name}: ${scan.status.reason || 'no header'}`)
   if (scan.status.closed) throw new Error(`${name} was closed cleanly; nothing to recover`)
   const runner = await ReplayRunner.start(scan.preamble, scan.header, { inflate: inflateNode })
-  const start = base as KeyframeRecord | null
-  if (start) await runner.restore(start)
+  if (chain.length > 0) await runner.restore(chain[0].z === 2 ? [scan.header, ...chain] : chain)
   for (const r of since) await runner.apply(r)
   if (runner.divergence)
     throw new Error(`${name}: replay diverges at tick ${runner.divergence.tick}: ${runner.divergence.reason}`)

@@ -3,7 +3,9 @@
  * bytes as they arrive (a whole file, or fetch/stream chunks) and returns the records completed
  * by them. It never returns a record that fails its length bound, CRC-32, decoding or ordering
  * checks: at the first such record it stops for good and says why; bytes after it are ignored.
- * finish() tells a clean end from a torn tail (an incomplete last record).
+ * finish() tells a clean end from a torn tail (an incomplete last record). A block record's
+ * records come out one by one, all with the byte offset of the block's end; a block is accepted
+ * whole or not at all.
  */
 import { crc32 } from './crc32.ts'
 import {
@@ -68,10 +70,12 @@ export class ReplayLogReader {
       this.status.intactBytes = PREAMBLE_BYTES
     }
     for (;;) {
-      const r = this.next()
-      if (!r) break
-      out.push(r)
-      each?.(r, this.status.intactBytes)
+      const records = this.next()
+      if (!records) break
+      for (const r of records) {
+        out.push(r)
+        each?.(r, this.status.intactBytes)
+      }
     }
     this.compact()
     return out
@@ -122,7 +126,7 @@ export class ReplayLogReader {
     }
   }
 
-  private next(): ReplayRecord | null {
+  private next(): ReplayRecord[] | null {
     const available = this.buffer.length - this.offset
     if (available < 4) return null
     const view = new DataView(this.buffer.buffer, this.buffer.byteOffset + this.offset, available)
@@ -139,34 +143,43 @@ export class ReplayLogReader {
       this.stop('corrupt', `${at}: checksum mismatch`)
       return null
     }
-    let record: ReplayRecord
+    let records: ReplayRecord[]
     try {
-      record = decodeRecordBody(this.buffer.subarray(this.offset + 4, end))
+      records = decodeRecordBody(this.buffer.subarray(this.offset + 4, end), this.preamble?.format)
     } catch (error) {
       const reason = error instanceof ReplayFormatError ? error.message : String(error)
       this.stop('corrupt', `${at}: ${reason}`)
       return null
     }
-    const problem = this.order(record)
+    const problem = this.order(records)
     if (problem) {
       this.stop(this.status.records === 0 ? 'invalid' : 'corrupt', `${at}: ${problem}`)
       return null
     }
     this.offset = end + 4
-    this.status.records++
+    this.status.records += records.length
     this.status.intactBytes += 4 + length + 4
-    if (record.type === 'header') this.status.firstTick = record.tick
-    this.status.lastTick = record.tick
-    this.status.closed = record.type === 'close'
-    return record
+    const last = records[records.length - 1]
+    if (records[0].type === 'header') this.status.firstTick = records[0].tick
+    this.status.lastTick = last.tick
+    this.status.closed = last.type === 'close'
+    return records
   }
 
-  /** Why a record cannot come next, or null. */
-  private order(r: ReplayRecord): string | null {
-    if (this.status.records === 0) return r.type === 'header' ? null : 'the first record is not a header'
-    if (r.type === 'header') return 'a second header'
-    if (this.status.closed) return 'a record after the clean close'
-    if (r.tick < this.status.lastTick) return `tick ${r.tick} goes back from ${this.status.lastTick}`
+  /** Why these records (one, or a block's) cannot come next, or null. */
+  private order(records: ReplayRecord[]): string | null {
+    let count = this.status.records
+    let closed = this.status.closed
+    let lastTick = this.status.lastTick
+    for (const r of records) {
+      if (count === 0 && r.type !== 'header') return 'the first record is not a header'
+      if (count > 0 && r.type === 'header') return 'a second header'
+      if (closed) return 'a record after the clean close'
+      if (r.tick < lastTick) return `tick ${r.tick} goes back from ${lastTick}`
+      count++
+      closed = r.type === 'close'
+      lastTick = r.tick
+    }
     return null
   }
 }

@@ -7,12 +7,16 @@
  *
  * The first record is the header (room, scene, start time, rules, and a keyframe: the
  * simulation's state and saved world); then commands, joins, leaves, external world loads,
- * hashes, keyframes and a clean close, in applied order with non-decreasing ticks.
+ * hashes, keyframes and a clean close, in applied order with non-decreasing ticks. Since version 2
+ * the small records (commands, joins, leaves, hashes, close) of one writer flush are packed into
+ * one block record: a zlib stream of `u8 type | varint tick delta | varint length | payload`
+ * entries, so a flush costs one frame and deflate sees all its records at once; and a keyframe's
+ * world may be a deflated byte delta against the previous keyframe's (z = 2, byte-delta.ts).
  *
  * Pure and browser-safe (Uint8Array/DataView only). The reader is streaming: push() chunks as
  * they arrive; it returns every complete, intact record and stops for good at the first torn or
  * corrupt one (bad length, bad checksum, undecodable payload, a tick going backwards), so a crash's
- * torn tail is cut, never misread. Saved worlds may be deflated (zlib stream, RFC 1950): the
+ * torn tail is cut, never misread. A block is accepted whole or not at all. Saved worlds may be deflated (zlib stream, RFC 1950): the
  * writer passes compressed bytes in, the reader hands them out untouched (see replay-runner.ts).
  */
 import { decodeValue, encodeValue } from './codec.ts'
@@ -20,11 +24,14 @@ import { crc32 } from './crc32.ts'
 import type { Command, WireJoint } from './messages.ts'
 import type { SimulationState } from './room-simulation.ts'
 import { validateClientMessage } from './validate.ts'
+import { InflateError, inflateZlibSync } from './zlib-inflate.ts'
 
 /** The 8 magic bytes opening every log: ASCII "CNCRDLOG". */
 export const REPLAY_MAGIC = new Uint8Array([0x43, 0x4e, 0x43, 0x52, 0x44, 0x4c, 0x4f, 0x47])
 /** Version of this format. */
-export const REPLAY_FORMAT_VERSION = 1
+export const REPLAY_FORMAT_VERSION = 2
+/** Oldest format version this build still reads (version 1 has no blocks and no delta keyframes). */
+export const OLDEST_READABLE_VERSION = 1
 /** Preamble size in bytes. */
 export const PREAMBLE_BYTES = 16
 /** Largest record body (type + tick + payload) accepted: 64 MiB. */
@@ -42,14 +49,21 @@ export const RecordType = {
   hash: 6,
   keyframe: 7,
   close: 8,
+  block: 9,
 } as const
 
-/** How a saved world is stored: 0 as is, 1 deflated (zlib stream). */
-export type WorldEncoding = 0 | 1
+/** Record kinds that travel inside blocks (the small ones). */
+export type BlockableRecord = Extract<ReplayRecord, { type: 'command' | 'join' | 'leave' | 'hash' | 'close' }>
+
+/**
+ * How a saved world is stored: 0 as is, 1 deflated (zlib stream), 2 (keyframes only) a deflated
+ * byte delta against the saved world of the previous keyframe or header record.
+ */
+export type WorldEncoding = 0 | 1 | 2
 
 /** A saved world as stored in a header, keyframe or world record. */
 export interface StoredWorld {
-  /** 0: `world` is World.save() bytes; 1: they are deflated (zlib, RFC 1950). */
+  /** 0: `world` is World.save() bytes; 1: they are deflated (zlib, RFC 1950); 2: a deflated delta. */
   z: WorldEncoding
   world: Uint8Array
 }
@@ -118,37 +132,83 @@ const u32 = (n: number, rest?: Uint8Array): Uint8Array => {
   return out
 }
 
-/** Encode one record as framed bytes ready to append. */
-export function encodeRecord(r: ReplayRecord): Uint8Array {
+/** A record's payload (what follows type and tick). */
+function encodePayload(r: ReplayRecord): Uint8Array {
   switch (r.type) {
     case 'header': {
       const { room, scene, start, maxBodies, controls, state, host, pid, z, world } = r
-      return frame(
-        1,
-        r.tick,
-        encodeValue({ room, scene, start, maxBodies, controls, state, host, pid, z, world }),
-      )
+      return encodeValue({ room, scene, start, maxBodies, controls, state, host, pid, z, world })
     }
     case 'command':
-      return frame(2, r.tick, u32(r.player, encodeValue(r.cmd)))
+      return u32(r.player, encodeValue(r.cmd))
     case 'join':
-      return frame(3, r.tick, u32(r.player, encodeValue({ name: r.name, color: r.color })))
+      return u32(r.player, encodeValue({ name: r.name, color: r.color }))
     case 'leave':
-      return frame(4, r.tick, u32(r.player))
+      return u32(r.player)
     case 'world':
-      return frame(5, r.tick, encodeValue({ scene: r.scene, z: r.z, world: r.world }))
+      return encodeValue({ scene: r.scene, z: r.z, world: r.world })
     case 'hash': {
       const payload = new Uint8Array(8)
       const view = new DataView(payload.buffer)
       view.setUint32(0, r.hash, true)
       view.setUint32(4, r.step, true)
-      return frame(6, r.tick, payload)
+      return payload
     }
     case 'keyframe':
-      return frame(7, r.tick, encodeValue({ state: r.state, z: r.z, world: r.world }))
+      return encodeValue({ state: r.state, z: r.z, world: r.world })
     case 'close':
-      return frame(8, r.tick, encodeValue({ reason: r.reason, end: r.end }))
+      return encodeValue({ reason: r.reason, end: r.end })
   }
+}
+
+/** Encode one record as framed bytes ready to append. */
+export function encodeRecord(r: ReplayRecord): Uint8Array {
+  if (r.type === 'keyframe' || r.type === 'header' || r.type === 'world') {
+    if (r.z === 2 && r.type !== 'keyframe')
+      throw new RangeError(`a ${r.type} record cannot hold a delta world`)
+  }
+  return frame(RecordType[r.type], r.tick, encodePayload(r))
+}
+
+function pushVarint(out: number[], v: number): void {
+  while (v >= 0x80) {
+    out.push((v % 0x80) | 0x80)
+    v = Math.floor(v / 0x80)
+  }
+  out.push(v)
+}
+
+/**
+ * The bytes a block's zlib stream inflates to: each record as u8 type, varint tick delta (from
+ * the previous record, the first from the block's tick: its first record's), varint payload
+ * length, payload. Throws a RangeError for an empty list.
+ */
+export function encodeBlockEntries(records: readonly BlockableRecord[]): Uint8Array {
+  if (records.length === 0) throw new RangeError('a block needs at least one record')
+  const parts: Uint8Array[] = []
+  let size = 0
+  let tick = records[0].tick
+  for (const r of records) {
+    const payload = encodePayload(r)
+    const head: number[] = [RecordType[r.type]]
+    pushVarint(head, r.tick - tick)
+    pushVarint(head, payload.length)
+    tick = r.tick
+    parts.push(Uint8Array.from(head), payload)
+    size += head.length + payload.length
+  }
+  const out = new Uint8Array(size)
+  let at = 0
+  for (const p of parts) {
+    out.set(p, at)
+    at += p.length
+  }
+  return out
+}
+
+/** Frame a block record: `tick` is its first record's, `zlib` the deflated encodeBlockEntries bytes. */
+export function frameBlock(tick: number, zlib: Uint8Array): Uint8Array {
+  return frame(RecordType.block, tick, zlib)
 }
 
 /** Why a record or preamble was refused. */
@@ -179,8 +239,8 @@ function bool(v: unknown, what: string): boolean {
   if (typeof v !== 'boolean') throw new ReplayFormatError(`${what} is not a boolean`)
   return v
 }
-function storedWorld(m: Fields): StoredWorld {
-  const z = int(m.z, 'world encoding', 0, 1) as WorldEncoding
+function storedWorld(m: Fields, delta = false): StoredWorld {
+  const z = int(m.z, 'world encoding', 0, delta ? 2 : 1) as WorldEncoding
   if (!(m.world instanceof Uint8Array)) throw new ReplayFormatError('world is not a byte array')
   return { z, world: m.world }
 }
@@ -248,15 +308,72 @@ function msgpack(bytes: Uint8Array, what: string): unknown {
   return decoded.value
 }
 
-/** Decode a record body (type, tick, payload) already checked by its CRC; throws ReplayFormatError. */
-export function decodeRecordBody(body: Uint8Array): ReplayRecord {
-  const view = new DataView(body.buffer, body.byteOffset, body.byteLength)
+/**
+ * Decode a record body (type, tick, payload) already checked by its CRC: one record, or a block's
+ * records in order. `format` is the log's version (version 1 has no blocks and no delta worlds).
+ * Throws ReplayFormatError.
+ */
+export function decodeRecordBody(body: Uint8Array, format = REPLAY_FORMAT_VERSION): ReplayRecord[] {
   const type = body[0]
-  const tick = view.getUint32(1, true)
+  const tick = new DataView(body.buffer, body.byteOffset, body.byteLength).getUint32(1, true)
   const payload = body.subarray(5)
+  if (type !== RecordType.block) return [decodePayload(type, tick, payload, format)]
+  if (format < 2) throw new ReplayFormatError(`a block record in a version ${format} log`)
+  let entries: Uint8Array
+  try {
+    entries = inflateZlibSync(payload, MAX_RECORD_BYTES)
+  } catch (error) {
+    if (error instanceof InflateError) throw new ReplayFormatError(`block: ${error.message}`)
+    throw error
+  }
+  return decodeBlockEntries(tick, entries)
+}
+
+/** The records of an inflated block (see encodeBlockEntries). */
+function decodeBlockEntries(tick: number, entries: Uint8Array): ReplayRecord[] {
+  const out: ReplayRecord[] = []
+  let at = 0
+  const varint = (what: string): number => {
+    let v = 0
+    for (let scale = 1; scale <= 2 ** 28; scale *= 0x80) {
+      if (at >= entries.length)
+        throw new ReplayFormatError(`block entry ${out.length + 1}: ends inside its ${what}`)
+      const b = entries[at++]
+      v += (b & 0x7f) * scale
+      if (b < 0x80) return v
+    }
+    throw new ReplayFormatError(`block entry ${out.length + 1}: ${what} varint too long`)
+  }
+  while (at < entries.length) {
+    const type = entries[at++]
+    if (!BLOCK_TYPES.has(type))
+      throw new ReplayFormatError(`block entry ${out.length + 1}: type ${type} cannot be inside a block`)
+    tick += varint('tick delta')
+    if (tick > 0xffffffff)
+      throw new ReplayFormatError(`block entry ${out.length + 1}: tick ${tick} overflows`)
+    const length = varint('length')
+    if (at + length > entries.length)
+      throw new ReplayFormatError(`block entry ${out.length + 1}: ${length}-byte payload runs past the block`)
+    out.push(decodePayload(type, tick, entries.subarray(at, at + length), REPLAY_FORMAT_VERSION))
+    at += length
+  }
+  if (out.length === 0) throw new ReplayFormatError('an empty block')
+  return out
+}
+
+const BLOCK_TYPES = new Set<number>([
+  RecordType.command,
+  RecordType.join,
+  RecordType.leave,
+  RecordType.hash,
+  RecordType.close,
+])
+
+function decodePayload(type: number, tick: number, payload: Uint8Array, format: number): ReplayRecord {
+  const view = new DataView(payload.buffer, payload.byteOffset, payload.byteLength)
   const player = (): number => {
     if (payload.length < 4) throw new ReplayFormatError('record too short for a player id')
-    return view.getUint32(5, true)
+    return view.getUint32(0, true)
   }
   switch (type) {
     case 1: {
@@ -300,10 +417,10 @@ export function decodeRecordBody(body: Uint8Array): ReplayRecord {
     }
     case 6:
       if (payload.length !== 8) throw new ReplayFormatError('hash record has the wrong size')
-      return { type: 'hash', tick, hash: view.getUint32(5, true), step: view.getUint32(9, true) }
+      return { type: 'hash', tick, hash: view.getUint32(0, true), step: view.getUint32(4, true) }
     case 7: {
       const m = map(msgpack(payload, 'keyframe'), 'keyframe')
-      return { type: 'keyframe', tick, state: simState(m.state), ...storedWorld(m) }
+      return { type: 'keyframe', tick, state: simState(m.state), ...storedWorld(m, format >= 2) }
     }
     case 8: {
       const m = map(msgpack(payload, 'close'), 'close')
@@ -328,9 +445,9 @@ export function decodePreamble(bytes: Uint8Array): Preamble {
     protocol: view.getUint16(12, true),
     tickRate: view.getUint16(14, true),
   }
-  if (p.format !== REPLAY_FORMAT_VERSION)
+  if (p.format < OLDEST_READABLE_VERSION || p.format > REPLAY_FORMAT_VERSION)
     throw new ReplayFormatError(
-      `unsupported replay format version ${p.format} (this build reads ${REPLAY_FORMAT_VERSION})`,
+      `unsupported replay format version ${p.format} (this build reads versions ${OLDEST_READABLE_VERSION} to ${REPLAY_FORMAT_VERSION})`,
     )
   return p
 }

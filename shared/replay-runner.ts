@@ -6,9 +6,12 @@
  * lands exactly where playing through would. The first divergence is kept, replay goes on.
  *
  * Pure and browser-safe. Saved worlds may be deflated; the caller injects `inflate` (Node's zlib on
- * the server, DecompressionStream('deflate') in a browser).
+ * the server, DecompressionStream('deflate') in a browser). A keyframe stored as a delta (z = 2)
+ * is decoded against the previous keyframe's (or the header's) saved world: the runner keeps the
+ * last one it passed, and a seek restores a chain from a whole keyframe (deltaChain).
  */
 import { loadWorld, SAVE_FORMAT_VERSION, type World } from '../engine/index.ts'
+import { decodeByteDelta } from './byte-delta.ts'
 import { PROTOCOL_VERSION, TICK_RATE } from './constants.ts'
 import type { Preamble, ReplayRecord, StoredWorld } from './replay-log.ts'
 import { RoomSimulation, type SimulationListener } from './room-simulation.ts'
@@ -53,6 +56,17 @@ function canonical(value: unknown): string {
   )
 }
 
+/**
+ * The keyframes to decode to restore `list[i]`: from the newest whole one (z 0 or 1; the header is
+ * always whole) at or before i, through the deltas, to i. `list` is the header and keyframes in
+ * log order.
+ */
+export function deltaChain<T extends StoredWorld>(list: readonly T[], i: number): T[] {
+  let from = i
+  while (from > 0 && list[from].z === 2) from--
+  return list.slice(from, i + 1)
+}
+
 /** Hex form of a 32-bit hash. */
 export const hex = (h: number): string => `0x${h.toString(16).padStart(8, '0')}`
 
@@ -69,6 +83,8 @@ export class ReplayRunner {
   commands = 0
   /** Called after every replayed tick (the simulation's tick is the new room tick). */
   onTick: ((sim: RoomSimulation) => void) | null = null
+  /** Saved world of the last header or keyframe passed (a delta keyframe's base). */
+  private base: Uint8Array | null = null
 
   private constructor(
     readonly header: HeaderRecord,
@@ -94,14 +110,22 @@ export class ReplayRunner {
     const problem = incompatibility(preamble)
     if (problem) throw new RangeError(problem)
     const runner = new ReplayRunner(header, options.inflate, options.verify ?? false, options.listener)
-    runner.sim.restoreState(header.state, await runner.world(header))
+    await runner.restore([header])
     return runner
   }
 
-  /** Load a stored world (inflating it if needed). */
+  /** A stored world's World.save() bytes: inflated, and a delta decoded against `base`. */
+  async savedBytes(stored: StoredWorld, base: Uint8Array | null): Promise<Uint8Array> {
+    if (stored.z === 0) return stored.world
+    const inflated = await this.inflate(stored.world)
+    if (stored.z === 1) return inflated
+    if (!base) throw new RangeError('a delta keyframe with no keyframe before it')
+    return decodeByteDelta(base, inflated)
+  }
+
+  /** Load a stored world (inflating it if needed; not a delta). */
   async world(stored: StoredWorld): Promise<World> {
-    const bytes = stored.z === 1 ? await this.inflate(stored.world) : stored.world
-    return loadWorld(bytes)
+    return loadWorld(await this.savedBytes(stored, null))
   }
 
   /** Run ticks until the room tick is `tick`. */
@@ -149,22 +173,32 @@ export class ReplayRunner {
           this.diverged({ tick: r.tick, reason: `world step ${this.sim.world.tick}, log ${r.step}` })
         return
       }
-      case 'keyframe':
-        if (this.verify) await this.checkKeyframe(r)
+      case 'keyframe': {
+        const bytes = await this.savedBytes(r, this.base)
+        this.base = bytes
+        if (this.verify) this.checkKeyframe(r, loadWorld(bytes))
         return
+      }
       case 'close':
         return
     }
   }
 
-  /** Jump to a keyframe (for seeking): afterwards the simulation is exactly the recorded one. */
-  async restore(k: KeyframeRecord | HeaderRecord): Promise<void> {
-    this.sim.restoreState(k.state, await this.world(k))
+  /**
+   * Jump to the last keyframe of `chain` (for seeking; see deltaChain): afterwards the simulation
+   * is exactly the recorded one.
+   */
+  async restore(chain: ReadonlyArray<KeyframeRecord | HeaderRecord>): Promise<void> {
+    let bytes: Uint8Array | null = null
+    for (const k of chain) bytes = await this.savedBytes(k, bytes)
+    const last = chain[chain.length - 1]
+    if (!bytes || !last) throw new RangeError('restore needs at least one keyframe')
+    this.base = bytes
+    this.sim.restoreState(last.state, loadWorld(bytes))
   }
 
-  private async checkKeyframe(k: KeyframeRecord): Promise<void> {
+  private checkKeyframe(k: KeyframeRecord, world: World): void {
     this.keyframesChecked++
-    const world = await this.world(k)
     const actual = this.sim.world.hash()
     const expected = world.hash()
     if (actual !== expected) {

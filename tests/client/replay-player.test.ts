@@ -89,8 +89,12 @@ describe('replay player', () => {
     expect(player.mismatch).toBeNull()
   })
 
-  it('seeks back and forth to any tick and lands on the live state there', async () => {
+  it('seeks back and forth to any tick and lands on the live state there, through whole and delta keyframes', async () => {
     const log = readLog(bytes)
+    // Seeks below go through chains of delta keyframes (z = 2) after whole ones (z = 1).
+    const zs = log.keyframes.map((i) => (log.records[i] as { z: number }).z)
+    expect(zs.filter((z) => z === 2).length).toBeGreaterThanOrEqual(2)
+    expect(zs).toContain(1)
     const player = await ReplayPlayer.open(log, inflate)
     const targets = [850, 13, 401, 399, 120, 121, 719, 0, 600, 241, 899, 3]
     for (const t of targets) {

@@ -18,6 +18,7 @@ import { loadWorld, Prng } from '../../engine/index.ts'
 import { BotClient } from '../../server/bot-client.ts'
 import { listLogNames } from '../../server/replay-files.ts'
 import { replayLog } from '../../server/replay-tool.ts'
+import { decodeByteDelta } from '../../shared/byte-delta.ts'
 import type { StoredWorld } from '../../shared/replay-log.ts'
 import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
 import { ActiveBots } from './lockstep-bots.ts'
@@ -50,8 +51,14 @@ async function newestLog(dir: string, room: string): Promise<string | undefined>
   return (await listLogNames(dir)).filter((n) => n.startsWith(`${room}-`)).pop()
 }
 
-const worldHash = (w: StoredWorld): number =>
-  loadWorld(w.z === 1 ? new Uint8Array(inflateSync(w.world)) : w.world).hash()
+/** A stored world's saved bytes; a delta (z = 2) is rebuilt against `base`, the previous keyframe's. */
+const savedBytes = (w: StoredWorld, base: Uint8Array | null): Uint8Array => {
+  if (w.z === 0) return w.world
+  const inflated = new Uint8Array(inflateSync(w.world))
+  if (w.z === 1) return inflated
+  if (!base) throw new Error('a delta keyframe without a base')
+  return decodeByteDelta(base, inflated)
+}
 
 /** The last checkpoint of a log's intact prefix, read independently of the server's recovery code. */
 async function lastCheckpoint(
@@ -62,10 +69,15 @@ async function lastCheckpoint(
   let checkpoint: { tick: number; hash: number } | null = null
   let lastRecord = 0
   let before = 16
+  let base: Uint8Array | null = null
   reader.push(bytes, (r, end) => {
     if (r.type === 'hash') checkpoint = { tick: r.tick, hash: r.hash }
-    else if (r.type === 'header' || r.type === 'keyframe') checkpoint = { tick: r.tick, hash: worldHash(r) }
-    lastRecord = end - before
+    else if (r.type === 'header' || r.type === 'keyframe') {
+      base = savedBytes(r, base)
+      checkpoint = { tick: r.tick, hash: loadWorld(base).hash() }
+    }
+    // Records of one block share its end: lastRecord is the last frame's size.
+    if (end > before) lastRecord = end - before
     before = end
   })
   expect(reader.finish().closed).toBe(false)

@@ -2,18 +2,27 @@ import { spawnSync } from 'node:child_process'
 import { mkdtemp, readFile, writeFile } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
+import { deflateSync } from 'node:zlib'
 import { beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import { listLogNames } from '../../server/replay-files.ts'
 import { crc32 } from '../../shared/crc32.ts'
-import { PREAMBLE_BYTES } from '../../shared/replay-log.ts'
+import {
+  type BlockableRecord,
+  decodeRecordBody,
+  encodeBlockEntries,
+  frameBlock,
+  PREAMBLE_BYTES,
+} from '../../shared/replay-log.ts'
 import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
 import { startTestServer } from './test-server.ts'
 
 let dir: string
 let log: Uint8Array
-/** Byte offset just past each record, in order (found by walking the length prefixes). */
+/** Byte offset just past each framed record, in order (found by walking the length prefixes). */
 let ends: number[]
+/** Records in each framed record: 1, or a block's count (found by decoding each frame alone). */
+let counts: number[]
 
 beforeAll(async () => {
   dir = await mkdtemp(join(tmpdir(), 'concord-cli-'))
@@ -21,6 +30,7 @@ beforeAll(async () => {
     record: true,
     replayDir: dir,
     keyframeTicks: 60,
+    keyframeBudget: 0,
     defaultScene: 'tower',
   })
   const bot = await BotClient.connect({ url: server.url, room: 'cli', name: 'ada' })
@@ -36,10 +46,14 @@ beforeAll(async () => {
   log = new Uint8Array(await readFile(join(dir, name)))
   ends = []
   const view = new DataView(log.buffer, log.byteOffset, log.byteLength)
+  counts = []
   for (let at = PREAMBLE_BYTES; at < log.length; ) {
-    at += 4 + view.getUint32(at, true) + 4
+    const length = view.getUint32(at, true)
+    counts.push(decodeRecordBody(log.subarray(at + 4, at + 4 + length)).length)
+    at += 4 + length + 4
     ends.push(at)
   }
+  expect(counts.some((n) => n > 1)).toBe(true)
   expect(ends.at(-1)).toBe(log.length)
 }, 60_000)
 
@@ -79,15 +93,22 @@ describe('the replay CLI', { timeout: 120_000 }, () => {
     expect(text.stdout.match(/^tick \d+ 0x[0-9a-f]{8}$/gm)?.length).toBeGreaterThanOrEqual(3)
   })
 
-  it('a tampered hash (with a valid CRC) is reported as the first mismatch, exit 1', async () => {
-    const bytes = log.slice()
-    const view = new DataView(bytes.buffer)
+  it('a tampered hash (in a block rebuilt with a valid CRC) is reported as the first mismatch, exit 1', async () => {
     let start = PREAMBLE_BYTES
     for (const end of ends) {
-      if (bytes[start + 4] === 6) {
-        const tick = view.getUint32(start + 5, true)
-        view.setUint32(start + 9, view.getUint32(start + 9, true) ^ 1, true)
-        view.setUint32(end - 4, crc32(bytes, start, end - 4), true)
+      const records = decodeRecordBody(log.subarray(start + 4, end - 4))
+      const hash = records.find((r) => r.type === 'hash')
+      if (log[start + 4] === 9 && hash?.type === 'hash') {
+        const tick = hash.tick
+        hash.hash = (hash.hash ^ 1) >>> 0
+        const block = frameBlock(
+          records[0].tick,
+          deflateSync(encodeBlockEntries(records as BlockableRecord[])),
+        )
+        expect(crc32(block, 0, block.length - 4)).toBe(
+          new DataView(block.buffer).getUint32(block.length - 4, true),
+        )
+        const bytes = new Uint8Array(Buffer.concat([log.subarray(0, start), block, log.subarray(end)]))
         const r = cli(await variant('tampered.cclog', bytes), '--verify')
         expect(r.status).toBe(1)
         expect(r.stdout).toMatch(
@@ -112,7 +133,7 @@ describe('the replay CLI', { timeout: 120_000 }, () => {
         'flipped',
         Object.assign(log.slice(), { [ends[3] + 6]: log[ends[3] + 6] ^ 0x10 }),
         3,
-        /record 5 .*checksum mismatch/,
+        new RegExp(`record \\d+ at byte ${ends[3]}: checksum mismatch`),
       ],
     ]
     for (const [name, bytes, status, message] of cases) {
@@ -133,14 +154,14 @@ describe('the replay CLI', { timeout: 120_000 }, () => {
       seed = (seed * 1103515245 + 12345) % 2147483648
       return seed % n
     }
-    const intactBefore = (cut: number): number => ends.filter((e) => e <= cut).length
+    const recordsBefore = (frames: number): number => counts.slice(0, frames).reduce((a, b) => a + b, 0)
+    const intactBefore = (cut: number): number => recordsBefore(ends.filter((e) => e <= cut).length)
     for (let trial = 0; trial < 200; trial++) {
       const cut = PREAMBLE_BYTES + random(log.length - PREAMBLE_BYTES)
       const torn = read(log.slice(0, cut))
       expect(torn.records.length, `cut at ${cut}`).toBe(intactBefore(cut))
-      expect(torn.status.intactBytes).toBe(
-        torn.records.length ? ends[torn.records.length - 1] : PREAMBLE_BYTES,
-      )
+      const frames = ends.filter((e) => e <= cut).length
+      expect(torn.status.intactBytes).toBe(frames ? ends[frames - 1] : PREAMBLE_BYTES)
       const zeroed = log.slice()
       zeroed.fill(0, cut)
       const z = read(zeroed)
@@ -149,11 +170,11 @@ describe('the replay CLI', { timeout: 120_000 }, () => {
       flipped[cut] ^= 1 << random(8)
       const f = read(flipped)
       const hit = ends.findIndex((e) => e > cut)
-      expect(f.records.length, `bit flip at ${cut}`).toBe(hit)
+      expect(f.records.length, `bit flip at ${cut}`).toBe(recordsBefore(hit))
       // A flipped length bit can also make the record look incomplete (torn): never accepted either way.
       expect(['corrupt', 'invalid', 'torn']).toContain(f.status.state)
     }
     const whole = read(log)
-    expect(whole.status).toMatchObject({ state: 'end', closed: true, records: ends.length })
+    expect(whole.status).toMatchObject({ state: 'end', closed: true, records: recordsBefore(ends.length) })
   })
 })

@@ -1,8 +1,9 @@
 /*
  * docs/replay-format.md is a contract: a reader written from the document alone (below: its own
  * bitwise CRC-32, @msgpack/msgpack instead of the code's msgpackr, Node's zlib) parses a real log
- * recorded by a server, every record as the document describes it, and agrees with the code's
- * reader record by record; it cuts a torn tail where the code does. The document's tables
+ * recorded by a server, every record as the document describes it (blocks inflated and split into
+ * their entries, delta keyframes rebuilt against the previous keyframe), and agrees with the
+ * code's reader record by record; it cuts a torn tail where the code does. The document's tables
  * (record kinds, preamble, limits) are compared with the code's constants.
  */
 import { mkdtemp, readFile } from 'node:fs/promises'
@@ -41,7 +42,14 @@ function docCrc(bytes: Uint8Array): number {
   return (c ^ 0xffffffff) >>> 0
 }
 
-type DocRecord = { type: number; tick: number; end: number; fields: Record<string, unknown> }
+type DocRecord = {
+  type: number
+  tick: number
+  end: number
+  fields: Record<string, unknown>
+  /** Whether it came out of a block. */
+  inBlock: boolean
+}
 type DocRead = { preamble: number[]; records: DocRecord[]; ending: 'close' | 'boundary' | 'torn' | 'corrupt' }
 
 const isMap = (v: unknown): v is Record<string, unknown> =>
@@ -67,18 +75,103 @@ function checkState(v: unknown): void {
   }
 }
 
-/** Throws unless `z`/`world` are a saved world as the document says; returns the inflated bytes. */
-function savedWorld(m: Record<string, unknown>): Uint8Array {
-  expect([0, 1]).toContain(m.z)
+/** Unsigned LEB128 at `at[0]` (advanced past it), as the document defines varints. */
+function docVarint(bytes: Uint8Array, at: number[]): number {
+  let v = 0
+  for (let shift = 0; ; shift += 7) {
+    if (at[0] >= bytes.length) throw new Error('varint past the end')
+    const b = bytes[at[0]++]
+    v += (b & 0x7f) * 2 ** shift
+    if (b < 0x80) return v
+  }
+}
+
+/** The document's delta worlds: literal and copy runs against `base`. */
+function docDelta(base: Uint8Array, delta: Uint8Array): Uint8Array {
+  const at = [0]
+  const n = docVarint(delta, at)
+  const out: number[] = []
+  let shift = 0
+  while (out.length < n) {
+    const r = docVarint(delta, at)
+    const len = r % 2 === 0 ? r / 2 : (r - 1) / 2
+    if (len < 1 || out.length + len > n) throw new Error('bad run')
+    if (r % 2 === 0) {
+      out.push(...delta.subarray(at[0], at[0] + len))
+      at[0] += len
+    } else {
+      const z = docVarint(delta, at)
+      const p = out.length + shift + (z % 2 === 0 ? z / 2 : -(z + 1) / 2)
+      if (p < 0 || p + len > base.length) throw new Error('copy outside the base')
+      shift = p - out.length
+      out.push(...base.subarray(p, p + len))
+    }
+  }
+  expect(at[0]).toBe(delta.length)
+  return Uint8Array.from(out)
+}
+
+/**
+ * Throws unless `z`/`world` are a saved world as the document says; returns the World.save()
+ * bytes (`base`: the previous keyframe's or header's, for z = 2 in keyframes).
+ */
+function savedWorld(m: Record<string, unknown>, base?: Uint8Array): Uint8Array {
+  expect(base ? [0, 1, 2] : [0, 1]).toContain(m.z)
   expect(m.world).toBeInstanceOf(Uint8Array)
-  return m.z === 1 ? new Uint8Array(inflateSync(m.world as Uint8Array)) : (m.world as Uint8Array)
+  if (m.z === 0) return m.world as Uint8Array
+  const inflated = new Uint8Array(inflateSync(m.world as Uint8Array))
+  return m.z === 1 ? inflated : docDelta(base as Uint8Array, inflated)
+}
+
+/** A block's payload as the document says: a zlib stream of (type, tick delta, length, payload). */
+function docBlock(
+  payload: Uint8Array,
+  tick: number,
+): Array<{ type: number; tick: number; payload: Uint8Array }> {
+  const bytes = new Uint8Array(inflateSync(payload))
+  const out = []
+  const at = [0]
+  while (at[0] < bytes.length) {
+    const type = bytes[at[0]++]
+    if (![2, 3, 4, 6, 8].includes(type)) throw new Error(`type ${type} in a block`)
+    tick += docVarint(bytes, at)
+    const length = docVarint(bytes, at)
+    if (at[0] + length > bytes.length) throw new Error('entry past the block')
+    out.push({ type, tick, payload: bytes.subarray(at[0], at[0] + length) })
+    at[0] += length
+  }
+  if (out.length === 0) throw new Error('empty block')
+  return out
+}
+
+/** A record's fields from its payload, as the kinds table says. */
+function docFields(type: number, payload: Uint8Array): Record<string, unknown> {
+  const pv = new DataView(payload.buffer, payload.byteOffset, payload.byteLength)
+  switch (type) {
+    case 2:
+    case 3:
+      return { player: pv.getUint32(0, true), ...(decode(payload.subarray(4)) as Record<string, unknown>) }
+    case 4:
+      expect(payload.length).toBe(4)
+      return { player: pv.getUint32(0, true) }
+    case 6:
+      expect(payload.length).toBe(8)
+      return { hash: pv.getUint32(0, true), step: pv.getUint32(4, true) }
+    case 1:
+    case 5:
+    case 7:
+    case 8:
+      return decode(payload) as Record<string, unknown>
+    default:
+      throw new Error(`unknown type ${type}`)
+  }
 }
 
 /** A reader written from the document: framing, CRC, kinds and fields, order, torn tails. */
 function docRead(bytes: Uint8Array): DocRead {
   const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength)
   const magic = new TextDecoder().decode(bytes.subarray(0, 8))
-  if (magic !== 'CNCRDLOG' || view.getUint16(8, true) !== 1) throw new Error('not a version 1 log')
+  if (magic !== 'CNCRDLOG' || view.getUint16(8, true) !== 2) throw new Error('not a version 2 log')
   const preamble = [8, 10, 12, 14].map((o) => view.getUint16(o, true))
   const records: DocRecord[] = []
   let at = 16
@@ -104,40 +197,22 @@ function docRead(bytes: Uint8Array): DocRead {
     const type = bytes[at + 4]
     const tick = view.getUint32(at + 5, true)
     const payload = bytes.subarray(at + 9, at + 4 + L)
-    const prev = records.at(-1)
-    if ((records.length === 0) !== (type === 1) || (prev && (prev.type === 8 || tick < prev.tick))) {
+    const end = at + 4 + L + 4
+    const entries = type === 9 ? docBlock(payload, tick) : [{ type, tick, payload }]
+    const fresh: DocRecord[] = []
+    let prev = records.at(-1)
+    for (const e of entries) {
+      const first = records.length + fresh.length === 0
+      if (first !== (e.type === 1) || (prev && (prev.type === 8 || e.tick < prev.tick))) break
+      prev = { type: e.type, tick: e.tick, end, fields: docFields(e.type, e.payload), inBlock: type === 9 }
+      fresh.push(prev)
+    }
+    if (fresh.length < entries.length) {
       ending = 'corrupt'
       break
     }
-    const pv = new DataView(payload.buffer, payload.byteOffset, payload.byteLength)
-    let fields: Record<string, unknown>
-    switch (type) {
-      case 2:
-      case 3:
-        fields = {
-          player: pv.getUint32(0, true),
-          ...(decode(payload.subarray(4)) as Record<string, unknown>),
-        }
-        break
-      case 4:
-        expect(payload.length).toBe(4)
-        fields = { player: pv.getUint32(0, true) }
-        break
-      case 6:
-        expect(payload.length).toBe(8)
-        fields = { hash: pv.getUint32(0, true), step: pv.getUint32(4, true) }
-        break
-      case 1:
-      case 5:
-      case 7:
-      case 8:
-        fields = decode(payload) as Record<string, unknown>
-        break
-      default:
-        throw new Error(`unknown type ${type}`)
-    }
-    records.push({ type, tick, end: at + 4 + L + 4, fields })
-    at += 4 + L + 4
+    records.push(...fresh)
+    at = end
   }
   if (ending === 'boundary' && records.at(-1)?.type === 8) ending = 'close'
   return { preamble, records, ending }
@@ -152,6 +227,7 @@ beforeAll(async () => {
     record: true,
     replayDir: dir,
     keyframeTicks: 60,
+    keyframeBudget: 0,
     defaultScene: 'tower',
   })
   const a = await BotClient.connect({ url: server.url, room: 'doc', name: 'ada' })
@@ -206,6 +282,9 @@ describe('docs/replay-format.md', () => {
     expect(ours.records.length).toBe(code.length)
     const seen = new Set<number>()
     const hashAt = new Map<number, number>()
+    /** Saved world of the last header or keyframe (a delta's base), and the z values met. */
+    let base: Uint8Array | undefined
+    const zs = new Set<unknown>()
     for (const [i, r] of ours.records.entries()) {
       const c = code[i]
       seen.add(r.type)
@@ -228,9 +307,8 @@ describe('docs/replay-format.md', () => {
           ])
           expect(f.room).toBe('doc')
           checkState(f.state)
-          expect(loadWorld(savedWorld(f)).hash()).toBe(
-            loadWorld(c.z === 1 ? inflateSync(c.world) : c.world).hash(),
-          )
+          base = savedWorld(f)
+          expect(loadWorld(base).hash()).toBe(loadWorld(c.z === 1 ? inflateSync(c.world) : c.world).hash())
           break
         case 'command':
           expect({ ...f }).toEqual({ player: c.player, ...c.cmd })
@@ -253,7 +331,9 @@ describe('docs/replay-format.md', () => {
           checkState(f.state)
           expect((f.state as { tick: number }).tick).toBe(r.tick)
           // A keyframe holds the state at the end of its tick: its world hashes to that tick's hash.
-          const hash = loadWorld(savedWorld(f)).hash()
+          zs.add(f.z)
+          base = savedWorld(f, base)
+          const hash = loadWorld(base).hash()
           if (hashAt.has(r.tick)) expect(hash, `keyframe at ${r.tick}`).toBe(hashAt.get(r.tick))
           break
         }
@@ -264,6 +344,9 @@ describe('docs/replay-format.md', () => {
       }
     }
     expect([...seen].sort()).toEqual([1, 2, 3, 4, 5, 6, 7, 8])
+    // Small records travel in blocks, big ones never; keyframes are whole and deltas.
+    for (const r of ours.records) expect(r.inBlock, `type ${r.type}`).toBe([2, 3, 4, 6, 8].includes(r.type))
+    expect([...zs].sort()).toEqual([1, 2])
     expect(ours.records.filter((r) => r.type === 7).every((r) => r.tick % 60 === 0)).toBe(true)
     expect(ours.records.filter((r) => r.type === 6 && r.tick % 60 === 0).length).toBeGreaterThanOrEqual(3)
   })
