@@ -26,21 +26,30 @@ const RULES: RoomRules = {
 
 /** A room in process: simulation, feed, players with scripted activity, followers. */
 class Harness {
-  readonly sim = new RoomSimulation({ name: 'test', scene: 'pyramid', maxBodies: 400, controls: true })
+  readonly sim: RoomSimulation
   readonly metrics = createMetrics(false)
-  readonly feed = new LockstepFeed(this.sim, 'test', this.metrics, pino({ level: 'silent' }))
+  readonly feed: LockstepFeed
   readonly serverHashes = new Map<number, number>()
   readonly bytes = new Map<number, number>()
   readonly activities: Array<{ id: number; activity: Activity }> = []
   now = 0
+  /** The bots act on every `actEvery`-th tick. */
+  actEvery = 2
+
+  constructor(scene = 'pyramid') {
+    this.sim = new RoomSimulation({ name: 'test', scene, maxBodies: 400, controls: true })
+    this.feed = new LockstepFeed(this.sim, 'test', this.metrics, pino({ level: 'silent' }))
+  }
 
   addBot(id: number, seed: number): void {
     this.sim.join(id, `bot ${id}`, '#fff')
     this.activities.push({ id, activity: new Activity(seed) })
   }
 
-  addFollower(id: number): LockstepClient {
+  /** A lockstep follower; with `hold`, joined with that hold and a playout delay of at least as much. */
+  addFollower(id: number, hold?: number): LockstepClient {
     const client: LockstepClient = new LockstepClient({
+      ...(hold === undefined ? {} : { hold, playout: { minDelay: hold } }),
       send: (m) => {
         if (m.t === 'desync') this.feed.reportDesync(id, m.tick, m.hash, m.server)
         if (m.t === 'resync') this.feed.requestSync(id)
@@ -64,13 +73,14 @@ class Harness {
       this.now,
     )
     this.feed.add(id, conn)
+    this.feed.setHold(id, client.hold)
     return client
   }
 
   /** One room tick: the bots act (one command each every other tick), the sim ticks, the feed streams. */
   tick(): void {
     for (const { id, activity } of this.activities) {
-      if (this.sim.tick % 2 !== 0) continue
+      if (this.sim.tick % this.actEvery !== 0) continue
       const cmd = activity.next({
         dynamicBodies: () =>
           this.sim.world.bodyIds().filter((b) => this.sim.world.getBodyType(b) === 'dynamic'),
@@ -115,6 +125,38 @@ describe('lockstep feed and client in process', () => {
     expect(client.sim?.tick).toBeGreaterThan(1990)
     expect(client.sim?.scene).toBe('pile')
     expect(h.sim.userJoints.size + h.sim.world.bodyCount).toBeGreaterThan(0)
+  })
+
+  it('followers with holds 1, 2, 7, 30 and 60 in one room, bots acting now and then: every hash matches; fewer bytes the longer the hold', async () => {
+    const h = new Harness('tower')
+    h.actEvery = 11
+    h.addBot(1, 31)
+    h.addBot(2, 32)
+    const holds = [1, 2, 7, 30, 60]
+    const clients = holds.map((hold, i) => h.addFollower(10 + i, hold))
+    const compared = holds.map(() => 0)
+    for (let i = 0; i < 1500; i++) {
+      h.tick()
+      await settle()
+      clients.forEach((c, k) => {
+        c.advance(h.now)
+        const t = c.sim?.tick ?? -1
+        const expected = h.serverHashes.get(t)
+        if (expected !== undefined && t > 0) {
+          expect(c.sim?.world.hash(), `hold ${holds[k]}, hash at tick ${t}`).toBe(expected)
+          compared[k]++
+        }
+      })
+    }
+    const bytes = holds.map((_, k) => h.bytes.get(10 + k) ?? 0)
+    for (const [k, c] of clients.entries()) {
+      expect(c.stats.desyncs).toBe(0)
+      expect(c.stats.refused).toBe(0)
+      expect(c.stats.resyncRequests).toBe(0)
+      expect(c.stats.hashesChecked).toBeGreaterThanOrEqual(24)
+      expect(compared[k]).toBeGreaterThan(200)
+      if (k > 0) expect(bytes[k], `hold ${holds[k]} against ${holds[k - 1]}`).toBeLessThan(bytes[k - 1])
+    }
   })
 
   it('a client nudged by 1e-12 m is caught at the next checkpoint, counted and repaired', async () => {
