@@ -199,6 +199,24 @@ describe('join.hold: empty ticks held back per client', { timeout: 60_000 }, () 
     }
   })
 
+  it('the reference clients ask for their smallest playout delay (lockstep: 2) and for 30 (predict)', async () => {
+    const stop = driveClock(server, 120)
+    try {
+      for (const [mode, hold] of [
+        ['lockstep', 2],
+        ['predict', 30],
+      ] as const) {
+        const c = await LockstepBot.connect({ url: server.url, room: `hold-ref-${mode}`, name: mode }, mode)
+        await c.waitFor(() => c.runner.state === 'running', 'running')
+        const follower = server.rooms.get(`hold-ref-${mode}`)?.feed.followers.get(c.runner.playerId)
+        expect(follower?.hold, mode).toBe(hold)
+        await c.close()
+      }
+    } finally {
+      stop()
+    }
+  })
+
   it('the hold reaches a room on a worker thread (the join travels there without it)', async () => {
     const threaded = await startTestServer({ workers: 1 })
     try {
