@@ -43,7 +43,7 @@ const recordingsReady = recordings.prepare()
 const created = rooms.onRoomCreated
 rooms.onRoomCreated = (room) => {
   created?.(room)
-  outbox.push({ k: 'opened', room: room.name })
+  outbox.push({ k: 'opened', room: room.name, summary: roomSummary(room) })
 }
 rooms.onRoomDisposed = (name) => {
   busy.delete(name)

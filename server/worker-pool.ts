@@ -416,6 +416,8 @@ export class WorkerPool implements RoomHost {
           this.metrics.rooms.set(this.roomLinks.size)
         }
         link.rooms.add(op.room)
+        // /rooms shows its scene and bodies at once, not after the worker's next stats.
+        link.summaries = [...link.summaries.filter((s) => s.name !== op.room), op.summary]
         return
       case 'disposed':
         // A join already on its way reopens the room on the same worker: keep it placed there.

@@ -61,7 +61,8 @@ export type FromWorkerOp =
       tick: number
       seq: number | undefined
     }
-  | { k: 'opened'; room: string }
+  /** A room opened here, as /rooms lists it at that moment (later once a second with the stats). */
+  | { k: 'opened'; room: string; summary: RoomSummary }
   | { k: 'disposed'; room: string }
   | { k: 'recovered'; room: string; log: string; tick: number; hash: number }
   | { k: 'recover-failed'; room: string; reason: string }

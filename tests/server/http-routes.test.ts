@@ -22,8 +22,11 @@ describe('HTTP routes', { timeout: 20_000 }, () => {
     const rooms = (await (await fetch(`${server.url}/rooms`)).json()) as Array<{
       name: string
       players: number
+      scene: string
     }>
     expect(rooms.find((r) => r.name === 'listed')?.players).toBe(1)
+    // A room just opened on a worker is listed with its scene at once (not after the next stats).
+    expect(rooms.find((r) => r.name === 'listed')?.scene).toBe('empty')
     expect(rooms.find((r) => r.name === 'lobby')?.players).toBe(0)
     // Rooms on workers report their metrics once a second: wait for the first report.
     let metrics = ''

@@ -109,6 +109,13 @@ describe('crash recovery', { timeout: 180_000 }, () => {
     for (let round = 0; round <= KILLS; round++) {
       // Check the previous round's crash: every room reopened exactly at its checkpoint.
       if (round > 0) {
+        // Rooms on workers log their recovery from the worker's thread, whose output reaches
+        // stdout after the main thread's "listening": wait for the lines (the rooms themselves
+        // were rebuilt before the server listened), then compare.
+        await waitUntil(
+          () => ROOMS.every((room) => recoveredLines(server).has(room)),
+          `round ${round}: every recovery logged`,
+        ).catch(() => {})
         const lines = recoveredLines(server)
         expect([...lines.keys()].sort(), `round ${round}: rooms recovered`).toEqual(ROOMS)
         for (const room of ROOMS) {
