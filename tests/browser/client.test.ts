@@ -215,8 +215,22 @@ describe('with the server stopped', () => {
     const { context, page } = await openSandbox(browser, `${base}/?room=phoenix`)
     watcher = { context, page }
     await page.waitForFunction(() => window.concord.sandbox.status().state === 'connected')
+    // The "restarting" text shows only until the first reconnect attempt (0.5 s later): record
+    // every text the banner takes, so a page polled slowly on a loaded machine cannot miss it.
+    await page.evaluate(() => {
+      const banner = document.getElementById('banner-text')!
+      const texts: string[] = []
+      ;(window as unknown as { bannerTexts: string[] }).bannerTexts = texts
+      new MutationObserver(() => texts.push(banner.textContent!)).observe(banner, {
+        childList: true,
+        characterData: true,
+        subtree: true,
+      })
+    })
     await server.close()
-    await page.waitForFunction(() => /restarting/.test(document.getElementById('banner-text')!.textContent!))
+    await page.waitForFunction(() =>
+      (window as unknown as { bannerTexts: string[] }).bannerTexts.some((text) => /restarting/.test(text)),
+    )
     await page.waitForFunction(() =>
       /Cannot reach the server/.test(document.getElementById('banner-text')!.textContent!),
     )

@@ -28,6 +28,22 @@ describe('meanTickMs', () => {
     expect(meanTickMs(text(1.2, 1500), first)?.meanMs).toBeCloseTo(2, 12)
   })
 
+  it('sums the series of every worker', () => {
+    const workers = (sums: number[], counts: number[]): string =>
+      sums
+        .map((sum, i) =>
+          [
+            `concord_room_tick_seconds_sum{worker="${i + 1}"} ${sum}`,
+            `concord_room_tick_seconds_count{worker="${i + 1}"} ${counts[i]}`,
+          ].join('\n'),
+        )
+        .join('\n')
+    const first = meanTickMs(workers([0.6, 0], [1200, 0]), null)!
+    expect(first.meanMs).toBeCloseTo(0.5, 12)
+    // Worker 1: 100 ticks in 0.1 s; worker 2: 300 ticks in 0.9 s; 400 ticks in 1 s: 2.5 ms each.
+    expect(meanTickMs(workers([0.7, 0.9], [1300, 300]), first)?.meanMs).toBeCloseTo(2.5, 12)
+  })
+
   it('reports nothing when no tick ran, and null when the histogram is missing', () => {
     const first = meanTickMs(text(0.6, 1200), null)!
     expect(meanTickMs(text(0.6, 1200), first)?.meanMs).toBeNull()

@@ -104,10 +104,13 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
         bodies: number
       }>
       const alpha = rooms.find((r) => r.name === 'alpha')
+      // Bodies count the ground: the empty scene's ground and the spawned circle.
       return (
-        alpha?.players === 2 && alpha.bodies === 1 && rooms.some((r) => r.name === 'beta' && r.players === 1)
+        alpha?.players === 2 &&
+        alpha.bodies === 2 &&
+        rooms.some((r) => r.name === 'beta' && r.players === 1 && r.bodies === 2)
       )
-    }, '/rooms to list alpha with 2 players and 1 body, beta with 1 player')
+    }, '/rooms to list alpha with 2 players and 2 bodies, beta with 1 player and 2 bodies')
     await until(async () => {
       const text = await metricsText(server)
       return (
