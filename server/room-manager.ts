@@ -28,6 +28,8 @@ export class RoomManager {
   /** Called before each room's tick (a room worker's test faults). */
   beforeRoomTick: ((room: Room) => void) | null = null
   private ticks = 0
+  /** Rooms created so far (a room's creation order spreads its snapshot ticks, room.ts). */
+  private created = 0
 
   /** At most 3 overrun warnings per 10 s; the next window's first line counts the rest. */
   private readonly overrunLog: LogLimiter
@@ -75,7 +77,7 @@ export class RoomManager {
     const existing = this.rooms.get(name)
     if (existing) return existing
     if (this.rooms.size >= this.config.maxRooms) return null
-    const room = new Room(name, this.config, this.metrics, this.log)
+    const room = new Room(name, this.config, this.metrics, this.log, this.created++)
     this.rooms.set(name, room)
     this.metrics.rooms.set(this.rooms.size)
     this.onRoomCreated?.(room)

@@ -13,8 +13,10 @@
  *   3. send the tick's events (bodies and joints created or removed, room settings) to everyone,
  *      encoded once; new bodies carry their pose after this tick's step, and a spawned body the
  *      spawner's player id and input seq
- *   4. on snapshot ticks: quantize the world once into a shared frame, then write each player's
- *      delta against its own acknowledged baseline within its byte budget (players whose
+ *   4. on snapshot ticks (every 60 / snapshotRate ticks, at an offset that spreads the rooms of
+ *      a manager over the ticks of an interval): quantize the world once into a shared frame,
+ *      then write each player's delta against its own acknowledged baseline within its byte
+ *      budget (players whose
  *      baselines are equal, the usual case, share one encoded message), followed by the
  *      contacts of the body it inspects, if any; a player whose connection has too much buffered
  *      is skipped, and closed if it stays behind
@@ -100,6 +102,8 @@ export class Room {
   private readonly frame = new QuantizedFrame(256)
   private readonly writer = new ByteWriter(4096)
   private readonly snapshotInterval: number
+  /** Ticks with (tick + phase) % snapshotInterval === 0 send snapshots (see the constructor). */
+  private readonly snapshotPhase: number
   private readonly budget: number
   private readonly weight = (id: number): number => (this.sim.grabCounts.has(id) ? 8 : 0)
 
@@ -108,8 +112,16 @@ export class Room {
     readonly config: ServerConfig,
     readonly metrics: ServerMetrics,
     readonly log: Logger,
+    /**
+     * The room's place in its manager's creation order. Rooms take turns for the snapshot ticks
+     * (room k sends on ticks where (tick + k) is a multiple of the interval), so the snapshot
+     * work of rooms opened together is spread over the ticks of an interval instead of piling up
+     * on every other tick.
+     */
+    order = 0,
   ) {
     this.snapshotInterval = TICK_RATE / config.snapshotRate
+    this.snapshotPhase = order % this.snapshotInterval
     this.budget = Math.floor(config.clientBandwidth / config.snapshotRate)
     this.sim = new RoomSimulation({
       name,
@@ -281,7 +293,7 @@ export class Room {
     }
     this.sim.runTick()
     this.flushEvents()
-    if (this.tick % this.snapshotInterval === 0) this.sendSnapshots()
+    if ((this.tick + this.snapshotPhase) % this.snapshotInterval === 0) this.sendSnapshots()
     const hash = this.tick % TICK_RATE === 0 ? this.world.hash() : undefined
     if (hash !== undefined) this.everySecond(hash)
     this.feed.endTick(hash)

@@ -259,3 +259,24 @@ describe('the tick loop on a machine that keeps falling behind', () => {
     expect(overruns.map((l) => l.dropped)).toEqual([6, 6, 6])
   })
 })
+
+describe('snapshot ticks of rooms opened together', () => {
+  it('take turns: at 30 per second, rooms 1 and 3 snapshot on even ticks, 2 and 4 on odd ones, each every other tick', () => {
+    const config = loadConfig([], {}, { defaultScene: 'pyramid', logLevel: 'silent', snapshotRate: 30 })
+    const rooms = new RoomManager(config, createMetrics(false), pino({ level: 'silent' }))
+    const conns: FakeConnection[] = []
+    for (let k = 1; k <= 4; k++) {
+      const room = rooms.getOrCreate(`turns-${k}`)!
+      conns.push(join(room, `p${k}`))
+    }
+    for (let i = 0; i < 12; i++) rooms.tickAll()
+    const snapTicks = conns.map((c) => c.received.flatMap((m) => (m.t === 'snap' ? [m.tick] : [])))
+    // Room tick t runs in the loop's tick t (all four opened before the first tick).
+    expect(snapTicks[0]).toEqual([2, 4, 6, 8, 10, 12])
+    expect(snapTicks[1]).toEqual([1, 3, 5, 7, 9, 11])
+    expect(snapTicks[2]).toEqual(snapTicks[0])
+    expect(snapTicks[3]).toEqual(snapTicks[1])
+    // Every snapshot still decodes into the room's state (the mirror acked each one).
+    for (const c of conns) expect(c.count('error')).toBe(0)
+  })
+})
