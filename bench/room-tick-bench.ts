@@ -1,0 +1,219 @@
+/*
+ * The room tick on one thread (npm run bench:room-tick): numbers printed and saved to
+ * bench/results/room-tick.json, never pass/fail.
+ *
+ * What one room worker does per loop tick, without sockets, bots processes or other threads: N
+ * rooms (default 10, what each of 2 workers holds at 20 rooms) of the capacity benchmark's scene
+ * (a pile of 100 bodies that never sleep), each with 5 simulated players on the bots' schedule
+ * (server/bots.ts at 20 Hz: 3 spawns, then grab a random dynamic body, drag it around a circle
+ * for 80 steps, release), through the real RoomManager, Room, recorder (on, as the server's
+ * default, into a temporary directory) and worker Outbox, whose batch is posted to a
+ * MessageChannel each tick. Every snapshot is acknowledged one tick later, as a client on
+ * loopback would. Each loop tick is timed in this thread's CPU time (Linux schedstat) and in wall
+ * time; the summary splits the ticks into snapshot ticks of room 1, the other ticks, and the
+ * once-a-second checkpoint ticks (hash, sweep, recorder flush), so the cost of each kind of work
+ * shows. The inputs are deterministic, so the bytes sent per tick are the same from run to run
+ * (a change that should keep the wire bytes must keep that figure).
+ *
+ * Compare versions in interleaved runs (CPU time still varies with the machine's load).
+ * Flags: --rooms N, --ticks N (measured, default 1800), --warmup N (default 300), --no-record.
+ */
+import { mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs'
+import { loadavg, tmpdir } from 'node:os'
+import { join } from 'node:path'
+import { MessageChannel } from 'node:worker_threads'
+import pino from 'pino'
+import { Prng } from '../engine/index.ts'
+import { loadConfig } from '../server/config.ts'
+import { createMetrics } from '../server/metrics.ts'
+import { Recordings } from '../server/recordings.ts'
+import { RoomManager } from '../server/room-manager.ts'
+import { handleRoomMessage } from '../server/room-messages.ts'
+import type { RoomPlayer } from '../server/room-player.ts'
+import { Outbox, WorkerConnection } from '../server/worker-outbox.ts'
+import type { Command, WireShape } from '../shared/index.ts'
+import { awakePile, quantile } from './server-load.ts'
+
+const argv = process.argv.slice(2)
+const flag = (name: string, fallback: number): number => {
+  const i = argv.indexOf(name)
+  const value = i >= 0 ? Number(argv[i + 1]) : fallback
+  if (!Number.isInteger(value) || value < 1)
+    throw new Error(`${name} must be a positive integer, got ${argv[i + 1]}`)
+  return value
+}
+const ROOMS = flag('--rooms', 10)
+const TICKS = flag('--ticks', 1800)
+const WARMUP = flag('--warmup', 300)
+const RECORD = !argv.includes('--no-record')
+const PLAYERS = 5
+
+const replayDir = mkdtempSync(join(tmpdir(), 'concord-room-tick-'))
+const config = loadConfig(
+  [],
+  {},
+  {
+    logLevel: 'silent',
+    defaultScene: 'empty',
+    maxRooms: 1000,
+    maxBodies: 5000,
+    roomTickBudgetMs: 0,
+    record: RECORD,
+    replayDir,
+  },
+)
+const log = pino({ level: 'silent' })
+const metrics = createMetrics(false)
+const rooms = new RoomManager(config, metrics, log, undefined, 'bench')
+const recordings = new Recordings(config, metrics, log)
+recordings.hook(rooms)
+await recordings.prepare()
+const outbox = new Outbox()
+const channel = new MessageChannel()
+channel.port2.on('message', () => {})
+
+/** Snapshots waiting for their ack: the player, the snapshot's tick, the loop tick it is acked at. */
+const unacked: Array<{ player: RoomPlayer; tick: number; due: number }> = []
+let loopTick = 0
+
+/** A worker connection that remembers the snapshots it is sent, so they can be acknowledged. */
+class AckingConnection extends WorkerConnection {
+  override sendBytes(bytes: Uint8Array, snapshotTick?: number): void {
+    super.sendBytes(bytes, snapshotTick)
+    if (snapshotTick !== undefined && this.player)
+      unacked.push({ player: this.player, tick: snapshotTick, due: loopTick + 1 })
+  }
+}
+
+interface Player {
+  conn: AckingConnection
+  room: string
+  prng: Prng
+  step: number
+  seq: number
+}
+
+const blueprint = awakePile(100)
+const players: Player[] = []
+for (let r = 1; r <= ROOMS; r++) {
+  const room = rooms.getOrCreate(`bench-${r}`)
+  if (!room) throw new Error(`room bench-${r} was refused`)
+  room.loadBlueprint(blueprint.name, blueprint)
+  for (let p = 1; p <= PLAYERS; p++) {
+    const conn = new AckingConnection(players.length + 1, outbox)
+    const joined = room.join(conn, `player ${p}`, undefined)
+    if (typeof joined === 'string') throw new Error(joined)
+    conn.player = joined
+    players.push({ conn, room: room.name, prng: new Prng(players.length + 1), step: 0, seq: 0 })
+  }
+}
+
+function send(player: Player, cmd: Command): void {
+  const room = rooms.get(player.room)
+  const joined = player.conn.player
+  if (!room || !joined) throw new Error(`player ${player.conn.id} lost its room`)
+  handleRoomMessage(room, joined, { t: 'input', seq: ++player.seq, cmd }, 0, () => {})
+}
+
+/** One step of the bots' schedule (server/bots.ts driveBot, with the room's world as the mirror). */
+function drive(player: Player): void {
+  const step = ++player.step
+  const prng = player.prng
+  if (step <= 3) {
+    const kind = prng.int(3)
+    const shape: WireShape =
+      kind === 0
+        ? { type: 'circle', radius: 0.3 + prng.next() * 0.3 }
+        : kind === 1
+          ? { type: 'box', hw: 0.3 + prng.next() * 0.3, hh: 0.3 + prng.next() * 0.3 }
+          : { type: 'polygon', v: [-0.4, -0.3, 0.4, -0.3, 0, 0.5] }
+    send(player, { k: 'spawn', shape, x: prng.next() * 10 - 5, y: 8 + prng.next() * 4 })
+    return
+  }
+  const phase = step % 100
+  if (phase === 0) {
+    const world = rooms.get(player.room)?.world
+    const dynamic = world ? world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic') : []
+    if (dynamic.length > 0) send(player, { k: 'grab', body: dynamic[prng.int(dynamic.length)], lx: 0, ly: 0 })
+  } else if (phase === 80) {
+    send(player, { k: 'release' })
+  } else if (phase < 80) {
+    const a = (phase / 80) * 2 * Math.PI
+    send(player, { k: 'move', x: 4 * Math.cos(a), y: 6 + 3 * Math.sin(a) })
+  }
+}
+
+/** CPU time of this thread (ms), from Linux's per-thread scheduler statistics. */
+const threadCpuMs = (): number =>
+  Number(readFileSync('/proc/thread-self/schedstat', 'utf8').split(' ')[0]) / 1e6
+
+const cpu: number[] = []
+const wall: number[] = []
+const kinds: Array<'snapshot' | 'other' | 'checkpoint'> = []
+let bytes = 0
+const first = rooms.get('bench-1')
+if (!first) throw new Error('room bench-1 is missing')
+for (loopTick = 0; loopTick < WARMUP + TICKS; loopTick++) {
+  // The players' 20 Hz loops, spread over the ticks.
+  for (let i = 0; i < players.length; i++) if ((loopTick + i) % 3 === 0) drive(players[i])
+  let kept = 0
+  for (const s of unacked) {
+    if (s.due <= loopTick) s.player.encoder.ack(s.tick)
+    else unacked[kept++] = s
+  }
+  unacked.length = kept
+  const c0 = threadCpuMs()
+  const w0 = performance.now()
+  rooms.tickAll()
+  const batch = outbox.take(loopTick, true)
+  if (batch) channel.port1.postMessage(batch.message, batch.transfer)
+  const c1 = threadCpuMs()
+  const w1 = performance.now()
+  if (loopTick >= WARMUP) {
+    bytes += outbox.bytesOut
+    cpu.push(c1 - c0)
+    wall.push(w1 - w0)
+    const t = first.tick
+    kinds.push(t % 60 === 0 ? 'checkpoint' : t % (60 / config.snapshotRate) === 0 ? 'snapshot' : 'other')
+  }
+  outbox.bytesOut = 0
+  // Let the recorders' writes and the channel run, as a worker's event loop would between ticks.
+  if (loopTick % 10 === 0) await new Promise((resolve) => setImmediate(resolve))
+}
+await recordings.closeAll('bench over')
+channel.port1.close()
+rmSync(replayDir, { recursive: true, force: true })
+
+const round = (x: number): number => Number(x.toFixed(3))
+const mean = (xs: number[]): number => xs.reduce((a, b) => a + b, 0) / Math.max(1, xs.length)
+const meanOf = (kind: string): number => round(mean(cpu.filter((_, i) => kinds[i] === kind)))
+const summary = {
+  rooms: ROOMS,
+  playersPerRoom: PLAYERS,
+  record: RECORD,
+  bodiesPerRoom: first.world.bodyCount,
+  cpuMsP50: round(quantile(cpu, 0.5)),
+  cpuMsP99: round(quantile(cpu, 0.99)),
+  cpuMsMax: round(Math.max(...cpu)),
+  cpuMsMean: round(mean(cpu)),
+  wallMsP50: round(quantile(wall, 0.5)),
+  wallMsP99: round(quantile(wall, 0.99)),
+  cpuMsMeanByTick: { snapshot: meanOf('snapshot'), other: meanOf('other'), checkpoint: meanOf('checkpoint') },
+  bytesOutPerTick: Math.round(bytes / TICKS),
+  load1: loadavg()[0],
+}
+console.log(
+  `room tick, ${ROOMS} rooms x ${PLAYERS} players (${summary.bodiesPerRoom} bodies/room), recorder ${RECORD ? 'on' : 'off'}: ` +
+    `CPU p50 ${summary.cpuMsP50} ms, p99 ${summary.cpuMsP99} ms, max ${summary.cpuMsMax} ms, mean ${summary.cpuMsMean} ms; ` +
+    `mean by tick: room 1's snapshot ticks ${summary.cpuMsMeanByTick.snapshot} ms, others ${summary.cpuMsMeanByTick.other} ms, ` +
+    `checkpoints ${summary.cpuMsMeanByTick.checkpoint} ms; wall p50 ${summary.wallMsP50} ms, p99 ${summary.wallMsP99} ms; ` +
+    `${summary.bytesOutPerTick} bytes out per tick; load ${summary.load1.toFixed(2)}`,
+)
+mkdirSync('bench/results', { recursive: true })
+const file = 'bench/results/room-tick.json'
+writeFileSync(
+  file,
+  `${JSON.stringify({ started: new Date().toISOString(), node: process.version, warmupTicks: WARMUP, ticks: TICKS, summary }, null, 2)}\n`,
+)
+console.log(`saved ${file}`)
+process.exit(0)
