@@ -103,6 +103,9 @@ class DelayedRoom {
       this.client.handle((this.toClient.shift() as { message: ServerMessage }).message, this.now)
     }
     await new Promise((resolve) => setImmediate(resolve))
+    // A sync inflates asynchronously: wait for it here, so that no run depends on how many frames
+    // a loaded machine takes to inflate it (the comparisons below differed from run to run).
+    while (this.client.state === 'loading') await new Promise((resolve) => setTimeout(resolve, 1))
     const stepped = this.client.advance(this.now)
     this.smoother.decay(TICK_MS)
     return stepped
