@@ -191,8 +191,11 @@ describe('join.hold: empty ticks held back per client', { timeout: 60_000 }, () 
         for (const m of r.ticks) if (m.c.length === 0 && m.hash === undefined) expect(m.n).toBe(hold)
       }
       expect(held.ticks.length).toBeLessThan(every2.ticks.length / 2)
-      // Timing on a shared machine varies; measured here: as many rollbacks or fewer, the same lead.
-      expect(held.runner.predict.rollbacks).toBeLessThanOrEqual(every2.runner.predict.rollbacks + 3)
+      // Timing on a shared machine varies, so with margins; measured here at load 12-15: 33 and
+      // 58-62 rollbacks against 33 and 61-66 (about one per own input), lead 3 against 3. Leads
+      // measured from the newest tick received rather than the estimate reached 29 with hold 30.
+      const { rollbacks } = every2.runner.predict
+      expect(held.runner.predict.rollbacks).toBeLessThanOrEqual(Math.ceil(rollbacks * 1.25) + 3)
       expect(held.runner.lead).toBeLessThanOrEqual(every2.runner.lead + 2)
     } finally {
       stop()
