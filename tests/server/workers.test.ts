@@ -150,6 +150,31 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
     expect(calm).toBeLessThan(2 * hog)
   })
 
+  it('the tick budget holds on a worker: a room over it again and again is closed with overloaded and 4007, its neighbour plays on', async () => {
+    // The default budget (50 ms) and few overruns: a calm room does not come near it even when the
+    // machine is loaded.
+    const server = await start({ workers: 2, roomTickBudgetMs: 50, roomOverrunTicks: 4 })
+    const hog = await bot(server, 'greedy', 'gus')
+    const calm = await bot(server, 'modest', 'mo')
+    expect(server.pool?.workerOf('greedy')).not.toBe(server.pool?.workerOf('modest'))
+    // Every tick of this room now takes 120 ms, over twice its budget: closed at its fourth such tick.
+    server.pool?.fault('greedy', { kind: 'busy', room: 'greedy', ms: 120 })
+    await until(() => hog.closeCode !== 0, 'the greedy room to be closed')
+    expect(hog.closeCode).toBe(CLOSE_CODES.overloaded)
+    const notice = hog.received.find((m) => m.t === 'error' && m.code === 'overloaded')
+    expect(notice, 'error overloaded before the close').toBeDefined()
+    expect(hog.closeReason).toContain('greedy')
+    await until(() => !server.host.has('greedy'), 'the greedy room to be gone')
+    await until(
+      async () => /concord_rooms_closed_over_budget_total\{worker="\d"\} 1/.test(await metricsText(server)),
+      'the closed room counted in /metrics',
+    )
+    const t0 = calm.mirror.tick
+    await calm.waitFor(() => calm.mirror.tick >= t0 + 30, 'the neighbour to play on')
+    expect(calm.failure).toBeNull()
+    expect(calm.closeCode).toBe(0)
+  })
+
   it('/healthz fails naming a worker whose loop is silent', async () => {
     const server = await start({ workers: 2, roomTickBudgetMs: 0, stallSeconds: 2 })
     const stuck = await bot(server, 'stuck', 'sam')
