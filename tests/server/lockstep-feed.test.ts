@@ -153,7 +153,8 @@ describe('lockstep feed and client in process', () => {
       expect(c.stats.desyncs).toBe(0)
       expect(c.stats.refused).toBe(0)
       expect(c.stats.resyncRequests).toBe(0)
-      expect(c.stats.hashesChecked).toBeGreaterThanOrEqual(24)
+      // 25 checkpoints in 1,500 ticks; the hold-60 client plays at least 60 ticks behind.
+      expect(c.stats.hashesChecked).toBeGreaterThanOrEqual(22)
       expect(compared[k]).toBeGreaterThan(200)
       if (k > 0) expect(bytes[k], `hold ${holds[k]} against ${holds[k - 1]}`).toBeLessThan(bytes[k - 1])
     }
