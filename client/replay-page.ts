@@ -26,7 +26,7 @@ interface ListedLog {
   /** Seconds. */
   duration: number
   size: number
-  status: 'clean' | 'recording' | 'torn' | 'corrupt' | 'invalid'
+  status: 'clean' | 'recording' | 'torn' | 'corrupt' | 'empty' | 'invalid'
 }
 
 const el = <K extends keyof HTMLElementTagNameMap>(
@@ -88,7 +88,7 @@ export class ReplayPage {
       const logs = (await res.json()) as ListedLog[]
       if (logs.length === 0) list.textContent = 'The server has no recorded sessions yet.'
       for (const log of logs) {
-        if (log.status === 'invalid') continue
+        if (log.status === 'invalid' || log.status === 'empty') continue
         const when = log.start.slice(0, 16).replace('T', ' ')
         const state = log.status === 'clean' ? '' : `, ${log.status}`
         const label = `${log.room} ${when} UTC, ${log.duration.toFixed(0)} s (${Math.round(log.size / 1024)} kB${state})`

@@ -290,6 +290,9 @@ export class RoomRecorder implements SimulationObserver {
     this.pushSmall({ type: 'close', tick: this.sim.tick, reason: 'rotated', end: Date.now() })
     this.closeFile().catch(() => {})
     this.newFile(Date.now())
+    // The new log's header goes out now, not at the next flush: a crash right after a rotation
+    // leaves a log that recovery can start from, not an empty file after a cleanly closed one.
+    this.flush()
   }
 
   private pushHash(): void {

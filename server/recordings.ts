@@ -133,7 +133,13 @@ export class Recordings {
     const out: string[] = []
     for (const name of newest.values()) {
       const summary = await summarize(this.dir, name, this.openNames).catch(() => null)
-      if (!summary || summary.status === 'clean' || summary.status === 'invalid') continue
+      if (
+        !summary ||
+        summary.status === 'clean' ||
+        summary.status === 'invalid' ||
+        summary.status === 'empty'
+      )
+        continue
       if (summary.writer && writerAlive(summary.writer)) {
         this.log.warn(
           { log: name, writer: summary.writer },

@@ -5,9 +5,9 @@
  * reader, cached by size and mtime), and pruning to --replay-keep files.
  */
 import { createReadStream } from 'node:fs'
-import { readdir, stat, unlink } from 'node:fs/promises'
+import { readdir, readFile, stat, unlink } from 'node:fs/promises'
 import { join } from 'node:path'
-import type { Preamble, ReplayRecord } from '../shared/replay-log.ts'
+import { PREAMBLE_BYTES, type Preamble, REPLAY_MAGIC, type ReplayRecord } from '../shared/replay-log.ts'
 import { type ReadStatus, ReplayLogReader } from '../shared/replay-log-reader.ts'
 
 /** Extension of replay logs. */
@@ -36,8 +36,11 @@ export interface LogSummary {
   duration: number
   ticks: number
   size: number
-  /** clean: ends with a close record; recording: still being written; torn/corrupt: cut short; invalid: unreadable. */
-  status: 'clean' | 'recording' | 'torn' | 'corrupt' | 'invalid'
+  /**
+   * clean: ends with a close record; recording: still being written; torn/corrupt: cut short;
+   * empty: its writer stopped before the header was whole (nothing to play); invalid: not a log.
+   */
+  status: 'clean' | 'recording' | 'torn' | 'corrupt' | 'empty' | 'invalid'
   /** Why it is torn, corrupt or invalid. */
   problem?: string
   /** The process that wrote it. */
@@ -80,6 +83,16 @@ export async function scanLog(path: string, onRecord?: (r: ReplayRecord) => void
   return scan
 }
 
+/**
+ * Whether a log the reader calls invalid is only a start cut short: no byte contradicts a log (the
+ * bytes are a prefix of the magic, or a good preamble followed by an incomplete header).
+ */
+function cutBeforeHeader(scan: LogScan, size: number, head: Uint8Array): boolean {
+  if (scan.status.state !== 'invalid') return false
+  if (scan.preamble) return scan.status.records === 0 && scan.status.reason === 'the log has no header record'
+  return size < PREAMBLE_BYTES && head.every((b, i) => i >= REPLAY_MAGIC.length || b === REPLAY_MAGIC[i])
+}
+
 function statusOf(s: ReadStatus): LogSummary['status'] {
   if (s.closed) return 'clean'
   if (s.state === 'corrupt' || s.state === 'invalid') return s.state
@@ -97,6 +110,8 @@ export async function summarize(dir: string, name: string, open: ReadonlySet<str
   if (hit && hit.size === info.size && hit.mtime === info.mtimeMs) summary = hit.summary
   else {
     const scan = await scanLog(path)
+    const head = info.size < PREAMBLE_BYTES ? new Uint8Array(await readFile(path)) : new Uint8Array(0)
+    const empty = cutBeforeHeader(scan, info.size, head)
     const rate = scan.preamble?.tickRate || 60
     const ticks = scan.header ? scan.status.lastTick - scan.status.firstTick : 0
     summary = {
@@ -106,10 +121,12 @@ export async function summarize(dir: string, name: string, open: ReadonlySet<str
       duration: ticks / rate,
       ticks,
       size: info.size,
-      status: statusOf(scan.status),
+      status: empty ? 'empty' : statusOf(scan.status),
     }
     if (scan.header) summary.writer = { host: scan.header.host, pid: scan.header.pid }
-    if (scan.status.reason) summary.problem = scan.status.reason
+    if (empty)
+      summary.problem = `nothing recorded: the writer stopped before the header was whole (${info.size} bytes)`
+    else if (scan.status.reason) summary.problem = scan.status.reason
     else if (!scan.status.closed) summary.problem = 'no clean-close record'
     cache.set(path, { size: info.size, mtime: info.mtimeMs, summary })
   }

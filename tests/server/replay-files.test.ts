@@ -1,0 +1,31 @@
+import { mkdtemp, writeFile } from 'node:fs/promises'
+import { tmpdir } from 'node:os'
+import { join } from 'node:path'
+import { describe, expect, it } from 'vitest'
+import { listLogs } from '../../server/replay-files.ts'
+import { encodePreamble, REPLAY_FORMAT_VERSION } from '../../shared/replay-log.ts'
+
+describe('GET /replays summaries', () => {
+  it('a log cut before its header is whole is listed as empty, a file that is no log as invalid', async () => {
+    const dir = await mkdtemp(join(tmpdir(), 'concord-replay-files-'))
+    const preamble = encodePreamble({ format: REPLAY_FORMAT_VERSION, engine: 1, protocol: 2, tickRate: 60 })
+    // A header record cut after its length and type bytes (the writer died mid-write).
+    const cutHeader = new Uint8Array([...preamble, 200, 0, 0, 0, 1])
+    const files: Array<[string, Uint8Array, string]> = [
+      ['a-20261123T000000000Z.cclog', new Uint8Array(0), 'empty'],
+      ['b-20261123T000000000Z.cclog', preamble.subarray(0, 5), 'empty'],
+      ['c-20261123T000000000Z.cclog', preamble, 'empty'],
+      ['d-20261123T000000000Z.cclog', cutHeader, 'empty'],
+      ['e-20261123T000000000Z.cclog', new TextEncoder().encode('CNCx'), 'invalid'],
+      ['f-20261123T000000000Z.cclog', new TextEncoder().encode('not a replay log at all'), 'invalid'],
+    ]
+    for (const [name, bytes] of files) await writeFile(join(dir, name), bytes)
+    const listed = await listLogs(dir, new Set())
+    for (const [name, bytes, status] of files) {
+      const entry = listed.find((l) => l.name === name)
+      expect(entry, name).toMatchObject({ status, size: bytes.length })
+      expect(entry?.ticks ?? 0, name).toBe(0)
+      if (status === 'empty') expect(entry?.problem, name).toMatch(/^nothing recorded: .*\(\d+ bytes\)$/)
+    }
+  })
+})
