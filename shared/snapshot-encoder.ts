@@ -156,20 +156,20 @@ export class SnapshotEncoder {
     if (last.tick !== tick || !last.complete || last.bytes > budget) return null
     if (leader.referenceTick !== this.referenceTick || !this.reference.equals(leader.reference)) return null
     this.grow(frame.capacity, frame.count)
-    // Bodies equal to the reference are not waiting; the candidates (every update) were all sent.
-    for (let i = 0; i < frame.count; i++) {
-      const id = frame.ids[i]
-      this.priority[id] = 0
-      if (frame.sameAs(this.reference, id)) this.waitingSince[id] = -1
-    }
+    // The leader's updates are exactly the bodies that differ from this reference (it is equal to
+    // the leader's), and all were sent: they wait from now; every other body is not waiting.
     const u = last.updates
     let maxStaleness = 0
     for (let k = 0; k < u.length; k += 5) {
-      const id = u[k]
-      const since = this.waitingSince[id]
+      const since = this.waitingSince[u[k]]
       maxStaleness = Math.max(maxStaleness, since < 0 ? 0 : tick - since)
-      this.waitingSince[id] = tick
     }
+    for (let i = 0; i < frame.count; i++) {
+      const id = frame.ids[i]
+      this.priority[id] = 0
+      this.waitingSince[id] = -1
+    }
+    for (let k = 0; k < u.length; k += 5) this.waitingSince[u[k]] = tick
     this.remember(tick, u)
     this.last = { tick, complete: true, updates: u, candidates: last.candidates, bytes: last.bytes }
     return { candidates: last.candidates, sent: last.candidates, maxStaleness }
