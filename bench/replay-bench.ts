@@ -3,16 +3,18 @@
  * bench/results/replay.json, not pass/fail.
  *
  * Log size. A room's RoomSimulation is recorded by the server's RoomRecorder (fsync none, a
- * temporary directory) with keyframes every KEYFRAMES ticks, deflated and raw, for TICKS room ticks
- * run as fast as the machine allows (sizes are per room tick, so machine load does not change
- * them):
+ * temporary directory) for TICKS room ticks (10 minutes) run as fast as the machine allows (sizes
+ * are per room tick, so machine load does not change them), by three recorders at once: the
+ * server's defaults (keyframe opportunities every --keyframe-ticks, the --keyframe-budget, deflated
+ * and delta keyframes), the same without a budget, and without a budget with raw whole keyframes:
  * - busy: a 1,000-body pile with 5 players dragging bodies on the schedule of server/bots.ts
  *   driveBot (20 Hz: grab a random dynamic body, 79 moves around a circle, release; every 100
  *   steps);
  * - quiet: the 210-box pyramid with one player who does nothing.
- * Each log is read back and its bytes split into keyframes and everything else; bytes per hour for
- * a keyframe interval K are (other bytes per tick x 216,000) + (median keyframe record x
- * 216,000 / K), so intervals not recorded are computed from the measured parts.
+ * Each log is read back and its bytes split into the header, keyframes (whole and delta) and
+ * everything else (the blocks of commands, joins, leaves and hashes). MB per hour of a one-hour
+ * log: (bytes after the header per tick x 216,000) + the header. The budget lets a log exceed it by
+ * one keyframe, and a 10-minute session counts that keyframe 6 times: an upper bound.
  *
  * Replay speed. A pyramid room with one player dragging, recorded for SPEED_TICKS with the default
  * keyframes, is replayed with --verify (every hash and keyframe checked; server/replay-tool.ts, the
@@ -32,29 +34,31 @@ import { RoomSimulation, worldFromBlueprint } from '../shared/room-simulation.ts
 import { formatTable, machineInfo, median, saveResults } from './stats.ts'
 
 const quick = process.argv.includes('--quick')
-const TICKS = quick ? 600 : 2_400
+const TICKS = quick ? 3_600 : 36_000
 const SPEED_TICKS = quick ? 1_200 : 3_600
 const REPS = 5
 const DEFAULT_KEYFRAMES = SETTINGS.find((s) => s.key === 'keyframeTicks')!.fallback as number
-const KEYFRAMES = quick ? 300 : 600
-const INTERVALS = [300, 600, 1200, 1800, 3600, 7200]
+/** The default --keyframe-budget, MB per hour. */
+const DEFAULT_BUDGET = SETTINGS.find((s) => s.key === 'keyframeBudget')!.fallback as number
+/** The recorders run on each room: the defaults, no budget, no budget with raw whole keyframes. */
+const VARIANTS = [
+  { variant: 'default', keyframeTicks: DEFAULT_KEYFRAMES, budget: DEFAULT_BUDGET, compress: true },
+  { variant: 'no budget', keyframeTicks: DEFAULT_KEYFRAMES, budget: 0, compress: true },
+  { variant: 'no budget, raw', keyframeTicks: DEFAULT_KEYFRAMES, budget: 0, compress: false },
+]
+type Variant = (typeof VARIANTS)[number]
 
 let counters = 0
 
-function recorder(
-  room: string,
-  sim: RoomSimulation,
-  dir: string,
-  keyframeTicks: number,
-  compress: boolean,
-): RoomRecorder {
+function recorder(room: string, sim: RoomSimulation, dir: string, v: Variant): RoomRecorder {
   const r = new RoomRecorder(room, sim, {
     dir,
     fsync: 'none',
-    keyframeTicks,
+    keyframeTicks: v.keyframeTicks,
+    keyframeBudget: v.budget * 1_000_000,
     maxBytes: 2 ** 40,
     keep: 10,
-    compress,
+    compress: v.compress,
     log: pino({ level: 'silent' }),
     failures: new Counter({ name: `bench_recorder_failures_${counters++}`, help: 'bench', registers: [] }),
     openNames: new Set(),
@@ -88,16 +92,14 @@ async function session(
   players: number,
   dragging: boolean,
   ticks: number,
-  variants: Array<{ keyframeTicks: number; compress: boolean }>,
+  variants: readonly Variant[],
 ): Promise<Uint8Array[]> {
   const sim = new RoomSimulation({ name, scene: 'empty', maxBodies: 5000, controls: true })
   const built = worldFromBlueprint(blueprint)
   sim.loadWorld(name, built.world, built.joints)
   const dir = await mkdtemp(join(tmpdir(), `concord-replay-bench-${name}-`))
   await Promise.all(variants.map((_, i) => mkdir(join(dir, String(i)))))
-  const recorders = variants.map((v, i) =>
-    recorder(name, sim, join(dir, String(i)), v.keyframeTicks, v.compress),
-  )
+  const recorders = variants.map((v, i) => recorder(name, sim, join(dir, String(i)), v))
   const prngs = Array.from({ length: players }, (_, i) => new Prng(i + 1))
   for (let p = 1; p <= players; p++) sim.join(p, `player ${p}`, '#3cb44b')
   while (sim.tick < ticks) {
@@ -113,21 +115,23 @@ async function session(
   return out
 }
 
-/** Split a log's bytes: keyframe records (and their sizes), the header, everything else. */
+/** Split a log's bytes: whole and delta keyframe records, the header, everything else. */
 function anatomy(bytes: Uint8Array): {
   ticks: number
-  keyframes: number[]
+  whole: number[]
+  deltas: number[]
   header: number
   other: number
   commands: number
 } {
   const reader = new ReplayLogReader()
-  const out = { ticks: 0, keyframes: [] as number[], header: 0, other: 16, commands: 0 }
+  const out = { ticks: 0, whole: [] as number[], deltas: [] as number[], header: 0, other: 16, commands: 0 }
   let before = 16
   reader.push(bytes, (r, end) => {
+    // Records of one block share its end: the block's bytes count once, with its first record.
     const size = end - before
     before = end
-    if (r.type === 'keyframe') out.keyframes.push(size)
+    if (r.type === 'keyframe') (r.z === 2 ? out.deltas : out.whole).push(size)
     else if (r.type === 'header') out.header = size
     else out.other += size
     if (r.type === 'command') out.commands++
@@ -140,10 +144,6 @@ function anatomy(bytes: Uint8Array): {
 async function main(): Promise<void> {
   const machine = machineInfo()
   console.log(`replay bench: load ${machine.loadAverage.toFixed(1)}`)
-  const variants = [
-    { keyframeTicks: KEYFRAMES, compress: true },
-    { keyframeTicks: KEYFRAMES, compress: false },
-  ]
   const rooms = [
     {
       room: 'busy',
@@ -161,73 +161,88 @@ async function main(): Promise<void> {
     },
   ]
   const sizes = []
-  const perHour: Array<{ room: string; compressed: boolean; keyframeTicks: number; mbPerHour: number }> = []
+  const perHour: Array<{
+    room: string
+    variant: string
+    recordsMbPerHour: number
+    keyframesMbPerHour: number
+    mbPerHour: number
+  }> = []
+  const mb = (bytes: number, ticks: number): number => Number(((bytes * 216_000) / ticks / 1e6).toFixed(2))
+  const sum = (xs: number[]): number => xs.reduce((a, b) => a + b, 0)
   for (const r of rooms) {
     const began = performance.now()
-    const logs = await session(r.room, r.blueprint, r.players, r.dragging, TICKS, variants)
+    const logs = await session(r.room, r.blueprint, r.players, r.dragging, TICKS, VARIANTS)
     console.log(`${r.room}: ${TICKS} ticks recorded in ${((performance.now() - began) / 1000).toFixed(1)} s`)
     for (const [i, bytes] of logs.entries()) {
       const a = anatomy(bytes)
-      const keyframe = median(a.keyframes)
-      const otherPerTick = a.other / a.ticks
+      const v = VARIANTS[i]
+      const keyframeBytes = sum(a.whole) + sum(a.deltas)
       const row = {
         room: r.room,
         scene: r.scene,
-        compressed: variants[i].compress,
+        ...v,
         ticks: a.ticks,
         logBytes: bytes.length,
         headerBytes: a.header,
-        keyframes: a.keyframes.length,
-        keyframeBytesMedian: keyframe,
+        wholeKeyframes: a.whole.length,
+        wholeKeyframeBytesMedian: a.whole.length ? median(a.whole) : 0,
+        deltaKeyframes: a.deltas.length,
+        deltaKeyframeBytesMedian: a.deltas.length ? median(a.deltas) : 0,
         commands: a.commands,
-        otherBytesPerTick: Number(otherPerTick.toFixed(1)),
-        otherMbPerHour: Number(((otherPerTick * 216_000) / 1e6).toFixed(2)),
+        otherBytesPerTick: Number((a.other / a.ticks).toFixed(1)),
       }
       sizes.push(row)
-      for (const k of INTERVALS)
-        perHour.push({
-          room: r.room,
-          compressed: variants[i].compress,
-          keyframeTicks: k,
-          mbPerHour: Number(((otherPerTick * 216_000 + (keyframe * 216_000) / k) / 1e6).toFixed(1)),
-        })
+      perHour.push({
+        room: r.room,
+        variant: v.variant,
+        recordsMbPerHour: mb(a.other, a.ticks),
+        keyframesMbPerHour: mb(keyframeBytes, a.ticks),
+        mbPerHour: Number((mb(bytes.length - a.header, a.ticks) + a.header / 1e6).toFixed(2)),
+      })
     }
   }
   console.log(
     formatTable(
-      ['room', 'keyframes', 'ticks', 'log bytes', 'keyframe bytes', 'commands', 'other MB/h'],
+      [
+        'room',
+        'recorder',
+        'log bytes',
+        'whole kf',
+        'median',
+        'delta kf',
+        'median',
+        'commands',
+        'other B/tick',
+      ],
       sizes.map((s) => [
         s.room,
-        s.compressed ? 'deflated' : 'raw',
-        String(s.ticks),
+        s.variant,
         String(s.logBytes),
-        String(s.keyframeBytesMedian),
+        String(s.wholeKeyframes),
+        String(s.wholeKeyframeBytesMedian),
+        String(s.deltaKeyframes),
+        String(s.deltaKeyframeBytesMedian),
         String(s.commands),
-        s.otherMbPerHour.toFixed(2),
+        s.otherBytesPerTick.toFixed(1),
       ]),
     ),
   )
-  console.log('\nlog MB per hour per room by keyframe interval (ticks):')
+  console.log('\nlog MB per hour per room:')
   console.log(
     formatTable(
-      ['room', 'keyframes', ...INTERVALS.map(String)],
-      rooms.flatMap((r) =>
-        [true, false].map((c) => [
-          r.room,
-          c ? 'deflated' : 'raw',
-          ...INTERVALS.map((k) =>
-            perHour
-              .find((p) => p.room === r.room && p.compressed === c && p.keyframeTicks === k)!
-              .mbPerHour.toFixed(1),
-          ),
-        ]),
-      ),
+      ['room', 'recorder', 'records', 'keyframes', 'total'],
+      perHour.map((p) => [
+        p.room,
+        p.variant,
+        p.recordsMbPerHour.toFixed(2),
+        p.keyframesMbPerHour.toFixed(2),
+        p.mbPerHour.toFixed(2),
+      ]),
     ),
   )
 
-  const [speedLog] = await session('pyramid', pyramidScene(20), 1, true, SPEED_TICKS, [
-    { keyframeTicks: DEFAULT_KEYFRAMES, compress: true },
-  ])
+  const [speedLog] = await session('pyramid', pyramidScene(20), 1, true, SPEED_TICKS, [VARIANTS[0]])
   const runs = []
   for (let i = 0; i < REPS; i++) {
     const report = await replayLog(speedLog, { verify: true })
@@ -256,8 +271,8 @@ async function main(): Promise<void> {
     machine,
     loadAverageAtEnd: loadAtEnd,
     ticks: TICKS,
-    recordedKeyframeTicks: KEYFRAMES,
     defaultKeyframeTicks: DEFAULT_KEYFRAMES,
+    defaultKeyframeBudgetMbPerHour: DEFAULT_BUDGET,
     sizes,
     perHour,
     replaySpeed: speed,

@@ -9,7 +9,13 @@ import { SETTINGS } from '../../server/config.ts'
 
 const readme = readFileSync('README.md', 'utf8')
 const results = JSON.parse(readFileSync('bench/results/replay.json', 'utf8')) as {
-  perHour: Array<{ room: string; compressed: boolean; keyframeTicks: number; mbPerHour: number }>
+  perHour: Array<{
+    room: string
+    variant: string
+    recordsMbPerHour: number
+    keyframesMbPerHour: number
+    mbPerHour: number
+  }>
 }
 const fallback = (key: string): unknown => SETTINGS.find((s) => s.key === key)?.fallback
 
@@ -18,38 +24,33 @@ const printed = (mb: number): string => (mb >= 10 ? `${Math.round(mb)} MB` : `${
 
 describe('README, Recording and replays', () => {
   it('gives the log sizes the bench saved', () => {
-    const header = readme.match(/^\| log bytes per room hour \|(.*)\|$/m)
-    expect(header, 'the size table').not.toBeNull()
-    const intervals = header![1]
-      .split('|')
-      .map((c) => Number(c.replace(/\(default\)/, '').replace(/[^\d]/g, '')))
-    expect(intervals).toEqual([600, 1800, 3600, 7200])
+    expect(readme).toMatch(/^\| log bytes per room hour \| records \| keyframes \| total \|$/m)
     const rows = [
-      ['busy: 1,000-body pile, 5 players dragging at 20 Hz, deflated', 'busy', true],
-      ['busy, keyframes raw', 'busy', false],
-      ['quiet: 210-box pyramid, one idle player, deflated', 'quiet', true],
-      ['quiet, keyframes raw', 'quiet', false],
+      ['busy: 1,000-body pile, 5 players dragging at 20 Hz, defaults', 'busy', 'default'],
+      ['busy, no keyframe budget', 'busy', 'no budget'],
+      ['busy, no keyframe budget, keyframes raw', 'busy', 'no budget, raw'],
+      ['quiet: 210-box pyramid, one idle player, defaults', 'quiet', 'default'],
+      ['quiet, no keyframe budget', 'quiet', 'no budget'],
+      ['quiet, no keyframe budget, keyframes raw', 'quiet', 'no budget, raw'],
     ] as const
-    for (const [label, room, compressed] of rows) {
+    for (const [label, room, variant] of rows) {
       const line = readme.split('\n').find((l) => l.startsWith(`| ${label} |`))
       expect(line, label).toBeDefined()
       const cells = line!
         .split('|')
         .slice(2, -1)
         .map((c) => c.trim())
-      const expected = intervals.map((k) =>
-        printed(
-          results.perHour.find(
-            (p) => p.room === room && p.compressed === compressed && p.keyframeTicks === k,
-          )!.mbPerHour,
-        ),
-      )
-      expect(cells, label).toEqual(expected)
+      const r = results.perHour.find((p) => p.room === room && p.variant === variant)!
+      expect(cells, label).toEqual([
+        printed(r.recordsMbPerHour),
+        printed(r.keyframesMbPerHour),
+        printed(r.mbPerHour),
+      ])
     }
   })
 
   it('names the server defaults', () => {
-    expect(readme).toContain(`keyframes every ${fallback('keyframeTicks')} (default)`)
+    expect(readme).toContain(`\`--keyframe-budget\` (default ${fallback('keyframeBudget')} MB)`)
     expect(readme).toContain(`\`--keyframe-ticks\` (default ${fallback('keyframeTicks')} = 10 s)`)
     expect(readme).toContain(`\`--replay-keep\` (default ${fallback('replayKeep')})`)
     expect(fallback('replayMaxBytes')).toBe(256 * 1024 * 1024)
