@@ -320,10 +320,10 @@ export const SETTINGS: readonly Setting[] = [
     flag: '--keyframe-budget',
     env: 'KEYFRAME_BUDGET',
     kind: 'int',
-    fallback: 12,
+    fallback: 32,
     min: 0,
     max: 100_000,
-    help: 'MB of keyframes a log may hold per hour (a busy room gets fewer keyframes); 0 for no limit',
+    help: 'MB of keyframes a log may hold per hour (a busy room gets fewer keyframes; worlds over 128 KB a proportionally smaller budget); 0 for no limit',
   },
   {
     key: 'replayMaxBytes',

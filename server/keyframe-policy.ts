@@ -14,6 +14,9 @@
  *   otherwise a whole one. A seek or recovery decodes at most MAX_CHAIN deltas.
  */
 
+/** Whole keyframes up to this many bytes get the whole budget; bigger ones a proportionally smaller one. */
+export const FULL_BUDGET_BYTES = 128_000
+
 /** Longest run of delta keyframes after a whole one (seek and recovery decode at most this many). */
 export const MAX_CHAIN = 60
 
@@ -33,7 +36,7 @@ export class KeyframePolicy {
   constructor(
     /** Ticks between keyframe opportunities (--keyframe-ticks). */
     readonly ticks: number,
-    /** Keyframe bytes allowed per hour of log (--keyframe-budget in bytes), 0 for no limit. */
+    /** Keyframe bytes allowed per hour of log (--keyframe-budget in bytes, scaled down for worlds over FULL_BUDGET_BYTES), 0 for no limit. */
     readonly budgetPerHour: number,
     /** Room ticks per second. */
     readonly tickRate: number,
@@ -54,7 +57,8 @@ export class KeyframePolicy {
   decide(tick: number): KeyframeKind {
     if (tick % this.ticks !== 0) return 'none'
     if (this.budgetPerHour > 0) {
-      const allowed = (this.budgetPerHour * (tick - this.startTick)) / (3600 * this.tickRate)
+      const scale = this.fullBytes > FULL_BUDGET_BYTES ? FULL_BUDGET_BYTES / this.fullBytes : 1
+      const allowed = (this.budgetPerHour * scale * (tick - this.startTick)) / (3600 * this.tickRate)
       if (this.written > allowed) return 'none'
     }
     const delta = this.hasBase && this.chain < MAX_CHAIN && this.chainBytes + this.lastDelta < this.fullBytes
