@@ -1,9 +1,9 @@
-import type { Socket } from 'node:net'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { ClientSession } from '../../server/client-session.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { hardBufferLimit } from '../../server/transport.ts'
+import { socketOf } from './slow-socket.ts'
 import { inProcessRooms, startTestServer } from './test-server.ts'
 
 let server: RunningServer
@@ -24,10 +24,6 @@ beforeAll(async () => {
 afterAll(async () => {
   await server.close()
 })
-
-function socketOf(ws: unknown): Socket {
-  return (ws as { _socket: Socket })._socket
-}
 
 describe('a client that stops reading', { timeout: 20_000 }, () => {
   it('has its snapshots skipped, is closed, and never holds more than the hard buffer limit', async () => {

@@ -7,11 +7,11 @@
  * --slow-client-seconds over the send-buffer budget, while a normal reader in the same room is
  * left alone. The heartbeat is set long so that only the slow-reader rule can close anybody.
  */
-import type { Socket } from 'node:net'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { capturingLogger, waitUntil } from './raw-client.ts'
+import { readSlowly } from './slow-socket.ts'
 import { inProcessRooms, startTestServer } from './test-server.ts'
 
 const capture = capturingLogger('info')
@@ -39,10 +39,6 @@ afterAll(async () => {
   await server.close()
 })
 
-function socketOf(ws: unknown): Socket {
-  return (ws as { _socket: Socket })._socket
-}
-
 async function counter(name: string): Promise<number> {
   const text = await server.metrics.registry.getSingleMetricAsString(name)
   return Number(text.trim().split('\n').pop()!.split(' ').pop())
@@ -63,31 +59,18 @@ describe('a client that reads, but slowly', { timeout: 90_000 }, () => {
       if (m.t === 'snap' && ++snapshots % 6 === 0) normal.command({ k: 'reset' })
     }
     // The slow reader: one chunk (at most 64 KiB) at once, then one every 1.5 s, paused between.
-    // The first read is not left to the interval: on a quiet machine the rule can close the
-    // reader (1 s over the budget) before 1.5 s have passed.
-    const socket = socketOf(slow.ws)
-    socket.pause()
-    let chunks = 0
-    const readOneChunk = () => {
-      socket.once('data', () => {
-        chunks++
-        socket.pause()
-      })
-      socket.resume()
-    }
-    readOneChunk()
-    const reader = setInterval(readOneChunk, 1500)
+    const reader = readSlowly(slow.ws, 1500)
     // Wait on the server's side: the slow client's own socket sees the close only once it has
     // read through its backlog.
     const room = server.rooms.get('slow')!
     try {
       await waitUntil(() => !room.players.has(slow.mirror.clientId), 'the slow reader to be closed', 60_000)
     } finally {
-      clearInterval(reader)
+      reader.stop()
       slow.ws.terminate()
     }
     // It kept reading while it was behind (it was not a dead peer) ...
-    expect(chunks).toBeGreaterThan(0)
+    expect(reader.chunks()).toBeGreaterThan(0)
     // ... its snapshots were skipped first, then the slow-reader rule closed it: nothing else can
     // close a peer here (the heartbeat is 10 minutes away, nobody misbehaved).
     expect((await counter('concord_snapshots_skipped_total')) - skippedBefore).toBeGreaterThan(0)

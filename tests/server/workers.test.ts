@@ -16,6 +16,7 @@ import { BotClient } from '../../server/bot-client.ts'
 import { listLogNames, scanLog } from '../../server/replay-files.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { CLOSE_CODES } from '../../shared/index.ts'
+import { readSlowly } from './slow-socket.ts'
 import { startTestServer } from './test-server.ts'
 
 const servers: RunningServer[] = []
@@ -221,16 +222,8 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
     normal.onServerMessage = (m) => {
       if (m.t === 'snap' && ++snapshots % 6 === 0) normal.command({ k: 'reset' })
     }
-    const socket = (slow.ws as unknown as { _socket: import('node:net').Socket })._socket
-    socket.pause()
-    let chunks = 0
-    const reader = setInterval(() => {
-      socket.once('data', () => {
-        chunks++
-        socket.pause()
-      })
-      socket.resume()
-    }, 1500)
+    // The slow reader: one chunk at once, then one every 1.5 s.
+    const reader = readSlowly(slow.ws, 1500)
     const players = async (): Promise<number> => {
       const rooms = (await (await fetch(`${server.url}/rooms`)).json()) as Array<{
         name: string
@@ -241,10 +234,10 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
     try {
       await until(async () => (await players()) === 1, 'the slow reader to be closed', 60_000)
     } finally {
-      clearInterval(reader)
+      reader.stop()
       slow.ws.terminate()
     }
-    expect(chunks).toBeGreaterThan(0)
+    expect(reader.chunks()).toBeGreaterThan(0)
     // Closed by the room's rule on its worker (not by the main thread's hard limit); worker metrics arrive once a second.
     await until(async () => (await sum('concord_slow_clients_closed_total')) === 1, 'the slow-reader metric')
     expect(await sum('concord_snapshots_skipped_total')).toBeGreaterThan(0)
