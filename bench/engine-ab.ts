@@ -10,7 +10,9 @@
  * like the pyramids) and the world hash after the last step (equal hashes: the versions stepped bit-identically). Saves bench/results/engine-ab.json.
  *
  * Flags: --scenes pyramid-20,pyramid-50,pile-1000 (also pile-N for any N), --rounds 40,
- * --chunk 10, --warmup 30, --sleep off|on, --out FILE.
+ * --chunk 10, --warmup 30, --sleep off|on, --out FILE. pile-N-awake is the server capacity scene
+ * (bench/server-load.ts awakePile): the pile with every dynamic body's enableSleep false, so with
+ * --sleep on the world keeps sleeping enabled and still simulates every body.
  */
 import { performance } from 'node:perf_hooks'
 import { parseArgs } from 'node:util'
@@ -23,8 +25,14 @@ interface EngineModule {
     hash(): number
   }
   buildScene(world: unknown, blueprint: unknown): unknown
-  pyramidScene(rows: number): { gravity: { x: number; y: number } }
-  pileScene(count: number): { gravity: { x: number; y: number } }
+  pyramidScene(rows: number): Blueprint
+  pileScene(count: number): Blueprint
+}
+
+/** The part of a scene blueprint this benchmark reads or rewrites. */
+interface Blueprint {
+  gravity: { x: number; y: number }
+  bodies: { type?: string; enableSleep?: boolean }[]
 }
 
 interface Version {
@@ -50,12 +58,19 @@ function parseVersion(arg: string): { label: string; dir: string } {
   return { label: arg.slice(0, eq), dir: arg.slice(eq + 1) }
 }
 
-function blueprintOf(engine: EngineModule, scene: string): { gravity: { x: number; y: number } } {
+function blueprintOf(engine: EngineModule, scene: string): Blueprint {
   const pyramid = /^pyramid-(\d+)$/.exec(scene)
   if (pyramid) return engine.pyramidScene(Number(pyramid[1]))
-  const pile = /^pile-(\d+)$/.exec(scene)
-  if (pile) return engine.pileScene(Number(pile[1]))
-  throw new Error(`unknown scene ${JSON.stringify(scene)}: use pyramid-N or pile-N`)
+  const pile = /^pile-(\d+)(-awake)?$/.exec(scene)
+  if (pile === null)
+    throw new Error(`unknown scene ${JSON.stringify(scene)}: use pyramid-N, pile-N or pile-N-awake`)
+  const blueprint = engine.pileScene(Number(pile[1]))
+  if (pile[2] === undefined) return blueprint
+  // The server capacity scene (bench/server-load.ts awakePile): no dynamic body may sleep.
+  return {
+    ...blueprint,
+    bodies: blueprint.bodies.map((b) => (b.type === 'static' ? b : { ...b, enableSleep: false })),
+  }
 }
 
 function runScene(

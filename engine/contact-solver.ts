@@ -34,6 +34,23 @@
 import { DPX, DPY, DQC, DQS, STATE_STRIDE, stateOffset, VX, VY, W } from './body-state.ts'
 import { PINCH_MASS_RATIO, PINCHED_EXTRA_ITERATIONS } from './constants.ts'
 import type { Contact } from './contact.ts'
+import {
+  ANCHOR_AX,
+  ANCHOR_AY,
+  ANCHOR_BX,
+  ANCHOR_BY,
+  FRICTION as CONTACT_FRICTION,
+  NORMAL_IMPULSE as CONTACT_NORMAL_IMPULSE,
+  NORMAL_X as CONTACT_NORMAL_X,
+  NORMAL_Y as CONTACT_NORMAL_Y,
+  RESTITUTION as CONTACT_RESTITUTION,
+  TANGENT_IMPULSE as CONTACT_TANGENT_IMPULSE,
+  TOTAL_NORMAL as CONTACT_TOTAL_NORMAL,
+  TOTAL_TANGENT as CONTACT_TOTAL_TANGENT,
+  POINT_0,
+  POINT_FIELDS,
+  SEPARATION,
+} from './contact-record.ts'
 import type { Softness } from './softness.ts'
 import type { StepContext } from './step-context.ts'
 
@@ -105,14 +122,15 @@ function identity(n: number): Int32Array {
   return a
 }
 
-/** Fills point record `o` of constraint `oc` from the contact's point j (0 or 1). */
-function preparePoint(d: Float64Array, oc: number, o: number, c: Contact, j: number): void {
-  const nx = c.normalX
-  const ny = c.normalY
-  const rAx = j === 0 ? c.anchorAx0 : c.anchorAx1
-  const rAy = j === 0 ? c.anchorAy0 : c.anchorAy1
-  const rBx = j === 0 ? c.anchorBx0 : c.anchorBx1
-  const rBy = j === 0 ? c.anchorBy0 : c.anchorBy1
+/** Fills point record `o` of constraint `oc` from the contact's point record at `cp` (contact-record.ts). */
+function preparePoint(d: Float64Array, oc: number, o: number, c: Contact, cp: number): void {
+  const cd = c.store.data
+  const nx = d[oc + NX]
+  const ny = d[oc + NY]
+  const rAx = cd[cp + ANCHOR_AX]
+  const rAy = cd[cp + ANCHOR_AY]
+  const rBx = cd[cp + ANCHOR_BX]
+  const rBy = cd[cp + ANCHOR_BY]
   const mA = d[oc + M_A]
   const iA = d[oc + I_A]
   const mB = d[oc + M_B]
@@ -121,7 +139,7 @@ function preparePoint(d: Float64Array, oc: number, o: number, c: Contact, j: num
   d[o + RAY] = rAy
   d[o + RBX] = rBx
   d[o + RBY] = rBy
-  const separation = j === 0 ? c.separation0 : c.separation1
+  const separation = cd[cp + SEPARATION]
   d[o + BASE_SEPARATION] = separation - ((rBx - rAx) * nx + (rBy - rAy) * ny)
   const rnA = rAx * ny - rAy * nx
   const rnB = rBx * ny - rBy * nx
@@ -132,8 +150,8 @@ function preparePoint(d: Float64Array, oc: number, o: number, c: Contact, j: num
   const rtB = -rBx * nx - rBy * ny
   const kTangent = mA + mB + iA * rtA * rtA + iB * rtB * rtB
   d[o + TANGENT_MASS] = kTangent > 0 ? 1 / kTangent : 0
-  d[o + NORMAL_IMPULSE] = j === 0 ? c.normalImpulse0 : c.normalImpulse1
-  d[o + TANGENT_IMPULSE] = j === 0 ? c.tangentImpulse0 : c.tangentImpulse1
+  d[o + NORMAL_IMPULSE] = cd[cp + CONTACT_NORMAL_IMPULSE]
+  d[o + TANGENT_IMPULSE] = cd[cp + CONTACT_TANGENT_IMPULSE]
   d[o + TOTAL_NORMAL] = 0
   d[o + TOTAL_TANGENT] = 0
   const a = c.bodyA
@@ -174,15 +192,17 @@ export function prepareContacts(
     d[o + I_A] = iA
     d[o + M_B] = mB
     d[o + I_B] = iB
-    d[o + NX] = c.normalX
-    d[o + NY] = c.normalY
-    d[o + FRICTION] = c.friction
-    d[o + RESTITUTION] = c.restitution
+    const cd = c.store.data
+    const cb = c.base
+    d[o + NX] = cd[cb + CONTACT_NORMAL_X]
+    d[o + NY] = cd[cb + CONTACT_NORMAL_Y]
+    d[o + FRICTION] = cd[cb + CONTACT_FRICTION]
+    d[o + RESTITUTION] = cd[cb + CONTACT_RESTITUTION]
     d[o + BIAS_RATE] = soft.biasRate
     d[o + MASS_SCALE] = soft.massScale
     d[o + IMPULSE_SCALE] = soft.impulseScale
-    preparePoint(d, o, o + POINTS, c, 0)
-    if (c.pointCount > 1) preparePoint(d, o, o + POINTS + POINT_STRIDE, c, 1)
+    preparePoint(d, o, o + POINTS, c, cb + POINT_0)
+    if (c.pointCount > 1) preparePoint(d, o, o + POINTS + POINT_STRIDE, c, cb + POINT_0 + POINT_FIELDS)
     // A dynamic body touching one more than PINCH_MASS_RATIO times heavier is pinched.
     if (mA > 0 && mB > 0) {
       if (mA > PINCH_MASS_RATIO * mB) pinchedRecord[out.stateA[i] / STATE_STRIDE] = 1
@@ -431,17 +451,20 @@ export function storeImpulses(k: ContactConstraints, contacts: Contact[]): void 
   const d = k.data
   for (let i = 0; i < k.count; i++) {
     const c = contacts[i]
+    const cd = c.store.data
+    const cp = c.base + POINT_0
     const p = i * CONSTRAINT_STRIDE + POINTS
-    c.normalImpulse0 = d[p + NORMAL_IMPULSE]
-    c.tangentImpulse0 = d[p + TANGENT_IMPULSE]
-    c.totalNormalImpulse0 = d[p + TOTAL_NORMAL]
-    c.totalTangentImpulse0 = d[p + TOTAL_TANGENT]
+    cd[cp + CONTACT_NORMAL_IMPULSE] = d[p + NORMAL_IMPULSE]
+    cd[cp + CONTACT_TANGENT_IMPULSE] = d[p + TANGENT_IMPULSE]
+    cd[cp + CONTACT_TOTAL_NORMAL] = d[p + TOTAL_NORMAL]
+    cd[cp + CONTACT_TOTAL_TANGENT] = d[p + TOTAL_TANGENT]
     if (k.pointCount[i] > 1) {
       const q = p + POINT_STRIDE
-      c.normalImpulse1 = d[q + NORMAL_IMPULSE]
-      c.tangentImpulse1 = d[q + TANGENT_IMPULSE]
-      c.totalNormalImpulse1 = d[q + TOTAL_NORMAL]
-      c.totalTangentImpulse1 = d[q + TOTAL_TANGENT]
+      const cq = cp + POINT_FIELDS
+      cd[cq + CONTACT_NORMAL_IMPULSE] = d[q + NORMAL_IMPULSE]
+      cd[cq + CONTACT_TANGENT_IMPULSE] = d[q + TANGENT_IMPULSE]
+      cd[cq + CONTACT_TOTAL_NORMAL] = d[q + TOTAL_NORMAL]
+      cd[cq + CONTACT_TOTAL_TANGENT] = d[q + TOTAL_TANGENT]
     }
   }
 }

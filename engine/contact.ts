@@ -9,7 +9,28 @@
  */
 import type { Body } from './body.ts'
 import { collideGeometry } from './collide.ts'
-import { Manifold } from './manifold.ts'
+import {
+  ANCHOR_AX,
+  ANCHOR_AY,
+  ANCHOR_BX,
+  ANCHOR_BY,
+  type ContactStore,
+  FRICTION,
+  ID,
+  NORMAL_IMPULSE,
+  NORMAL_X,
+  NORMAL_Y,
+  POINT_0,
+  POINT_FIELDS,
+  PX,
+  PY,
+  RESTITUTION,
+  SEPARATION,
+  TANGENT_IMPULSE,
+  TOTAL_NORMAL,
+  TOTAL_TANGENT,
+} from './contact-record.ts'
+import { Manifold, type ManifoldPoint } from './manifold.ts'
 
 /** Multiplier that makes the pair key (a * KEY_SCALE + b) unique for body ids below 2^26. */
 export const KEY_SCALE = 67108864
@@ -31,57 +52,65 @@ export const CONTACT_POINT_FIELDS = [
 ] as const
 
 /**
- * A contact between two bodies, bodyA.id < bodyB.id. The two points' fields are flattened into the
- * contact (suffix 0 and 1) so the narrowphase and the solver read one object, not three.
+ * A contact between two bodies, bodyA.id < bodyB.id. Its numbers live in the world's ContactStore
+ * (contact-record.ts) at offset `base`; the hot passes read them there by offset, and the named
+ * properties below (friction, normalX, anchorAx0, ...) read and write the same record for
+ * everything else (saving, read-back, tests).
  */
 export class Contact {
   key: number
   bodyA: Body
   bodyB: Body
-  friction: number
-  restitution: number
   touching = false
   pointCount = 0
+  /** The store holding this contact's record, and the record's offset in store.data. */
+  readonly store: ContactStore
+  readonly base: number
+  declare friction: number
+  declare restitution: number
   /** World unit normal from A to B. */
-  normalX = 0
-  normalY = 0
+  declare normalX: number
+  declare normalY: number
   /** Feature ids of the points. */
-  id0 = 0
-  id1 = 0
+  declare id0: number
+  declare id1: number
   /** Points relative to each body's centre of mass at the step start (m). */
-  anchorAx0 = 0
-  anchorAy0 = 0
-  anchorBx0 = 0
-  anchorBy0 = 0
-  anchorAx1 = 0
-  anchorAy1 = 0
-  anchorBx1 = 0
-  anchorBy1 = 0
+  declare anchorAx0: number
+  declare anchorAy0: number
+  declare anchorBx0: number
+  declare anchorBy0: number
+  declare anchorAx1: number
+  declare anchorAy1: number
+  declare anchorBx1: number
+  declare anchorBy1: number
   /** Separations reported by the narrowphase, negative when overlapping (m). */
-  separation0 = 0
-  separation1 = 0
+  declare separation0: number
+  declare separation1: number
   /** World points from the narrowphase (m). */
-  px0 = 0
-  py0 = 0
-  px1 = 0
-  py1 = 0
+  declare px0: number
+  declare py0: number
+  declare px1: number
+  declare py1: number
   /** Accumulated impulses, warm started across steps (N s). */
-  normalImpulse0 = 0
-  tangentImpulse0 = 0
-  normalImpulse1 = 0
-  tangentImpulse1 = 0
+  declare normalImpulse0: number
+  declare tangentImpulse0: number
+  declare normalImpulse1: number
+  declare tangentImpulse1: number
   /** Total impulses applied during the last step, all sub-steps (N s); tangent along (ny, -nx). */
-  totalNormalImpulse0 = 0
-  totalTangentImpulse0 = 0
-  totalNormalImpulse1 = 0
-  totalTangentImpulse1 = 0
+  declare totalNormalImpulse0: number
+  declare totalTangentImpulse0: number
+  declare totalNormalImpulse1: number
+  declare totalTangentImpulse1: number
 
-  constructor(bodyA: Body, bodyB: Body) {
+  constructor(bodyA: Body, bodyB: Body, store: ContactStore) {
     this.key = bodyA.id * KEY_SCALE + bodyB.id
     this.bodyA = bodyA
     this.bodyB = bodyB
-    this.friction = Math.sqrt(bodyA.friction * bodyB.friction)
-    this.restitution = Math.max(bodyA.restitution, bodyB.restitution)
+    this.store = store
+    this.base = store.allocate()
+    const d = store.data
+    d[this.base + FRICTION] = Math.sqrt(bodyA.friction * bodyB.friction)
+    d[this.base + RESTITUTION] = Math.max(bodyA.restitution, bodyB.restitution)
   }
 
   /** Reinitializes a pooled contact for a new pair (no allocation). */
@@ -89,22 +118,48 @@ export class Contact {
     this.key = bodyA.id * KEY_SCALE + bodyB.id
     this.bodyA = bodyA
     this.bodyB = bodyB
-    this.friction = Math.sqrt(bodyA.friction * bodyB.friction)
-    this.restitution = Math.max(bodyA.restitution, bodyB.restitution)
     this.touching = false
     this.pointCount = 0
-    this.normalX = 0
-    this.normalY = 0
-    this.normalImpulse0 = 0
-    this.tangentImpulse0 = 0
-    this.normalImpulse1 = 0
-    this.tangentImpulse1 = 0
-    this.totalNormalImpulse0 = 0
-    this.totalTangentImpulse0 = 0
-    this.totalNormalImpulse1 = 0
-    this.totalTangentImpulse1 = 0
+    const d = this.store.data
+    const o = this.base
+    d[o + FRICTION] = Math.sqrt(bodyA.friction * bodyB.friction)
+    d[o + RESTITUTION] = Math.max(bodyA.restitution, bodyB.restitution)
+    d[o + NORMAL_X] = 0
+    d[o + NORMAL_Y] = 0
+    for (let p = o + POINT_0; p < o + POINT_0 + 2 * POINT_FIELDS; p += POINT_FIELDS) {
+      d[p + NORMAL_IMPULSE] = 0
+      d[p + TANGENT_IMPULSE] = 0
+      d[p + TOTAL_NORMAL] = 0
+      d[p + TOTAL_TANGENT] = 0
+    }
     return this
   }
+}
+
+/** The named properties of a contact's record and their offsets in it. */
+const RECORD_PROPERTIES: [string, number][] = [
+  ['friction', FRICTION],
+  ['restitution', RESTITUTION],
+  ['normalX', NORMAL_X],
+  ['normalY', NORMAL_Y],
+]
+const POINT_OFFSETS = [ID, ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, SEPARATION, PX, PY]
+const IMPULSE_OFFSETS = [NORMAL_IMPULSE, TANGENT_IMPULSE, TOTAL_NORMAL, TOTAL_TANGENT]
+for (let j = 0; j < 2; j++) {
+  const offsets = [...POINT_OFFSETS, ...IMPULSE_OFFSETS]
+  CONTACT_POINT_FIELDS.forEach((field, k) => {
+    RECORD_PROPERTIES.push([`${field}${j}`, POINT_0 + j * POINT_FIELDS + offsets[k]])
+  })
+}
+for (const [name, offset] of RECORD_PROPERTIES) {
+  Object.defineProperty(Contact.prototype, name, {
+    get(this: Contact): number {
+      return this.store.data[this.base + offset]
+    },
+    set(this: Contact, value: number): void {
+      this.store.data[this.base + offset] = value
+    },
+  })
 }
 
 const scratch = new Manifold()
@@ -133,8 +188,9 @@ const found = new Float64Array(2)
  */
 export function clearContact(c: Contact): void {
   c.pointCount = 0
-  c.normalX = 0
-  c.normalY = 0
+  const d = c.store.data
+  d[c.base + NORMAL_X] = 0
+  d[c.base + NORMAL_Y] = 0
   c.touching = false
 }
 
@@ -158,45 +214,38 @@ export function updateContact(c: Contact, speculativeDistance: number): boolean 
     speculativeDistance,
     scratch,
   )
-  old[0] = c.id0
-  old[1] = c.id1
-  old[2] = c.normalImpulse0
-  old[3] = c.normalImpulse1
-  old[4] = c.tangentImpulse0
-  old[5] = c.tangentImpulse1
+  const d = c.store.data
+  const o = c.base
+  const p0 = o + POINT_0
+  const p1 = p0 + POINT_FIELDS
+  old[0] = d[p0 + ID]
+  old[1] = d[p1 + ID]
+  old[2] = d[p0 + NORMAL_IMPULSE]
+  old[3] = d[p1 + NORMAL_IMPULSE]
+  old[4] = d[p0 + TANGENT_IMPULSE]
+  old[5] = d[p1 + TANGENT_IMPULSE]
   old[6] = c.pointCount
   const count = scratch.pointCount
   c.pointCount = count
-  c.normalX = scratch.normalX
-  c.normalY = scratch.normalY
-  if (count > 0) {
-    const mp = scratch.points[0]
-    c.id0 = mp.id
-    c.anchorAx0 = mp.x - a.cx
-    c.anchorAy0 = mp.y - a.cy
-    c.anchorBx0 = mp.x - b.cx
-    c.anchorBy0 = mp.y - b.cy
-    c.separation0 = mp.separation
-    c.px0 = mp.x
-    c.py0 = mp.y
-    inherit(mp.id)
-    c.normalImpulse0 = found[0]
-    c.tangentImpulse0 = found[1]
-  }
-  if (count > 1) {
-    const mp = scratch.points[1]
-    c.id1 = mp.id
-    c.anchorAx1 = mp.x - a.cx
-    c.anchorAy1 = mp.y - a.cy
-    c.anchorBx1 = mp.x - b.cx
-    c.anchorBy1 = mp.y - b.cy
-    c.separation1 = mp.separation
-    c.px1 = mp.x
-    c.py1 = mp.y
-    inherit(mp.id)
-    c.normalImpulse1 = found[0]
-    c.tangentImpulse1 = found[1]
-  }
+  d[o + NORMAL_X] = scratch.normalX
+  d[o + NORMAL_Y] = scratch.normalY
+  if (count > 0) writePoint(d, p0, scratch.points[0], a, b)
+  if (count > 1) writePoint(d, p1, scratch.points[1], a, b)
   c.touching = count > 0
   return c.touching
+}
+
+/** Writes manifold point `mp` into the point record at `p`, inheriting the old impulses by feature id. */
+function writePoint(d: Float64Array, p: number, mp: ManifoldPoint, a: Body, b: Body): void {
+  d[p + ID] = mp.id
+  d[p + ANCHOR_AX] = mp.x - a.cx
+  d[p + ANCHOR_AY] = mp.y - a.cy
+  d[p + ANCHOR_BX] = mp.x - b.cx
+  d[p + ANCHOR_BY] = mp.y - b.cy
+  d[p + SEPARATION] = mp.separation
+  d[p + PX] = mp.x
+  d[p + PY] = mp.y
+  inherit(mp.id)
+  d[p + NORMAL_IMPULSE] = found[0]
+  d[p + TANGENT_IMPULSE] = found[1]
 }

@@ -95,6 +95,7 @@ export class WorldApi extends WorldStore {
     for (const c of body.contacts.slice()) {
       const other = c.bodyA === body ? c.bodyB : c.bodyA
       this.unlinkContact(c)
+      this.contactPool.push(c)
       this.islands.wake(other)
       this.broadPhase.touchProxy(other.proxy)
     }
@@ -333,6 +334,7 @@ export class WorldApi extends WorldStore {
     if (contact !== undefined && !joint.collideConnected) {
       this.unlinkContact(contact)
       this.contactArray.splice(this.contactArray.indexOf(contact), 1)
+      this.contactPool.push(contact)
     }
   }
 

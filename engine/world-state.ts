@@ -13,6 +13,7 @@
  */
 import { Body, STATIC, updateMassData } from './body.ts'
 import { CONTACT_POINT_FIELDS, Contact } from './contact.ts'
+import type { ContactStore } from './contact-record.ts'
 import { Joint } from './joint.ts'
 import {
   type ByteReader,
@@ -214,12 +215,12 @@ export function writeContact(w: ByteWriter, c: Contact): void {
 }
 
 /** Reads a contact written by writeContact. */
-function readContact(r: ByteReader, lookup: (id: number) => Body): Contact {
+function readContact(r: ByteReader, lookup: (id: number) => Body, store: ContactStore): Contact {
   const a = lookup(r.num('contact body A'))
   const b = lookup(r.num('contact body B'))
   if (a.id >= b.id)
     throw new WorldLoadError(`saved world has a contact with bodies out of order (${a.id}, ${b.id})`)
-  const c = new Contact(a, b)
+  const c = new Contact(a, b, store)
   c.touching = r.u8('contact touching') === 1
   c.pointCount = r.u8('contact point count')
   if (c.pointCount > 2) throw new WorldLoadError(`saved world has a contact with ${c.pointCount} points`)
@@ -375,7 +376,7 @@ function readBodies(r: ByteReader, world: WorldStore): void {
 function readContacts(r: ByteReader, world: WorldStore, lookup: (id: number) => Body): void {
   const contactCount = r.u32('contact count')
   for (let i = 0; i < contactCount; i++) {
-    const c = readContact(r, lookup)
+    const c = readContact(r, lookup, world.contactStore)
     if (world.contactMap.has(c.key))
       throw new WorldLoadError(`saved world has a duplicate contact ${c.bodyA.id}-${c.bodyB.id}`)
     if (i > 0 && world.contactArray[i - 1].key > c.key)

@@ -7,6 +7,7 @@ import { Body, STATIC } from './body.ts'
 import { BroadPhase, PairBuffer } from './broad-phase.ts'
 import { SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
 import type { Contact } from './contact.ts'
+import { ContactStore } from './contact-record.ts'
 import { IslandBuilder } from './island.ts'
 import type { Joint } from './joint.ts'
 import { VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
@@ -92,6 +93,10 @@ export class WorldStore {
   /** Contacts in ascending pair-key order. */
   readonly contactArray: Contact[] = []
   readonly contactMap = new Map<number, Contact>()
+  /** The contacts' numbers (contact-record.ts). */
+  readonly contactStore = new ContactStore()
+  /** Destroyed contacts kept for reuse with their records (a record is never freed). */
+  protected readonly contactPool: Contact[] = []
   /** Joints in ascending id order. */
   readonly jointList: Joint[] = []
   readonly jointMap = new Map<number, Joint>()

@@ -102,9 +102,8 @@ export class World extends WorldApi {
   private hashValue = 0
 
   private readonly writer = new ByteWriter()
-  /** Contacts created this step (sorted), and destroyed contacts kept for reuse. */
+  /** Contacts created this step (sorted). */
   private readonly newContacts: Contact[] = []
-  private readonly contactPool: Contact[] = []
   /** Scratch: the step's active contacts with a static or kinematic body, before they are appended. */
   private readonly groundedContacts: Contact[] = []
   /** Solver state of the awake bodies (body-state.ts; record 0 static) and the contact constraints. */
@@ -123,7 +122,7 @@ export class World extends WorldApi {
       const a = this.bodyMap.get(pairs.a[i])!
       const b = this.bodyMap.get(pairs.b[i])!
       if (!shouldCollide(a, b)) continue
-      const contact = this.contactPool.pop()?.reset(a, b) ?? new Contact(a, b)
+      const contact = this.contactPool.pop()?.reset(a, b) ?? new Contact(a, b, this.contactStore)
       this.contactMap.set(key, contact)
       a.contacts.push(contact)
       b.contacts.push(contact)

@@ -7,6 +7,7 @@
 import { describe, expect, it } from 'vitest'
 import { Body, DYNAMIC } from '../../engine/body.ts'
 import { Contact } from '../../engine/contact.ts'
+import { ContactStore } from '../../engine/contact-record.ts'
 import { Joint } from '../../engine/joint.ts'
 import { ByteWriter } from '../../engine/save-format.ts'
 import { box } from '../../engine/shapes.ts'
@@ -66,7 +67,7 @@ describe('save writers follow the field lists', () => {
   it('writeContact writes each point field in list order, for 0, 1 and 2 points', () => {
     const [a, b] = makeBodies()
     for (const points of [0, 1, 2]) {
-      const c = new Contact(a, b)
+      const c = new Contact(a, b, new ContactStore())
       const next = distinct(c, POINT_FIELDS[0], 100)
       distinct(c, POINT_FIELDS[1], next)
       c.normalX = 0.6
