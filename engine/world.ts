@@ -131,10 +131,21 @@ export class World extends WorldApi {
     if (fresh.length > 0) mergeContacts(this.contactArray, fresh)
   }
 
-  /** Narrowphase for contacts with an awake body; destroys contacts whose fat AABBs parted. */
+  /**
+   * Narrowphase for contacts with an awake body; destroys contacts whose fat AABBs parted. Also
+   * sorts the touching contacts into the step's active list the way buildSolverSets does (pairs of
+   * dynamic bodies, then pairs with a static or kinematic body), while each contact is in cache;
+   * that list is only used if no body woke during the loop (a woken island can make contacts
+   * visited earlier active).
+   */
   private collide(): void {
     const contacts = this.contactArray
+    const active = this.activeContacts
+    const grounded = this.groundedContacts
     let kept = 0
+    let m = 0
+    let g = 0
+    let woke = false
     for (let i = 0; i < contacts.length; i++) {
       const c = contacts[i]
       const a = c.bodyA
@@ -157,12 +168,26 @@ export class World extends WorldApi {
       const reach = a.maxExtent + b.maxExtent + SPECULATIVE_DISTANCE
       if (dx * dx + dy * dy > 1.0001 * reach * reach) clearContact(c)
       else if (updateContact(c, SPECULATIVE_DISTANCE)) {
-        if (!a.awake) this.islands.wake(a)
-        if (!b.awake) this.islands.wake(b)
+        if (!a.awake) {
+          this.islands.wake(a)
+          woke ||= a.awake
+        }
+        if (!b.awake) {
+          this.islands.wake(b)
+          woke ||= b.awake
+        }
+        if (a.invMass > 0 && b.invMass > 0) active[m++] = c
+        else grounded[g++] = c
       }
     }
     contacts.length = kept
+    this.collidedActive = woke ? -1 : m
+    this.collidedGrounded = g
   }
+
+  /** Active contacts sorted by collide(): the counts of both groups, or -1 when a body woke. */
+  private collidedActive = -1
+  private collidedGrounded = 0
 
   /** Collects awake bodies (loading their solver state), touching contacts and joints with an awake body, in id order. */
   private buildSolverSets(): void {
@@ -185,16 +210,21 @@ export class World extends WorldApi {
     // second group goes to a scratch list and is appended.
     const active = this.activeContacts
     const grounded = this.groundedContacts
-    const contacts = this.contactArray
-    let m = 0
-    let g = 0
-    for (let i = 0; i < contacts.length; i++) {
-      const c = contacts[i]
-      const a = c.bodyA
-      const b = c.bodyB
-      if (!c.touching || (!a.awake && !b.awake)) continue
-      if (a.invMass > 0 && b.invMass > 0) active[m++] = c
-      else grounded[g++] = c
+    let m = this.collidedActive
+    let g = this.collidedGrounded
+    if (m < 0) {
+      // A body woke during collide: sort again now that every island is awake or asleep for the step.
+      const contacts = this.contactArray
+      m = 0
+      g = 0
+      for (let i = 0; i < contacts.length; i++) {
+        const c = contacts[i]
+        const a = c.bodyA
+        const b = c.bodyB
+        if (!c.touching || (!a.awake && !b.awake)) continue
+        if (a.invMass > 0 && b.invMass > 0) active[m++] = c
+        else grounded[g++] = c
+      }
     }
     for (let i = 0; i < g; i++) active[m++] = grounded[i]
     this.activeContactCount = m
