@@ -77,12 +77,40 @@ export class RoomManager {
     const existing = this.rooms.get(name)
     if (existing) return existing
     if (this.rooms.size >= this.config.maxRooms) return null
-    const room = new Room(name, this.config, this.metrics, this.log, this.created++)
+    const room = new Room(name, this.config, this.metrics, this.log, this.spread())
     this.rooms.set(name, room)
     this.metrics.rooms.set(this.rooms.size)
     this.onRoomCreated?.(room)
     this.log.info({ room: name, scene: room.scene }, 'room created')
     return room
+  }
+
+  /**
+   * Where a new room's periodic work falls (see Room's constructor). Every room does its
+   * once-a-second checkpoint (world hash, sweep, the recorder's hash record and keyframe) on the
+   * room ticks that are multiples of 60, so rooms opened in the same tick (a burst of joins, a
+   * benchmark, a recovery) would all do it on the same clock tick, and that tick would take the
+   * sum of their checkpoints. A room's checkpoint phase is (clock ticks - room tick) mod 60,
+   * fixed for its life since both grow by one per tick; the new room gets the phase fewest open
+   * rooms have (ties in the order 0, 23, 46, 9, ...: 23 is prime to 60, so consecutive rooms land
+   * far apart), by starting its tick at (clock ticks - phase) mod 60. Its snapshot phase takes
+   * the clock's snapshot slots in turn, in creation order, as before.
+   */
+  private spread(): { startTick: number; snapshotPhase: number } {
+    const used = new Array<number>(TICK_RATE).fill(0)
+    for (const room of this.rooms.values()) used[mod(this.ticks - room.tick, TICK_RATE)]++
+    let phase = 0
+    for (let k = 1; k < TICK_RATE; k++) {
+      const candidate = (k * 23) % TICK_RATE
+      if (used[candidate] < used[phase]) phase = candidate
+    }
+    const startTick = mod(this.ticks - phase, TICK_RATE)
+    // Snapshots go out when (tick + snapshotPhase) is a multiple of the interval; the room tick is
+    // (clock ticks - phase) mod the interval (which divides 60), so the k-th room created sends
+    // when the clock ticks are k mod the interval.
+    const interval = TICK_RATE / this.config.snapshotRate
+    const snapshotPhase = mod(phase - this.created++, interval)
+    return { startTick, snapshotPhase }
   }
 
   /** Run one tick of every room, measuring each (the measurement is for metrics only). */
@@ -162,4 +190,9 @@ export class RoomManager {
     for (const room of this.rooms.values()) n += room.players.size
     return n
   }
+}
+
+/** x mod m in [0, m). */
+function mod(x: number, m: number): number {
+  return ((x % m) + m) % m
 }

@@ -27,8 +27,9 @@
  * Lockstep and predict players simulate the room themselves: steps 3-5 (events, room settings,
  * snapshots, contacts, hash messages) skip them.
  *
- * Room ticks count loop iterations and never reset; world.tick counts steps of the current world
- * (paused ticks do not step, a scene load starts a new world).
+ * Room ticks grow by one per loop iteration and never reset (a new room starts at a tick below 60
+ * that its manager picks to spread rooms' checkpoints over the clock, room-manager.ts); world.tick
+ * counts steps of the current world (paused ticks do not step, a scene load starts a new world).
  */
 import type { Logger } from 'pino'
 import { SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
@@ -113,15 +114,16 @@ export class Room {
     readonly metrics: ServerMetrics,
     readonly log: Logger,
     /**
-     * The room's place in its manager's creation order. Rooms take turns for the snapshot ticks
-     * (room k sends on ticks where (tick + k) is a multiple of the interval), so the snapshot
-     * work of rooms opened together is spread over the ticks of an interval instead of piling up
-     * on every other tick.
+     * Where the room's periodic work falls on its manager's clock (room-manager.ts chooses it so
+     * that rooms opened together do not pile their work onto the same ticks): the room's first
+     * tick number, which fixes the clock ticks of its once-a-second checkpoints (room ticks that
+     * are multiples of 60), and its snapshot phase (it sends on ticks where (tick + phase) is a
+     * multiple of the snapshot interval).
      */
-    order = 0,
+    spread: { startTick: number; snapshotPhase: number } = { startTick: 0, snapshotPhase: 0 },
   ) {
     this.snapshotInterval = TICK_RATE / config.snapshotRate
-    this.snapshotPhase = order % this.snapshotInterval
+    this.snapshotPhase = spread.snapshotPhase % this.snapshotInterval
     this.budget = Math.floor(config.clientBandwidth / config.snapshotRate)
     this.sim = new RoomSimulation({
       name,
@@ -130,6 +132,7 @@ export class Room {
       controls: config.roomControls,
       listener: this.listener(),
     })
+    this.sim.tick = spread.startTick
     this.feed = new LockstepFeed(this.sim, name, metrics, log)
     this.rules = {
       tickRate: TICK_RATE,

@@ -144,7 +144,7 @@ export class RoomSimulation {
   scene: string
   paused = false
   stepRequested = false
-  /** Ticks run since the room opened (never reset; world.tick counts the current world's steps). */
+  /** The room tick: one more every tick, never reset (a server room starts at a tick below 60 that spreads its checkpoints; world.tick counts the current world's steps). */
   tick = 0
   /** Room tick of the last scene load or reset (they are rate limited). */
   lastLoadTick = Number.NEGATIVE_INFINITY

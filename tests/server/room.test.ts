@@ -260,23 +260,64 @@ describe('the tick loop on a machine that keeps falling behind', () => {
   })
 })
 
-describe('snapshot ticks of rooms opened together', () => {
-  it('take turns: at 30 per second, rooms 1 and 3 snapshot on even ticks, 2 and 4 on odd ones, each every other tick', () => {
+describe('rooms opened together spread their periodic work over the clock', () => {
+  /** Runs n clock ticks; per connection, the clock ticks (1, 2, ...) at which it got each message type. */
+  function run(rooms: RoomManager, conns: FakeConnection[], n: number, from = 0) {
+    const at = conns.map(() => ({ snap: [] as number[], hash: [] as Array<{ clock: number; tick: number }> }))
+    for (let clock = from + 1; clock <= from + n; clock++) {
+      const seen = conns.map((c) => c.received.length)
+      rooms.tickAll()
+      conns.forEach((c, k) => {
+        for (const m of c.received.slice(seen[k])) {
+          if (m.t === 'snap') at[k].snap.push(clock)
+          if (m.t === 'hash') at[k].hash.push({ clock, tick: m.tick })
+        }
+      })
+    }
+    return at
+  }
+
+  it('snapshots take turns: at 30 per second, rooms 1 and 3 send on one clock tick, 2 and 4 on the next, each every other tick', () => {
     const config = loadConfig([], {}, { defaultScene: 'pyramid', logLevel: 'silent', snapshotRate: 30 })
     const rooms = new RoomManager(config, createMetrics(false), pino({ level: 'silent' }))
     const conns: FakeConnection[] = []
-    for (let k = 1; k <= 4; k++) {
-      const room = rooms.getOrCreate(`turns-${k}`)!
-      conns.push(join(room, `p${k}`))
-    }
-    for (let i = 0; i < 12; i++) rooms.tickAll()
-    const snapTicks = conns.map((c) => c.received.flatMap((m) => (m.t === 'snap' ? [m.tick] : [])))
-    // Room tick t runs in the loop's tick t (all four opened before the first tick).
-    expect(snapTicks[0]).toEqual([2, 4, 6, 8, 10, 12])
-    expect(snapTicks[1]).toEqual([1, 3, 5, 7, 9, 11])
-    expect(snapTicks[2]).toEqual(snapTicks[0])
-    expect(snapTicks[3]).toEqual(snapTicks[1])
+    for (let k = 1; k <= 4; k++) conns.push(join(rooms.getOrCreate(`turns-${k}`)!, `p${k}`))
+    const at = run(rooms, conns, 12)
+    const parity = at[0].snap[0] % 2
+    expect(at[0].snap).toEqual([1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12].filter((c) => c % 2 === parity))
+    expect(at[1].snap).toEqual([1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12].filter((c) => c % 2 !== parity))
+    expect(at[2].snap).toEqual(at[0].snap)
+    expect(at[3].snap).toEqual(at[1].snap)
     // Every snapshot still decodes into the room's state (the mirror acked each one).
     for (const c of conns) expect(c.count('error')).toBe(0)
+  })
+
+  it('checkpoints: 20 rooms opened in one tick hash on 20 different clock ticks, at room ticks that are multiples of 60; a room opened later takes a free clock tick', () => {
+    const config = loadConfig([], {}, { defaultScene: 'empty', logLevel: 'silent', snapshotRate: 20 })
+    const rooms = new RoomManager(config, createMetrics(false), pino({ level: 'silent' }))
+    const conns: FakeConnection[] = []
+    for (let k = 0; k < 20; k++) conns.push(join(rooms.getOrCreate(`burst-${k}`)!, `p${k}`))
+    for (const room of rooms.list()) expect(room.tick).toBeLessThan(60)
+    const at = run(rooms, conns, 120)
+    for (const a of at) {
+      // Once a second, on a room tick that is a multiple of 60 (the protocol's checkpoint ticks).
+      expect(a.hash.length).toBe(2)
+      expect(a.hash[0].tick % 60).toBe(0)
+      expect(a.hash[1].clock - a.hash[0].clock).toBe(60)
+    }
+    const clocks = at.map((a) => a.hash[0].clock % 60)
+    expect(new Set(clocks).size).toBe(20)
+    // Snapshots (every 3rd tick): the 20 rooms take the 3 slots 7, 7 and 6 at a time.
+    const perClock = new Map<number, number>()
+    for (const a of at) for (const c of a.snap) perClock.set(c, (perClock.get(c) ?? 0) + 1)
+    expect(Math.max(...perClock.values())).toBe(7)
+    expect(Math.min(...perClock.values())).toBe(6)
+    // A 21st room, opened 35 ticks later, avoids the 20 clock ticks already taken.
+    for (let i = 0; i < 35; i++) rooms.tickAll()
+    const late = join(rooms.getOrCreate('late')!, 'late')
+    const lateAt = run(rooms, [late], 60, 155)
+    expect(lateAt[0].hash).toHaveLength(1)
+    expect(lateAt[0].hash[0].tick % 60).toBe(0)
+    expect(clocks).not.toContain(lateAt[0].hash[0].clock % 60)
   })
 })
