@@ -13,7 +13,7 @@
  * client (after they join), measured after a full GC (run with --expose-gc, as the npm script does).
  * With --workers N the rooms run on N worker threads (the server's --workers): each worker's loop
  * ticks are timed in the worker (wall time, and CPU time of the worker's thread from Linux's
- * /proc/thread-self/schedstat: Node 20 has no per-thread CPU clock), and the step reports the
+ * /proc/thread-self/schedstat, server/thread-cpu.ts: Node 20 has no per-thread CPU clock), and the step reports the
  * p50/p99/max over every worker's ticks, the dropped ticks of all workers, and
  * RSS (worker heaps are not collected by the GC call, so memory per room and client is reported
  * from RSS there). --workers 0 (the default) is every room on the main thread's loop.

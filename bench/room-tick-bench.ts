@@ -9,7 +9,7 @@
  * for 80 steps, release), through the real RoomManager, Room, recorder (on, as the server's
  * default, into a temporary directory) and worker Outbox, whose batch is posted to a
  * MessageChannel each tick. Every snapshot is acknowledged one tick later, as a client on
- * loopback would. Each loop tick is timed in this thread's CPU time (Linux schedstat) and in wall
+ * loopback would. Each loop tick is timed in this thread's CPU time (server/thread-cpu.ts) and in wall
  * time; the summary splits the ticks into snapshot ticks of room 1, the other ticks, and the
  * once-a-second checkpoint ticks (hash, sweep, recorder flush), so the cost of each kind of work
  * shows. The inputs are deterministic, so the bytes sent per tick are the same from run to run
@@ -18,7 +18,7 @@
  * Compare versions in interleaved runs (CPU time still varies with the machine's load).
  * Flags: --rooms N, --ticks N (measured, default 1800), --warmup N (default 300), --no-record.
  */
-import { mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs'
+import { mkdirSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs'
 import { loadavg, tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { MessageChannel } from 'node:worker_threads'
@@ -30,6 +30,7 @@ import { Recordings } from '../server/recordings.ts'
 import { RoomManager } from '../server/room-manager.ts'
 import { handleRoomMessage } from '../server/room-messages.ts'
 import type { RoomPlayer } from '../server/room-player.ts'
+import { StretchTimer } from '../server/thread-cpu.ts'
 import { Outbox, WorkerConnection } from '../server/worker-outbox.ts'
 import type { Command, WireShape } from '../shared/index.ts'
 import { awakePile, quantile } from './server-load.ts'
@@ -143,9 +144,8 @@ function drive(player: Player): void {
   }
 }
 
-/** CPU time of this thread (ms), from Linux's per-thread scheduler statistics. */
-const threadCpuMs = (): number =>
-  Number(readFileSync('/proc/thread-self/schedstat', 'utf8').split(' ')[0]) / 1e6
+/** The loop tick's CPU time on this thread (server/thread-cpu.ts). */
+const cpuTimer = new StretchTimer()
 
 const cpu: number[] = []
 const wall: number[] = []
@@ -162,16 +162,16 @@ for (loopTick = 0; loopTick < WARMUP + TICKS; loopTick++) {
     else unacked[kept++] = s
   }
   unacked.length = kept
-  const c0 = threadCpuMs()
+  cpuTimer.start()
   const w0 = performance.now()
   rooms.tickAll()
   const batch = outbox.take(loopTick, true)
   if (batch) channel.port1.postMessage(batch.message, batch.transfer)
-  const c1 = threadCpuMs()
+  const tickCpu = cpuTimer.stop()
   const w1 = performance.now()
   if (loopTick >= WARMUP) {
     bytes += outbox.bytesOut
-    cpu.push(c1 - c0)
+    cpu.push(tickCpu)
     wall.push(w1 - w0)
     const t = first.tick
     kinds.push(t % 60 === 0 ? 'checkpoint' : t % (60 / config.snapshotRate) === 0 ? 'snapshot' : 'other')

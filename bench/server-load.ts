@@ -4,6 +4,7 @@
  * and drags bodies in circles), percentiles and memory readings.
  */
 import { type ChildProcess, spawn } from 'node:child_process'
+import { setPriority } from 'node:os'
 import { performance } from 'node:perf_hooks'
 import pino from 'pino'
 import { pileScene, type SceneBlueprint } from '../engine/index.ts'
@@ -85,6 +86,9 @@ export function startBots(url: string, prefix: string, rooms: number, count: num
   const args = ['--import', 'tsx', 'server/bots.ts', '--url', url, '--room', prefix]
   args.push('--rooms', String(rooms), '--count', String(count), '--seconds', '0')
   const child = spawn(process.execPath, args, { stdio: ['ignore', 'ignore', 'inherit'] })
+  // The bots stand in for clients on other machines: on this machine they run at the lowest CPU
+  // priority, so they take what the server leaves instead of competing with its loops for a core.
+  if (child.pid !== undefined) setPriority(child.pid, 19)
   return child
 }
 

@@ -7,7 +7,6 @@
  * being rebuilt from its log holds back everything after it until it is open, so a client that
  * rejoins at once finds the recovered room, never a new empty one.
  */
-import { readFileSync } from 'node:fs'
 import { parentPort, workerData } from 'node:worker_threads'
 import pino from 'pino'
 import { Counter } from 'prom-client'
@@ -17,6 +16,7 @@ import { Recordings } from './recordings.ts'
 import { roomSummary } from './room-host.ts'
 import { RoomManager } from './room-manager.ts'
 import { handleRoomMessage } from './room-messages.ts'
+import { StretchTimer } from './thread-cpu.ts'
 import { Outbox, WorkerConnection } from './worker-outbox.ts'
 import type { FromWorker, ToWorker, WorkerFault, WorkerInit } from './worker-protocol.ts'
 
@@ -68,16 +68,15 @@ rooms.beforeRoomTick = (room) => {
 let loopMs: number[] = []
 let cpuMs: number[] = []
 let measureCpu = false
-/** CPU time of this thread (ms): Linux's per-thread scheduler statistics (Node 20 has no per-thread CPU clock). */
-const threadCpuMs = (): number =>
-  Number(readFileSync('/proc/thread-self/schedstat', 'utf8').split(' ')[0]) / 1e6
+/** The loop tick's CPU time on this thread (thread-cpu.ts). */
+const cpuTimer = new StretchTimer()
 const tickAll = rooms.tickAll.bind(rooms)
 rooms.tickAll = () => {
   const start = performance.now()
-  const cpu = measureCpu ? threadCpuMs() : 0
+  if (measureCpu) cpuTimer.start()
   tickAll()
   loopMs.push(performance.now() - start)
-  if (measureCpu) cpuMs.push(threadCpuMs() - cpu)
+  if (measureCpu) cpuMs.push(cpuTimer.stop())
 }
 
 let lastTicks = 0
@@ -177,15 +176,11 @@ function handle(op: ToWorker): void {
       fault(op.fault)
       return
     case 'measure-cpu':
-      try {
-        threadCpuMs()
-        measureCpu = true
-      } catch (error) {
+      if (StretchTimer.available()) measureCpu = true
+      else
         log.warn(
-          { err: (error as Error).message },
-          'no per-thread CPU time here; loop ticks are timed in wall time only',
+          'no per-thread CPU time here (no /proc/thread-self/schedstat); loop ticks are timed in wall time only',
         )
-      }
       return
     case 'shutdown':
       void shutdown(op.reason)
