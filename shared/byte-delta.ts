@@ -16,42 +16,14 @@
  * or contacts added or removed only move the shift; a changed number is a short literal.
  */
 
+import { ByteWriter } from './byte-io.ts'
+
 /** Bytes per hashed base block (one f64). */
 const BLOCK = 8
 
 /** A delta that does not decode against its base; the message names the problem. */
 export class ByteDeltaError extends Error {}
 
-class VarintWriter {
-  bytes = new Uint8Array(256)
-  length = 0
-
-  private reserve(n: number): void {
-    if (this.length + n <= this.bytes.length) return
-    let size = this.bytes.length * 2
-    while (size < this.length + n) size *= 2
-    const next = new Uint8Array(size)
-    next.set(this.bytes.subarray(0, this.length))
-    this.bytes = next
-  }
-
-  varint(v: number): void {
-    this.reserve(8)
-    while (v >= 0x80) {
-      this.bytes[this.length++] = (v % 0x80) | 0x80
-      v = Math.floor(v / 0x80)
-    }
-    this.bytes[this.length++] = v
-  }
-
-  run(source: Uint8Array, from: number, to: number): void {
-    this.reserve(to - from)
-    this.bytes.set(source.subarray(from, to), this.length)
-    this.length += to - from
-  }
-}
-
-const zigzag = (d: number): number => (d >= 0 ? d * 2 : -d * 2 - 1)
 const unzigzag = (z: number): number => (z % 2 === 0 ? z / 2 : -(z + 1) / 2)
 
 function hashAt(bytes: Uint8Array, at: number, bits: number): number {
@@ -77,8 +49,8 @@ function indexBlocks(base: Uint8Array): { table: Int32Array; bits: number } {
 
 /** Encode `target` as copy and literal runs against `base` (see the file comment). */
 export function encodeByteDelta(base: Uint8Array, target: Uint8Array): Uint8Array {
-  const out = new VarintWriter()
-  out.varint(target.length)
+  const out = new ByteWriter(256)
+  out.writeVarint(target.length)
   const { table, bits } = indexBlocks(base)
   const n = target.length
   let i = 0
@@ -105,20 +77,20 @@ export function encodeByteDelta(base: Uint8Array, target: Uint8Array): Uint8Arra
       q++
     }
     if (i > literalStart) {
-      out.varint((i - literalStart) * 2)
-      out.run(target, literalStart, i)
+      out.writeVarint((i - literalStart) * 2)
+      out.writeBytes(target, literalStart, i)
     }
-    out.varint((end - i) * 2 + 1)
-    out.varint(zigzag(p - (i + shift)))
+    out.writeVarint((end - i) * 2 + 1)
+    out.writeZigzag(p - (i + shift))
     shift = p - i
     i = end
     literalStart = end
   }
   if (n > literalStart) {
-    out.varint((n - literalStart) * 2)
-    out.run(target, literalStart, n)
+    out.writeVarint((n - literalStart) * 2)
+    out.writeBytes(target, literalStart, n)
   }
-  return out.bytes.slice(0, out.length)
+  return out.toBytes()
 }
 
 /** Rebuild the target from `base` and a delta; throws ByteDeltaError for a delta that does not fit. */

@@ -42,6 +42,13 @@ export class ByteWriter {
     this.bytes[this.length++] = u
   }
 
+  /** Append bytes source[from, to). */
+  writeBytes(source: Uint8Array, from: number, to: number): void {
+    this.ensure(to - from)
+    this.bytes.set(source.subarray(from, to), this.length)
+    this.length += to - from
+  }
+
   /** Append a signed integer as a ZigZag varint. */
   writeZigzag(i: number): void {
     this.writeVarint(i >= 0 ? i * 2 : -i * 2 - 1)
