@@ -1,0 +1,148 @@
+/*
+ * Bytes allocated per step (npm run bench:alloc): numbers printed and saved to
+ * bench/results/alloc.json, never pass/fail.
+ *
+ * tests/engine/allocation.test.ts proves that a warm step of a plain pile allocates nothing. A
+ * server room is not a plain pile: players spawn mixed shapes and drag bodies with mouse joints.
+ * This measures both, the same way as the test: after a warm-up, two gc() calls, then heapUsed
+ * before and after a run of steps with no collection in between (a 128 MB young generation,
+ * `--max-semi-space-size`; a run in which the heap shrank inside a step had a collection and is
+ * reported as such, not as a figure).
+ * - pile-300: pileScene(300) with sleeping off, world.step() only (the test's scene);
+ * - room-100: the capacity benchmark's room (a 100-body pile that never sleeps) in a
+ *   RoomSimulation with 5 players on the bots' schedule (3 spawns of a circle, box or triangle,
+ *   then grab a random dynamic body, drag it round a circle for 80 steps, release, every 100
+ *   steps); the players' commands are applied outside the measured window, so only the room's
+ *   ticks (the step with the grabs, and the room's housekeeping) are counted; and, in another
+ *   such room, world.step() alone. A first room of the kind runs unmeasured to warm the JIT.
+ */
+import { mkdirSync, writeFileSync } from 'node:fs'
+import { loadavg } from 'node:os'
+import { buildScene, createWorld, Prng, pileScene, type World } from '../engine/index.ts'
+import type { Command, WireShape } from '../shared/index.ts'
+import { RoomSimulation, worldFromBlueprint } from '../shared/room-simulation.ts'
+import { awakePile } from './server-load.ts'
+
+const gc = (globalThis as { gc?: () => void }).gc
+if (!gc) throw new Error('run with node --expose-gc (npm run bench:alloc does)')
+const WARMUP = 600
+const STEPS = 600
+
+/** Bytes per call of `run` over STEPS calls after WARMUP, or null when a collection ran. */
+function measure(run: (i: number) => void, between: (i: number) => void): number | null {
+  for (let i = 0; i < WARMUP; i++) {
+    between(i)
+    run(i)
+  }
+  gc?.()
+  gc?.()
+  let bytes = 0
+  let collected = false
+  for (let i = WARMUP; i < WARMUP + STEPS; i++) {
+    between(i)
+    const h0 = process.memoryUsage().heapUsed
+    run(i)
+    const d = process.memoryUsage().heapUsed - h0
+    // A collection inside the step shows as the heap shrinking.
+    if (d < 0) collected = true
+    bytes += d
+  }
+  return collected ? null : bytes / STEPS
+}
+
+/** The empty measurement: what reading heapUsed around nothing allocates. */
+const baseline = measure(
+  () => {},
+  () => {},
+)
+
+const pile: World = createWorld({ enableSleep: false })
+buildScene(pile, pileScene(300))
+const pileBytes = measure(
+  () => pile.step(),
+  () => {},
+)
+
+/** A fresh room-100 (see the file comment): its simulation and the players' commands for tick i. */
+function room(): { sim: RoomSimulation; between: (i: number) => void } {
+  const sim = new RoomSimulation({ name: 'alloc', scene: 'empty', maxBodies: 1000, controls: true })
+  const blueprint = awakePile(100)
+  const built = worldFromBlueprint(blueprint)
+  sim.loadWorld(blueprint.name, built.world, built.joints)
+  const players = [1, 2, 3, 4, 5].map((id) => {
+    sim.join(id, `player ${id}`, '#888888')
+    return { id, prng: new Prng(id), step: 0 }
+  })
+  /** One player's command on the bots' schedule (server/bots.ts driveBot), or null. */
+  const command = (p: (typeof players)[number]): Command | null => {
+    const step = ++p.step
+    if (step <= 3) {
+      const kind = p.prng.int(3)
+      const shape: WireShape =
+        kind === 0
+          ? { type: 'circle', radius: 0.3 + p.prng.next() * 0.3 }
+          : kind === 1
+            ? { type: 'box', hw: 0.3 + p.prng.next() * 0.3, hh: 0.3 + p.prng.next() * 0.3 }
+            : { type: 'polygon', v: [-0.4, -0.3, 0.4, -0.3, 0, 0.5] }
+      return { k: 'spawn', shape, x: p.prng.next() * 10 - 5, y: 8 + p.prng.next() * 4 }
+    }
+    const phase = step % 100
+    if (phase === 0) {
+      const world = sim.world
+      const dynamic = world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic')
+      return dynamic.length > 0
+        ? { k: 'grab', body: dynamic[p.prng.int(dynamic.length)], lx: 0, ly: 0 }
+        : null
+    }
+    if (phase === 80) return { k: 'release' }
+    if (phase > 80) return null
+    const a = (phase / 80) * 2 * Math.PI
+    return { k: 'move', x: 4 * Math.cos(a), y: 6 + 3 * Math.sin(a) }
+  }
+  const between = (i: number): void => {
+    // The players' 20 Hz loops, spread over the ticks (as bench/room-tick-bench.ts).
+    for (let k = 0; k < players.length; k++) {
+      if ((i + k) % 3 !== 0) continue
+      const cmd = command(players[k])
+      if (cmd) sim.apply(players[k].id, cmd)
+    }
+  }
+  return { sim, between }
+}
+// A first room, not measured, takes the engine's and the room's code through every path the
+// players' schedule reaches (spawns of each shape, grabs, releases), so that the measured rooms
+// see optimized code: measured in the first room, JIT warm-up alone showed as a collection.
+const warm = room()
+for (let i = 0; i < 3 * WARMUP; i++) {
+  warm.between(i)
+  warm.sim.runTick()
+}
+const whole = room()
+const roomBytes = measure(() => whole.sim.runTick(), whole.between)
+const stepOnly = room()
+const stepBytes = measure(() => stepOnly.sim.world.step(), stepOnly.between)
+
+const net = (x: number | null): number | null =>
+  x === null || baseline === null ? null : Math.round(Math.max(0, x - baseline))
+const summary = {
+  baselineBytes: baseline === null ? null : Math.round(baseline),
+  pile300BytesPerStep: net(pileBytes),
+  room100BytesPerTick: net(roomBytes),
+  room100WorldStepBytes: net(stepBytes),
+  room100Bodies: whole.sim.world.bodyCount,
+  load1: loadavg()[0],
+}
+const show = (x: number | null): string => (x === null ? 'a collection ran: no figure' : `${x} bytes`)
+console.log(
+  `allocation per step after ${WARMUP} warm-up steps, ${STEPS} measured (heapUsed, less ${summary.baselineBytes} bytes for reading it): ` +
+    `pile-300 world.step ${show(summary.pile300BytesPerStep)}; ` +
+    `room-100 with 5 players (${summary.room100Bodies} bodies) sim.runTick ${show(summary.room100BytesPerTick)}, ` +
+    `of which world.step ${show(summary.room100WorldStepBytes)} (measured alone in a third room)`,
+)
+mkdirSync('bench/results', { recursive: true })
+const file = 'bench/results/alloc.json'
+writeFileSync(
+  file,
+  `${JSON.stringify({ started: new Date().toISOString(), node: process.version, warmup: WARMUP, steps: STEPS, summary }, null, 2)}\n`,
+)
+console.log(`saved ${file}`)
