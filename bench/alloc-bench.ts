@@ -19,7 +19,7 @@
 import { mkdirSync, writeFileSync } from 'node:fs'
 import { loadavg } from 'node:os'
 import { buildScene, createWorld, Prng, pileScene, type World } from '../engine/index.ts'
-import type { Command, WireShape } from '../shared/index.ts'
+import { botCommand } from '../server/bots.ts'
 import { RoomSimulation, worldFromBlueprint } from '../shared/room-simulation.ts'
 import { awakePile } from './server-load.ts'
 
@@ -73,38 +73,15 @@ function room(): { sim: RoomSimulation; between: (i: number) => void } {
     sim.join(id, `player ${id}`, '#888888')
     return { id, prng: new Prng(id), step: 0 }
   })
-  /** One player's command on the bots' schedule (server/bots.ts driveBot), or null. */
-  const command = (p: (typeof players)[number]): Command | null => {
-    const step = ++p.step
-    if (step <= 3) {
-      const kind = p.prng.int(3)
-      const shape: WireShape =
-        kind === 0
-          ? { type: 'circle', radius: 0.3 + p.prng.next() * 0.3 }
-          : kind === 1
-            ? { type: 'box', hw: 0.3 + p.prng.next() * 0.3, hh: 0.3 + p.prng.next() * 0.3 }
-            : { type: 'polygon', v: [-0.4, -0.3, 0.4, -0.3, 0, 0.5] }
-      return { k: 'spawn', shape, x: p.prng.next() * 10 - 5, y: 8 + p.prng.next() * 4 }
-    }
-    const phase = step % 100
-    if (phase === 0) {
-      const world = sim.world
-      const dynamic = world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic')
-      return dynamic.length > 0
-        ? { k: 'grab', body: dynamic[p.prng.int(dynamic.length)], lx: 0, ly: 0 }
-        : null
-    }
-    if (phase === 80) return { k: 'release' }
-    if (phase > 80) return null
-    const a = (phase / 80) * 2 * Math.PI
-    return { k: 'move', x: 4 * Math.cos(a), y: 6 + 3 * Math.sin(a) }
-  }
   const between = (i: number): void => {
     // The players' 20 Hz loops, spread over the ticks (as bench/room-tick-bench.ts).
     for (let k = 0; k < players.length; k++) {
       if ((i + k) % 3 !== 0) continue
-      const cmd = command(players[k])
-      if (cmd) sim.apply(players[k].id, cmd)
+      const player = players[k]
+      const cmd = botCommand(player.prng, player.step++, () =>
+        sim.world.bodyIds().filter((id) => sim.world.getBodyType(id) === 'dynamic'),
+      )
+      if (cmd) sim.apply(player.id, cmd)
     }
   }
   return { sim, between }

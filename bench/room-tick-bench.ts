@@ -24,6 +24,7 @@ import { join } from 'node:path'
 import { MessageChannel } from 'node:worker_threads'
 import pino from 'pino'
 import { Prng } from '../engine/index.ts'
+import { botCommand } from '../server/bots.ts'
 import { loadConfig } from '../server/config.ts'
 import { createMetrics } from '../server/metrics.ts'
 import { Recordings } from '../server/recordings.ts'
@@ -32,7 +33,7 @@ import { handleRoomMessage } from '../server/room-messages.ts'
 import type { RoomPlayer } from '../server/room-player.ts'
 import { StretchTimer } from '../server/thread-cpu.ts'
 import { Outbox, WorkerConnection } from '../server/worker-outbox.ts'
-import type { Command, WireShape } from '../shared/index.ts'
+import type { Command } from '../shared/index.ts'
 import { awakePile, quantile } from './server-load.ts'
 
 const argv = process.argv.slice(2)
@@ -116,32 +117,13 @@ function send(player: Player, cmd: Command): void {
   handleRoomMessage(room, joined, { t: 'input', seq: ++player.seq, cmd }, 0, () => {})
 }
 
-/** One step of the bots' schedule (server/bots.ts driveBot, with the room's world as the mirror). */
+/** One step of the bots' schedule (server/bots.ts botCommand, with the room's world as the mirror). */
 function drive(player: Player): void {
-  const step = ++player.step
-  const prng = player.prng
-  if (step <= 3) {
-    const kind = prng.int(3)
-    const shape: WireShape =
-      kind === 0
-        ? { type: 'circle', radius: 0.3 + prng.next() * 0.3 }
-        : kind === 1
-          ? { type: 'box', hw: 0.3 + prng.next() * 0.3, hh: 0.3 + prng.next() * 0.3 }
-          : { type: 'polygon', v: [-0.4, -0.3, 0.4, -0.3, 0, 0.5] }
-    send(player, { k: 'spawn', shape, x: prng.next() * 10 - 5, y: 8 + prng.next() * 4 })
-    return
-  }
-  const phase = step % 100
-  if (phase === 0) {
-    const world = rooms.get(player.room)?.world
-    const dynamic = world ? world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic') : []
-    if (dynamic.length > 0) send(player, { k: 'grab', body: dynamic[prng.int(dynamic.length)], lx: 0, ly: 0 })
-  } else if (phase === 80) {
-    send(player, { k: 'release' })
-  } else if (phase < 80) {
-    const a = (phase / 80) * 2 * Math.PI
-    send(player, { k: 'move', x: 4 * Math.cos(a), y: 6 + 3 * Math.sin(a) })
-  }
+  const world = rooms.get(player.room)?.world
+  const cmd = botCommand(player.prng, player.step++, () =>
+    world ? world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic') : [],
+  )
+  if (cmd) send(player, cmd)
 }
 
 /** The loop tick's CPU time on this thread (server/thread-cpu.ts). */

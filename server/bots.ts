@@ -6,6 +6,7 @@
  */
 import { performance } from 'node:perf_hooks'
 import { Prng } from '../engine/index.ts'
+import type { Command, WireShape } from '../shared/index.ts'
 import { BotClient } from './bot-client.ts'
 
 interface BotArgs {
@@ -33,31 +34,41 @@ function parseArgs(argv: string[]): BotArgs {
   return args
 }
 
-/** One bot's behaviour for one tick of its own 20 Hz loop. */
-export function driveBot(bot: BotClient, prng: Prng, step: number): void {
-  const m = bot.mirror
+/**
+ * The bots' schedule: the command for step `step` (0, 1, ...) of a bot's own 20 Hz loop, or null.
+ * Steps 0-2 spawn a circle, box or triangle; then every 100 steps the bot grabs a random body of
+ * `dynamic()` (dynamic body ids), drags it round a circle for 79 steps and releases it. The load
+ * bots here and the benchmarks that simulate players in-process (bench/room-tick-bench.ts,
+ * bench/alloc-bench.ts) all follow it.
+ */
+export function botCommand(prng: Prng, step: number, dynamic: () => number[]): Command | null {
   if (step < 3) {
     const kind = prng.int(3)
-    const shape =
+    const shape: WireShape =
       kind === 0
-        ? { type: 'circle' as const, radius: 0.3 + prng.next() * 0.3 }
+        ? { type: 'circle', radius: 0.3 + prng.next() * 0.3 }
         : kind === 1
-          ? { type: 'box' as const, hw: 0.3 + prng.next() * 0.3, hh: 0.3 + prng.next() * 0.3 }
-          : { type: 'polygon' as const, v: [-0.4, -0.3, 0.4, -0.3, 0, 0.5] }
-    bot.command({ k: 'spawn', shape, x: prng.next() * 10 - 5, y: 8 + prng.next() * 4 })
-    return
+          ? { type: 'box', hw: 0.3 + prng.next() * 0.3, hh: 0.3 + prng.next() * 0.3 }
+          : { type: 'polygon', v: [-0.4, -0.3, 0.4, -0.3, 0, 0.5] }
+    return { k: 'spawn', shape, x: prng.next() * 10 - 5, y: 8 + prng.next() * 4 }
   }
   const phase = step % 100
   if (phase === 0) {
-    const dynamic = [...m.bodies.values()].filter((b) => b.kind === 2)
-    if (dynamic.length > 0)
-      bot.command({ k: 'grab', body: dynamic[prng.int(dynamic.length)].id, lx: 0, ly: 0 })
-  } else if (phase === 80) {
-    bot.command({ k: 'release' })
-  } else if (phase < 80) {
-    const a = (phase / 80) * 2 * Math.PI
-    bot.command({ k: 'move', x: 4 * Math.cos(a), y: 6 + 3 * Math.sin(a) })
+    const ids = dynamic()
+    return ids.length > 0 ? { k: 'grab', body: ids[prng.int(ids.length)], lx: 0, ly: 0 } : null
   }
+  if (phase === 80) return { k: 'release' }
+  if (phase > 80) return null
+  const a = (phase / 80) * 2 * Math.PI
+  return { k: 'move', x: 4 * Math.cos(a), y: 6 + 3 * Math.sin(a) }
+}
+
+/** One bot's behaviour for one tick of its own 20 Hz loop. */
+export function driveBot(bot: BotClient, prng: Prng, step: number): void {
+  const cmd = botCommand(prng, step, () =>
+    [...bot.mirror.bodies.values()].filter((b) => b.kind === 2).map((b) => b.id),
+  )
+  if (cmd) bot.command(cmd)
 }
 
 async function main(): Promise<void> {
