@@ -59,4 +59,5 @@ export type {
   WorldDef,
 } from './types.ts'
 export { createWorld, loadWorld, World } from './world.ts'
+export { POSE_STRIDE } from './world-api.ts'
 export { DEFAULT_WORLD_DEF, resolveWorldDef } from './world-store.ts'

@@ -6,7 +6,16 @@
  * - sleep is per island, a touch wakes a sleeping island, destroying a body wakes what it touched.
  */
 import { describe, expect, it } from 'vitest'
-import { box, buildScene, circle, computeMass, createWorld, polygon, towerScene } from '../../engine/index.ts'
+import {
+  box,
+  buildScene,
+  circle,
+  computeMass,
+  createWorld,
+  POSE_STRIDE,
+  polygon,
+  towerScene,
+} from '../../engine/index.ts'
 
 describe('shapes', () => {
   it('polygon() stores either winding counter-clockwise with outward unit normals', () => {
@@ -169,6 +178,39 @@ describe('body types', () => {
     for (let i = 0; i < 120; i++) world.step()
     expect(world.getPosition(ground)).toEqual({ x: 0, y: -1 })
     expect(world.isAwake(ground)).toBe(false)
+  })
+})
+
+describe('writePoses', () => {
+  it('writes what bodyIds, getBodyType, getPosition, getAngle and isAwake read, for every body', () => {
+    const world = createWorld()
+    world.createBody({ type: 'static', shape: box(20, 0.5) })
+    world.createBody({ type: 'kinematic', shape: circle(0.5), position: { x: -3, y: 4 }, angularVelocity: 2 })
+    const tilted = world.createBody({ shape: box(0.5, 0.25), position: { x: 1, y: 3 }, angle: 2.5 })
+    world.createBody({ shape: circle(0.3), position: { x: 5, y: 0.8 } })
+    world.destroyBody(tilted) // ids stay ascending with a gap
+    for (let id = 0; id < 6; id++)
+      world.createBody({ shape: box(0.4, 0.4), position: { x: id - 3, y: 2 + id }, angle: -id })
+    for (let i = 0; i < 90; i++) world.step()
+    const out = new Float64Array(world.bodyCount * POSE_STRIDE)
+    expect(world.writePoses(out)).toBe(world.bodyCount)
+    const types = ['static', 'kinematic', 'dynamic']
+    world.bodyIds().forEach((id, i) => {
+      const o = i * POSE_STRIDE
+      const p = world.getPosition(id)
+      expect([out[o], types[out[o + 1]], out[o + 2], out[o + 3], out[o + 4], out[o + 5] === 1]).toEqual([
+        id,
+        world.getBodyType(id),
+        p.x,
+        p.y,
+        world.getAngle(id),
+        world.isAwake(id),
+      ])
+    })
+    expect(new Set(Array.from({ length: world.bodyCount }, (_, i) => out[i * POSE_STRIDE + 5])).size).toBe(2) // some asleep, some awake
+    expect(() => world.writePoses(new Float64Array(out.length - 1))).toThrow(
+      /writePoses needs room for 54 numbers, got 53/,
+    )
   })
 })
 
