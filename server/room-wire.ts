@@ -5,7 +5,7 @@
  * when someone inspects, shared by every inspector; one encoded message per inspected body). The frame and the full state quantize the same world values with the same functions, so
  * a client's first baseline (built from the full state) equals the server's.
  */
-import type { ContactInfo, World } from '../engine/index.ts'
+import { type ContactInfo, POSE_STRIDE, type World } from '../engine/index.ts'
 import {
   type ContactsMessage,
   encodeMessage,
@@ -24,20 +24,27 @@ import {
 } from '../shared/index.ts'
 
 const KIND: Record<string, WireBodyType> = { static: 0, kinematic: 1, dynamic: 2 }
+/** writePoses' type code of a static body. */
+const STATIC_TYPE = 0
 const scratch = { x: 0, y: 0 }
 
-/** Fill `frame` with the quantized poses of every non-static body, ascending ids. */
+/** Scratch for world.writePoses, grown as worlds grow (one per thread: rooms tick one at a time). */
+let poses = new Float64Array(128 * POSE_STRIDE)
+
+/** Fill `frame` with the quantized poses of every non-static body, ascending ids; allocates nothing once warm. */
 export function fillFrame(world: World, frame: QuantizedFrame): void {
+  if (poses.length < world.bodyCount * POSE_STRIDE)
+    poses = new Float64Array(2 * world.bodyCount * POSE_STRIDE)
+  const n = world.writePoses(poses)
   frame.clear()
-  for (const id of world.bodyIds()) {
-    if (world.getBodyType(id) === 'static') continue
-    const p = world.getPosition(id, scratch)
+  for (let i = 0, o = 0; i < n; i++, o += POSE_STRIDE) {
+    if (poses[o + 1] === STATIC_TYPE) continue
     frame.put(
-      id,
-      quantizePosition(p.x),
-      quantizePosition(p.y),
-      quantizeAngle(world.getAngle(id)),
-      world.isAwake(id),
+      poses[o],
+      quantizePosition(poses[o + 2]),
+      quantizePosition(poses[o + 3]),
+      quantizeAngle(poses[o + 4]),
+      poses[o + 5] !== 0,
     )
   }
 }

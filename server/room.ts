@@ -91,6 +91,10 @@ export class Room {
   /** The tick stream, syncs and desync reports of lockstep and predict players. */
   readonly feed: LockstepFeed
   private queue: QueuedInput[] = []
+  /** The other of the two queue arrays, swapped each tick (no new array per tick). */
+  private spareQueue: QueuedInput[] = []
+  /** The encodes of this snapshot tick that later clients may take over (emptied after each). */
+  private readonly sharedSnapshots: SharedSnapshot[] = []
   /** The input being applied, so a body it spawns names its player and seq in `events`. */
   private applying: QueuedInput | null = null
   private events = {
@@ -278,19 +282,23 @@ export class Room {
   /** Run one tick (see the file comment). */
   runTick(): void {
     const queue = this.queue
-    this.queue = []
-    for (const input of queue) {
+    this.queue = this.spareQueue
+    for (let i = 0; i < queue.length; i++) {
+      const input = queue[i]
       if (this.players.get(input.player.id) !== input.player) continue
       this.applying = input
       const error = this.apply(input.player, input.cmd)
       this.applying = null
       if (error) input.player.conn.sendError('refused', error, input.seq)
     }
+    queue.length = 0
+    this.spareQueue = queue
     for (const p of this.players.values()) {
       p.inputsThisTick = 0
       p.queuedMove = -1
       // Waiting inputs go first into the next tick's budget, ahead of anything sent later.
       const take = Math.min(p.waiting.length, this.config.inputsPerTick)
+      if (take === 0) continue
       for (let i = 0; i < take; i++) this.enqueue(p, p.waiting[i].seq, p.waiting[i].cmd)
       p.waiting.splice(0, take)
     }
@@ -420,15 +428,19 @@ export class Room {
       cursors.push(p.id, quantizePosition(s.cursorX), quantizePosition(s.cursorY), s.grab ? s.grab.body : 0)
       p.cursorDirty = false
     }
-    const inspected = new Set<number>()
-    for (const p of this.players.values()) if (p.inspect !== 0) inspected.add(p.inspect)
-    const contacts = encodeInspections(this.world, this.tick, inspected, this.sim.userJoints)
+    let inspected: Set<number> | null = null
+    for (const p of this.players.values()) if (p.inspect !== 0) (inspected ??= new Set()).add(p.inspect)
+    const contacts = inspected
+      ? encodeInspections(this.world, this.tick, inspected, this.sim.userJoints)
+      : null
     let staleness = 0
-    const shared: SharedSnapshot[] = []
+    const shared = this.sharedSnapshots
+    shared.length = 0
     for (const p of this.players.values()) {
       if (p.lockstep) continue
-      staleness = Math.max(staleness, this.sendSnapshot(p, cursors, contacts.get(p.inspect), shared))
+      staleness = Math.max(staleness, this.sendSnapshot(p, cursors, contacts?.get(p.inspect), shared))
     }
+    shared.length = 0
     this.lastMaxStaleness = staleness
   }
 
@@ -470,10 +482,10 @@ export class Room {
     player.behindSince = -1
     let bytes: Uint8Array | null = null
     let stats: EncodeStats | null = null
-    for (const s of shared) {
-      stats = player.encoder.follow(s.encoder, this.frame, this.tick, this.budget)
+    for (let i = 0; i < shared.length; i++) {
+      stats = player.encoder.follow(shared[i].encoder, this.frame, this.tick, this.budget)
       if (stats) {
-        bytes = s.bytes
+        bytes = shared[i].bytes
         break
       }
     }

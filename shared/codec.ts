@@ -30,7 +30,8 @@ function hasNonFinite(value: unknown): boolean {
   if (typeof value === 'number') return !Number.isFinite(value)
   if (value === null || typeof value !== 'object' || ArrayBuffer.isView(value)) return false
   if (Array.isArray(value)) {
-    for (const v of value) if (hasNonFinite(v)) return true
+    // An index loop: for-of allocates an iterator, and every message sent passes through here.
+    for (let i = 0; i < value.length; i++) if (hasNonFinite(value[i])) return true
     return false
   }
   for (const key in value) if (hasNonFinite((value as Record<string, unknown>)[key])) return true

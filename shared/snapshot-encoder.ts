@@ -28,11 +28,8 @@ const PRIORITY_BUCKETS = 4096
 /** Sent snapshots remembered per client, waiting for acks. */
 const MAX_PENDING = 64
 
-interface SentSnapshot {
-  base: number
-  /** Flat [id, x, y, a, flags] per update. */
-  updates: Int32Array
-}
+/** An empty update list (the placeholder of a free pending slot). */
+const NO_UPDATES: Int32Array = new Int32Array(0)
 
 /** What one encode did. */
 export interface EncodeStats {
@@ -50,7 +47,15 @@ export class SnapshotEncoder {
   readonly reference = new QuantizedFrame()
   /** Tick of the reference (the baseline of the next snapshot). */
   referenceTick = 0
-  private readonly pending = new Map<number, SentSnapshot>()
+  /**
+   * Sent snapshots waiting for an ack, oldest first: tick, baseline tick and the flat
+   * [id, x, y, a, flags] updates of each, in parallel arrays (a Map here allocated on every
+   * delete; the encoder runs 20 times a second per client).
+   */
+  private readonly pendingTicks = new Int32Array(MAX_PENDING + 1)
+  private readonly pendingBases = new Int32Array(MAX_PENDING + 1)
+  private readonly pendingUpdates: Int32Array[] = new Array(MAX_PENDING + 1).fill(NO_UPDATES)
+  private pendingSize = 0
   private priority = new Float64Array(64)
   private waitingSince = new Int32Array(64).fill(-1)
   private candidates = new Int32Array(64)
@@ -58,13 +63,25 @@ export class SnapshotEncoder {
   private readonly histogram = new Int32Array(PRIORITY_BUCKETS)
   private chosen = new Int32Array(64)
   /** The last encode: its tick, whether every candidate fitted, its updates and stats. */
-  private last = { tick: -1, complete: false, updates: new Int32Array(0), candidates: 0, bytes: 0 }
+  private readonly last: {
+    tick: number
+    complete: boolean
+    updates: Int32Array
+    candidates: number
+    bytes: number
+  } = {
+    tick: -1,
+    complete: false,
+    updates: NO_UPDATES,
+    candidates: 0,
+    bytes: 0,
+  }
 
   /** Start over from a full state the client received (welcome or state message). */
   reset(frame: QuantizedFrame, tick: number): void {
     this.reference.copyFrom(frame)
     this.referenceTick = tick
-    this.pending.clear()
+    this.removePending(0, this.pendingSize)
     this.priority.fill(0)
     this.waitingSince.fill(-1)
   }
@@ -139,7 +156,7 @@ export class SnapshotEncoder {
     }
     writeUpdates(out, frame, ref, ids, count)
     this.remember(tick, updates)
-    this.last = { tick, complete: count === n, updates, candidates: n, bytes }
+    this.setLast(tick, count === n, updates, n, bytes)
     return { candidates: n, sent: count, maxStaleness }
   }
 
@@ -171,7 +188,7 @@ export class SnapshotEncoder {
     }
     for (let k = 0; k < u.length; k += 5) this.waitingSince[u[k]] = tick
     this.remember(tick, u)
-    this.last = { tick, complete: true, updates: u, candidates: last.candidates, bytes: last.bytes }
+    this.setLast(tick, true, u, last.candidates, last.bytes)
     return { candidates: last.candidates, sent: last.candidates, maxStaleness }
   }
 
@@ -213,26 +230,72 @@ export class SnapshotEncoder {
     return Math.min(PRIORITY_BUCKETS - 1, Math.floor(this.priority[id]))
   }
 
-  private remember(tick: number, updates: Int32Array): void {
-    this.pending.set(tick, { base: this.referenceTick, updates })
-    if (this.pending.size > MAX_PENDING) {
-      const oldest = this.pending.keys().next().value
-      if (oldest !== undefined) this.pending.delete(oldest)
+  private setLast(
+    tick: number,
+    complete: boolean,
+    updates: Int32Array,
+    candidates: number,
+    bytes: number,
+  ): void {
+    const last = this.last
+    last.tick = tick
+    last.complete = complete
+    last.updates = updates
+    last.candidates = candidates
+    last.bytes = bytes
+  }
+
+  /** Index of the pending snapshot of `tick`, or -1. */
+  private findPending(tick: number): number {
+    for (let i = 0; i < this.pendingSize; i++) if (this.pendingTicks[i] === tick) return i
+    return -1
+  }
+
+  /** Forget pending snapshots [from, from + n), keeping the order of the rest. */
+  private removePending(from: number, n: number): void {
+    const size = this.pendingSize
+    for (let i = from + n; i < size; i++) {
+      this.pendingTicks[i - n] = this.pendingTicks[i]
+      this.pendingBases[i - n] = this.pendingBases[i]
+      this.pendingUpdates[i - n] = this.pendingUpdates[i]
     }
+    for (let i = size - n; i < size; i++) this.pendingUpdates[i] = NO_UPDATES
+    this.pendingSize = size - n
+  }
+
+  /** Remember a sent snapshot (a second one of the same tick replaces the first); at most MAX_PENDING, oldest dropped. */
+  private remember(tick: number, updates: Int32Array): void {
+    let i = this.findPending(tick)
+    if (i < 0) i = this.pendingSize++
+    this.pendingTicks[i] = tick
+    this.pendingBases[i] = this.referenceTick
+    this.pendingUpdates[i] = updates
+    if (this.pendingSize > MAX_PENDING) this.removePending(0, 1)
   }
 
   /** The client acknowledged the snapshot at `tick`; returns true if the reference advanced. */
   ack(tick: number): boolean {
-    const sent = this.pending.get(tick)
-    if (!sent) return false
-    this.pending.delete(tick)
-    if (sent.base !== this.referenceTick) return false
-    const u = sent.updates
-    for (let i = 0; i < u.length; i += 5) {
-      this.reference.put(u[i], u[i + 1], u[i + 2], u[i + 3], (u[i + 4] & FRAME_AWAKE) !== 0)
+    const i = this.findPending(tick)
+    if (i < 0) return false
+    const base = this.pendingBases[i]
+    const u = this.pendingUpdates[i]
+    this.removePending(i, 1)
+    if (base !== this.referenceTick) return false
+    for (let k = 0; k < u.length; k += 5) {
+      this.reference.put(u[k], u[k + 1], u[k + 2], u[k + 3], (u[k + 4] & FRAME_AWAKE) !== 0)
     }
     this.referenceTick = tick
-    for (const t of this.pending.keys()) if (t < tick) this.pending.delete(t)
+    // Snapshots older than the acknowledged one can no longer advance the reference.
+    let kept = 0
+    for (let k = 0; k < this.pendingSize; k++) {
+      if (this.pendingTicks[k] < tick) continue
+      this.pendingTicks[kept] = this.pendingTicks[k]
+      this.pendingBases[kept] = this.pendingBases[k]
+      this.pendingUpdates[kept] = this.pendingUpdates[k]
+      kept++
+    }
+    for (let k = kept; k < this.pendingSize; k++) this.pendingUpdates[k] = NO_UPDATES
+    this.pendingSize = kept
     return true
   }
 
@@ -247,6 +310,6 @@ export class SnapshotEncoder {
 
   /** Snapshots sent and not yet acknowledged or dropped. */
   get pendingCount(): number {
-    return this.pending.size
+    return this.pendingSize
   }
 }

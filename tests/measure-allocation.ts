@@ -1,0 +1,120 @@
+/*
+ * Measures how many bytes a unit of work allocates once warm, in a separate quiet
+ * `node --expose-gc` process (the code bundled with esbuild), so that vitest's own work cannot
+ * allocate or collect in the measured window. The method of tests/engine/allocation.test.ts:
+ * warm up, gc() twice, then read heapUsed around rounds of units with no collection in between
+ * (heapUsed includes the young generation, so the growth is what the units allocated, as long as
+ * no collection ran; a PerformanceObserver counts collections that start inside the rounds). The
+ * least growth of three rounds is kept (late JIT work lands in one round on a busy machine; a real
+ * allocation shows in every round). When the growth passes the bound, V8's sampling heap profiler
+ * runs over more units and names the functions that allocate, so a failure says where to look.
+ */
+import { execFile } from 'node:child_process'
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs'
+import { tmpdir } from 'node:os'
+import { join } from 'node:path'
+import { promisify } from 'node:util'
+import { build } from 'esbuild'
+
+/** What to measure: TypeScript run in the measuring process. */
+export interface AllocationCase {
+  /** Imports and set-up (import paths relative to `resolveDir`). */
+  setup: string
+  /** The body of one unit of work (a statement list). */
+  unit: string
+  /** Units measured per round. */
+  units: number
+  /** Units run before measuring, so that the JIT has finished optimizing. */
+  warmup: number
+  /** Bytes per unit above which the allocating functions are sampled and reported. */
+  reportAbove: number
+  /** Directory the set-up's relative imports resolve from. */
+  resolveDir: string
+  /** Extra V8 flags for the measuring process. */
+  flags?: string[]
+}
+
+/** Collections in the window, least heap growth of three rounds, and the top allocators when over the bound. */
+export interface AllocationResult {
+  gcCount: number
+  gcKinds: string[]
+  heapGrowth: number
+  units: number
+  allocators: Array<{ where: string; bytes: number }>
+}
+
+function script(c: AllocationCase): string {
+  return `
+import { PerformanceObserver, performance } from 'node:perf_hooks'
+import { Session } from 'node:inspector'
+${c.setup}
+const unit = () => {
+${c.unit}
+}
+for (let i = 0; i < ${c.warmup}; i++) unit()
+const kinds = []
+let windowStart = Number.POSITIVE_INFINITY
+const observer = new PerformanceObserver((list) => {
+  for (const e of list.getEntries()) if (e.startTime >= windowStart) kinds.push(e.detail?.kind ?? e.kind)
+})
+observer.observe({ entryTypes: ['gc'] })
+globalThis.gc()
+globalThis.gc()
+await new Promise((r) => setTimeout(r, 10))
+windowStart = performance.now()
+let heapGrowth = Number.POSITIVE_INFINITY
+for (let round = 0; round < 3; round++) {
+  const before = process.memoryUsage().heapUsed
+  for (let i = 0; i < ${c.units}; i++) unit()
+  heapGrowth = Math.min(heapGrowth, process.memoryUsage().heapUsed - before)
+}
+await new Promise((r) => setTimeout(r, 100))
+const result = { units: ${c.units}, gcCount: kinds.length, gcKinds: kinds, heapGrowth, allocators: [] }
+if (result.gcCount > 0 || result.heapGrowth > ${c.reportAbove} * ${c.units}) {
+  const session = new Session()
+  session.connect()
+  const post = (method, params) => new Promise((res, rej) => session.post(method, params, (e, r) => (e ? rej(e) : res(r))))
+  await post('HeapProfiler.startSampling', { samplingInterval: 256, includeObjectsCollectedByMajorGC: true, includeObjectsCollectedByMinorGC: true })
+  for (let i = 0; i < ${c.units}; i++) unit()
+  const { profile } = await post('HeapProfiler.stopSampling')
+  const totals = new Map()
+  const walk = (node) => {
+    const f = node.callFrame
+    if (node.selfSize > 0) {
+      const key = (f.functionName || '(anonymous)') + ' ' + f.url.split('/').slice(-2).join('/') + ':' + (f.lineNumber + 1)
+      totals.set(key, (totals.get(key) ?? 0) + node.selfSize)
+    }
+    for (const child of node.children) walk(child)
+  }
+  walk(profile.head)
+  result.allocators = [...totals].sort((a, b) => b[1] - a[1]).slice(0, 8).map(([where, bytes]) => ({ where, bytes }))
+}
+console.log(JSON.stringify(result))
+`
+}
+
+/**
+ * Bundle and run the case in its own process with a fixed 16 MB young generation (V8 starts it at
+ * 1 MB and shrinks it on gc(), and then late JIT work alone could fill it).
+ */
+export async function measureAllocation(c: AllocationCase): Promise<AllocationResult> {
+  const dir = mkdtempSync(join(tmpdir(), 'concord-alloc-'))
+  try {
+    const out = await build({
+      stdin: { contents: script(c), resolveDir: c.resolveDir, loader: 'ts', sourcefile: 'measure.ts' },
+      bundle: true,
+      platform: 'node',
+      format: 'esm',
+      target: 'node20',
+      write: false,
+      keepNames: true,
+    })
+    const bundle = join(dir, 'measure.mjs')
+    writeFileSync(bundle, out.outputFiles[0].text)
+    const flags = ['--expose-gc', '--min-semi-space-size=16', '--max-semi-space-size=16', ...(c.flags ?? [])]
+    const { stdout } = await promisify(execFile)(process.execPath, [...flags, bundle], { timeout: 120_000 })
+    return JSON.parse(stdout.trim().split('\n').pop() ?? '{}') as AllocationResult
+  } finally {
+    rmSync(dir, { recursive: true, force: true })
+  }
+}
