@@ -83,7 +83,7 @@ export class BroadPhase {
   private keys = new Float64Array(256)
   private keyCount = 0
   private readonly sortStack = new Int32Array(128)
-  private readonly queryBox = new Float64Array(4)
+  private readonly scratchBox = new Float64Array(4)
 
   constructor(margin = AABB_MARGIN) {
     if (!(margin >= 0) || !Number.isFinite(margin)) throw new Error(`BroadPhase: bad margin ${margin}`)
@@ -251,12 +251,20 @@ export class BroadPhase {
 
   /** Bodies whose fat AABB overlaps the query box (touching counts), ascending, into `out`; returns the count. */
   query(minX: number, minY: number, maxX: number, maxY: number, out: IdBuffer): number {
-    const tree = this.tree
-    const box = this.queryBox
+    const box = this.scratchBox
     box[0] = minX
     box[1] = minY
     box[2] = maxX
     box[3] = maxY
+    return this.queryBox(box, out)
+  }
+
+  /**
+   * As query, with the box in box[0..3] (minX, minY, maxX, maxY): the step's callers pass it this
+   * way because V8 boxes each double argument of a call it does not inline (a heap number each).
+   */
+  queryBox(box: Float64Array, out: IdBuffer): number {
+    const tree = this.tree
     const hits = tree.queryLeaves(box, 0)
     this.ensureKeys(hits)
     const keys = this.keys

@@ -30,7 +30,22 @@
  */
 import { type Body, DYNAMIC, STATIC } from './body.ts'
 import { type BroadPhase, IdBuffer } from './broad-phase.ts'
-import type { Shape } from './shapes.ts'
+import {
+  CORE,
+  DISTANCE,
+  EDGE,
+  FRACTION,
+  maxEdgeSeparation,
+  nearest,
+  nearestOnBoundary,
+  pose,
+  poseAt,
+  sweep,
+  sweptDistance,
+  transformVertices,
+  verticesA,
+  verticesB,
+} from './swept-distance.ts'
 
 /** Gap (m) at which conservative advancement stops: the linear slop. */
 const TOI_TARGET = 0.005
@@ -40,139 +55,25 @@ const MAX_ITERATIONS = 30
 const START_SKIP_DISTANCE = 0.02
 
 const candidates = new IdBuffer()
-const pose = new Float64Array(4)
-const verticesA = new Float64Array(16)
-const verticesB = new Float64Array(16)
-
-/** Sets `pose` (origin x, y, cos, sin) of body b at sweep fraction t (nlerp of the rotation). */
-function poseAt(b: Body, t: number): void {
-  if (!b.awake) {
-    // Static and sleeping bodies did not move this step.
-    pose[0] = b.x
-    pose[1] = b.y
-    pose[2] = b.c
-    pose[3] = b.s
-    return
-  }
-  const cx = b.c0x + t * (b.cx - b.c0x)
-  const cy = b.c0y + t * (b.cy - b.c0y)
-  let qc = b.q0c + t * (b.c - b.q0c)
-  let qs = b.q0s + t * (b.s - b.q0s)
-  const mag = Math.sqrt(qc * qc + qs * qs)
-  const inv = mag > 0 ? 1 / mag : 0
-  qc *= inv
-  qs *= inv
-  pose[0] = cx - (qc * b.localCenterX - qs * b.localCenterY)
-  pose[1] = cy - (qs * b.localCenterX + qc * b.localCenterY)
-  pose[2] = qc
-  pose[3] = qs
-}
-
-function transformVertices(shape: Shape, out: Float64Array): number {
-  if (shape.type === 'circle') {
-    out[0] = pose[0]
-    out[1] = pose[1]
-    return 1
-  }
-  for (let i = 0; i < shape.count; i++) {
-    const v = shape.vertices[i]
-    out[2 * i] = pose[0] + pose[2] * v.x - pose[3] * v.y
-    out[2 * i + 1] = pose[1] + pose[3] * v.x + pose[2] * v.y
-  }
-  return shape.count
-}
-
-/** Distance from point (px, py) to segment (ax, ay)-(bx, by). */
-function pointSegmentDistance(
-  px: number,
-  py: number,
-  ax: number,
-  ay: number,
-  bx: number,
-  by: number,
-): number {
-  const ex = bx - ax
-  const ey = by - ay
-  const len2 = ex * ex + ey * ey
-  let t = len2 > 0 ? ((px - ax) * ex + (py - ay) * ey) / len2 : 0
-  t = Math.max(0, Math.min(1, t))
-  const dx = px - (ax + t * ex)
-  const dy = py - (ay + t * ey)
-  return Math.sqrt(dx * dx + dy * dy)
-}
-
-/** Largest separation of the points of `q` from the edges of convex polygon `p` (SAT, one side). */
-function maxEdgeSeparation(p: Float64Array, pn: number, q: Float64Array, qn: number): number {
-  let best = Number.NEGATIVE_INFINITY
-  for (let i = 0; i < pn; i++) {
-    const ax = p[2 * i]
-    const ay = p[2 * i + 1]
-    const j = i + 1 === pn ? 0 : i + 1
-    const ex = p[2 * j] - ax
-    const ey = p[2 * j + 1] - ay
-    const len = Math.sqrt(ex * ex + ey * ey)
-    const nx = ey / len
-    const ny = -ex / len
-    let minProjection = Number.POSITIVE_INFINITY
-    for (let k = 0; k < qn; k++) {
-      const d = (q[2 * k] - ax) * nx + (q[2 * k + 1] - ay) * ny
-      if (d < minProjection) minProjection = d
-    }
-    if (minProjection > best) best = minProjection
-  }
-  return best
-}
-
-/** Smallest distance between the boundaries of two polygons (or a polygon and a point). */
-function boundaryDistance(p: Float64Array, pn: number, q: Float64Array, qn: number): number {
-  let best = Number.POSITIVE_INFINITY
-  for (let i = 0; i < pn; i++) {
-    const j = i + 1 === pn ? 0 : i + 1
-    for (let k = 0; k < qn; k++) {
-      const d = pointSegmentDistance(q[2 * k], q[2 * k + 1], p[2 * i], p[2 * i + 1], p[2 * j], p[2 * j + 1])
-      if (d < best) best = d
-    }
-  }
-  return best
-}
+/** The swept box of the body being swept (minX, minY, maxX, maxY) for the broadphase query. */
+const sweptBox = new Float64Array(4)
 
 /**
- * Signed distance between the shapes of a and b at sweep fraction t (negative when overlapping).
- * With `core` > 0, body a is replaced by its core: a circle of that radius at its centre of mass.
+ * The numbers of one time-of-impact search, passed between the functions below in this array
+ * rather than as arguments or results (see swept-distance.ts: V8 boxes those).
  */
-export function sweptDistance(a: Body, b: Body, t: number, core = 0): number {
-  poseAt(a, t)
-  let na: number
-  let ra: number
-  if (core > 0) {
-    verticesA[0] = pose[0] + pose[2] * a.localCenterX - pose[3] * a.localCenterY
-    verticesA[1] = pose[1] + pose[3] * a.localCenterX + pose[2] * a.localCenterY
-    na = 1
-    ra = core
-  } else {
-    na = transformVertices(a.shape, verticesA)
-    ra = a.shape.type === 'circle' ? a.shape.radius : 0
-  }
-  poseAt(b, t)
-  const nb = transformVertices(b.shape, verticesB)
-  const rb = b.shape.type === 'circle' ? b.shape.radius : 0
-  if (na === 1 && nb === 1) {
-    const dx = verticesB[0] - verticesA[0]
-    const dy = verticesB[1] - verticesA[1]
-    return Math.sqrt(dx * dx + dy * dy) - ra - rb
-  }
-  let sat = Number.NEGATIVE_INFINITY
-  if (na > 1) sat = Math.max(sat, maxEdgeSeparation(verticesA, na, verticesB, nb))
-  if (nb > 1) sat = Math.max(sat, maxEdgeSeparation(verticesB, nb, verticesA, na))
-  if (sat <= 0) return sat - ra - rb
-  let d = Number.POSITIVE_INFINITY
-  if (na > 1) d = Math.min(d, boundaryDistance(verticesA, na, verticesB, nb))
-  if (nb > 1) d = Math.min(d, boundaryDistance(verticesB, nb, verticesA, na))
-  return d - ra - rb
-}
+const search = new Float64Array(4)
+/** In for advance: the bound on a's rotational speed, and the gap at which to stop (m). */
+const SPIN = 0
+const TARGET = 1
+/** Out: the fraction found by timeOfImpact (1: no impact within the step). */
+const IMPACT = 2
+/** The earliest impact fraction sweepBody found so far. */
+const EARLIEST = 3
 
 /**
- * First sweep fraction in (0, 1) at which the fast body a comes within the target gap of b, or 1.
+ * First sweep fraction in (0, 1) at which the fast body a comes within the target gap of b, or 1,
+ * into search[IMPACT].
  *
  * A pair already closer than the speculative distance at the start has a contact, and a time of
  * impact of 0 would freeze both bodies in place every step (Box2D's "pausing"). For such a pair
@@ -180,17 +81,29 @@ export function sweptDistance(a: Body, b: Body, t: number, core = 0): number {
  * Box2D v3.1 does): the contact handles the surfaces, and the core stops a body that the contact
  * failed to stop (a thin bar spun up by the impact and rotating through a wall) from crossing.
  */
-export function timeOfImpact(a: Body, b: Body): number {
-  let d = sweptDistance(a, b, 0)
-  if (d >= START_SKIP_DISTANCE) return advance(a, b, d, 0, sweepArc(a) * a.maxExtent, TOI_TARGET)
-  const core = 0.25 * a.minExtent
-  d = sweptDistance(a, b, 0, core)
-  if (d <= 0) return 1
+function timeOfImpact(a: Body, b: Body): void {
+  sweep[FRACTION] = 0
+  sweep[CORE] = 0
+  sweptDistance(a, b)
+  if (sweep[DISTANCE] >= START_SKIP_DISTANCE) {
+    search[SPIN] = sweepArc(a) * a.maxExtent
+    search[TARGET] = TOI_TARGET
+    advance(a, b)
+    return
+  }
+  sweep[CORE] = 0.25 * a.minExtent
+  sweptDistance(a, b)
+  const d = sweep[DISTANCE]
+  if (d <= 0) {
+    search[IMPACT] = 1
+    return
+  }
   // The core sits at the centre of mass: a's rotation does not move it. It may close at most half
   // of its remaining gap per step, so it never crosses and never freezes completely.
-  const t = advance(a, b, d, core, 0, Math.min(TOI_TARGET, 0.5 * d))
-  coreHit = t < 1
-  return t
+  search[SPIN] = 0
+  search[TARGET] = Math.min(TOI_TARGET, 0.5 * d)
+  advance(a, b)
+  coreHit = search[IMPACT] < 1
 }
 
 /** Whether the last timeOfImpact that found a hit found it with the core sweep. */
@@ -203,15 +116,17 @@ let coreHit = false
  * every step, and finally slip through.
  */
 function stopCore(b: Body, other: Body): void {
-  poseAt(other, 1)
+  sweep[FRACTION] = 1
+  poseAt(other)
   const n = transformVertices(other.shape, verticesB)
   let nx = b.cx - verticesB[0]
   let ny = b.cy - verticesB[1]
   if (n > 1) {
     verticesA[0] = b.cx
     verticesA[1] = b.cy
-    if (maxEdgeSeparation(verticesB, n, verticesA, 1) <= 0) return
-    nearestOnBoundary(verticesB, n, b.cx, b.cy)
+    maxEdgeSeparation(verticesB, n, verticesA, 1)
+    if (sweep[EDGE] <= 0) return
+    nearestOnBoundary(verticesB, n, b)
     nx = b.cx - nearest[0]
     ny = b.cy - nearest[1]
   }
@@ -226,49 +141,36 @@ function stopCore(b: Body, other: Body): void {
   }
 }
 
-/** The nearest point found by nearestOnBoundary (x, y). */
-const nearest = new Float64Array(2)
-
-/** Sets `nearest` to the point of polygon p's boundary nearest to (px, py). */
-function nearestOnBoundary(p: Float64Array, pn: number, px: number, py: number): void {
-  let best = Number.POSITIVE_INFINITY
-  for (let i = 0; i < pn; i++) {
-    const j = i + 1 === pn ? 0 : i + 1
-    const ax = p[2 * i]
-    const ay = p[2 * i + 1]
-    const ex = p[2 * j] - ax
-    const ey = p[2 * j + 1] - ay
-    const len2 = ex * ex + ey * ey
-    let t = len2 > 0 ? ((px - ax) * ex + (py - ay) * ey) / len2 : 0
-    t = Math.max(0, Math.min(1, t))
-    const qx = ax + t * ex
-    const qy = ay + t * ey
-    const d = (px - qx) * (px - qx) + (py - qy) * (py - qy)
-    if (d < best) {
-      best = d
-      nearest[0] = qx
-      nearest[1] = qy
-    }
-  }
-}
-
-/** Conservative advancement from distance d at t = 0; `spinA` bounds a's rotational speed. */
-function advance(a: Body, b: Body, d: number, core: number, spinA: number, target: number): number {
+/**
+ * Conservative advancement from distance sweep[DISTANCE] at t = 0 to the gap search[TARGET], into
+ * search[IMPACT]; search[SPIN] bounds a's rotational speed, sweep[CORE] is passed on to sweptDistance.
+ */
+function advance(a: Body, b: Body): void {
+  let d = sweep[DISTANCE]
+  const target = search[TARGET]
   const dax = a.awake ? a.cx - a.c0x : 0
   const day = a.awake ? a.cy - a.c0y : 0
   const dbx = b.awake ? b.cx - b.c0x : 0
   const dby = b.awake ? b.cy - b.c0y : 0
   const relative = Math.sqrt((dbx - dax) * (dbx - dax) + (dby - day) * (dby - day))
-  const mu = relative + spinA + sweepArc(b) * b.maxExtent
-  if (mu <= 0) return 1
+  const mu = relative + search[SPIN] + sweepArc(b) * b.maxExtent
+  if (mu <= 0) {
+    search[IMPACT] = 1
+    return
+  }
   let t = 0
   for (let i = 0; i < MAX_ITERATIONS; i++) {
-    if (d < target + TOI_TOLERANCE * (target / TOI_TARGET)) return t
+    if (d < target + TOI_TOLERANCE * (target / TOI_TARGET)) break
     t += (d - target) / mu
-    if (t >= 1) return 1
-    d = sweptDistance(a, b, t, core)
+    if (t >= 1) {
+      t = 1
+      break
+    }
+    sweep[FRACTION] = t
+    sweptDistance(a, b)
+    d = sweep[DISTANCE]
   }
-  return t
+  search[IMPACT] = t
 }
 
 /**
@@ -285,9 +187,9 @@ function sweepArc(b: Body): number {
   return (2 * chord) / Math.max(1 + cosAngle, 0.05)
 }
 
-/** Moves a body to fraction t of its sweep. */
-function advanceTo(b: Body, t: number): void {
-  poseAt(b, t)
+/** Moves a body to fraction sweep[FRACTION] of its sweep. */
+function advanceTo(b: Body): void {
+  poseAt(b)
   b.x = pose[0]
   b.y = pose[1]
   b.c = pose[2]
@@ -337,9 +239,7 @@ export function solveContinuous(
   }
 }
 
-// The earliest impact found by sweepBody so far, and the dynamic body hit there.
-/** [0]: the earliest impact fraction found so far (typed: a module-level double would allocate). */
-const earliest = new Float64Array(1)
+// The dynamic body hit at the earliest impact sweepBody found so far (search[EARLIEST]).
 let hitBody: Body | null = null
 /** The static body whose core hit is the earliest, if it is. */
 let coreStop: Body | null = null
@@ -349,9 +249,10 @@ function sweepAgainst(b: Body, other: Body, canCollide: (a: Body, b: Body) => bo
   const sweepable = other.type === STATIC || (b.bullet && other.type === DYNAMIC)
   if (!sweepable || !canCollide(b, other)) return
   coreHit = false
-  const t = timeOfImpact(b, other)
-  if (t < earliest[0]) {
-    earliest[0] = t
+  timeOfImpact(b, other)
+  const t = search[IMPACT]
+  if (t < search[EARLIEST]) {
+    search[EARLIEST] = t
     hitBody = other.type === DYNAMIC && other.awake ? other : null
     coreStop = coreHit && other.type === STATIC ? other : null
   }
@@ -374,8 +275,12 @@ function sweepBody(
   const minY = Math.min(b.c0y, b.cy) - r
   const maxX = Math.max(b.c0x, b.cx) + r
   const maxY = Math.max(b.c0y, b.cy) + r
-  const n = broadPhase.query(minX, minY, maxX, maxY, candidates)
-  earliest[0] = 1
+  sweptBox[0] = minX
+  sweptBox[1] = minY
+  sweptBox[2] = maxX
+  sweptBox[3] = maxY
+  const n = broadPhase.queryBox(sweptBox, candidates)
+  search[EARLIEST] = 1
   hitBody = null
   coreStop = null
   for (let k = 0; k < n; k++) {
@@ -391,10 +296,11 @@ function sweepBody(
       sweepAgainst(b, other, canCollide)
     }
   }
-  const minT = earliest[0]
+  const minT = search[EARLIEST]
   if (minT < 1) {
-    advanceTo(b, minT)
-    if (hitBody !== null) advanceTo(hitBody, minT)
+    sweep[FRACTION] = minT
+    advanceTo(b)
+    if (hitBody !== null) advanceTo(hitBody)
     if (coreStop !== null) stopCore(b, coreStop)
   }
 }

@@ -17,6 +17,8 @@ export class StepContext {
   maxPushSpeed = 0.5
   /** Closing speed below which restitution is ignored (m/s). */
   restitutionThreshold = 0.5
+  /** Sleep velocity below which a body rests (m/s; a copy of the setting: see World.finalizeBodies). */
+  sleepThreshold = 0.5
   /** Softness of rigid joint constraints (position error correction). */
   readonly jointSoftness = new Softness()
   /** Whether warm starting is on. */

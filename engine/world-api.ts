@@ -360,7 +360,7 @@ export class WorldApi extends WorldStore {
     this.islands.wake(joint.bodyB)
     const lo = Math.min(joint.bodyA.id, joint.bodyB.id)
     const hi = Math.max(joint.bodyA.id, joint.bodyB.id)
-    const contact = this.contactMap.get(lo * 67108864 + hi)
+    const contact = this.contactMap.get(lo, hi)
     if (contact !== undefined && !joint.collideConnected) {
       this.unlinkContact(contact)
       this.contactArray.splice(this.contactArray.indexOf(contact), 1)

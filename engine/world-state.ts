@@ -377,12 +377,12 @@ function readContacts(r: ByteReader, world: WorldStore, lookup: (id: number) => 
   const contactCount = r.u32('contact count')
   for (let i = 0; i < contactCount; i++) {
     const c = readContact(r, lookup, world.contactStore)
-    if (world.contactMap.has(c.key))
+    if (world.contactMap.has(c.bodyA.id, c.bodyB.id))
       throw new WorldLoadError(`saved world has a duplicate contact ${c.bodyA.id}-${c.bodyB.id}`)
     if (i > 0 && world.contactArray[i - 1].key > c.key)
       throw new WorldLoadError('saved world has contacts out of order')
     world.contactArray.push(c)
-    world.contactMap.set(c.key, c)
+    world.contactMap.set(c.bodyA.id, c.bodyB.id, c)
     c.bodyA.contacts.push(c)
     c.bodyB.contacts.push(c)
   }

@@ -10,6 +10,7 @@ import type { Contact } from './contact.ts'
 import { ContactStore } from './contact-record.ts'
 import { IslandBuilder } from './island.ts'
 import type { Joint } from './joint.ts'
+import { PairMap } from './pair-map.ts'
 import { VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
 import { circle } from './shapes.ts'
 import { Softness } from './softness.ts'
@@ -92,7 +93,8 @@ export class WorldStore {
   readonly bodyMap = new Map<number, Body>()
   /** Contacts in ascending pair-key order. */
   readonly contactArray: Contact[] = []
-  readonly contactMap = new Map<number, Contact>()
+  /** Contacts by body-id pair (lower id first). */
+  readonly contactMap = new PairMap<Contact>()
   /** The contacts' numbers (contact-record.ts). */
   readonly contactStore = new ContactStore()
   /** Destroyed contacts kept for reuse with their records (a record is never freed). */
@@ -141,6 +143,7 @@ export class WorldStore {
     ctx.invH = 1 / h
     ctx.maxPushSpeed = s.maxContactPushSpeed
     ctx.restitutionThreshold = s.restitutionThreshold
+    ctx.sleepThreshold = s.sleepThreshold
     // Contact stiffness is clamped to a quarter of the sub-step rate; static contacts are twice as stiff.
     const contactHertz = Math.min(s.contactHertz, 0.25 * ctx.invH)
     this.contactSoftness.set(contactHertz, s.contactDampingRatio, h)
@@ -207,7 +210,7 @@ export class WorldStore {
 
   /** Removes a contact from the pair map and from both bodies' lists (not from `contacts`). */
   protected unlinkContact(c: Contact): void {
-    this.contactMap.delete(c.key)
+    this.contactMap.delete(c.bodyA.id, c.bodyB.id)
     removeItem(c.bodyA.contacts, c)
     removeItem(c.bodyB.contacts, c)
   }

@@ -38,7 +38,7 @@ import {
   stateToBody,
 } from './body-state.ts'
 import { MAX_ROTATION, SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
-import { Contact, clearContact, KEY_SCALE, updateContact } from './contact.ts'
+import { Contact, clearContact, updateContact } from './contact.ts'
 import {
   applyRestitution,
   ContactConstraints,
@@ -102,7 +102,7 @@ export class World extends WorldApi {
   private hashValue = 0
 
   private readonly writer = new ByteWriter()
-  /** Contacts created this step (sorted). */
+  /** Contacts created this step (sorted; the count is local to updatePairs). */
   private readonly newContacts: Contact[] = []
   /** Scratch: the step's active contacts with a static or kinematic body, before they are appended. */
   private readonly groundedContacts: Contact[] = []
@@ -114,21 +114,24 @@ export class World extends WorldApi {
   private updatePairs(): void {
     const pairs = this.pairBuffer
     const n = this.broadPhase.updatePairs(pairs)
+    // A count, not fresh.length = 0: V8 drops an array's storage when its length is set to 0, and
+    // the pushes that follow would allocate it again every step.
     const fresh = this.newContacts
-    fresh.length = 0
+    let freshCount = 0
     for (let i = 0; i < n; i++) {
-      const key = pairs.a[i] * KEY_SCALE + pairs.b[i]
-      if (this.contactMap.has(key)) continue
-      const a = this.bodyMap.get(pairs.a[i])!
-      const b = this.bodyMap.get(pairs.b[i])!
+      const idA = pairs.a[i]
+      const idB = pairs.b[i]
+      if (this.contactMap.has(idA, idB)) continue
+      const a = this.bodyMap.get(idA)!
+      const b = this.bodyMap.get(idB)!
       if (!shouldCollide(a, b)) continue
       const contact = this.contactPool.pop()?.reset(a, b) ?? new Contact(a, b, this.contactStore)
-      this.contactMap.set(key, contact)
+      this.contactMap.set(idA, idB, contact)
       a.contacts.push(contact)
       b.contacts.push(contact)
-      fresh.push(contact)
+      fresh[freshCount++] = contact
     }
-    if (fresh.length > 0) mergeContacts(this.contactArray, fresh)
+    if (freshCount > 0) mergeContacts(this.contactArray, fresh, freshCount)
   }
 
   /**
@@ -299,10 +302,13 @@ export class World extends WorldApi {
 
   /** Folds the deltas into the transforms and updates sleep timers. */
   private finalizeBodies(): void {
-    const s = this.settings
-    const enableSleep = s.enableSleep
+    const enableSleep = this.settings.enableSleep
     const state = this.state
     const maxAngularSpeed = MAX_ROTATION * this.stepContext.invH
+    // The threshold is read from the step context, not the settings object: the settings' number
+    // fields are not known doubles to V8, and comparing with one boxed the sleep velocity (a heap
+    // number per resting body per step; bench:alloc's room).
+    const sleepThreshold = this.stepContext.sleepThreshold
     for (let i = 0; i < this.awakeCount; i++) {
       const b = this.awake[i]
       stateToBody(state, b)
@@ -324,7 +330,7 @@ export class World extends WorldApi {
       const maxVelocity = Math.sqrt(b.vx * b.vx + b.vy * b.vy) + Math.abs(b.w) * b.maxExtent
       const maxDelta = Math.sqrt(b.dpx * b.dpx + b.dpy * b.dpy) + Math.abs(b.dqs) * b.maxExtent
       const sleepVelocity = Math.max(maxVelocity, (0.5 * maxDelta) / STEP_SECONDS)
-      if (!enableSleep || !b.enableSleep || sleepVelocity > s.sleepThreshold) b.sleepTime = 0
+      if (!enableSleep || !b.enableSleep || sleepVelocity > sleepThreshold) b.sleepTime = 0
       else b.sleepTime += STEP_SECONDS
       b.dpx = 0
       b.dpy = 0
@@ -383,15 +389,15 @@ function shouldCollide(a: Body, b: Body): boolean {
 }
 
 /**
- * Merges sorted `fresh` contacts into the sorted `contacts` array in place. Each fresh contact's
+ * Merges the first `count` contacts of `fresh` (sorted) into the sorted `contacts` array in place. Each fresh contact's
  * place is found by binary search, and the old contacts after it move up as a block: O(k log n)
  * key reads instead of one per moved contact (a key read touches the contact object, a cache miss
  * in a big world), plus the pointer moves.
  */
-function mergeContacts(contacts: Contact[], fresh: Contact[]): void {
+function mergeContacts(contacts: Contact[], fresh: Contact[], count: number): void {
   let end = contacts.length
-  contacts.length = end + fresh.length
-  for (let j = fresh.length - 1; j >= 0; j--) {
+  contacts.length = end + count
+  for (let j = count - 1; j >= 0; j--) {
     const key = fresh[j].key
     // First old contact in [0, end) with a larger key (fresh keys are never in `contacts`).
     let lo = 0
