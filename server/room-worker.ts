@@ -70,6 +70,7 @@ let cpuMs: number[] = []
 let measureCpu = false
 /** The loop tick's CPU time on this thread (thread-cpu.ts). */
 const cpuTimer = new StretchTimer()
+process.on('exit', () => cpuTimer.close())
 const tickAll = rooms.tickAll.bind(rooms)
 rooms.tickAll = () => {
   const start = performance.now()

@@ -9,7 +9,7 @@
 import { readFileSync } from 'node:fs'
 import { performance } from 'node:perf_hooks'
 import { describe, expect, it } from 'vitest'
-import { StretchTimer } from '../../server/thread-cpu.ts'
+import { StretchTimer, schedstatWaitNs } from '../../server/thread-cpu.ts'
 
 const runMs = (): number => Number(readFileSync('/proc/thread-self/schedstat', 'utf8').split(' ')[0]) / 1e6
 
@@ -62,4 +62,13 @@ describe('the CPU time of a stretch of this thread', () => {
       expect(kernel - sum).toBeLessThanOrEqual(between + stale)
     },
   )
+
+  it('reads the wait field of schedstat text as String.split would', () => {
+    const lines = ['135101073 46830539 40\n', '0 0 0\n', '9007199254740991 123456789012345 7\n', '1 2 3']
+    if (StretchTimer.available()) lines.push(readFileSync('/proc/thread-self/schedstat', 'utf8'))
+    for (const line of lines) {
+      const bytes = new TextEncoder().encode(line)
+      expect(schedstatWaitNs(bytes, bytes.length), line).toBe(Number(line.split(' ')[1]))
+    }
+  })
 })
