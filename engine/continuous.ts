@@ -36,8 +36,6 @@ import {
   EDGE,
   FRACTION,
   maxEdgeSeparation,
-  nearest,
-  nearestOnBoundary,
   pose,
   poseAt,
   sweep,
@@ -110,38 +108,6 @@ function timeOfImpact(a: Body, b: Body): void {
 let coreHit = false
 
 /**
- * After a core hit on a static body: removes the centre's velocity into that body (along the
- * direction from its nearest point to the centre). The contact failed to stop the centre (or the
- * core would not have been needed), so without this the body would press on, be held back again
- * every step, and finally slip through.
- */
-function stopCore(b: Body, other: Body): void {
-  sweep[FRACTION] = 1
-  poseAt(other)
-  const n = transformVertices(other.shape, verticesB)
-  let nx = b.cx - verticesB[0]
-  let ny = b.cy - verticesB[1]
-  if (n > 1) {
-    verticesA[0] = b.cx
-    verticesA[1] = b.cy
-    maxEdgeSeparation(verticesB, n, verticesA, 1)
-    if (sweep[EDGE] <= 0) return
-    nearestOnBoundary(verticesB, n, b)
-    nx = b.cx - nearest[0]
-    ny = b.cy - nearest[1]
-  }
-  const len = Math.sqrt(nx * nx + ny * ny)
-  if (len === 0) return
-  nx /= len
-  ny /= len
-  const vn = b.vx * nx + b.vy * ny
-  if (vn < 0) {
-    b.vx -= vn * nx
-    b.vy -= vn * ny
-  }
-}
-
-/**
  * Conservative advancement from distance sweep[DISTANCE] at t = 0 to the gap search[TARGET], into
  * search[IMPACT]; search[SPIN] bounds a's rotational speed, sweep[CORE] is passed on to sweptDistance.
  */
@@ -194,7 +160,10 @@ function advanceTo(b: Body): void {
   b.y = pose[1]
   b.c = pose[2]
   b.s = pose[3]
-  b.updateCenter()
+  // Body.updateCenter written out: the method, called from here only on hits, was left in V8's
+  // baseline tier (a heap number per intermediate double) instead of being inlined.
+  b.cx = b.x + (b.c * b.localCenterX - b.s * b.localCenterY)
+  b.cy = b.y + (b.s * b.localCenterX + b.c * b.localCenterY)
 }
 
 /** How far a body's surface moved this step at most (m): centre travel plus the rotation's chord. */
@@ -296,11 +265,70 @@ function sweepBody(
       sweepAgainst(b, other, canCollide)
     }
   }
+  finishSweep(b)
+}
+
+/**
+ * Moves a swept body, and a dynamic body it hit, back to the earliest impact found. After a core
+ * hit on a static body, also removes the centre's velocity into that body (along the direction
+ * from its nearest point to the centre): the contact failed to stop the centre (or the core would
+ * not have been needed), so without this the body would press on, be held back again every step,
+ * and finally slip through.
+ *
+ * One function, called after every sweep, hit or not: code that runs only on hits (about once in
+ * a hundred steps of a server room) stays in V8's baseline tier, where every intermediate double
+ * is a heap number (a few kilobytes per core stop), and sweepBody, whose inlining budget the
+ * time-of-impact search uses up, calls it without inlining. Called every sweep, it is optimized
+ * with its hit paths.
+ */
+function finishSweep(b: Body): void {
   const minT = search[EARLIEST]
-  if (minT < 1) {
-    sweep[FRACTION] = minT
-    advanceTo(b)
-    if (hitBody !== null) advanceTo(hitBody)
-    if (coreStop !== null) stopCore(b, coreStop)
+  if (minT >= 1) return
+  sweep[FRACTION] = minT
+  advanceTo(b)
+  if (hitBody !== null) advanceTo(hitBody)
+  const other = coreStop
+  if (other === null) return
+  sweep[FRACTION] = 1
+  poseAt(other)
+  const n = transformVertices(other.shape, verticesB)
+  let nx = b.cx - verticesB[0]
+  let ny = b.cy - verticesB[1]
+  if (n > 1) {
+    const px = b.cx
+    const py = b.cy
+    verticesA[0] = px
+    verticesA[1] = py
+    maxEdgeSeparation(verticesB, n, verticesA, 1)
+    if (sweep[EDGE] <= 0) return
+    // The point of the polygon's boundary nearest to the centre.
+    let best = Number.POSITIVE_INFINITY
+    for (let i = 0; i < n; i++) {
+      const j = i + 1 === n ? 0 : i + 1
+      const ax = verticesB[2 * i]
+      const ay = verticesB[2 * i + 1]
+      const ex = verticesB[2 * j] - ax
+      const ey = verticesB[2 * j + 1] - ay
+      const len2 = ex * ex + ey * ey
+      let t = len2 > 0 ? ((px - ax) * ex + (py - ay) * ey) / len2 : 0
+      t = Math.max(0, Math.min(1, t))
+      const qx = ax + t * ex
+      const qy = ay + t * ey
+      const d = (px - qx) * (px - qx) + (py - qy) * (py - qy)
+      if (d < best) {
+        best = d
+        nx = px - qx
+        ny = py - qy
+      }
+    }
+  }
+  const len = Math.sqrt(nx * nx + ny * ny)
+  if (len === 0) return
+  nx /= len
+  ny /= len
+  const vn = b.vx * nx + b.vy * ny
+  if (vn < 0) {
+    b.vx -= vn * nx
+    b.vy -= vn * ny
   }
 }

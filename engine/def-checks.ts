@@ -14,8 +14,10 @@ export function finite(what: string, value: number): number {
 /** A vector of finite numbers, or a RangeError naming `what`. */
 export function finiteVec(what: string, v: Vec2): Vec2 {
   if (v === null || typeof v !== 'object') throw new RangeError(`${what} must be a {x, y} vector, got ${v}`)
-  finite(`${what}.x`, v.x)
-  finite(`${what}.y`, v.y)
+  // The names are built only for the error: a server calls this for every move of every grab
+  // (setJointTarget), and building `${what}.x` allocated two strings per call.
+  if (!Number.isFinite(v.x)) finite(`${what}.x`, v.x)
+  if (!Number.isFinite(v.y)) finite(`${what}.y`, v.y)
   return v
 }
 

@@ -235,12 +235,23 @@ export function relativeAngle(bc: number, bs: number, ac: number, as: number): n
   return atan2(bs * ac - bc * as, bc * ac + bs * as)
 }
 
-/** Solves the symmetric 2x2 system [k11 k12; k12 k22] x = (bx, by) into `solved2` (Cramer's rule). */
-export function solve22(k11: number, k12: number, k22: number, bx: number, by: number): void {
+/**
+ * Solves the symmetric 2x2 system [k11 k12; k12 k22] x = (bx, by), given in system22 as
+ * [k11, k12, k22, bx, by], into `solved2` (Cramer's rule). Typed arrays both ways: V8 boxes the
+ * double arguments of a call it does not inline (the room's mouse joints call this 40 times a step).
+ */
+export function solve22(): void {
+  const k11 = system22[0]
+  const k12 = system22[1]
+  const k22 = system22[2]
+  const bx = system22[3]
+  const by = system22[4]
   let det = k11 * k22 - k12 * k12
   if (det !== 0) det = 1 / det
   solved2[0] = det * (k22 * bx - k12 * by)
   solved2[1] = det * (k11 * by - k12 * bx)
 }
+/** Input of solve22: k11, k12, k22, bx, by. */
+export const system22 = new Float64Array(5)
 /** Output of solve22 (a typed array: a module-level double would allocate on every write in V8). */
 export const solved2 = new Float64Array(2)

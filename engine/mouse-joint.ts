@@ -5,7 +5,7 @@
  * per player); each has its own accumulated impulse and cap. Body A is the world.
  */
 import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
-import { type Joint, type JointStepContext, solve22, solved2 } from './joint.ts'
+import { type Joint, type JointStepContext, solve22, solved2, system22 } from './joint.ts'
 import { Softness } from './softness.ts'
 
 const softness = new Softness()
@@ -47,7 +47,12 @@ export function solveMouse(joint: Joint, state: Float64Array, ctx: JointStepCont
   const k11 = mB + rBy * rBy * iB
   const k12 = -rBy * rBx * iB
   const k22 = mB + rBx * rBx * iB
-  solve22(k11, k12, k22, cdotX + joint.springBiasRate * sepX, cdotY + joint.springBiasRate * sepY)
+  system22[0] = k11
+  system22[1] = k12
+  system22[2] = k22
+  system22[3] = cdotX + joint.springBiasRate * sepX
+  system22[4] = cdotY + joint.springBiasRate * sepY
+  solve22()
   const oldX = joint.linearImpulseX
   const oldY = joint.linearImpulseY
   let ix = oldX - joint.springMassScale * solved2[0] - joint.springImpulseScale * oldX

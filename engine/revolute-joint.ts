@@ -16,6 +16,7 @@ import {
   relativeAngle,
   solve22,
   solved2,
+  system22,
 } from './joint.ts'
 import { PI, TWO_PI } from './math.ts'
 
@@ -185,7 +186,12 @@ export function solveRevolute(
   const k11 = mA + mB + rAy * rAy * iA + rBy * rBy * iB
   const k12 = -rAy * rAx * iA - rBy * rBx * iB
   const k22 = mA + mB + rAx * rAx * iA + rBx * rBx * iB
-  solve22(k11, k12, k22, cdotX + biasX, cdotY + biasY)
+  system22[0] = k11
+  system22[1] = k12
+  system22[2] = k22
+  system22[3] = cdotX + biasX
+  system22[4] = cdotY + biasY
+  solve22()
   let ix = -massScale * solved2[0] - impulseScale * joint.linearImpulseX
   let iy = -massScale * solved2[1] - impulseScale * joint.linearImpulseY
   ix = accumulateX(joint, ix)

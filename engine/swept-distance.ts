@@ -175,31 +175,3 @@ export function sweptDistance(a: Body, b: Body): void {
   }
   sweep[DISTANCE] = d - ra - rb
 }
-
-/** The nearest point found by nearestOnBoundary (x, y). */
-export const nearest = new Float64Array(2)
-
-/** Sets `nearest` to the point of polygon p's boundary nearest to b's centre of mass. */
-export function nearestOnBoundary(p: Float64Array, pn: number, b: Body): void {
-  const px = b.cx
-  const py = b.cy
-  let best = Number.POSITIVE_INFINITY
-  for (let i = 0; i < pn; i++) {
-    const j = i + 1 === pn ? 0 : i + 1
-    const ax = p[2 * i]
-    const ay = p[2 * i + 1]
-    const ex = p[2 * j] - ax
-    const ey = p[2 * j + 1] - ay
-    const len2 = ex * ex + ey * ey
-    let t = len2 > 0 ? ((px - ax) * ex + (py - ay) * ey) / len2 : 0
-    t = Math.max(0, Math.min(1, t))
-    const qx = ax + t * ex
-    const qy = ay + t * ey
-    const d = (px - qx) * (px - qx) + (py - qy) * (py - qy)
-    if (d < best) {
-      best = d
-      nearest[0] = qx
-      nearest[1] = qy
-    }
-  }
-}

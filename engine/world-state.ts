@@ -13,7 +13,12 @@
  */
 import { Body, STATIC, updateMassData } from './body.ts'
 import { CONTACT_POINT_FIELDS, Contact } from './contact.ts'
-import type { ContactStore } from './contact-record.ts'
+import {
+  type ContactStore,
+  NORMAL_X,
+  POINT_0,
+  POINT_FIELDS as RECORD_POINT_FIELDS,
+} from './contact-record.ts'
 import { Joint } from './joint.ts'
 import {
   type ByteReader,
@@ -29,22 +34,29 @@ import { box, circle, polygon, type Shape } from './shapes.ts'
 import type { WorldDef } from './types.ts'
 import { type ResolvedWorldDef, resolveWorldDef, SETTINGS_NUMBERS, type WorldStore } from './world-store.ts'
 
+/** Numbers of one writer call, written with one ByteWriter.f64s (see the writers below). */
+const staged = new Float64Array(32)
+
 /** Writes a shape. */
 function writeShape(w: ByteWriter, shape: Shape): void {
+  const n = staged
   if (shape.type === 'circle') {
     w.u8(0)
-    w.f64(shape.radius)
+    n[0] = shape.radius
+    w.f64s(n, 0, 1)
   } else if (shape.box !== null) {
     w.u8(1)
-    w.f64(shape.box.halfWidth)
-    w.f64(shape.box.halfHeight)
+    n[0] = shape.box.halfWidth
+    n[1] = shape.box.halfHeight
+    w.f64s(n, 0, 2)
   } else {
     w.u8(2)
     w.u8(shape.count)
-    for (const v of shape.vertices) {
-      w.f64(v.x)
-      w.f64(v.y)
+    for (let i = 0; i < shape.count; i++) {
+      n[2 * i] = shape.vertices[i].x
+      n[2 * i + 1] = shape.vertices[i].y
     }
+    w.f64s(n, 0, 2 * shape.count)
   }
 }
 
@@ -129,35 +141,40 @@ export const JOINT_FIELDS = [
  * The writers below name every field (in the order of the lists above) instead of looping over the
  * lists: a loop reads `b[f]` with a changing key, which V8 cannot specialize, and a save or hash
  * then costs 3x as much (a room hashes its world every second). The readers loop over the lists;
- * tests/engine/save-writers.test.ts checks that the writers follow the lists.
+ * tests/engine/save-writers.test.ts checks that the writers follow the lists. The numbers are
+ * staged in a Float64Array and written with one f64s call per run: a double passed to a ByteWriter
+ * call that V8 did not inline was a heap number each (about 3 KB per hash of a 100-body pile).
  */
 
 /** Writes a body's definition and state (fat AABB comes separately). */
 export function writeBody(w: ByteWriter, b: Body): void {
+  const n = staged
   w.f64(b.id)
   w.u8(b.type)
   writeShape(w, b.shape)
-  w.f64(b.density)
-  w.f64(b.friction)
-  w.f64(b.restitution)
-  w.f64(b.linearDamping)
-  w.f64(b.angularDamping)
-  w.f64(b.gravityScale)
+  n[0] = b.density
+  n[1] = b.friction
+  n[2] = b.restitution
+  n[3] = b.linearDamping
+  n[4] = b.angularDamping
+  n[5] = b.gravityScale
+  w.f64s(n, 0, 6)
   w.u8((b.bullet ? 1 : 0) | (b.enableSleep ? 2 : 0) | (b.fixedRotation ? 4 : 0) | (b.awake ? 8 : 0))
-  w.f64(b.x)
-  w.f64(b.y)
-  w.f64(b.cx)
-  w.f64(b.cy)
-  w.f64(b.c)
-  w.f64(b.s)
-  w.f64(b.vx)
-  w.f64(b.vy)
-  w.f64(b.w)
-  w.f64(b.sleepTime)
-  w.f64(b.c0x)
-  w.f64(b.c0y)
-  w.f64(b.q0c)
-  w.f64(b.q0s)
+  n[0] = b.x
+  n[1] = b.y
+  n[2] = b.cx
+  n[3] = b.cy
+  n[4] = b.c
+  n[5] = b.s
+  n[6] = b.vx
+  n[7] = b.vy
+  n[8] = b.w
+  n[9] = b.sleepTime
+  n[10] = b.c0x
+  n[11] = b.c0y
+  n[12] = b.q0c
+  n[13] = b.q0s
+  w.f64s(n, 0, 14)
 }
 
 /** Reads a body written by writeBody (mass properties are recomputed by the caller). */
@@ -178,40 +195,16 @@ function readBody(r: ByteReader): Body {
 
 /** Writes a contact (bodies by id). */
 export function writeContact(w: ByteWriter, c: Contact): void {
+  // The record holds the normal and each point's fields in save order (contact-record.ts).
+  const d = c.store.data
+  const o = c.base
   w.f64(c.bodyA.id)
   w.f64(c.bodyB.id)
   w.u8(c.touching ? 1 : 0)
   w.u8(c.pointCount)
-  w.f64(c.normalX)
-  w.f64(c.normalY)
-  if (c.pointCount > 0) {
-    w.f64(c.id0)
-    w.f64(c.anchorAx0)
-    w.f64(c.anchorAy0)
-    w.f64(c.anchorBx0)
-    w.f64(c.anchorBy0)
-    w.f64(c.separation0)
-    w.f64(c.px0)
-    w.f64(c.py0)
-    w.f64(c.normalImpulse0)
-    w.f64(c.tangentImpulse0)
-    w.f64(c.totalNormalImpulse0)
-    w.f64(c.totalTangentImpulse0)
-  }
-  if (c.pointCount > 1) {
-    w.f64(c.id1)
-    w.f64(c.anchorAx1)
-    w.f64(c.anchorAy1)
-    w.f64(c.anchorBx1)
-    w.f64(c.anchorBy1)
-    w.f64(c.separation1)
-    w.f64(c.px1)
-    w.f64(c.py1)
-    w.f64(c.normalImpulse1)
-    w.f64(c.tangentImpulse1)
-    w.f64(c.totalNormalImpulse1)
-    w.f64(c.totalTangentImpulse1)
-  }
+  w.f64s(d, o + NORMAL_X, 2)
+  if (c.pointCount > 0) w.f64s(d, o + POINT_0, RECORD_POINT_FIELDS)
+  if (c.pointCount > 1) w.f64s(d, o + POINT_0 + RECORD_POINT_FIELDS, RECORD_POINT_FIELDS)
 }
 
 /** Reads a contact written by writeContact. */
@@ -234,34 +227,36 @@ function readContact(r: ByteReader, lookup: (id: number) => Body, store: Contact
 
 /** Writes a joint (bodies by id; the world frame is id 0). */
 export function writeJoint(w: ByteWriter, j: Joint): void {
+  const n = staged
   w.f64(j.id)
   w.u8(j.type)
   w.f64(j.bodyA.id)
   w.f64(j.bodyB.id)
   w.u8((j.enableLimit ? 1 : 0) | (j.enableMotor ? 2 : 0) | (j.collideConnected ? 4 : 0))
-  w.f64(j.localAnchorAx)
-  w.f64(j.localAnchorAy)
-  w.f64(j.localAnchorBx)
-  w.f64(j.localAnchorBy)
-  w.f64(j.referenceAngle)
-  w.f64(j.lowerAngle)
-  w.f64(j.upperAngle)
-  w.f64(j.motorSpeed)
-  w.f64(j.maxMotorTorque)
-  w.f64(j.length)
-  w.f64(j.minLength)
-  w.f64(j.maxLength)
-  w.f64(j.hertz)
-  w.f64(j.dampingRatio)
-  w.f64(j.targetX)
-  w.f64(j.targetY)
-  w.f64(j.maxForce)
-  w.f64(j.linearImpulseX)
-  w.f64(j.linearImpulseY)
-  w.f64(j.impulse)
-  w.f64(j.lowerImpulse)
-  w.f64(j.upperImpulse)
-  w.f64(j.motorImpulse)
+  n[0] = j.localAnchorAx
+  n[1] = j.localAnchorAy
+  n[2] = j.localAnchorBx
+  n[3] = j.localAnchorBy
+  n[4] = j.referenceAngle
+  n[5] = j.lowerAngle
+  n[6] = j.upperAngle
+  n[7] = j.motorSpeed
+  n[8] = j.maxMotorTorque
+  n[9] = j.length
+  n[10] = j.minLength
+  n[11] = j.maxLength
+  n[12] = j.hertz
+  n[13] = j.dampingRatio
+  n[14] = j.targetX
+  n[15] = j.targetY
+  n[16] = j.maxForce
+  n[17] = j.linearImpulseX
+  n[18] = j.linearImpulseY
+  n[19] = j.impulse
+  n[20] = j.lowerImpulse
+  n[21] = j.upperImpulse
+  n[22] = j.motorImpulse
+  w.f64s(n, 0, 23)
 }
 
 /** Reads a joint written by writeJoint. */
@@ -296,7 +291,7 @@ function writeWorld(w: ByteWriter, world: WorldStore): void {
   for (const b of world.bodies) {
     writeBody(w, b)
     world.broadPhase.getFatAABB(b.proxy, fatAABB)
-    for (let i = 0; i < 4; i++) w.f64(fatAABB[i])
+    w.f64s(fatAABB, 0, 4)
   }
   w.u32(world.contactArray.length)
   for (const c of world.contactArray) writeContact(w, c)

@@ -8,14 +8,14 @@
  *   heapUsed is read, the steps run, heapUsed is read again, with no gc() in between: heapUsed
  *   includes the young generation, so (after - before) is what the steps allocated.
  * - room: the server's capacity room without the server: a 100-body pile whose bodies never sleep
- *   (bench/server-load.ts awakePile), and five players who, every third step (their 20 Hz loop),
- *   grab a random dynamic body with a mouse joint, drag it round an ellipse of half-axes 4 m and 3 m in 80 of their steps
- *   (about 6 m/s: fast bodies, continuous collision, contacts made and broken) and release it,
- *   while a body is spawned above the pile every 50 steps and the oldest spawned one destroyed
- *   once there are more than 12. The players' commands allocate (joints, bodies, id lists) and
- *   run between the steps, so heapUsed is read around each world.step() alone, and once more
- *   right after: what a read allocates after taking its figure shows between the last two reads
- *   and is subtracted.
+ *   (bench/server-load.ts awakePile) and five players, each dragging a random dynamic body with a
+ *   mouse joint round an ellipse (half-axes 4 m and 3 m; a lap in 80 of their 20 Hz steps, about
+ *   6 m/s: fast bodies, continuous collision, contacts made and broken); once a second the world
+ *   is hashed (the recorder's checkpoint, which writes the whole world into a buffer). Every 600
+ *   warm-up steps, and before each measured round, the players let go, a body is spawned above the
+ *   pile (the oldest spawned one destroyed past 12) and they grab five new bodies: those commands
+ *   allocate (bodies, joints, id lists), so they run outside the measured rounds, while the steps
+ *   after them (a new body's first contacts, a grab's first pull) are measured.
  * In both, several rounds run and the least growth is reported (late JIT work lands in one round
  * on a busy machine, while an allocation in the step shows in every round); a PerformanceObserver
  * counts the collections that start inside the rounds. If anything was allocated, V8's sampling
@@ -46,15 +46,8 @@ export interface AllocationResult {
   /** Collections that started inside the measured rounds, and their kinds. */
   gcCount: number
   gcKinds: number[]
-  /**
-   * Least heap growth of the rounds (bytes), without what reading heapUsed allocates (room); rounds
-   * with a collection inside a step have no figure, and if every round had one this is null.
-   */
-  heapGrowth: number | null
-  /** Mean bytes one heapUsed read allocates after taking its figure (room; 0 for pile). */
-  baseline: number
-  /** Steps during which the heap shrank (a collection inside the step; room only). */
-  shrunkSteps: number
+  /** Least heap growth of the rounds (bytes). */
+  heapGrowth: number
   allocators: { where: string; bytes: number }[]
 }
 
@@ -69,49 +62,50 @@ if (!(WARMUP >= 0 && STEPS > 0 && ROUNDS > 0)) {
   throw new Error(`bad warm-up, step or round count: ${warmupArg} ${stepsArg} ${roundsArg}`)
 }
 
-/** The room's players, spawns and removals (see the file comment); `act(i)` runs before step i. */
+/**
+ * The room's players (see the file comment). Between rounds, `regrab` releases the grabs, spawns a
+ * body (destroying the oldest spawned one past 12) and grabs five random dynamic bodies; in a round,
+ * `drag(i)` moves each grab's target (allocation-free), every third step per player.
+ */
 class RoomSchedule {
   private readonly prng = new Prng(7)
-  private readonly grabs: (JointId | null)[] = [null, null, null, null, null]
+  private readonly grabs: JointId[] = []
   private readonly spawned: BodyId[] = []
   private readonly target: Vec2 = { x: 0, y: 0 }
+  private spawns = 0
 
   constructor(private readonly world: World) {}
 
-  act(i: number): void {
+  /** Releases every grab, spawns a body (and destroys the oldest spawned one past 12), grabs five. */
+  regrab(): void {
     const world = this.world
-    if (i % 50 === 0) this.spawn(i)
-    for (let p = 0; p < this.grabs.length; p++) {
-      if ((i + p) % 3 !== 0) continue
-      const phase = ((i + p) / 3 + 20 * p) % 100
-      const joint = this.grabs[p]
-      if (phase === 0) {
-        const ids = world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic')
-        const body = ids[this.prng.int(ids.length)]
-        const target = world.getWorldCenter(body)
-        this.grabs[p] = world.createJoint({
-          type: 'mouse',
-          body,
-          target,
-          maxForce: 1000 * world.getMass(body),
-        })
-      } else if (joint !== null && !world.hasJoint(joint)) {
-        this.grabs[p] = null
-      } else if (joint !== null && phase === 80) {
-        world.destroyJoint(joint)
-        this.grabs[p] = null
-      } else if (joint !== null && phase < 80) {
-        const a = (phase / 80) * 2 * Math.PI
-        this.target.x = 4 * Math.cos(a)
-        this.target.y = 6 + 3 * Math.sin(a)
-        world.setJointTarget(joint, this.target)
-      }
+    for (const joint of this.grabs) if (world.hasJoint(joint)) world.destroyJoint(joint)
+    this.grabs.length = 0
+    this.spawn()
+    const ids = world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic')
+    for (let p = 0; p < 5; p++) {
+      const body = ids[this.prng.int(ids.length)]
+      const target = world.getWorldCenter(body)
+      this.grabs.push(
+        world.createJoint({ type: 'mouse', body, target, maxForce: 1000 * world.getMass(body) }),
+      )
     }
   }
 
-  private spawn(i: number): void {
+  /** Moves player p's target round its ellipse (a lap in 80 of the player's steps) before step i. */
+  drag(i: number): void {
+    for (let p = 0; p < this.grabs.length; p++) {
+      if ((i + p) % 3 !== 0) continue
+      const a = ((((i + p) / 3 + 16 * p) % 80) / 80) * 2 * Math.PI
+      this.target.x = 4 * Math.cos(a)
+      this.target.y = 6 + 3 * Math.sin(a)
+      this.world.setJointTarget(this.grabs[p], this.target)
+    }
+  }
+
+  private spawn(): void {
     const world = this.world
-    const kind = (i / 50) % 3
+    const kind = this.spawns++ % 3
     const shape =
       kind === 0
         ? circle(this.prng.range(0.3, 0.6))
@@ -124,10 +118,7 @@ class RoomSchedule {
             ])
     const position = { x: this.prng.range(-5, 5), y: this.prng.range(8, 12) }
     this.spawned.push(world.createBody({ type: 'dynamic', shape, position }))
-    if (this.spawned.length > 12) {
-      const doomed = this.spawned.shift()!
-      if (world.hasBody(doomed)) world.destroyBody(doomed)
-    }
+    if (this.spawned.length > 12) world.destroyBody(this.spawned.shift()!)
   }
 }
 
@@ -142,35 +133,26 @@ else {
 }
 const schedule = scene === 'room' ? new RoomSchedule(world) : null
 let tick = 0
-for (let i = 0; i < WARMUP; i++) {
-  schedule?.act(tick++)
+/** Steps between the room's regrabs in the warm-up (the measured rounds regrab once, first). */
+const REGRAB_STEPS = 600
+/** One step of the scene: in the room, the players' drags, the step, and once a second a hash. */
+function step(): void {
+  schedule?.drag(tick)
   world.step()
+  if (schedule !== null && tick % 60 === 0) world.hash()
+  tick++
+}
+for (let i = 0; i < WARMUP; i++) {
+  if (i % REGRAB_STEPS === 0) schedule?.regrab()
+  step()
 }
 
-/** Bytes the heapUsed reads of the room's rounds allocated after taking their figures. */
-let baseline = 0
-
-/** Heap growth of STEPS steps: the whole window (pile) or the sum around each step (room). */
-function round(): { growth: number; shrunk: number } {
-  if (schedule === null) {
-    const before = process.memoryUsage().heapUsed
-    for (let i = 0; i < STEPS; i++) world.step()
-    return { growth: process.memoryUsage().heapUsed - before, shrunk: 0 }
-  }
-  let growth = 0
-  let shrunk = 0
-  for (let i = 0; i < STEPS; i++) {
-    schedule.act(tick++)
-    const h0 = process.memoryUsage().heapUsed
-    world.step()
-    const h1 = process.memoryUsage().heapUsed
-    const h2 = process.memoryUsage().heapUsed
-    // What a read allocates after taking its figure (h2 - h1, nothing between) is in h1 - h0 too.
-    if (h1 < h0 || h2 < h1) shrunk++
-    growth += h1 - h0 - (h2 - h1)
-    baseline += h2 - h1
-  }
-  return { growth, shrunk }
+/** Heap growth of STEPS steps (the room regrabs first: its commands allocate, so outside). */
+function round(): number {
+  schedule?.regrab()
+  const before = process.memoryUsage().heapUsed
+  for (let i = 0; i < STEPS; i++) step()
+  return process.memoryUsage().heapUsed - before
 }
 
 // Collections that start inside the measured rounds. Entries reach the observer late (on a loaded
@@ -190,13 +172,7 @@ gc()
 await new Promise((r) => setTimeout(r, 10))
 windowStart = performance.now()
 let heapGrowth = Number.POSITIVE_INFINITY
-let shrunkSteps = 0
-for (let r = 0; r < ROUNDS; r++) {
-  const { growth, shrunk } = round()
-  // A round with a collection inside a step has no figure (its heap shrank).
-  if (shrunk === 0) heapGrowth = Math.min(heapGrowth, growth)
-  shrunkSteps += shrunk
-}
+for (let r = 0; r < ROUNDS; r++) heapGrowth = Math.min(heapGrowth, round())
 await new Promise((r) => setTimeout(r, 100))
 const result: AllocationResult = {
   scene,
@@ -205,12 +181,10 @@ const result: AllocationResult = {
   contacts: world.contacts().length,
   gcCount: kinds.length,
   gcKinds: kinds,
-  heapGrowth: Number.isFinite(heapGrowth) ? heapGrowth : null,
-  baseline: Math.round(baseline / (ROUNDS * STEPS)),
-  shrunkSteps,
+  heapGrowth,
   allocators: [],
 }
-if (result.gcCount > 0 || shrunkSteps > 0 || heapGrowth > 64 * STEPS) result.allocators = await allocators()
+if (result.gcCount > 0 || heapGrowth > 64 * STEPS) result.allocators = await allocators()
 console.log(JSON.stringify(result))
 
 /** The eight functions that allocate most over 1000 more steps (V8's sampling heap profiler). */
@@ -224,10 +198,7 @@ async function allocators(): Promise<{ where: string; bytes: number }[]> {
     includeObjectsCollectedByMajorGC: true,
     includeObjectsCollectedByMinorGC: true,
   })
-  for (let i = 0; i < 1000; i++) {
-    schedule?.act(tick++)
-    world.step()
-  }
+  for (let i = 0; i < 1000; i++) step()
   const { profile } = (await post('HeapProfiler.stopSampling')) as { profile: { head: ProfileNode } }
   const totals = new Map<string, number>()
   const walk = (node: ProfileNode): void => {

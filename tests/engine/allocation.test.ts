@@ -5,7 +5,8 @@
  * with esbuild), so that vitest's own work cannot allocate or collect in the measured window. Two
  * scenes: a 300-body pile with sleeping off (every body simulated every step), and the server's
  * capacity room without the server (a 100-body pile that never sleeps, five players dragging
- * bodies fast round circles with mouse joints, bodies spawned and destroyed). After a warm-up, the
+ * bodies fast round ellipses with mouse joints, bodies spawned and destroyed between the measured
+ * rounds, a hash once a second). After a warm-up, the
  * heap growth over the measured steps (heapUsed with no collection in between) is the bytes the
  * steps allocated; if anything was allocated, V8's sampling heap profiler names the functions.
  * Bound: zero collections, and less than 64 bytes per step on average (one small object per step
@@ -25,10 +26,10 @@ import type { AllocationResult } from './allocation-measure.ts'
 const HERE = dirname(fileURLToPath(import.meta.url))
 /**
  * Warm-up steps, measured steps per round and rounds of each scene. The room's warm-up is long:
- * its rare paths (a body hit by a sweep, a sleeping body woken, a new shape's first contact) get
+ * its rare paths (a sweep that hits, a sleeping body woken, a new shape's first contacts) get
  * compiled by TurboFan only after thousands of steps, and until then run in V8's baseline code,
- * where every intermediate double is a heap number (after 6,000 steps the least of the rounds
- * still showed 145 bytes per step in one run, after 12,000 6 bytes).
+ * where every intermediate double is a heap number (the least of the rounds: 25 bytes per step
+ * after 6,000 warm-up steps, 19 after 12,000; on main before 2026-11-24, a scavenge in the rounds).
  */
 const PLAN = { pile: [2000, 3000, 3], room: [12000, 2000, 5] } as const
 
@@ -73,8 +74,7 @@ async function measure(scene: 'pile' | 'room'): Promise<AllocationResult> {
   const result = JSON.parse(stdout.trim().split('\n').pop() ?? '{}') as AllocationResult
   console.log(
     `allocation (${scene}): ${result.gcCount} collections ${JSON.stringify(result.gcKinds)}, heap growth ${result.heapGrowth} bytes over ${result.steps} steps (least of ${PLAN[scene][2]} rounds` +
-      (scene === 'room' ? `, less ${result.baseline} bytes per step for reading heapUsed` : '') +
-      `) (${((result.heapGrowth ?? Number.NaN) / result.steps).toFixed(2)} bytes/step), ${result.bodies} bodies, ${result.contacts} contacts` +
+      `) (${(result.heapGrowth / result.steps).toFixed(2)} bytes/step), ${result.bodies} bodies, ${result.contacts} contacts` +
       (result.allocators.length ? `; allocating: ${JSON.stringify(result.allocators)}` : ''),
   )
   return result
@@ -84,9 +84,7 @@ async function measure(scene: 'pile' | 'room'): Promise<AllocationResult> {
 function expectNoAllocation(result: AllocationResult): void {
   const where = JSON.stringify(result.allocators)
   expect(result.gcCount, `collections ${JSON.stringify(result.gcKinds)}; ${where}`).toBe(0)
-  expect(result.shrunkSteps, `steps with a collection inside; ${where}`).toBe(0)
-  expect(result.heapGrowth, `no round without a collection; ${where}`).not.toBeNull()
-  expect((result.heapGrowth ?? 0) / result.steps, where).toBeLessThan(64)
+  expect(result.heapGrowth / result.steps, where).toBeLessThan(64)
 }
 
 describe('allocation', () => {
@@ -104,7 +102,8 @@ describe('allocation', () => {
   // Before 2026-11-24 this scene allocated about 1.7 KB per step (bench:alloc's room-100): double
   // arguments and results of calls V8 did not inline in the continuous collision (heap numbers),
   // pair keys above 2^30 in a Map, the new-contact list's storage dropped by `length = 0`, and the
-  // sleep threshold compared as a settings field of unknown representation.
+  // sleep threshold compared as a settings field of unknown representation; and the once-a-second
+  // hash boxed each number it wrote (about 3 KB per hash).
   it('a warm capacity room (awake 100-body pile, 5 mouse-joint drags, spawns) steps 5 x 2000 times without heap growth', async () => {
     const result = await measure('room')
     expect(result.contacts).toBeGreaterThan(100)
