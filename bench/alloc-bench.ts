@@ -14,7 +14,9 @@
  *   then grab a random dynamic body, drag it round a circle for 80 steps, release, every 100
  *   steps); the players' commands are applied outside the measured window, so only the room's
  *   ticks (the step with the grabs, and the room's housekeeping) are counted; and, in another
- *   such room, world.step() alone. A first room of the kind runs unmeasured to warm the JIT.
+ *   such room, world.step() alone; and world.step() alone again in a fourth room after 12,000
+ *   warm-up steps (the steady state, once V8 has optimized the rare paths). A first room of the
+ *   kind runs unmeasured to warm the JIT.
  */
 import { mkdirSync, writeFileSync } from 'node:fs'
 import { loadavg } from 'node:os'
@@ -27,10 +29,16 @@ const gc = (globalThis as { gc?: () => void }).gc
 if (!gc) throw new Error('run with node --expose-gc (npm run bench:alloc does)')
 const WARMUP = 600
 const STEPS = 600
+/**
+ * Warm-up of the steady-state room figure: the engine's rare paths (a sweep that hits, a body woken
+ * in collide, a first visit of a branch) stay in V8's baseline tier, or are deoptimized and
+ * re-optimized, for thousands of steps, and in that time allocate heap numbers.
+ */
+const LONG_WARMUP = 12000
 
-/** Bytes per call of `run` over STEPS calls after WARMUP, or null when a collection ran. */
-function measure(run: (i: number) => void, between: (i: number) => void): number | null {
-  for (let i = 0; i < WARMUP; i++) {
+/** Bytes per call of `run` over STEPS calls after `warmup` calls, or null when a collection ran. */
+function measure(run: (i: number) => void, between: (i: number) => void, warmup = WARMUP): number | null {
+  for (let i = 0; i < warmup; i++) {
     between(i)
     run(i)
   }
@@ -38,7 +46,7 @@ function measure(run: (i: number) => void, between: (i: number) => void): number
   gc?.()
   let bytes = 0
   let collected = false
-  for (let i = WARMUP; i < WARMUP + STEPS; i++) {
+  for (let i = warmup; i < warmup + STEPS; i++) {
     between(i)
     const h0 = process.memoryUsage().heapUsed
     run(i)
@@ -98,6 +106,8 @@ const whole = room()
 const roomBytes = measure(() => whole.sim.runTick(), whole.between)
 const stepOnly = room()
 const stepBytes = measure(() => stepOnly.sim.world.step(), stepOnly.between)
+const steady = room()
+const steadyBytes = measure(() => steady.sim.world.step(), steady.between, LONG_WARMUP)
 
 const net = (x: number | null): number | null =>
   x === null || baseline === null ? null : Math.round(Math.max(0, x - baseline))
@@ -106,6 +116,7 @@ const summary = {
   pile300BytesPerStep: net(pileBytes),
   room100BytesPerTick: net(roomBytes),
   room100WorldStepBytes: net(stepBytes),
+  room100WorldStepBytesSteady: net(steadyBytes),
   room100Bodies: whole.sim.world.bodyCount,
   load1: loadavg()[0],
 }
@@ -114,7 +125,8 @@ console.log(
   `allocation per step after ${WARMUP} warm-up steps, ${STEPS} measured (heapUsed, less ${summary.baselineBytes} bytes for reading it): ` +
     `pile-300 world.step ${show(summary.pile300BytesPerStep)}; ` +
     `room-100 with 5 players (${summary.room100Bodies} bodies) sim.runTick ${show(summary.room100BytesPerTick)}, ` +
-    `of which world.step ${show(summary.room100WorldStepBytes)} (measured alone in a third room)`,
+    `of which world.step ${show(summary.room100WorldStepBytes)} (measured alone in a third room); ` +
+    `world.step after ${LONG_WARMUP} warm-up steps ${show(summary.room100WorldStepBytesSteady)}`,
 )
 mkdirSync('bench/results', { recursive: true })
 const file = 'bench/results/alloc.json'
