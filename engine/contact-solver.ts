@@ -30,10 +30,15 @@
  * contacts touching a pinched body (those to the heavy body and those below it) get
  * PINCHED_EXTRA_ITERATIONS more sweeps, in the same order. Scenes without such mass ratios solve
  * exactly as before; the few contacts of a heavy-on-light stack cost little.
+ *
+ * Tall columns (contact-columns.ts: a chain of at least COLUMN_MIN_BODIES bodies on a static body,
+ * each touching only the one below and the one above) buckle on 45 Hz soft contacts; their contacts
+ * are solved at the static-contact stiffness (twice contactHertz) and get the same extra sweeps.
  */
 import { DPX, DPY, DQC, DQS, STATE_STRIDE, stateOffset, VX, VY, W } from './body-state.ts'
 import { PINCH_MASS_RATIO, PINCHED_EXTRA_ITERATIONS } from './constants.ts'
 import type { Contact } from './contact.ts'
+import { ColumnMarks, markColumns } from './contact-columns.ts'
 import {
   ANCHOR_AX,
   ANCHOR_AY,
@@ -94,11 +99,13 @@ export class ContactConstraints {
   count = 0
   /** 0, 1, 2, ...: every constraint, in solve order. */
   all = identity(64)
-  /** Constraints touching a pinched body (see solveContacts), in solve order, and their count. */
-  pinched = new Int32Array(64)
-  pinchedCount = 0
+  /** Constraints touching a pinched body or holding a column (see solveContacts), in solve order, and their count. */
+  extra = new Int32Array(64)
+  extraCount = 0
   /** Per solver state record (record 0 static): 1 when the body is pinched this step. */
   pinchedRecord = new Uint8Array(64)
+  /** Scratch of the column search (contact-columns.ts). */
+  readonly columns = new ColumnMarks()
 
   /** Makes room for n constraints and `records` body state records (grows by doubling; no allocation once warm). */
   reserve(n: number, records: number): void {
@@ -110,7 +117,7 @@ export class ContactConstraints {
     this.stateA = new Int32Array(size)
     this.stateB = new Int32Array(size)
     this.pointCount = new Int32Array(size)
-    this.pinched = new Int32Array(size)
+    this.extra = new Int32Array(size)
     this.all = identity(size)
   }
 }
@@ -209,16 +216,25 @@ export function prepareContacts(
       else if (mB > PINCH_MASS_RATIO * mA) pinchedRecord[out.stateB[i] / STATE_STRIDE] = 1
     }
   }
+  markColumns(out.columns, out, count, records)
+  const column = out.columns.mark
   let n = 0
   for (let i = 0; i < count; i++) {
-    if (
+    if (column[i] === 1) {
+      // A column contact: static-contact stiffness (ground contacts already have it).
+      const o = i * CONSTRAINT_STRIDE
+      d[o + BIAS_RATE] = staticSoftness.biasRate
+      d[o + MASS_SCALE] = staticSoftness.massScale
+      d[o + IMPULSE_SCALE] = staticSoftness.impulseScale
+      out.extra[n++] = i
+    } else if (
       pinchedRecord[out.stateA[i] / STATE_STRIDE] === 1 ||
       pinchedRecord[out.stateB[i] / STATE_STRIDE] === 1
     ) {
-      out.pinched[n++] = i
+      out.extra[n++] = i
     }
   }
-  out.pinchedCount = n
+  out.extraCount = n
 }
 
 /** Applies the accumulated impulses (each sub-step). */
@@ -272,9 +288,9 @@ export function solveContacts(
   useBias: boolean,
 ): void {
   solveContactRange(k, state, ctx, useBias, k.all, k.count)
-  if (k.pinchedCount === 0) return
+  if (k.extraCount === 0) return
   for (let it = 0; it < PINCHED_EXTRA_ITERATIONS; it++) {
-    solveContactRange(k, state, ctx, useBias, k.pinched, k.pinchedCount)
+    solveContactRange(k, state, ctx, useBias, k.extra, k.extraCount)
   }
 }
 

@@ -237,6 +237,40 @@ describe('tall stacks', () => {
     expect(worst).toBeLessThan(0.05)
     expect(speed(world, ids[14])).toBeLessThan(SLEEP_SPEED)
   })
+
+  it('a 20-box tower with boxes alternately offset by 5 cm stands still for 10 s (Box2D v3: down by 10 s)', () => {
+    // 1 m boxes at x = 0, 0.05, 0, ... (friction 0.6, as towerScene): every interface's load is
+    // centred on its 0.95 m overlap, so rigid boxes stand forever. On soft contacts a face contact is
+    // a rotational spring and the weight above pushes the column over: at 45 Hz the springs would
+    // have to be 1.34 times stiffer (engine/README.md "Robustness"; before contact-columns.ts the
+    // tower was 0.24 m off at 10 s and down at about 17 s). "Stands still": every box within 2 cm of
+    // its start x at every step of the 10 s (a falling column keeps going, a fallen box moves by
+    // metres), and over the last 2 s every box slower than 0.01 m/s, a fifth of the sleep threshold.
+    const world = createWorld({ enableSleep: false })
+    world.createBody(groundDef())
+    const starts: number[] = []
+    const ids: number[] = []
+    for (let i = 0; i < 20; i++) {
+      starts.push((i % 2) * 0.05)
+      ids.push(
+        world.createBody({ position: { x: starts[i], y: 0.5 + i }, shape: box(0.5, 0.5), friction: 0.6 }),
+      )
+    }
+    let worstX = 0
+    let lateFastest = 0
+    for (let step = 1; step <= 600; step++) {
+      world.step()
+      ids.forEach((id, i) => {
+        worstX = Math.max(worstX, Math.abs(world.getPosition(id).x - starts[i]))
+        if (step > 480) lateFastest = Math.max(lateFastest, speed(world, id))
+      })
+    }
+    console.log(
+      `alternating 20-box tower: worst sideways offset over 10 s ${worstX.toFixed(4)} m, fastest over the last 2 s ${lateFastest.toFixed(4)} m/s`,
+    )
+    expect(worstX).toBeLessThan(0.02)
+    expect(lateFastest).toBeLessThan(SLEEP_SPEED / 5)
+  })
 })
 
 describe('piles fall asleep, balls still roll', () => {

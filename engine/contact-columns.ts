@@ -1,0 +1,95 @@
+/*
+ * Tall columns in the contact graph: chains of bodies standing on a static body, each body touching
+ * at most two others (the one below and the one above), every link a two-point (face) manifold.
+ *
+ * Why they are special: a soft contact point sags F K / omega^2 under its load F (K its inverse
+ * effective mass), so a face contact is a rotational spring, and the weight above pushes a column of
+ * such springs over (P-delta). For 1 m boxes at 45 Hz a column is past its buckling load at 20 boxes
+ * (the springs would have to be 1.34 times stiffer, engine/README.md "Robustness"): it leans and
+ * falls however well the solver converges. Pyramids and piles are braced by their neighbours and
+ * have no such mode. So the contacts of a column of at least COLUMN_MIN_BODIES bodies are solved at
+ * the static-contact stiffness (twice contactHertz) with the extra sweeps that make a stiffer
+ * contact converge (contact-solver.ts); everything else solves as before.
+ *
+ * Found once per step in constraint order (ids), without allocation: count each body's touching
+ * contacts, then walk up from every two-point contact with a static body while the next body
+ * touches exactly two.
+ */
+import { STATE_STRIDE } from './body-state.ts'
+import { COLUMN_MIN_BODIES } from './constants.ts'
+
+/** Scratch arrays of the column search, grown by doubling (no allocation once warm). */
+export class ColumnMarks {
+  /** Per body state record (record 0 static): touching contacts this step, and the first two. */
+  degree = new Int32Array(64)
+  first = new Int32Array(64)
+  second = new Int32Array(64)
+  /** Per constraint: 1 when it holds a column of at least COLUMN_MIN_BODIES bodies. */
+  mark = new Uint8Array(64)
+
+  /** Makes room for `records` body state records and `constraints` constraints. */
+  reserve(records: number, constraints: number): void {
+    if (records > this.degree.length) {
+      this.degree = new Int32Array(2 * records)
+      this.first = new Int32Array(2 * records)
+      this.second = new Int32Array(2 * records)
+    }
+    if (constraints > this.mark.length) this.mark = new Uint8Array(2 * constraints)
+  }
+}
+
+/** The constraints' solver state offsets and point counts, as contact-solver.ts keeps them. */
+export interface ColumnGraph {
+  stateA: Int32Array
+  stateB: Int32Array
+  pointCount: Int32Array
+}
+
+/** Marks (in `marks.mark`) the constraints of every column of at least COLUMN_MIN_BODIES bodies. */
+export function markColumns(marks: ColumnMarks, g: ColumnGraph, count: number, records: number): void {
+  marks.reserve(records, count)
+  const degree = marks.degree
+  degree.fill(0, 0, records)
+  marks.mark.fill(0, 0, count)
+  for (let i = 0; i < count; i++) {
+    addContact(marks, g.stateA[i] / STATE_STRIDE, i)
+    addContact(marks, g.stateB[i] / STATE_STRIDE, i)
+  }
+  for (let i = 0; i < count; i++) {
+    if (walkColumn(marks, g, i, false) >= COLUMN_MIN_BODIES) walkColumn(marks, g, i, true)
+  }
+}
+
+/** Counts contact i on body record r (static record 0 is not counted). */
+function addContact(marks: ColumnMarks, r: number, i: number): void {
+  if (r === 0) return
+  const n = marks.degree[r]++
+  if (n === 0) marks.first[r] = i
+  else if (n === 1) marks.second[r] = i
+}
+
+/**
+ * Bodies in the column standing on constraint i (0 unless i is a two-point contact between a static
+ * body and a body touching at most two); with `mark`, marks the column's constraints.
+ */
+function walkColumn(marks: ColumnMarks, g: ColumnGraph, i: number, mark: boolean): number {
+  const a = g.stateA[i] / STATE_STRIDE
+  const b = g.stateB[i] / STATE_STRIDE
+  if ((a === 0) === (b === 0) || g.pointCount[i] < 2) return 0
+  let r = a === 0 ? b : a
+  if (marks.degree[r] > 2) return 0
+  if (mark) marks.mark[i] = 1
+  let via = i
+  let length = 1
+  while (marks.degree[r] === 2 && length <= g.stateA.length) {
+    const j = marks.first[r] === via ? marks.second[r] : marks.first[r]
+    const ja = g.stateA[j] / STATE_STRIDE
+    const next = ja === r ? g.stateB[j] / STATE_STRIDE : ja
+    if (g.pointCount[j] < 2 || next === 0 || marks.degree[next] > 2) break
+    if (mark) marks.mark[j] = 1
+    length++
+    via = j
+    r = next
+  }
+  return length
+}
