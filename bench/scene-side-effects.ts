@@ -11,12 +11,14 @@
  *   (the test's hand-computed soft rest height is 10.9608 m), fastest body over the last 2 s;
  * - cards: the 4-storey card house's worst card drift after 10 s;
  * - ragdolls: fastest linear and angular speed of three ragdolls after 15 s.
- * Not a test: numbers to compare variants by; the tests hold the limits.
+ * Not a test: numbers to compare variants by; the tests hold the limits. Saves the printed lines,
+ * the engine folder and the machine to bench/results/scene-side-effects.json (`--out`).
  */
 
 import { resolve } from 'node:path'
 import { pathToFileURL } from 'node:url'
 import { parseArgs } from 'node:util'
+import { machineInfo, saveResults } from './stats.ts'
 
 /** The part of engine/index.ts this script uses. */
 interface Engine {
@@ -41,7 +43,11 @@ interface World {
 }
 
 const { values } = parseArgs({
-  options: { engine: { type: 'string', default: 'engine' }, only: { type: 'string', default: '' } },
+  options: {
+    engine: { type: 'string', default: 'engine' },
+    only: { type: 'string', default: '' },
+    out: { type: 'string', default: 'bench/results/scene-side-effects.json' },
+  },
 })
 const engine = (await import(pathToFileURL(resolve(values.engine, 'index.ts')).href)) as Engine
 const only = values.only === '' ? null : new Set(values.only.split(','))
@@ -59,6 +65,12 @@ function fastest(world: World): { v: number; w: number } {
 }
 
 const f4 = (x: number): string => x.toFixed(4)
+const lines: string[] = []
+/** Prints a result line and keeps it for the saved results. */
+function report(line: string): void {
+  console.log(line)
+  lines.push(line)
+}
 
 if (want('tower')) {
   const world = engine.createWorld({ enableSleep: false })
@@ -90,7 +102,7 @@ if (want('tower')) {
     if (step === 600) at10 = fastest(world).v
     if (step % 120 === 0) samples.push(f4(worst))
   }
-  console.log(
+  report(
     `tower: worst offset to 10 s ${f4(early)} m, 10-30 s ${f4(late)} m, fastest at 10 s ${f4(at10)} m/s, at 30 s ${f4(fastest(world).v)} m/s; offset every 2 s: ${samples.join(' ')}`,
   )
 }
@@ -107,7 +119,7 @@ for (const rows of [30, 50]) {
     const p = world.getPosition(id)
     drift = Math.max(drift, Math.hypot(p.x - at5[k].x, p.y - at5[k].y))
   })
-  console.log(`pyramid-${rows}: drift 5-10 s ${f4(drift)} m, fastest at 10 s ${f4(fastest(world).v)} m/s`)
+  report(`pyramid-${rows}: drift 5-10 s ${f4(drift)} m, fastest at 10 s ${f4(fastest(world).v)} m/s`)
 }
 
 if (want('pile')) {
@@ -122,7 +134,7 @@ if (want('pile')) {
     }
     out.push(worst.toFixed(3))
   }
-  console.log(`pile-1000 seeds 1-4, fastest over the last 0.5 s: ${out.join(' / ')} m/s`)
+  report(`pile-1000 seeds 1-4, fastest over the last 0.5 s: ${out.join(' / ')} m/s`)
 }
 
 if (want('drop')) {
@@ -135,7 +147,7 @@ if (want('drop')) {
     world.step()
     if (i > 480) late = Math.max(late, fastest(world).v)
   }
-  console.log(
+  report(
     `drop-400: heavy centre ${f4(world.getPosition(heavy).y)} m (hand 10.9608), fastest over the last 2 s ${f4(late)} m/s`,
   )
 }
@@ -152,7 +164,7 @@ if (want('cards')) {
     const p = world.getPosition(id)
     drift = Math.max(drift, Math.hypot(p.x - s.x, p.y - s.y))
   })
-  console.log(`cards: worst card drift at 10 s ${f4(drift)} m`)
+  report(`cards: worst card drift at 10 s ${f4(drift)} m`)
 }
 
 if (want('ragdolls')) {
@@ -160,5 +172,7 @@ if (want('ragdolls')) {
   engine.buildScene(world, engine.ragdollScene(3))
   for (let i = 0; i < 900; i++) world.step()
   const { v, w } = fastest(world)
-  console.log(`ragdolls: at 15 s fastest ${f4(v)} m/s, ${f4(w)} rad/s`)
+  report(`ragdolls: at 15 s fastest ${f4(v)} m/s, ${f4(w)} rad/s`)
 }
+
+saveResults(values.out, { machine: machineInfo(), engine: resolve(values.engine), lines })
