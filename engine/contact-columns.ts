@@ -51,18 +51,22 @@ export function markColumns(marks: ColumnMarks, g: ColumnGraph, count: number, r
   const degree = marks.degree
   degree.fill(0, 0, records)
   marks.mark.fill(0, 0, count)
+  const stateA = g.stateA
+  const stateB = g.stateB
   for (let i = 0; i < count; i++) {
-    addContact(marks, g.stateA[i] / STATE_STRIDE, i)
-    addContact(marks, g.stateB[i] / STATE_STRIDE, i)
+    addContact(marks, stateA[i], i)
+    addContact(marks, stateB[i], i)
   }
   for (let i = 0; i < count; i++) {
+    if (stateA[i] !== 0 && stateB[i] !== 0) continue // a column stands on a static body
     if (walkColumn(marks, g, i, false) >= COLUMN_MIN_BODIES) walkColumn(marks, g, i, true)
   }
 }
 
-/** Counts contact i on body record r (static record 0 is not counted). */
-function addContact(marks: ColumnMarks, r: number, i: number): void {
-  if (r === 0) return
+/** Counts contact i on the body whose solver state starts at `offset` (the static record 0 is not counted). */
+function addContact(marks: ColumnMarks, offset: number, i: number): void {
+  if (offset === 0) return
+  const r = offset / STATE_STRIDE
   const n = marks.degree[r]++
   if (n === 0) marks.first[r] = i
   else if (n === 1) marks.second[r] = i
