@@ -67,6 +67,10 @@ const memoryNow = (): { rss: number; heap: number } => {
   return pool ? { rss: m.rss, heap: m.rss } : m
 }
 const children: ChildProcess[] = []
+// A failed step (say, bots that never join) must not leave bot processes behind.
+process.on('exit', () => {
+  for (const child of children) if (child.exitCode === null) child.kill('SIGKILL')
+})
 const steps: Record<string, number>[] = []
 /** Per step, each worker's loop tick p99 (ms), when the rooms run on workers. */
 const perWorkerTickMsP99: number[][] = []
