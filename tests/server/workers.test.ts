@@ -183,7 +183,8 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
       const res = await fetch(`${server.url}/healthz`)
       return { status: res.status, text: await res.text() }
     }
-    expect((await healthy()).status).toBe(200)
+    // Healthy first (with a 2 s stall limit, a loop can be late on a loaded machine: wait for it).
+    await until(async () => (await healthy()).status === 200, '/healthz to pass before the fault')
     const worker = server.pool?.workerOf('stuck')
     // One tick of this room now holds its worker for 8 s: no batch, no beat for longer than 2 s.
     server.pool?.fault('stuck', { kind: 'busy', room: 'stuck', ms: 8000 })
