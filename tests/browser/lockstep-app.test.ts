@@ -6,6 +6,7 @@
  */
 import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { startLatencyProxy } from '../../bench/latency-proxy.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from './chromium.ts'
 import { bodies, openSandbox, pickTool, screenOf, startClientServer } from './client-harness.ts'
@@ -44,9 +45,12 @@ describe('the sandbox page in lockstep modes', () => {
   })
 
   it('predict: a dragged body follows the pointer within a few frames and the HUD shows rollbacks', async () => {
+    // The page talks to the server over a path with 150 ms each way, so a body that waited for the
+    // server (no prediction) would move 18 frames after the pointer at 60 Hz, not 2 or 3.
+    const proxy = await startLatencyProxy(Number(new URL(server.url).port), 150)
     const { page, errors, context } = await openSandbox(
       browser,
-      `${server.url}/?room=ls-app-predict&mode=predict`,
+      `http://127.0.0.1:${proxy.port}/?room=ls-app-predict&mode=predict`,
     )
     await page.waitForFunction(
       () => /predict running/.test(document.getElementById('hud')?.textContent ?? ''),
@@ -59,14 +63,35 @@ describe('the sandbox page in lockstep modes', () => {
     await page.evaluate(() => window.concord.sandbox.send({ k: 'scene', name: 'tower' }))
     await page.waitForFunction(() => window.concord.sandbox.scene() === 'tower', null, { timeout: 90_000 })
     await pickTool(page, 'grab')
-    const target = (await bodies(page)).filter((b) => b.kind === 2).sort((a, b) => b.y - a.y)[0]
-    expect(target).toBeDefined()
-    const at = await screenOf(page, target.x, target.y)
-    await page.mouse.move(at.x, at.y)
-    await page.mouse.down()
+    // Press on the top body until the page shows it grabbed: on a loaded machine the page can lag
+    // behind the coordinates read here, and a press that misses grabs nothing, so nothing moves.
+    let target: Awaited<ReturnType<typeof bodies>>[number] | undefined
+    let at = { x: 0, y: 0 }
+    for (let attempt = 1; ; attempt++) {
+      target = (await bodies(page)).filter((b) => b.kind === 2).sort((a, b) => b.y - a.y)[0]
+      expect(target).toBeDefined()
+      at = await screenOf(page, target.x, target.y)
+      await page.mouse.move(at.x, at.y)
+      await page.mouse.down()
+      const grabbed = await page
+        .waitForFunction(
+          (id) =>
+            window.concord.sandbox
+              .bodies()
+              .some((v: { id: number; grabColor: string | null }) => v.id === id && v.grabColor !== null),
+          target.id,
+          { timeout: 15_000 },
+        )
+        .then(() => true)
+        .catch(() => false)
+      if (grabbed) break
+      await page.mouse.up()
+      if (attempt === 5) throw new Error(`5 presses on body ${target.id} at ${at.x}, ${at.y} did not grab it`)
+    }
     await page.waitForFunction(() => /rollbacks/.test(document.getElementById('hud')?.textContent ?? ''))
-    // Count animation frames in the page from the pointer event until the body has moved 2 mm
-    // from where it was drawn before (the grab alone does not move it).
+    // Count animation frames in the page from the pointer event until the body has moved 1 cm
+    // right and 1 cm up from where it was drawn before, the way the pointer goes (a grabbed body
+    // also sags and sways under its grab, by millimetres, in any direction).
     await page.evaluate((id) => {
       const w = window as unknown as { framesToMove: number }
       const start = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
@@ -79,7 +104,7 @@ describe('the sandbox page in lockstep modes', () => {
       const watch = (): void => {
         frames++
         const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
-        if (movedAt >= 0 && b && start && Math.hypot(b.x - start.x, b.y - start.y) > 0.002)
+        if (movedAt >= 0 && b && start && b.x - start.x > 0.01 && b.y - start.y > 0.01)
           w.framesToMove = frames - movedAt
         else if (frames < 600) requestAnimationFrame(watch)
       }
@@ -91,10 +116,15 @@ describe('the sandbox page in lockstep modes', () => {
     })
     const frames = await page.evaluate(() => (window as unknown as { framesToMove: number }).framesToMove)
     console.log(`predict: the grabbed body moved ${frames} frames after the pointer`)
-    expect(frames).toBeLessThanOrEqual(2)
+    // The event lands between two frames; the present simulation steps to the playout clock's
+    // tick, so a frame that comes before the next tick is due steps nothing (page timing jitters
+    // on a loaded machine); then the frame that steps draws it: 2 frames, 3 with one such frame.
+    // Without prediction the body would wait for the 300 ms round trip: 18 frames at 60 Hz.
+    expect(frames).toBeLessThanOrEqual(3)
     await page.mouse.up()
     expect(await hud(page)).toMatch(/rollbacks .* depth .* resim/)
     expect(errors).toEqual([])
     await context.close()
+    await proxy.close()
   })
 })
