@@ -14,9 +14,34 @@
  * (bench/server-load.ts awakePile): the pile with every dynamic body's enableSleep false, so with
  * --sleep on the world keeps sleeping enabled and still simulates every body.
  */
+import { existsSync, readFileSync } from 'node:fs'
+import { dirname, join, resolve } from 'node:path'
 import { performance } from 'node:perf_hooks'
 import { parseArgs } from 'node:util'
 import { formatTable, machineInfo, median, pairedRatio, saveResults } from './stats.ts'
+
+/**
+ * Refuse an engine folder whose nearest package.json does not say `"type": "module"` (say, an
+ * engine/ copied alone into /tmp): tsx then compiles it as CommonJS, where every call to an
+ * imported function is reached through an export getter (the likely cost); it measured 0.23 against 2.06 ms per step on
+ * the same 100-body pile (Nov 24): such a version is not the engine being compared.
+ */
+function requireModulePackage(label: string, dir: string): void {
+  for (let at = resolve(dir); ; at = dirname(at)) {
+    const file = join(at, 'package.json')
+    if (existsSync(file)) {
+      const type = (JSON.parse(readFileSync(file, 'utf8')) as { type?: string }).type
+      if (type === 'module') return
+      throw new Error(
+        `${label}=${dir}: ${file} does not say "type": "module", so tsx would compile it as CommonJS (several times slower)`,
+      )
+    }
+    if (dirname(at) === at)
+      throw new Error(
+        `${label}=${dir}: no package.json above it says "type": "module", so tsx would compile it as CommonJS (several times slower); put {"type":"module"} in a package.json beside the copy, or use a git worktree`,
+      )
+  }
+}
 
 /** What the benchmark needs from one engine version's index.ts. */
 interface EngineModule {
@@ -146,6 +171,7 @@ async function main(): Promise<void> {
   }
   const versions: Version[] = []
   for (const { label, dir } of positionals.map(parseVersion)) {
+    requireModulePackage(label, dir)
     const url = new URL(`file://${dir.replace(/\/$/, '')}/index.ts`)
     versions.push({ label, engine: (await import(url.href)) as EngineModule })
   }
