@@ -36,3 +36,7 @@ export const PINCHED_EXTRA_ITERATIONS = 3
  * contacts is past its buckling load at 20 boxes and at 0.28 of it at 12 (engine/README.md "Robustness").
  */
 export const COLUMN_MIN_BODIES = 12
+/** Columns up to this many bodies are solved at twice contactHertz; taller ones stiffer (contact-columns.ts): 20. */
+export const COLUMN_STIFF_BODIES = 20
+/** Columns taller than this are solved as this tall (the stiffening stops growing): 50. */
+export const COLUMN_MAX_BODIES = 50

@@ -11,12 +11,46 @@
  * the static-contact stiffness (twice contactHertz) with the extra sweeps that make a stiffer
  * contact converge (contact-solver.ts); everything else solves as before.
  *
+ * Taller columns get stiffer: the buckling factor grows as n^3 with the column's n bodies and falls
+ * as 1 / hertz^2, so from COLUMN_STIFF_BODIES bodies the hertz grows as (n / COLUMN_STIFF_BODIES)^1.5,
+ * which keeps the factor at its 20-box value (0.335 for 1 m boxes), up to COLUMN_MAX_BODIES (356 Hz at
+ * the default 45 Hz). A stiffer contact needs more sweeps to converge: PINCHED_EXTRA_ITERATIONS times
+ * (hertz / (2 contactHertz))^1.5, measured on alternating towers of 25-50 boxes (engine/README.md).
+ *
  * Found once per step in constraint order (ids), without allocation: count each body's touching
  * contacts, then walk up from every two-point contact with a static body while the next body
  * touches exactly two.
  */
 import { STATE_STRIDE } from './body-state.ts'
-import { COLUMN_MIN_BODIES } from './constants.ts'
+import {
+  COLUMN_MAX_BODIES,
+  COLUMN_MIN_BODIES,
+  COLUMN_STIFF_BODIES,
+  PINCHED_EXTRA_ITERATIONS,
+} from './constants.ts'
+import { Softness } from './softness.ts'
+
+/** Soft-constraint coefficients and extra sweeps of a column's contacts, per column height. */
+export class ColumnStiffness {
+  readonly biasRate = new Float64Array(COLUMN_MAX_BODIES + 1)
+  readonly massScale = new Float64Array(COLUMN_MAX_BODIES + 1)
+  readonly impulseScale = new Float64Array(COLUMN_MAX_BODIES + 1)
+  readonly sweeps = new Int32Array(COLUMN_MAX_BODIES + 1)
+
+  /** Fills the table for contact stiffness `contactHertz` (Hz, clamped), damping ratio `zeta`, sub-step `h` (s). */
+  set(contactHertz: number, zeta: number, h: number): void {
+    const soft = new Softness()
+    for (let n = COLUMN_MIN_BODIES; n <= COLUMN_MAX_BODIES; n++) {
+      const r = n > COLUMN_STIFF_BODIES ? n / COLUMN_STIFF_BODIES : 1
+      const scale = r * Math.sqrt(r)
+      soft.set(2 * contactHertz * scale, zeta, h)
+      this.biasRate[n] = soft.biasRate
+      this.massScale[n] = soft.massScale
+      this.impulseScale[n] = soft.impulseScale
+      this.sweeps[n] = Math.ceil(PINCHED_EXTRA_ITERATIONS * scale * Math.sqrt(scale))
+    }
+  }
+}
 
 /** Scratch arrays of the column search, grown by doubling (no allocation once warm). */
 export class ColumnMarks {
@@ -24,8 +58,8 @@ export class ColumnMarks {
   degree = new Int32Array(64)
   first = new Int32Array(64)
   second = new Int32Array(64)
-  /** Per constraint: 1 when it holds a column of at least COLUMN_MIN_BODIES bodies. */
-  mark = new Uint8Array(64)
+  /** Per constraint: the bodies of the column it holds (at most COLUMN_MAX_BODIES), 0 if none. */
+  mark = new Int32Array(64)
 
   /** Makes room for `records` body state records and `constraints` constraints. */
   reserve(records: number, constraints: number): void {
@@ -34,7 +68,7 @@ export class ColumnMarks {
       this.first = new Int32Array(2 * records)
       this.second = new Int32Array(2 * records)
     }
-    if (constraints > this.mark.length) this.mark = new Uint8Array(2 * constraints)
+    if (constraints > this.mark.length) this.mark = new Int32Array(2 * constraints)
   }
 }
 
@@ -45,7 +79,7 @@ export interface ColumnGraph {
   pointCount: Int32Array
 }
 
-/** Marks (in `marks.mark`) the constraints of every column of at least COLUMN_MIN_BODIES bodies. */
+/** Marks (in `marks.mark`, with its height) the constraints of every column of at least COLUMN_MIN_BODIES bodies. */
 export function markColumns(marks: ColumnMarks, g: ColumnGraph, count: number, records: number): void {
   marks.reserve(records, count)
   const degree = marks.degree
@@ -59,7 +93,8 @@ export function markColumns(marks: ColumnMarks, g: ColumnGraph, count: number, r
   }
   for (let i = 0; i < count; i++) {
     if (stateA[i] !== 0 && stateB[i] !== 0) continue // a column stands on a static body
-    if (walkColumn(marks, g, i, false) >= COLUMN_MIN_BODIES) walkColumn(marks, g, i, true)
+    const n = walkColumn(marks, g, i, 0)
+    if (n >= COLUMN_MIN_BODIES) walkColumn(marks, g, i, Math.min(n, COLUMN_MAX_BODIES))
   }
 }
 
@@ -74,15 +109,15 @@ function addContact(marks: ColumnMarks, offset: number, i: number): void {
 
 /**
  * Bodies in the column standing on constraint i (0 unless i is a two-point contact between a static
- * body and a body touching at most two); with `mark`, marks the column's constraints.
+ * body and a body touching at most two); a positive `mark` is written for each of the column's constraints.
  */
-function walkColumn(marks: ColumnMarks, g: ColumnGraph, i: number, mark: boolean): number {
+function walkColumn(marks: ColumnMarks, g: ColumnGraph, i: number, mark: number): number {
   const a = g.stateA[i] / STATE_STRIDE
   const b = g.stateB[i] / STATE_STRIDE
   if ((a === 0) === (b === 0) || g.pointCount[i] < 2) return 0
   let r = a === 0 ? b : a
   if (marks.degree[r] > 2) return 0
-  if (mark) marks.mark[i] = 1
+  if (mark > 0) marks.mark[i] = mark
   let via = i
   let length = 1
   while (marks.degree[r] === 2 && length <= g.stateA.length) {
@@ -90,7 +125,7 @@ function walkColumn(marks: ColumnMarks, g: ColumnGraph, i: number, mark: boolean
     const ja = g.stateA[j] / STATE_STRIDE
     const next = ja === r ? g.stateB[j] / STATE_STRIDE : ja
     if (g.pointCount[j] < 2 || next === 0 || marks.degree[next] > 2) break
-    if (mark) marks.mark[j] = 1
+    if (mark > 0) marks.mark[j] = mark
     length++
     via = j
     r = next

@@ -33,7 +33,8 @@
  *
  * Tall columns (contact-columns.ts: a chain of at least COLUMN_MIN_BODIES bodies on a static body,
  * each touching only the one below and the one above) buckle on 45 Hz soft contacts; their contacts
- * are solved at the static-contact stiffness (twice contactHertz) and get the same extra sweeps.
+ * are solved at the static-contact stiffness (twice contactHertz; stiffer for columns taller than
+ * COLUMN_STIFF_BODIES) and get the same extra sweeps (more for the stiffer ones).
  */
 import { DPX, DPY, DQC, DQS, STATE_STRIDE, stateOffset, VX, VY, W } from './body-state.ts'
 import { PINCH_MASS_RATIO, PINCHED_EXTRA_ITERATIONS } from './constants.ts'
@@ -102,6 +103,8 @@ export class ContactConstraints {
   /** Constraints touching a pinched body or holding a column (see solveContacts), in solve order, and their count. */
   extra = new Int32Array(64)
   extraCount = 0
+  /** Extra sweeps over them after each sweep: PINCHED_EXTRA_ITERATIONS, more for a column taller than COLUMN_STIFF_BODIES. */
+  extraSweeps = 0
   /** Per solver state record (record 0 static): 1 when the body is pinched this step. */
   pinchedRecord = new Uint8Array(64)
   /** Scratch of the column search (contact-columns.ts). */
@@ -175,6 +178,7 @@ export function prepareContacts(
   count: number,
   contactSoftness: Softness,
   staticSoftness: Softness,
+  ctx: StepContext,
   records: number,
 ): void {
   out.reserve(count, records)
@@ -218,14 +222,18 @@ export function prepareContacts(
   }
   markColumns(out.columns, out, count, records)
   const column = out.columns.mark
+  const stiffness = ctx.columnStiffness
+  let sweeps = PINCHED_EXTRA_ITERATIONS
   let n = 0
   for (let i = 0; i < count; i++) {
-    if (column[i] === 1) {
-      // A column contact: static-contact stiffness (ground contacts already have it).
+    const height = column[i]
+    if (height > 0) {
+      // A column contact: the stiffness of its column's height (contact-columns.ts).
       const o = i * CONSTRAINT_STRIDE
-      d[o + BIAS_RATE] = staticSoftness.biasRate
-      d[o + MASS_SCALE] = staticSoftness.massScale
-      d[o + IMPULSE_SCALE] = staticSoftness.impulseScale
+      d[o + BIAS_RATE] = stiffness.biasRate[height]
+      d[o + MASS_SCALE] = stiffness.massScale[height]
+      d[o + IMPULSE_SCALE] = stiffness.impulseScale[height]
+      sweeps = Math.max(sweeps, stiffness.sweeps[height])
       out.extra[n++] = i
     } else if (
       pinchedRecord[out.stateA[i] / STATE_STRIDE] === 1 ||
@@ -235,6 +243,7 @@ export function prepareContacts(
     }
   }
   out.extraCount = n
+  out.extraSweeps = sweeps
 }
 
 /** Applies the accumulated impulses (each sub-step). */
@@ -289,7 +298,7 @@ export function solveContacts(
 ): void {
   solveContactRange(k, state, ctx, useBias, k.all, k.count)
   if (k.extraCount === 0) return
-  for (let it = 0; it < PINCHED_EXTRA_ITERATIONS; it++) {
+  for (let it = 0; it < k.extraSweeps; it++) {
     solveContactRange(k, state, ctx, useBias, k.extra, k.extraCount)
   }
 }

@@ -3,6 +3,7 @@
  * passed to a function it does not inline (a heap allocation per call); a field of a long-lived
  * object is updated in place.
  */
+import { ColumnStiffness } from './contact-columns.ts'
 import { Softness } from './softness.ts'
 
 /** The solver's per-step scalars. */
@@ -19,6 +20,8 @@ export class StepContext {
   restitutionThreshold = 0.5
   /** Sleep velocity below which a body rests (m/s; a copy of the setting: see World.finalizeBodies). */
   sleepThreshold = 0.5
+  /** Softness and extra sweeps of tall columns' contacts, per column height (contact-columns.ts). */
+  readonly columnStiffness = new ColumnStiffness()
   /** Softness of rigid joint constraints (position error correction). */
   readonly jointSoftness = new Softness()
   /** Whether warm starting is on. */

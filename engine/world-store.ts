@@ -149,6 +149,7 @@ export class WorldStore {
     this.contactSoftness.set(contactHertz, s.contactDampingRatio, h)
     this.staticSoftness.set(2 * contactHertz, s.contactDampingRatio, h)
     ctx.jointSoftness.set(2 * contactHertz, 2, h)
+    ctx.columnStiffness.set(contactHertz, s.contactDampingRatio, h)
   }
 
   /** Computes a body's tight AABB (plus the speculative margin for moving bodies) into `aabb`. */

@@ -256,6 +256,7 @@ export class World extends WorldApi {
       this.activeContactCount,
       this.contactSoftness,
       this.staticSoftness,
+      this.stepContext,
       this.awakeCount + 1,
     )
   }

@@ -3,14 +3,21 @@
  * state records 1, 2, ... (record 0 is the static ground), a contact is a pair of records and its
  * point count. The expected marks are read off the drawing in each test's name: a chain of at least
  * COLUMN_MIN_BODIES bodies standing on the ground, each body touching only the one below and the one
- * above, every link a two-point contact.
+ * above, every link a two-point contact, marked with its height (at most COLUMN_MAX_BODIES). The
+ * stiffness table is checked against the formula computed here with Math.pow.
  */
 import { describe, expect, it } from 'vitest'
 import { STATE_STRIDE } from '../../engine/body-state.ts'
-import { COLUMN_MIN_BODIES } from '../../engine/constants.ts'
-import { ColumnMarks, markColumns } from '../../engine/contact-columns.ts'
+import {
+  COLUMN_MAX_BODIES,
+  COLUMN_MIN_BODIES,
+  COLUMN_STIFF_BODIES,
+  PINCHED_EXTRA_ITERATIONS,
+} from '../../engine/constants.ts'
+import { ColumnMarks, ColumnStiffness, markColumns } from '../../engine/contact-columns.ts'
+import { Softness } from '../../engine/softness.ts'
 
-/** Marks for contacts given as [recordA, recordB, points]; returns the 0/1 mark per contact. */
+/** Marks for contacts given as [recordA, recordB, points]; returns each contact's column height or 0. */
 function marksFor(contacts: [number, number, number][]): number[] {
   const n = contacts.length
   const graph = {
@@ -34,7 +41,7 @@ function chain(bodies: number, points = 2): [number, number, number][] {
 
 describe('column search', () => {
   it(`marks every contact of a ${COLUMN_MIN_BODIES}-body column and none of a ${COLUMN_MIN_BODIES - 1}-body one`, () => {
-    expect(marksFor(chain(COLUMN_MIN_BODIES))).toEqual(new Array(COLUMN_MIN_BODIES).fill(1))
+    expect(marksFor(chain(COLUMN_MIN_BODIES))).toEqual(new Array(COLUMN_MIN_BODIES).fill(COLUMN_MIN_BODIES))
     expect(marksFor(chain(COLUMN_MIN_BODIES - 1))).toEqual(new Array(COLUMN_MIN_BODIES - 1).fill(0))
   })
 
@@ -42,7 +49,13 @@ describe('column search', () => {
     const contacts = chain(20)
       .map(([a, b, p], k): [number, number, number] => (k % 3 === 0 ? [b, a, p] : [a, b, p]))
       .reverse()
-    expect(marksFor(contacts)).toEqual(new Array(20).fill(1))
+    expect(marksFor(contacts)).toEqual(new Array(20).fill(20))
+  })
+
+  it(`marks a column taller than ${COLUMN_MAX_BODIES} bodies as ${COLUMN_MAX_BODIES} tall`, () => {
+    expect(marksFor(chain(COLUMN_MAX_BODIES + 30))).toEqual(
+      new Array(COLUMN_MAX_BODIES + 30).fill(COLUMN_MAX_BODIES),
+    )
   })
 
   it('stops at a body touching a third one: a braced column is not one', () => {
@@ -55,7 +68,7 @@ describe('column search', () => {
     const contacts = chain(20)
     contacts[15][2] = 1 // bodies 1-15 stand on two-point contacts
     const marks = marksFor(contacts)
-    expect(marks.slice(0, 15)).toEqual(new Array(15).fill(1))
+    expect(marks.slice(0, 15)).toEqual(new Array(15).fill(15))
     expect(marks.slice(15)).toEqual(new Array(5).fill(0))
     contacts[0][2] = 1 // now nothing stands on the ground by a face
     expect(marksFor(contacts)).toEqual(new Array(20).fill(0))
@@ -63,13 +76,13 @@ describe('column search', () => {
 
   it('a column between the ground and a static ceiling is marked once from each end', () => {
     const contacts = [...chain(14), [14, 0, 2] as [number, number, number]]
-    expect(marksFor(contacts)).toEqual(new Array(15).fill(1))
+    expect(marksFor(contacts)).toEqual(new Array(15).fill(14))
   })
 
   it('side-by-side columns are found independently, a pyramid has none', () => {
     const left = chain(13)
     const right = chain(5).map(([a, b, p]): [number, number, number] => [a === 0 ? 0 : a + 100, b + 100, p])
-    expect(marksFor([...left, ...right])).toEqual([...new Array(13).fill(1), ...new Array(5).fill(0)])
+    expect(marksFor([...left, ...right])).toEqual([...new Array(13).fill(13), ...new Array(5).fill(0)])
     // A 3-row pyramid: every body touches three or more, or stands on two.
     const pyramid: [number, number, number][] = [
       [0, 1, 2],
@@ -86,5 +99,35 @@ describe('column search', () => {
       [5, 6, 2],
     ]
     expect(marksFor(pyramid)).toEqual(new Array(pyramid.length).fill(0))
+  })
+})
+
+describe('column stiffness table', () => {
+  const h = 1 / 240
+  const table = new ColumnStiffness()
+  table.set(45, 10, h)
+  it(`columns up to ${COLUMN_STIFF_BODIES} bodies get twice the contact hertz and ${PINCHED_EXTRA_ITERATIONS} extra sweeps`, () => {
+    const ninety = new Softness().set(90, 10, h)
+    for (const n of [COLUMN_MIN_BODIES, COLUMN_STIFF_BODIES]) {
+      expect([table.biasRate[n], table.massScale[n], table.impulseScale[n]]).toEqual([
+        ninety.biasRate,
+        ninety.massScale,
+        ninety.impulseScale,
+      ])
+      expect(table.sweeps[n]).toBe(PINCHED_EXTRA_ITERATIONS)
+    }
+  })
+  it('taller columns: 90 Hz x (n / 20)^1.5 (a constant buckling factor), 3 x (hertz / 90)^1.5 extra sweeps', () => {
+    // By hand: n = 25, 30, 40, 50 give 125.8, 165.3, 254.6, 355.8 Hz and 5, 8, 15, 24 sweeps.
+    const hand = { 25: [125.8, 5], 30: [165.3, 8], 40: [254.6, 15], 50: [355.8, 24] } as const
+    for (const [n, [hertz, sweeps]] of Object.entries(hand).map(([k, v]) => [Number(k), v] as const)) {
+      const scale = (n / COLUMN_STIFF_BODIES) ** 1.5
+      expect(90 * scale).toBeCloseTo(hertz, 1)
+      const soft = new Softness().set(90 * scale, 10, h)
+      expect(table.biasRate[n]).toBeCloseTo(soft.biasRate, 9)
+      expect(table.massScale[n]).toBeCloseTo(soft.massScale, 12)
+      expect(table.impulseScale[n]).toBeCloseTo(soft.impulseScale, 12)
+      expect(table.sweeps[n]).toBe(sweeps)
+    }
   })
 })

@@ -271,6 +271,31 @@ describe('tall stacks', () => {
     expect(worstX).toBeLessThan(0.02)
     expect(lateFastest).toBeLessThan(SLEEP_SPEED / 5)
   })
+
+  it('a 50-box alternating tower stands still for 20 s (stiffer contacts for taller columns)', () => {
+    // The buckling factor grows as n^3: at the 20-box tower's 90 Hz a 50-box column is 5.4 times past
+    // its buckling load (down within 10 s); contact-columns.ts stiffens taller columns as (n / 20)^1.5
+    // (356 Hz at 50) with more sweeps. Same "stands still" as the 20-box tower, over 20 s.
+    const world = createWorld({ enableSleep: false })
+    world.createBody(groundDef())
+    const ids: number[] = []
+    for (let i = 0; i < 50; i++)
+      ids.push(world.createBody({ position: { x: (i % 2) * 0.05, y: 0.5 + i }, shape: box(0.5, 0.5) }))
+    let worstX = 0
+    let lateFastest = 0
+    for (let step = 1; step <= 1200; step++) {
+      world.step()
+      ids.forEach((id, i) => {
+        worstX = Math.max(worstX, Math.abs(world.getPosition(id).x - (i % 2) * 0.05))
+        if (step > 1080) lateFastest = Math.max(lateFastest, speed(world, id))
+      })
+    }
+    console.log(
+      `alternating 50-box tower: worst sideways offset over 20 s ${worstX.toFixed(4)} m, fastest over the last 2 s ${lateFastest.toFixed(4)} m/s`,
+    )
+    expect(worstX).toBeLessThan(0.02)
+    expect(lateFastest).toBeLessThan(SLEEP_SPEED / 5)
+  })
 })
 
 describe('piles fall asleep, balls still roll', () => {
