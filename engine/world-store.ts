@@ -23,8 +23,9 @@ export type ResolvedWorldDef = Required<WorldDef>
 /**
  * The defaults of every world setting. contactHertz is 45, not Box2D's 30: at 30 Hz a 15-box stack
  * dropped with 10 cm gaps leans over and falls within 20 s with sleeping off (top box 0.40 m off at
- * 10 s, 17.8 m at 20 s); at 45 Hz it stands (0.016 m at 10 s) and every other stacking target still
- * holds (see engine/README.md). 45 Hz stays under the clamp of a quarter of the sub-step rate (60 Hz).
+ * 10 s, 17.8 m at 20 s); at 45 Hz it stands (0.016 m at 10 s, before column contacts) and every other
+ * stacking target still holds (see engine/README.md). 45 Hz stays under the clamp of a quarter of the
+ * sub-step rate (60 Hz).
  */
 export const DEFAULT_WORLD_DEF: Readonly<ResolvedWorldDef> = {
   gravity: { x: 0, y: -10 },
