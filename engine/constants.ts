@@ -40,3 +40,10 @@ export const COLUMN_MIN_BODIES = 12
 export const COLUMN_STIFF_BODIES = 20
 /** Columns taller than this are solved as this tall (the stiffening stops growing): 50. */
 export const COLUMN_MAX_BODIES = 50
+/**
+ * The extra sweeps of a step (pinched and column contacts) solve at most this many times the step's
+ * contacts: 3, so the contact solver costs at most 4 times its one sweep per pass (contact-columns.ts).
+ */
+export const EXTRA_SWEEP_BUDGET = 3
+/** ... or at least this many contact solves per pass: 3,072 (two lone 50-box columns need 2 x 51 x 24 = 2,448). */
+export const EXTRA_SWEEP_FLOOR = 3072

@@ -26,6 +26,8 @@ import {
   COLUMN_MAX_BODIES,
   COLUMN_MIN_BODIES,
   COLUMN_STIFF_BODIES,
+  EXTRA_SWEEP_BUDGET,
+  EXTRA_SWEEP_FLOOR,
   PINCHED_EXTRA_ITERATIONS,
 } from './constants.ts'
 import { Softness } from './softness.ts'
@@ -36,6 +38,30 @@ export class ColumnStiffness {
   readonly massScale = new Float64Array(COLUMN_MAX_BODIES + 1)
   readonly impulseScale = new Float64Array(COLUMN_MAX_BODIES + 1)
   readonly sweeps = new Int32Array(COLUMN_MAX_BODIES + 1)
+  /** This step's extra sweeps and the tallest column height whose stiffness they pay for (set by limit). */
+  stepSweeps = PINCHED_EXTRA_ITERATIONS
+  stepCap = COLUMN_MAX_BODIES
+
+  /**
+   * Chooses the step's extra sweeps over `extra` contacts (of `count`) when the tallest column is
+   * `tallest` bodies (0: none): what it needs, unless that exceeds the budget of
+   * max(EXTRA_SWEEP_FLOOR, EXTRA_SWEEP_BUDGET x count) contact solves; then as many sweeps as fit (at
+   * least PINCHED_EXTRA_ITERATIONS, since extra <= count) and columns no stiffer than those pay for.
+   */
+  limit(extra: number, count: number, tallest: number): void {
+    const need = tallest === 0 ? PINCHED_EXTRA_ITERATIONS : this.sweeps[tallest]
+    const budget = Math.max(EXTRA_SWEEP_FLOOR, EXTRA_SWEEP_BUDGET * count)
+    if (extra * need <= budget) {
+      this.stepSweeps = need
+      this.stepCap = COLUMN_MAX_BODIES
+      return
+    }
+    const sweeps = Math.max(PINCHED_EXTRA_ITERATIONS, Math.floor(budget / extra))
+    let cap = COLUMN_STIFF_BODIES
+    while (cap < COLUMN_MAX_BODIES && this.sweeps[cap + 1] <= sweeps) cap++
+    this.stepSweeps = sweeps
+    this.stepCap = cap
+  }
 
   /** Fills the table for contact stiffness `contactHertz` (Hz, clamped), damping ratio `zeta`, sub-step `h` (s). */
   set(contactHertz: number, zeta: number, h: number): void {

@@ -34,10 +34,13 @@
  * Tall columns (contact-columns.ts: a chain of at least COLUMN_MIN_BODIES bodies on a static body,
  * each touching only the one below and the one above) buckle on 45 Hz soft contacts; their contacts
  * are solved at the static-contact stiffness (twice contactHertz; stiffer for columns taller than
- * COLUMN_STIFF_BODIES) and get the same extra sweeps (more for the stiffer ones).
+ * COLUMN_STIFF_BODIES) and get the same extra sweeps (more for the stiffer ones). The extra sweeps
+ * of a step solve at most EXTRA_SWEEP_BUDGET times the step's contacts (or EXTRA_SWEEP_FLOOR contacts),
+ * so a forest of tall columns cannot multiply the solver's cost: within it, columns are stiffened
+ * only as far as the budget pays for (ColumnStiffness.limit).
  */
 import { DPX, DPY, DQC, DQS, STATE_STRIDE, stateOffset, VX, VY, W } from './body-state.ts'
-import { PINCH_MASS_RATIO, PINCHED_EXTRA_ITERATIONS } from './constants.ts'
+import { PINCH_MASS_RATIO } from './constants.ts'
 import type { Contact } from './contact.ts'
 import { ColumnMarks, markColumns } from './contact-columns.ts'
 import {
@@ -223,17 +226,11 @@ export function prepareContacts(
   markColumns(out.columns, out, count, records)
   const column = out.columns.mark
   const stiffness = ctx.columnStiffness
-  let sweeps = PINCHED_EXTRA_ITERATIONS
+  let tallest = 0
   let n = 0
   for (let i = 0; i < count; i++) {
-    const height = column[i]
-    if (height > 0) {
-      // A column contact: the stiffness of its column's height (contact-columns.ts).
-      const o = i * CONSTRAINT_STRIDE
-      d[o + BIAS_RATE] = stiffness.biasRate[height]
-      d[o + MASS_SCALE] = stiffness.massScale[height]
-      d[o + IMPULSE_SCALE] = stiffness.impulseScale[height]
-      sweeps = Math.max(sweeps, stiffness.sweeps[height])
+    if (column[i] > 0) {
+      tallest = Math.max(tallest, column[i])
       out.extra[n++] = i
     } else if (
       pinchedRecord[out.stateA[i] / STATE_STRIDE] === 1 ||
@@ -243,7 +240,19 @@ export function prepareContacts(
     }
   }
   out.extraCount = n
-  out.extraSweeps = sweeps
+  // Extra sweeps within the budget; columns get the stiffness of their height, at most `cap`.
+  stiffness.limit(n, count, tallest)
+  out.extraSweeps = stiffness.stepSweeps
+  const cap = stiffness.stepCap
+  for (let q = 0; q < n; q++) {
+    const i = out.extra[q]
+    const height = Math.min(column[i], cap)
+    if (height === 0) continue
+    const o = i * CONSTRAINT_STRIDE
+    d[o + BIAS_RATE] = stiffness.biasRate[height]
+    d[o + MASS_SCALE] = stiffness.massScale[height]
+    d[o + IMPULSE_SCALE] = stiffness.impulseScale[height]
+  }
 }
 
 /** Applies the accumulated impulses (each sub-step). */

@@ -12,6 +12,8 @@ import {
   COLUMN_MAX_BODIES,
   COLUMN_MIN_BODIES,
   COLUMN_STIFF_BODIES,
+  EXTRA_SWEEP_BUDGET,
+  EXTRA_SWEEP_FLOOR,
   PINCHED_EXTRA_ITERATIONS,
 } from '../../engine/constants.ts'
 import { ColumnMarks, ColumnStiffness, markColumns } from '../../engine/contact-columns.ts'
@@ -128,6 +130,39 @@ describe('column stiffness table', () => {
       expect(table.massScale[n]).toBeCloseTo(soft.massScale, 12)
       expect(table.impulseScale[n]).toBeCloseTo(soft.impulseScale, 12)
       expect(table.sweeps[n]).toBe(sweeps)
+    }
+  })
+})
+
+describe('extra sweep budget', () => {
+  const table = new ColumnStiffness()
+  table.set(45, 10, 1 / 240)
+  const limit = (extra: number, count: number, tallest: number) => {
+    table.limit(extra, count, tallest)
+    return [table.stepSweeps, table.stepCap]
+  }
+  it('a lone column, or one beside a large scene, gets what its height needs', () => {
+    expect(limit(102, 102, 50)).toEqual([24, COLUMN_MAX_BODIES]) // two: 2,448 solves, under the 3,072 floor
+    expect(limit(51, 1951, 50)).toEqual([24, COLUMN_MAX_BODIES])
+    expect(limit(21, 21, 20)).toEqual([PINCHED_EXTRA_ITERATIONS, COLUMN_MAX_BODIES])
+    expect(limit(5, 5, 0)).toEqual([PINCHED_EXTRA_ITERATIONS, COLUMN_MAX_BODIES])
+  })
+  it(`a forest of tall columns gets at most ${EXTRA_SWEEP_BUDGET} x its contacts, and columns only as stiff as that pays for`, () => {
+    // 20 columns of 50: 1,020 contacts, all extra; the budget 3,060 pays 3 sweeps: 90 Hz columns.
+    expect(limit(1020, 1020, 50)).toEqual([3, COLUMN_STIFF_BODIES])
+    // 6 columns of 50 alone: 306 contacts, budget the floor 3,072: 10 sweeps, which pay up to 34
+    // bodies (by hand: 3 x ((34 / 20)^1.5)^1.5 = 9.9, at 35 10.6).
+    expect(limit(306, 306, 50)).toEqual([10, 34])
+    expect(EXTRA_SWEEP_FLOOR).toBe(3072)
+    // Never fewer sweeps than a pinched contact gets, and never more solves than the budget then.
+    for (const [extra, count] of [
+      [1020, 1020],
+      [700, 2000],
+      [306, 306],
+    ]) {
+      const [sweeps] = limit(extra, count, 50)
+      expect(sweeps).toBeGreaterThanOrEqual(PINCHED_EXTRA_ITERATIONS)
+      expect(extra * sweeps).toBeLessThanOrEqual(Math.max(EXTRA_SWEEP_FLOOR, EXTRA_SWEEP_BUDGET * count))
     }
   })
 })
