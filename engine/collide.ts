@@ -29,7 +29,7 @@
  * internal helpers pass only integers, booleans and objects, returning doubles through `found`.
  */
 import { LINEAR_SLOP, MAX_POLYGON_VERTICES } from './constants.ts'
-import type { Manifold, ManifoldPoint } from './manifold.ts'
+import type { Manifold } from './manifold.ts'
 import { makeFeatureId } from './manifold.ts'
 import { NORMAL_X, NORMAL_Y, polygonGeometry, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
 import type { CircleShape, PolygonShape, Shape } from './shapes.ts'
@@ -531,23 +531,29 @@ function clipPolygons(
   const upperMidY = upperY - 0.5 * separationUpper * ny
   out.normalX = flip ? -nx : nx
   out.normalY = flip ? -ny : ny
+  // Points written field by field: a call with double arguments that V8 does not inline boxes
+  // each of them (a heap number per value; 1.7-2.2 KB per step in a scene of box towers).
   let n = 0
   if (keepLower && !flip) {
-    setPoint(out.points[n++], lowerMidX, lowerMidY, separationLower, makeFeatureId(i11, i22))
+    const p = out.points[n++]
+    p.x = lowerMidX
+    p.y = lowerMidY
+    p.separation = separationLower
+    p.id = makeFeatureId(i11, i22)
   }
   if (keepUpper) {
-    const id = flip ? makeFeatureId(i21, i12) : makeFeatureId(i12, i21)
-    setPoint(out.points[n++], upperMidX, upperMidY, separationUpper, id)
+    const p = out.points[n++]
+    p.x = upperMidX
+    p.y = upperMidY
+    p.separation = separationUpper
+    p.id = flip ? makeFeatureId(i21, i12) : makeFeatureId(i12, i21)
   }
   if (keepLower && flip) {
-    setPoint(out.points[n++], lowerMidX, lowerMidY, separationLower, makeFeatureId(i22, i11))
+    const p = out.points[n++]
+    p.x = lowerMidX
+    p.y = lowerMidY
+    p.separation = separationLower
+    p.id = makeFeatureId(i22, i11)
   }
   out.pointCount = n
-}
-
-function setPoint(p: ManifoldPoint, x: number, y: number, separation: number, id: number): void {
-  p.x = x
-  p.y = y
-  p.separation = separation
-  p.id = id
 }

@@ -4,7 +4,8 @@
  * in the measured window. Arguments: the scene (`pile` or `room`), warm-up steps, measured steps
  * per round, rounds; it prints one JSON line (AllocationResult).
  *
- * - pile: a 300-body pile (pileScene(300), sleeping off, so every body is simulated every step).
+ * - pile: a 300-body pile (pileScene(300), sleeping off, so every body is simulated every step) and,
+ *   beside it, two alternating towers of 20 and 50 boxes (column contacts, contact-columns.ts).
  *   heapUsed is read, the steps run, heapUsed is read again, with no gc() in between: heapUsed
  *   includes the young generation, so (after - before) is what the steps allocated.
  * - room: the server's capacity room without the server: a 100-body pile whose bodies never sleep
@@ -123,8 +124,16 @@ class RoomSchedule {
 }
 
 const world = createWorld(scene === 'pile' ? { enableSleep: false } : {})
-if (scene === 'pile') buildScene(world, pileScene(300))
-else {
+if (scene === 'pile') {
+  buildScene(world, pileScene(300))
+  for (const [x, height] of [
+    [40, 20],
+    [45, 50],
+  ]) {
+    for (let i = 0; i < height; i++)
+      world.createBody({ position: { x: x + (i % 2) * 0.05, y: 0.5 + i }, shape: box(0.5, 0.5) })
+  }
+} else {
   const pile = pileScene(100)
   buildScene(world, {
     ...pile,

@@ -6,7 +6,8 @@
  * scenes: a 300-body pile with sleeping off (every body simulated every step), and the server's
  * capacity room without the server (a 100-body pile that never sleeps, five players dragging
  * bodies fast round ellipses with mouse joints, bodies spawned and destroyed between the measured
- * rounds, a hash once a second). After a warm-up, the
+ * rounds, a hash once a second). The pile has alternating towers of 20 and 50 boxes beside it, so
+ * the column search and the column contacts' extra sweeps run every step. After a warm-up, the
  * heap growth over the measured steps (heapUsed with no collection in between) is the bytes the
  * steps allocated; if anything was allocated, V8's sampling heap profiler names the functions.
  * Bound: zero collections, and less than 64 bytes per step on average (one small object per step
@@ -93,7 +94,7 @@ describe('allocation', () => {
   // Before shapes shared one hidden class (2026-11-22), reading `shape.radius` at a site that saw
   // both circles and polygons allocated about 5 bytes per circle per call (1-26 scavenges and
   // 300-670 bytes/step here). Every shape now has every field in one order (engine/shapes.ts).
-  it('a warm 300-body pile steps 3 x 3000 times without garbage collection or heap growth', async () => {
+  it('a warm 300-body pile and two tall towers (column contacts) step 3 x 3000 times without garbage collection or heap growth', async () => {
     const result = await measure('pile')
     expect(result.contacts).toBeGreaterThan(300) // a real pile, not bodies in free fall
     expectNoAllocation(result)
