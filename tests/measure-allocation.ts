@@ -5,10 +5,13 @@
  * warm up, gc() twice, then read heapUsed around rounds of units with no collection in between
  * (heapUsed includes the young generation, so the growth is what the units allocated, as long as
  * no collection ran; a PerformanceObserver counts collections that start inside the rounds, not
- * those V8 runs when the thread goes idle after them). The
- * least growth of three rounds is kept (late JIT work lands in one round on a busy machine; a real
- * allocation shows in every round). When the growth passes the bound, V8's sampling heap profiler
- * runs over more units and names the functions that allocate, so a failure says where to look.
+ * those V8 runs when the thread goes idle after them: CI, Nov 24 03:10, one scavenge counted in
+ * the 100 ms wait after the rounds, with 0.08 bytes per step of heap growth). The least growth of
+ * the rounds (three unless told) is kept (late JIT work lands in one round on a busy machine; a
+ * real allocation shows in every round). When the growth passes the bound or a collection ran,
+ * V8's sampling heap profiler runs over more units and names the functions that allocate, so a
+ * failure says where to look. Used by tests/engine/allocation.test.ts (the engine's step) and
+ * tests/server/snapshot-allocation.test.ts (the server's snapshot path).
  */
 import { execFile } from 'node:child_process'
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs'
@@ -33,15 +36,26 @@ export interface AllocationCase {
   resolveDir: string
   /** Extra V8 flags for the measuring process. */
   flags?: string[]
+  /** Measured rounds (default 3). */
+  rounds?: number
+  /** Statements run before each round, outside its window (work that may allocate). */
+  beforeRound?: string
+  /** An expression evaluated after the rounds: an object of numbers copied into `facts`. */
+  facts?: string
+  /** Time limit of the measuring process (ms, default 120,000). */
+  timeoutMs?: number
 }
 
 /** Collections in the window, least heap growth of three rounds, and the top allocators when over the bound. */
 export interface AllocationResult {
   gcCount: number
-  gcKinds: string[]
+  /** V8's kinds of the collections in the window (1 scavenge, 2 minor mark-sweep, 4 mark-compact, ...). */
+  gcKinds: number[]
   heapGrowth: number
   units: number
   allocators: Array<{ where: string; bytes: number }>
+  /** The case's `facts` after the rounds. */
+  facts: Record<string, number>
 }
 
 function script(c: AllocationCase): string {
@@ -57,7 +71,7 @@ const kinds = []
 let windowStart = Number.POSITIVE_INFINITY
 let windowEnd = Number.POSITIVE_INFINITY
 const observer = new PerformanceObserver((list) => {
-  for (const e of list.getEntries()) if (e.startTime >= windowStart && e.startTime <= windowEnd) kinds.push(e.detail?.kind ?? e.kind)
+  for (const e of list.getEntries()) if (e.startTime >= windowStart && e.startTime <= windowEnd) kinds.push(e.detail?.kind ?? 0)
 })
 observer.observe({ entryTypes: ['gc'] })
 globalThis.gc()
@@ -65,14 +79,15 @@ globalThis.gc()
 await new Promise((r) => setTimeout(r, 10))
 windowStart = performance.now()
 let heapGrowth = Number.POSITIVE_INFINITY
-for (let round = 0; round < 3; round++) {
+for (let round = 0; round < ${c.rounds ?? 3}; round++) {
+${c.beforeRound ?? ''}
   const before = process.memoryUsage().heapUsed
   for (let i = 0; i < ${c.units}; i++) unit()
   heapGrowth = Math.min(heapGrowth, process.memoryUsage().heapUsed - before)
 }
 windowEnd = performance.now()
 await new Promise((r) => setTimeout(r, 100))
-const result = { units: ${c.units}, gcCount: kinds.length, gcKinds: kinds, heapGrowth, allocators: [] }
+const result = { units: ${c.units}, gcCount: kinds.length, gcKinds: kinds, heapGrowth, allocators: [], facts: ${c.facts ?? '{}'} }
 if (result.gcCount > 0 || result.heapGrowth > ${c.reportAbove} * ${c.units}) {
   const session = new Session()
   session.connect()
@@ -115,7 +130,9 @@ export async function measureAllocation(c: AllocationCase): Promise<AllocationRe
     const bundle = join(dir, 'measure.mjs')
     writeFileSync(bundle, out.outputFiles[0].text)
     const flags = ['--expose-gc', '--min-semi-space-size=16', '--max-semi-space-size=16', ...(c.flags ?? [])]
-    const { stdout } = await promisify(execFile)(process.execPath, [...flags, bundle], { timeout: 120_000 })
+    const { stdout } = await promisify(execFile)(process.execPath, [...flags, bundle], {
+      timeout: c.timeoutMs ?? 120_000,
+    })
     return JSON.parse(stdout.trim().split('\n').pop() ?? '{}') as AllocationResult
   } finally {
     rmSync(dir, { recursive: true, force: true })

@@ -1,0 +1,146 @@
+/*
+ * The scenes of allocation.test.ts, stepped in the measuring process of tests/measure-allocation.ts
+ * (bundled with esbuild, run in a separate quiet `node --expose-gc` process).
+ *
+ * - pile: a 300-body pile (pileScene(300), sleeping off, so every body is simulated every step) and,
+ *   beside it, two alternating towers of 20 and 50 boxes (column contacts, contact-columns.ts).
+ * - room: the server's capacity room without the server: a 100-body pile whose bodies never sleep
+ *   (bench/server-load.ts awakePile) and five players, each dragging a random dynamic body with a
+ *   mouse joint round an ellipse (half-axes 4 m and 3 m; a lap in 80 of their 20 Hz steps, about
+ *   6 m/s: fast bodies, continuous collision, contacts made and broken); once a second the world
+ *   is hashed (the recorder's checkpoint, which writes the whole world into a buffer). Every 600
+ *   warm-up steps, and before each measured round, the players let go, a body is spawned above the
+ *   pile (the oldest spawned one destroyed past 12) and they grab five new bodies: those commands
+ *   allocate (bodies, joints, id lists), so they run outside the measured rounds, while the steps
+ *   after them (a new body's first contacts, a grab's first pull) are measured.
+ */
+import {
+  type BodyId,
+  box,
+  buildScene,
+  circle,
+  createWorld,
+  type JointId,
+  Prng,
+  pileScene,
+  polygon,
+  type Vec2,
+  type World,
+} from '../../engine/index.ts'
+
+/**
+ * The room's players (see the file comment). Between rounds, `regrab` releases the grabs, spawns a
+ * body (destroying the oldest spawned one past 12) and grabs five random dynamic bodies; in a round,
+ * `drag(i)` moves each grab's target (allocation-free), every third step per player.
+ */
+class RoomSchedule {
+  private readonly prng = new Prng(7)
+  private readonly grabs: JointId[] = []
+  private readonly spawned: BodyId[] = []
+  private readonly target: Vec2 = { x: 0, y: 0 }
+  private spawns = 0
+
+  constructor(private readonly world: World) {}
+
+  /** Releases every grab, spawns a body (and destroys the oldest spawned one past 12), grabs five. */
+  regrab(): void {
+    const world = this.world
+    for (const joint of this.grabs) if (world.hasJoint(joint)) world.destroyJoint(joint)
+    this.grabs.length = 0
+    this.spawn()
+    const ids = world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic')
+    for (let p = 0; p < 5; p++) {
+      const body = ids[this.prng.int(ids.length)]
+      const target = world.getWorldCenter(body)
+      this.grabs.push(
+        world.createJoint({ type: 'mouse', body, target, maxForce: 1000 * world.getMass(body) }),
+      )
+    }
+  }
+
+  /** Moves player p's target round its ellipse (a lap in 80 of the player's steps) before step i. */
+  drag(i: number): void {
+    for (let p = 0; p < this.grabs.length; p++) {
+      if ((i + p) % 3 !== 0) continue
+      const a = ((((i + p) / 3 + 16 * p) % 80) / 80) * 2 * Math.PI
+      this.target.x = 4 * Math.cos(a)
+      this.target.y = 6 + 3 * Math.sin(a)
+      this.world.setJointTarget(this.grabs[p], this.target)
+    }
+  }
+
+  private spawn(): void {
+    const world = this.world
+    const kind = this.spawns++ % 3
+    const shape =
+      kind === 0
+        ? circle(this.prng.range(0.3, 0.6))
+        : kind === 1
+          ? box(this.prng.range(0.3, 0.6), this.prng.range(0.3, 0.6))
+          : polygon([
+              { x: -0.4, y: -0.3 },
+              { x: 0.4, y: -0.3 },
+              { x: 0, y: 0.5 },
+            ])
+    const position = { x: this.prng.range(-5, 5), y: this.prng.range(8, 12) }
+    this.spawned.push(world.createBody({ type: 'dynamic', shape, position }))
+    if (this.spawned.length > 12) world.destroyBody(this.spawned.shift()!)
+  }
+}
+
+/** Steps between the room's regrabs in the warm-up (the measured rounds regrab once, first). */
+const REGRAB_STEPS = 600
+
+/** One scene of the allocation test: its step, its warm-up and what runs before each round. */
+export class AllocationScene {
+  readonly world: World
+  private readonly schedule: RoomSchedule | null
+  private tick = 0
+
+  constructor(readonly name: 'pile' | 'room') {
+    this.world = createWorld(name === 'pile' ? { enableSleep: false } : {})
+    if (name === 'pile') {
+      buildScene(this.world, pileScene(300))
+      for (const [x, height] of [
+        [40, 20],
+        [45, 50],
+      ]) {
+        for (let i = 0; i < height; i++)
+          this.world.createBody({ position: { x: x + (i % 2) * 0.05, y: 0.5 + i }, shape: box(0.5, 0.5) })
+      }
+    } else {
+      const pile = pileScene(100)
+      buildScene(this.world, {
+        ...pile,
+        bodies: pile.bodies.map((b) => (b.type === 'static' ? b : { ...b, enableSleep: false })),
+      })
+    }
+    this.schedule = name === 'room' ? new RoomSchedule(this.world) : null
+  }
+
+  /** One step: in the room, the players' drags, the step, and once a second a hash. */
+  step(): void {
+    this.schedule?.drag(this.tick)
+    this.world.step()
+    if (this.schedule !== null && this.tick % 60 === 0) this.world.hash()
+    this.tick++
+  }
+
+  /** `steps` steps, the room regrabbing every REGRAB_STEPS. */
+  warmUp(steps: number): void {
+    for (let i = 0; i < steps; i++) {
+      if (i % REGRAB_STEPS === 0) this.schedule?.regrab()
+      this.step()
+    }
+  }
+
+  /** Before a measured round: the room's players let go, a body is spawned, they grab again. */
+  beforeRound(): void {
+    this.schedule?.regrab()
+  }
+
+  /** Bodies and contacts now (a real pile has contacts). */
+  counts(): { bodies: number; contacts: number } {
+    return { bodies: this.world.bodyCount, contacts: this.world.contacts().length }
+  }
+}
