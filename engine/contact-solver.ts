@@ -42,7 +42,7 @@
 import { DPX, DPY, DQC, DQS, STATE_STRIDE, stateOffset, VX, VY, W } from './body-state.ts'
 import { PINCH_MASS_RATIO } from './constants.ts'
 import type { Contact } from './contact.ts'
-import { ColumnMarks, markColumns } from './contact-columns.ts'
+import { bucklingFactor, ColumnMarks, equivalentHeight, markColumns } from './contact-columns.ts'
 import {
   ANCHOR_AX,
   ANCHOR_AY,
@@ -224,6 +224,7 @@ export function prepareContacts(
     }
   }
   markColumns(out.columns, out, count, records)
+  weighColumns(out, ctx.gravityX, ctx.gravityY)
   const column = out.columns.mark
   const stiffness = ctx.columnStiffness
   let tallest = 0
@@ -252,6 +253,76 @@ export function prepareContacts(
     d[o + BIAS_RATE] = stiffness.biasRate[height]
     d[o + MASS_SCALE] = stiffness.massScale[height]
     d[o + IMPULSE_SCALE] = stiffness.impulseScale[height]
+  }
+}
+
+/**
+ * Raises each column's height mark to the height of a column of 1 m boxes equally close to
+ * buckling (contact-columns.ts equivalentHeight), so heavier-topped or narrower columns get the
+ * stiffness of a taller one. Per body i, bottom to top: the interface below it as a rotational
+ * spring of stiffness (normal mass 0 + normal mass 1) x (half the points' distance)^2 at unit
+ * stiffness (a point sags F K / omega^2), and its load g (m_i c_i + M_i h_i) (bucklingFactor).
+ */
+function weighColumns(k: ContactConstraints, gravityX: number, gravityY: number): void {
+  const cols = k.columns
+  const d = k.data
+  const stiffness = cols.stiffness
+  const load = cols.load
+  for (let c = 0; c < cols.columnCount; c++) {
+    const start = cols.columnStart[c]
+    const n = cols.columnLength[c]
+    let below = 0
+    for (let i = 0; i < n; i++) {
+      const j = cols.order[start + i]
+      const o = j * CONSTRAINT_STRIDE
+      const upperIsB = k.stateA[j] === below
+      const body = upperIsB ? k.stateB[j] : k.stateA[j]
+      const sign = upperIsB ? 1 : -1
+      const ax = sign * d[o + NX]
+      const ay = sign * d[o + NY]
+      const p0 = o + POINTS
+      const p1 = p0 + POINT_STRIDE
+      const rx = upperIsB ? RBX : RAX
+      const ry = upperIsB ? RBY : RAY
+      // Interface below body i: the points' half distance along the tangent (ny, -nx).
+      const half = 0.5 * ((d[p0 + RBX] - d[p1 + RBX]) * d[o + NY] - (d[p0 + RBY] - d[p1 + RBY]) * d[o + NX])
+      stiffness[i] = (d[p0 + NORMAL_MASS] + d[p1 + NORMAL_MASS]) * half * half
+      // Body i: its mass and centre height over the interface below, and (in load, for now) the
+      // interface's midpoint from its centre; the height to the next interface is found there.
+      const invMass = upperIsB ? d[o + M_B] : d[o + M_A]
+      const bottomX = 0.5 * (d[p0 + rx] + d[p1 + rx])
+      const bottomY = 0.5 * (d[p0 + ry] + d[p1 + ry])
+      const centreHeight = -(bottomX * ax + bottomY * ay)
+      let height = 0
+      if (i + 1 < n) {
+        const jn = cols.order[start + i + 1]
+        const on = jn * CONSTRAINT_STRIDE
+        const lowerIsA = k.stateA[jn] === body
+        const qx = lowerIsA ? RAX : RBX
+        const qy = lowerIsA ? RAY : RBY
+        const q0 = on + POINTS
+        const q1 = q0 + POINT_STRIDE
+        const topX = 0.5 * (d[q0 + qx] + d[q1 + qx])
+        const topY = 0.5 * (d[q0 + qy] + d[q1 + qy])
+        height = (topX - bottomX) * ax + (topY - bottomY) * ay
+      }
+      const g = -(gravityX * ax + gravityY * ay)
+      // Stash m_i, g c_i and g h_i; the loads need the mass above, summed top down below.
+      cols.mass[i] = invMass > 0 ? 1 / invMass : 0
+      cols.centre[i] = g * centreHeight
+      cols.rise[i] = g * height
+      below = body
+    }
+    let above = 0
+    for (let i = n - 1; i >= 0; i--) {
+      load[i] = cols.mass[i] * cols.centre[i] + above * cols.rise[i]
+      above += cols.mass[i]
+    }
+    const height = equivalentHeight(bucklingFactor(n, stiffness, load))
+    for (let i = 0; i < n; i++) {
+      const j = cols.order[start + i]
+      if (height > cols.mark[j]) cols.mark[j] = height
+    }
   }
 }
 

@@ -11,12 +11,19 @@ import { STATE_STRIDE } from '../../engine/body-state.ts'
 import {
   COLUMN_MAX_BODIES,
   COLUMN_MIN_BODIES,
+  COLUMN_REFERENCE_FACTOR,
   COLUMN_STIFF_BODIES,
   EXTRA_SWEEP_BUDGET,
   EXTRA_SWEEP_FLOOR,
   PINCHED_EXTRA_ITERATIONS,
 } from '../../engine/constants.ts'
-import { ColumnMarks, ColumnStiffness, markColumns } from '../../engine/contact-columns.ts'
+import {
+  bucklingFactor,
+  ColumnMarks,
+  ColumnStiffness,
+  equivalentHeight,
+  markColumns,
+} from '../../engine/contact-columns.ts'
 import { Softness } from '../../engine/softness.ts'
 
 /** Marks for contacts given as [recordA, recordB, points]; returns each contact's column height or 0. */
@@ -164,5 +171,39 @@ describe('extra sweep budget', () => {
       expect(sweeps).toBeGreaterThanOrEqual(PINCHED_EXTRA_ITERATIONS)
       expect(extra * sweeps).toBeLessThanOrEqual(Math.max(EXTRA_SWEEP_FLOOR, EXTRA_SWEEP_BUDGET * count))
     }
+  })
+})
+
+describe('buckling factor', () => {
+  // The README's model of the alternating tower at 45 Hz: n rigid 1 m blocks (1 kg, g = 10) on
+  // rotational springs 2 a^2 omega^2 / K (points at +-a = 0.475 m, K = 5 per kg between two boxes,
+  // 2.5 against the ground, which runs at twice the hertz), load g (n - i - 0.5) on block i. An
+  // independent implementation (Python, 200 halvings) gives 0.158509 / 1.338414 / 4.600697 for 10 /
+  // 20 / 30 blocks.
+  function tower(n: number): [Float64Array, Float64Array] {
+    const omega = 2 * Math.PI * 45
+    const k = new Float64Array(n).fill((2 * 0.475 ** 2 * omega ** 2) / 5)
+    k[0] = (2 * 0.475 ** 2 * (2 * omega) ** 2) / 2.5
+    const load = Float64Array.from({ length: n }, (_, i) => 10 * (n - i - 0.5))
+    return [k, load]
+  }
+  it('matches the hand model of the 10-, 20- and 30-box towers at 45 Hz', () => {
+    for (const [n, factor] of [
+      [10, 0.158509],
+      [20, 1.338414],
+      [30, 4.600697],
+    ]) {
+      const [k, load] = tower(n)
+      expect(bucklingFactor(n, k, load) / factor).toBeCloseTo(1, 4)
+    }
+  })
+  it('a column of 1 m boxes counts as its own height; a heavier load as a taller one', () => {
+    // c(n) = 106,384 (n / 20)^3 at unit stiffness, as contact-solver.ts weighs 1 m boxes.
+    for (const n of [12, 20, 25, 30, 50])
+      expect(equivalentHeight(106384 * (n / 20) ** 3)).toBeLessThanOrEqual(n)
+    expect(equivalentHeight(106384 * (30 / 20) ** 3)).toBe(30)
+    // 12.5 times the 20-box factor (a top five boxes 20 times denser) counts as 20 x 12.5^(1/3) = 46.4.
+    expect(equivalentHeight(12.5 * COLUMN_REFERENCE_FACTOR)).toBe(47)
+    expect(equivalentHeight(1e12)).toBe(COLUMN_MAX_BODIES)
   })
 })
