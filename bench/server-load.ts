@@ -4,7 +4,9 @@
  * and drags bodies in circles), percentiles and memory readings.
  */
 import { type ChildProcess, spawn } from 'node:child_process'
-import { setPriority } from 'node:os'
+import { mkdtempSync, rmSync } from 'node:fs'
+import { setPriority, tmpdir } from 'node:os'
+import { join } from 'node:path'
 import { performance } from 'node:perf_hooks'
 import pino from 'pino'
 import { pileScene, type SceneBlueprint } from '../engine/index.ts'
@@ -28,7 +30,13 @@ export interface TimedServer {
  * Start a server in this process for load tests; every loop tick is timed. With `workers` > 0 the
  * rooms run on worker threads and their loops are timed there (WorkerPool.takeLoopStats).
  */
-export async function startTimedServer(workers = 0): Promise<TimedServer> {
+export async function startTimedServer(workers = 0, roomIdleSeconds = 5): Promise<TimedServer> {
+  // Recordings go to a directory of this run's own (the server records by default). In the
+  // repository's replays/ they piled up, and the logs a failed run left unfinished were recovered
+  // as rooms by the next run's server: at 20 rooms a Nov 24 run ticked such leftovers beside its
+  // own and averaged 74 bodies per room instead of 113.
+  const replayDir = mkdtempSync(join(tmpdir(), 'concord-bench-replays-'))
+  process.on('exit', () => rmSync(replayDir, { recursive: true, force: true }))
   const config = loadConfig(
     [],
     {},
@@ -41,10 +49,11 @@ export async function startTimedServer(workers = 0): Promise<TimedServer> {
       maxBodies: 5000,
       maxConnections: 100000,
       maxConnectionsPerIp: 0,
-      roomIdleSeconds: 5,
+      roomIdleSeconds,
       // Measure raw capacity: no room is closed for going over the per-room tick budget.
       roomTickBudgetMs: 0,
       workers,
+      replayDir,
     },
   )
   const server = await startServer(config, { logger: pino({ level: 'silent' }), processMetrics: false })
