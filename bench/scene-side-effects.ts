@@ -18,6 +18,7 @@
 import { resolve } from 'node:path'
 import { pathToFileURL } from 'node:url'
 import { parseArgs } from 'node:util'
+import { driftOver, fastest, type MovingWorld } from '../tests/engine/motion-measures.ts'
 import { machineInfo, saveResults } from './stats.ts'
 
 /** The part of engine/index.ts this script uses. */
@@ -33,13 +34,8 @@ interface Engine {
 }
 
 /** The part of World this script uses. */
-interface World {
-  step(): void
+interface World extends MovingWorld {
   createBody(def: unknown): number
-  getPosition(id: number): { x: number; y: number }
-  getLinearVelocity(id: number): { x: number; y: number }
-  getAngularVelocity(id: number): number
-  bodyIds(): Iterable<number>
 }
 
 const { values } = parseArgs({
@@ -52,17 +48,6 @@ const { values } = parseArgs({
 const engine = (await import(pathToFileURL(resolve(values.engine, 'index.ts')).href)) as Engine
 const only = values.only === '' ? null : new Set(values.only.split(','))
 const want = (name: string): boolean => only === null || only.has(name)
-
-function fastest(world: World): { v: number; w: number } {
-  let v = 0
-  let w = 0
-  for (const id of world.bodyIds()) {
-    const u = world.getLinearVelocity(id)
-    v = Math.max(v, Math.hypot(u.x, u.y))
-    w = Math.max(w, Math.abs(world.getAngularVelocity(id)))
-  }
-  return { v, w }
-}
 
 const f4 = (x: number): string => x.toFixed(4)
 const lines: string[] = []
@@ -111,14 +96,7 @@ for (const rows of [30, 50]) {
   if (!want(`pyramid-${rows}`)) continue
   const world = engine.createWorld({ enableSleep: false })
   const ids = engine.buildScene(world, engine.pyramidScene(rows))
-  for (let i = 0; i < 300; i++) world.step()
-  const at5 = ids.map((id) => world.getPosition(id))
-  for (let i = 0; i < 300; i++) world.step()
-  let drift = 0
-  ids.forEach((id, k) => {
-    const p = world.getPosition(id)
-    drift = Math.max(drift, Math.hypot(p.x - at5[k].x, p.y - at5[k].y))
-  })
+  const drift = driftOver(world, ids, 300, 300)
   report(`pyramid-${rows}: drift 5-10 s ${f4(drift)} m, fastest at 10 s ${f4(fastest(world).v)} m/s`)
 }
 

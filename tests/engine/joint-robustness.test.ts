@@ -18,6 +18,7 @@ import {
   ragdollScene,
   type World,
 } from '../../engine/index.ts'
+import { fastest } from './motion-measures.ts'
 
 const G = 10
 
@@ -27,18 +28,6 @@ function maxJointGap(world: World): number {
   for (const j of world.joints())
     gap = Math.max(gap, Math.hypot(j.anchorA.x - j.anchorB.x, j.anchorA.y - j.anchorB.y))
   return gap
-}
-
-/** Fastest linear speed (m/s) and fastest angular speed (rad/s) of any body. */
-function fastest(world: World): { v: number; w: number } {
-  let v = 0
-  let w = 0
-  for (const id of world.bodyIds()) {
-    const u = world.getLinearVelocity(id)
-    v = Math.max(v, Math.hypot(u.x, u.y))
-    w = Math.max(w, Math.abs(world.getAngularVelocity(id)))
-  }
-  return { v, w }
 }
 
 describe('a chain of 20 pinned links holding a box 100 times heavier than a link', () => {

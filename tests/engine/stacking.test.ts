@@ -31,6 +31,7 @@ import {
   towerScene,
   type World,
 } from '../../engine/index.ts'
+import { driftOver } from './motion-measures.ts'
 
 const SLEEP_SPEED = DEFAULT_WORLD_DEF.sleepThreshold
 
@@ -181,14 +182,7 @@ describe('stacking with sleeping off for 10 s (default settings)', () => {
 
   it('a 50-row pyramid (1,275 boxes) drifts less than 0.1 m between 5 s and 10 s', () => {
     const { world, ids } = build(pyramidScene(50), false)
-    for (let i = 0; i < 300; i++) world.step()
-    const at5 = ids.map((id) => world.getPosition(id))
-    for (let i = 0; i < 300; i++) world.step()
-    let drift = 0
-    ids.forEach((id, k) => {
-      const p = world.getPosition(id)
-      drift = Math.max(drift, Math.hypot(p.x - at5[k].x, p.y - at5[k].y))
-    })
+    const drift = driftOver(world, ids, 300, 300)
     console.log(`50-row pyramid: largest drift between 5 s and 10 s ${drift} m`)
     expect(drift).toBeLessThan(0.1)
   })
