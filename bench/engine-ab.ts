@@ -20,6 +20,13 @@ import { existsSync, readFileSync } from 'node:fs'
 import { dirname, join, resolve } from 'node:path'
 import { performance } from 'node:perf_hooks'
 import { parseArgs } from 'node:util'
+import {
+  awakeBlueprint,
+  type Blueprint,
+  type RoomsEngine,
+  roomsStepper,
+  type Stepper,
+} from './rooms-scene.ts'
 import { formatTable, machineInfo, median, pairedRatio, saveResults } from './stats.ts'
 
 /**
@@ -46,42 +53,10 @@ function requireModulePackage(label: string, dir: string): void {
 }
 
 /** What the benchmark needs from one engine version's index.ts. */
-interface EngineModule {
-  createWorld(def: { gravity: { x: number; y: number }; enableSleep: boolean }): EngineWorld
+interface EngineModule extends RoomsEngine {
   buildScene(world: unknown, blueprint: unknown): unknown
   pyramidScene(rows: number): Blueprint
   pileScene(count: number): Blueprint
-}
-
-/** The part of a world this benchmark calls (the rooms-K scene drags bodies with mouse joints). */
-interface EngineWorld {
-  step(): void
-  hash(): number
-  bodyIds(): number[]
-  getBodyType(id: number): string
-  getMass(id: number): number
-  getPosition(id: number): { x: number; y: number }
-  createJoint(def: {
-    type: 'mouse'
-    body: number
-    target: { x: number; y: number }
-    localAnchor: { x: number; y: number }
-    maxForce: number
-  }): number
-  destroyJoint(id: number): void
-  setJointTarget(id: number, target: { x: number; y: number }): void
-}
-
-/** What runScene steps: one world, or the rooms of rooms-K together. */
-interface Stepper {
-  step(): void
-  hash(): number
-}
-
-/** The part of a scene blueprint this benchmark reads or rewrites. */
-interface Blueprint {
-  gravity: { x: number; y: number }
-  bodies: { type?: string; enableSleep?: boolean }[]
 }
 
 interface Version {
@@ -114,73 +89,7 @@ function blueprintOf(engine: EngineModule, scene: string): Blueprint {
   if (pile === null)
     throw new Error(`unknown scene ${JSON.stringify(scene)}: use pyramid-N, pile-N, pile-N-awake or rooms-K`)
   const blueprint = engine.pileScene(Number(pile[1]))
-  if (pile[2] === undefined) return blueprint
-  // The server capacity scene (bench/server-load.ts awakePile): no dynamic body may sleep.
-  return {
-    ...blueprint,
-    bodies: blueprint.bodies.map((b) => (b.type === 'static' ? b : { ...b, enableSleep: false })),
-  }
-}
-
-/** Players per room in rooms-K, and the bots' drag (server/bots.ts): 80 of every 100 of their 20 Hz steps. */
-const ROOM_PLAYERS = 5
-const DRAG_TICKS = 240
-const CYCLE_TICKS = 300
-
-/**
- * rooms-K: one worker's loop tick without the server (bench/room-tick-bench.ts has the server).
- * K worlds of the capacity scene (pile-115-awake: the 100-body pile and the 15 bodies its 5 bots
- * spawn), stepped one after another, so each world's data has left the caches when its turn
- * comes, as on a server. In each, 5 players drag bodies like the bots: a mouse joint with the
- * server's grab force (1000 N per kg) moves its body round a circle of 4 m about (0, 6) m in
- * 240 ticks, lets go for 60, then takes the next body; the players start their cycles 60 ticks apart.
- */
-function roomsStepper(engine: EngineModule, rooms: number, sleep: boolean): Stepper {
-  const worlds: EngineWorld[] = []
-  for (let r = 0; r < rooms; r++) {
-    const blueprint = blueprintOf(engine, 'pile-115-awake')
-    const world = engine.createWorld({ gravity: blueprint.gravity, enableSleep: sleep })
-    engine.buildScene(world, blueprint)
-    worlds.push(world)
-  }
-  const grabs = worlds.map(() => new Array<number>(ROOM_PLAYERS).fill(-1))
-  let tick = 0
-  return {
-    step() {
-      for (let r = 0; r < worlds.length; r++) {
-        const world = worlds[r]
-        for (let p = 0; p < ROOM_PLAYERS; p++) {
-          const phase = (tick + 60 * p + 7 * r) % CYCLE_TICKS
-          if (phase === 0) {
-            const ids = world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic')
-            const body = ids[(17 * p + 31 * r + 13 * Math.floor(tick / CYCLE_TICKS)) % ids.length]
-            const target = world.getPosition(body)
-            const maxForce = 1000 * world.getMass(body)
-            grabs[r][p] = world.createJoint({
-              type: 'mouse',
-              body,
-              target,
-              localAnchor: { x: 0, y: 0 },
-              maxForce,
-            })
-          } else if (phase === DRAG_TICKS && grabs[r][p] >= 0) {
-            world.destroyJoint(grabs[r][p])
-            grabs[r][p] = -1
-          } else if (phase < DRAG_TICKS && grabs[r][p] >= 0 && phase % 3 === 0) {
-            const a = (phase / DRAG_TICKS) * 2 * Math.PI
-            world.setJointTarget(grabs[r][p], { x: 4 * Math.cos(a), y: 6 + 3 * Math.sin(a) })
-          }
-        }
-        world.step()
-      }
-      tick++
-    },
-    hash() {
-      let h = 0
-      for (const world of worlds) h = (Math.imul(h, 31) + world.hash()) >>> 0
-      return h
-    },
-  }
+  return pile[2] === undefined ? blueprint : awakeBlueprint(blueprint)
 }
 
 function runScene(
