@@ -1,6 +1,7 @@
 /*
  * A/B timing of engine versions (`npx tsx bench/engine-ab.ts A=dir B=dir ...`): each argument
- * names an engine/ folder (a scratch git worktree's, say `old=/tmp/wt-old/engine`); every version
+ * names an engine/ folder (a scratch git worktree's, say `old=/tmp/wt-old/engine`) or a bundled
+ * engine, a .js file (`node scripts/const-bindings.mjs engine/index.ts OUT.js [--plain]`); every version
  * builds the same scene from its own `scenes.ts` blueprint and steps it in one process,
  * interleaved in rounds of `--chunk` steps with the first version rotating, so machine load lands
  * on all versions alike. Prints, per scene and version: median ms per step, CPU ms per step
@@ -19,6 +20,7 @@
 import { existsSync, readFileSync } from 'node:fs'
 import { dirname, join, resolve } from 'node:path'
 import { performance } from 'node:perf_hooks'
+import { pathToFileURL } from 'node:url'
 import { parseArgs } from 'node:util'
 import {
   awakeBlueprint,
@@ -167,8 +169,10 @@ async function main(): Promise<void> {
   }
   const versions: Version[] = []
   for (const { label, dir } of positionals.map(parseVersion)) {
-    requireModulePackage(label, dir)
-    const url = new URL(`file://${dir.replace(/\/$/, '')}/index.ts`)
+    // A bundled engine (scripts/const-bindings.mjs builds one either way) is imported as it is.
+    const bundled = /\.m?js$/.test(dir)
+    if (!bundled) requireModulePackage(label, dir)
+    const url = pathToFileURL(bundled ? resolve(dir) : resolve(dir, 'index.ts'))
     versions.push({ label, engine: (await import(url.href)) as EngineModule })
   }
   const machine = machineInfo()

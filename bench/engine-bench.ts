@@ -34,6 +34,7 @@ import {
   Box2DWasmPeer,
 } from './peers/box2d-wasm-peer.ts'
 import { BOX2D3_SUB_STEPS, Box2D3WasmPeer } from './peers/box2d3-wasm-peer.ts'
+import { ConcordPeer } from './peers/concord-peer.ts'
 import { PLANCK_POSITION_ITERATIONS, PLANCK_VELOCITY_ITERATIONS, PlanckPeer } from './peers/planck-peer.ts'
 import { RapierPeer, rapierVersion } from './peers/rapier-peer.ts'
 import {
@@ -54,8 +55,6 @@ import {
 const ENGINES = ['concord', 'planck', 'box2d-wasm', 'box2d3-wasm', 'rapier'] as const
 type EngineName = (typeof ENGINES)[number]
 type MakePeer = (blueprint: SceneBlueprint, enableSleep: boolean) => Promise<PeerWorld>
-type PeerClass = new (blueprint: SceneBlueprint, enableSleep: boolean) => PeerWorld
-const CONCORD_PEER = new URL('./peers/concord-peer.ts', import.meta.url).href
 
 interface SceneCase {
   name: string
@@ -121,15 +120,7 @@ async function loadMakers(wanted: readonly EngineName[]): Promise<Map<EngineName
     if (name === 'box2d-wasm') makers.set(name, (bp, sleep) => Box2DWasmPeer.create(bp, sleep))
     if (name === 'box2d3-wasm') makers.set(name, (bp, sleep) => Box2D3WasmPeer.create(bp, sleep))
     if (name === 'rapier') makers.set(name, (bp, sleep) => RapierPeer.create(bp, sleep))
-    if (name === 'concord') {
-      try {
-        // A non-literal specifier: the peers run (and type-check) before Concord's engine exists.
-        const { ConcordPeer } = (await import(CONCORD_PEER)) as { ConcordPeer: PeerClass }
-        makers.set(name, async (bp, sleep) => new ConcordPeer(bp, sleep))
-      } catch (error) {
-        console.error(`concord skipped: engine/index.ts could not be loaded (${(error as Error).message})`)
-      }
-    }
+    if (name === 'concord') makers.set(name, async (bp, sleep) => new ConcordPeer(bp, sleep))
   }
   return makers
 }
