@@ -1,7 +1,9 @@
 /*
  * The engine benchmark (`npm run bench`): Concord against planck (Box2D 2.x in JavaScript),
- * box2d-wasm (Box2D 2.4 in WebAssembly), box2d3-wasm (Box2D v3 in WebAssembly) and Rapier
- * (@dimforge/rapier2d-compat, WebAssembly) on identical scenes, in one process, interleaved.
+ * box2d-wasm (Box2D 2.4 in WebAssembly), box2d3-wasm (Box2D v3 in WebAssembly: the package
+ * entry's deluxe build with SIMD, and with --engines also box2d3-wasm-compat, its build without
+ * SIMD) and Rapier (@dimforge/rapier2d-compat, WebAssembly) on identical scenes, in one process,
+ * interleaved.
  *
  * For each scene and each sleep setting, every engine builds the same blueprint from
  * engine/scenes.ts. All worlds warm up together, then the harness runs rounds: in each round every
@@ -22,7 +24,8 @@
  * the pile how many bodies left the container.
  *
  * Flags: --quick (short smoke run), --scene NAME (pyramid-20 | pyramid-50 | pile-1000),
- * --sleep off|on|both, --engines concord,planck,box2d-wasm,box2d3-wasm,rapier, --out FILE.
+ * --sleep off|on|both, --engines concord,planck,box2d-wasm,box2d3-wasm,box2d3-wasm-compat,rapier
+ * (default all but box2d3-wasm-compat), --out FILE.
  */
 import { performance } from 'node:perf_hooks'
 import { parseArgs } from 'node:util'
@@ -52,8 +55,10 @@ import {
   summarize,
 } from './stats.ts'
 
-const ENGINES = ['concord', 'planck', 'box2d-wasm', 'box2d3-wasm', 'rapier'] as const
+const ENGINES = ['concord', 'planck', 'box2d-wasm', 'box2d3-wasm', 'box2d3-wasm-compat', 'rapier'] as const
 type EngineName = (typeof ENGINES)[number]
+/** What runs without --engines: the compat build only answers how much of box2d3-wasm's lead is SIMD. */
+const DEFAULT_ENGINES = ENGINES.filter((name) => name !== 'box2d3-wasm-compat')
 type MakePeer = (blueprint: SceneBlueprint, enableSleep: boolean) => Promise<PeerWorld>
 
 interface SceneCase {
@@ -119,6 +124,8 @@ async function loadMakers(wanted: readonly EngineName[]): Promise<Map<EngineName
     if (name === 'planck') makers.set(name, async (bp, sleep) => new PlanckPeer(bp, sleep))
     if (name === 'box2d-wasm') makers.set(name, (bp, sleep) => Box2DWasmPeer.create(bp, sleep))
     if (name === 'box2d3-wasm') makers.set(name, (bp, sleep) => Box2D3WasmPeer.create(bp, sleep))
+    if (name === 'box2d3-wasm-compat')
+      makers.set(name, (bp, sleep) => Box2D3WasmPeer.create(bp, sleep, 'compat'))
     if (name === 'rapier') makers.set(name, (bp, sleep) => RapierPeer.create(bp, sleep))
     if (name === 'concord') makers.set(name, async (bp, sleep) => new ConcordPeer(bp, sleep))
   }
@@ -303,7 +310,7 @@ function parseOptions() {
       quick: { type: 'boolean', default: false },
       scene: { type: 'string' },
       sleep: { type: 'string', default: 'both' },
-      engines: { type: 'string', default: ENGINES.join(',') },
+      engines: { type: 'string', default: DEFAULT_ENGINES.join(',') },
       out: { type: 'string' },
     },
   })
@@ -363,7 +370,14 @@ async function main(): Promise<void> {
       positionIterations: BOX2D_POSITION_ITERATIONS,
       build: BOX2D_WASM_BUILD,
     },
-    box2d3Wasm: { subSteps: BOX2D3_SUB_STEPS, workerCount: 'default (0: single-threaded)' },
+    box2d3Wasm: {
+      subSteps: BOX2D3_SUB_STEPS,
+      workerCount: 'default (0: single-threaded)',
+      builds: {
+        'box2d3-wasm': 'package entry (deluxe in Node: SIMD, pthreads)',
+        'box2d3-wasm-compat': 'compat',
+      },
+    },
     rapier: {
       version: options.engines.includes('rapier') ? await rapierVersion() : null,
       settings: 'defaults (4 solver iterations, 1/60 s)',

@@ -1,11 +1,15 @@
 /*
- * box2d3-wasm (Box2D v3, Erin Catto's current solver, compiled to WebAssembly) as a benchmark peer.
+ * box2d3-wasm (Box2D v3, Erin Catto's current solver, compiled to WebAssembly) as a benchmark peer,
+ * in either of the package's two builds (see Box2D3Build).
  *
  * The package's entry picks its 'deluxe' build (SIMD and pthreads) where SIMD validates and, in a
- * browser, the page is cross-origin isolated; otherwise its 'compat' build. Either way the world
- * keeps Box2D v3's default workerCount (0: one thread), so it is compared single-threaded like
- * every other engine here. Its thread pool is sized from navigator.hardwareConcurrency, which
- * Node 20 lacks, so we supply it from os.cpus() as the package's own integration test does.
+ * browser, the page is cross-origin isolated; otherwise its 'compat' build. The 'box2d3-wasm-compat'
+ * peer loads the compat build's module directly, so in Node the two peers compare Box2D v3 with and
+ * without WebAssembly SIMD (the deluxe build is also the threaded one: shared memory and atomics).
+ * In a page that is not cross-origin isolated both peers run the compat build. Either way the
+ * world keeps Box2D v3's default workerCount (0: one thread), so it is compared single-threaded
+ * like every other engine here. The deluxe thread pool is sized from navigator.hardwareConcurrency,
+ * which Node 20 lacks, so we supply it from os.cpus() as the package's own integration test does.
  *
  * Bodies carry the blueprint's type, origin, angle, velocities, damping and flags, and one shape
  * with the same geometry (b2MakeBox for boxes, b2ComputeHull + b2MakePolygon for other polygons,
@@ -25,27 +29,51 @@ export const BOX2D3_SUB_STEPS = 4
 
 const STEP = 1 / 60
 
-/** The loaded module (the package's typings export its factory with `export =`). */
-type Box2D3 = Awaited<ReturnType<typeof import('box2d3-wasm')>>
+/** The module factory (the package's typings export it with `export =`). */
+type Box2D3Factory = typeof import('box2d3-wasm')
+type Box2D3 = Awaited<ReturnType<Box2D3Factory>>
 type BodyId = ReturnType<Box2D3['b2CreateBody']>
 type WorldId = ReturnType<Box2D3['b2CreateWorld']>
 
-let modulePromise: Promise<Box2D3> | null = null
+/**
+ * Which build a peer runs: 'entry' is the package entry's choice (deluxe in Node: SIMD, pthreads),
+ * 'compat' its build without SIMD or threads, loaded directly.
+ */
+export type Box2D3Build = 'entry' | 'compat'
 
-/** Loads the box2d3-wasm module once (later calls share it). */
-export function loadBox2D3(): Promise<Box2D3> {
-  modulePromise ??= (async () => {
-    const scope = globalThis as { navigator?: { hardwareConcurrency?: number } }
-    if (inNode()) {
-      const { cpus } = await import('node:os')
-      scope.navigator ??= {}
-      scope.navigator.hardwareConcurrency ??= cpus().length
-    }
-    const factory = (await import('box2d3-wasm')).default
-    const locate = wasmLocator()
-    return factory(locate && !inNode() ? { locateFile: (file: string) => locate(file) } : {})
-  })()
-  return modulePromise
+/** The peer's engine name for each build. */
+export const BOX2D3_ENGINES = { entry: 'box2d3-wasm', compat: 'box2d3-wasm-compat' } as const
+
+const modules = new Map<Box2D3Build, Promise<Box2D3>>()
+
+/** The build's module factory. */
+async function factoryOf(build: Box2D3Build): Promise<Box2D3Factory> {
+  if (build === 'entry') return (await import('box2d3-wasm')).default
+  // The package exports only its entry, so the compat module is imported by path. TypeScript pairs
+  // a .mjs only with a .d.mts; the build's Box2D.compat.d.ts matches the entry's typings.
+  // @ts-expect-error TS7016: no .d.mts beside Box2D.compat.mjs
+  const compat = await import('../../node_modules/box2d3-wasm/build/dist/es/compat/Box2D.compat.mjs')
+  return (compat as { default: Box2D3Factory }).default
+}
+
+/** Loads one build of the box2d3-wasm module once (later calls share it). */
+export function loadBox2D3(build: Box2D3Build = 'entry'): Promise<Box2D3> {
+  let loading = modules.get(build)
+  if (loading === undefined) {
+    loading = (async () => {
+      const scope = globalThis as { navigator?: { hardwareConcurrency?: number } }
+      if (inNode()) {
+        const { cpus } = await import('node:os')
+        scope.navigator ??= {}
+        scope.navigator.hardwareConcurrency ??= cpus().length
+      }
+      const factory = await factoryOf(build)
+      const locate = wasmLocator()
+      return factory(locate && !inNode() ? { locateFile: (file: string) => locate(file) } : {})
+    })()
+    modules.set(build, loading)
+  }
+  return loading
 }
 
 function bodyType(b2: Box2D3, def: BodyDef) {
@@ -117,9 +145,9 @@ function createBody(b2: Box2D3, world: WorldId, def: BodyDef, enableSleep: boole
   return body
 }
 
-/** A box2d3-wasm world holding the blueprint, sleeping on or off. Build with `create`. */
+/** A box2d3-wasm world (either build) holding the blueprint, sleeping on or off. Build with `create`. */
 export class Box2D3WasmPeer implements PeerWorld {
-  readonly engine = 'box2d3-wasm'
+  readonly engine: (typeof BOX2D3_ENGINES)[Box2D3Build]
   private readonly bodies: BodyId[] = []
   private world: WorldId | null
   private ground: BodyId | null = null
@@ -128,7 +156,9 @@ export class Box2D3WasmPeer implements PeerWorld {
     private readonly b2: Box2D3,
     blueprint: SceneBlueprint,
     private readonly enableSleep: boolean,
+    build: Box2D3Build,
   ) {
+    this.engine = BOX2D3_ENGINES[build]
     const wd = b2.b2DefaultWorldDef()
     const gravity = new b2.b2Vec2(blueprint.gravity.x, blueprint.gravity.y)
     wd.gravity = gravity
@@ -140,13 +170,17 @@ export class Box2D3WasmPeer implements PeerWorld {
     for (const def of blueprint.joints ?? []) this.addJoint(def)
   }
 
-  /** Loads the module if needed and builds the blueprint in a new world. */
-  static async create(blueprint: SceneBlueprint, enableSleep: boolean): Promise<Box2D3WasmPeer> {
-    return new Box2D3WasmPeer(await loadBox2D3(), blueprint, enableSleep)
+  /** Loads the build's module if needed and builds the blueprint in a new world. */
+  static async create(
+    blueprint: SceneBlueprint,
+    enableSleep: boolean,
+    build: Box2D3Build = 'entry',
+  ): Promise<Box2D3WasmPeer> {
+    return new Box2D3WasmPeer(await loadBox2D3(build), blueprint, enableSleep, build)
   }
 
   private live(): WorldId {
-    if (this.world === null) throw new Error('box2d3-wasm world used after dispose')
+    if (this.world === null) throw new Error(`${this.engine} world used after dispose`)
     return this.world
   }
 
@@ -166,7 +200,7 @@ export class Box2D3WasmPeer implements PeerWorld {
 
   private addJoint(def: JointDef): void {
     if (def.type !== 'revolute')
-      throw new Error(`box2d3-wasm peer builds revolute joints only, got ${def.type}`)
+      throw new Error(`${this.engine} peer builds revolute joints only, got ${def.type}`)
     const b2 = this.b2
     const bodyA = def.bodyA === null ? this.worldBody() : this.bodies[def.bodyA]
     const bodyB = this.bodies[def.bodyB]

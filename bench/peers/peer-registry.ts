@@ -11,6 +11,7 @@ import type { PeerWorld } from '../stats.ts'
 export const PEER_ENGINES = [
   'concord',
   'box2d3-wasm',
+  'box2d3-wasm-compat',
   'rapier',
   'box2d-wasm',
   'phaser-box2d',
@@ -25,7 +26,8 @@ export type PeerEngine = (typeof PEER_ENGINES)[number]
 /** What each engine is, for tables and the page. */
 export const PEER_DESCRIPTIONS: Readonly<Record<PeerEngine, string>> = {
   concord: 'Concord (TypeScript, deterministic)',
-  'box2d3-wasm': 'Box2D v3 in WebAssembly',
+  'box2d3-wasm': "Box2D v3 in WebAssembly (the package entry's build: deluxe, with SIMD, in Node)",
+  'box2d3-wasm-compat': 'Box2D v3 in WebAssembly, compat build (no SIMD, no threads)',
   rapier: 'Rapier in WebAssembly (rapier2d-compat)',
   'box2d-wasm': 'Box2D 2.4 in WebAssembly',
   'phaser-box2d': 'Box2D v3.0 ported to JavaScript',
@@ -52,6 +54,8 @@ export async function createPeer(
     }
     case 'box2d3-wasm':
       return (await import('./box2d3-wasm-peer.ts')).Box2D3WasmPeer.create(blueprint, sleep)
+    case 'box2d3-wasm-compat':
+      return (await import('./box2d3-wasm-peer.ts')).Box2D3WasmPeer.create(blueprint, sleep, 'compat')
     case 'rapier':
       return (await import('./rapier-peer.ts')).RapierPeer.create(blueprint, sleep)
     case 'box2d-wasm':

@@ -130,7 +130,7 @@ describe('benchmark page', () => {
     const page = await browser.newPage()
     const errors = collectErrors(page)
     await page.goto(`${base}bench.html`)
-    const engines = ['concord', 'box2d-wasm', 'box2d3-wasm', 'rapier'] as const
+    const engines = ['concord', 'box2d-wasm', 'box2d3-wasm', 'box2d3-wasm-compat', 'rapier'] as const
     const state = await runComparison(page, {
       scene: 'pile-1000',
       count: 40,
