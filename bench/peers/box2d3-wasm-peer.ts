@@ -49,11 +49,15 @@ const modules = new Map<Box2D3Build, Promise<Box2D3>>()
 /** The build's module factory. */
 async function factoryOf(build: Box2D3Build): Promise<Box2D3Factory> {
   if (build === 'entry') return (await import('box2d3-wasm')).default
-  // The package exports only its entry, so the compat module is imported by path. TypeScript pairs
-  // a .mjs only with a .d.mts; the build's Box2D.compat.d.ts matches the entry's typings.
-  // @ts-expect-error TS7016: no .d.mts beside Box2D.compat.mjs
-  const compat = await import('../../node_modules/box2d3-wasm/build/dist/es/compat/Box2D.compat.mjs')
-  return (compat as { default: Box2D3Factory }).default
+  // The package exports only its entry, so the compat module is imported by its path. Node loads
+  // the package's own file, found beside the entry Node resolves (a copy inside a bench bundle
+  // would look for its .wasm beside the bundle). A page loads it by a literal path that esbuild
+  // bundles (TypeScript pairs a .mjs only with a .d.mts; Box2D.compat.d.ts matches the entry's).
+  const compat: { default: Box2D3Factory } = inNode()
+    ? await import(new URL('./compat/Box2D.compat.mjs', import.meta.resolve('box2d3-wasm')).href)
+    : // @ts-expect-error TS7016: no .d.mts beside Box2D.compat.mjs
+      await import('../../node_modules/box2d3-wasm/build/dist/es/compat/Box2D.compat.mjs')
+  return compat.default
 }
 
 /** Loads one build of the box2d3-wasm module once (later calls share it). */
