@@ -40,7 +40,7 @@ export const COLUMN_MIN_BODIES = 12
 export const COLUMN_STIFF_BODIES = 20
 /**
  * Buckling factor at unit contact stiffness (omega = 1 rad/s, so in (rad/s)^2) of a 20-box column
- * of 1 m boxes as contact-solver.ts weighs it (106,384; 12, 30 and 50 boxes: 22,990, 359,264 and
+ * of 1 m boxes as extra-sweeps.ts weighs it (106,384; 12, 30 and 50 boxes: 22,990, 359,264 and
  * 1,664,440, the n^3 law), with 3.4 % margin so that a column of equal 1 m boxes never counts as
  * taller than it is: 110,000 (contact-columns.ts equivalentHeight).
  */

@@ -11,7 +11,7 @@
  * the static-contact stiffness (twice contactHertz) with the extra sweeps that make a stiffer
  * contact converge (contact-solver.ts); everything else solves as before.
  *
- * Each column is weighed (contact-solver.ts weighColumns, bucklingFactor below): its buckling factor
+ * Each column is weighed (extra-sweeps.ts weighColumns, bucklingFactor below): its buckling factor
  * from its bodies' masses, the levers of its contact points and their effective masses, and it is
  * solved as a column of 1 m boxes equally close to buckling (equivalentHeight), never as a shorter
  * one than it is: heavier tops and narrower boxes count as taller columns.
@@ -100,7 +100,7 @@ export class ColumnMarks {
   /** Scratch of bucklingFactor, per body of a column: interface stiffness and load. */
   stiffness = new Float64Array(64)
   load = new Float64Array(64)
-  /** Scratch of the column weighing (contact-solver.ts), per body: mass, g x centre height, g x height. */
+  /** Scratch of the column weighing (extra-sweeps.ts), per body: mass, g x centre height, g x height. */
   mass = new Float64Array(64)
   centre = new Float64Array(64)
   rise = new Float64Array(64)

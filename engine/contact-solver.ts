@@ -3,7 +3,8 @@
  *
  * Stages, called by World.step in this order:
  *   prepareContacts   once per step: copy each touching contact into a flat constraint record
- *                     (anchors, effective masses, softness, pre-step normal velocity)
+ *                     (anchors, effective masses, softness, pre-step normal velocity); then
+ *                     planExtraSweeps (extra-sweeps.ts) picks the constraints that get extra sweeps
  *   warmStartContacts each sub-step: apply the accumulated impulses
  *   solveContacts     each sub-step with bias (soft push-out of overlap), then again without (relax)
  *   applyRestitution  once per step, after the sub-steps, for contacts closing faster than the threshold
@@ -42,7 +43,7 @@
 import { DPX, DPY, DQC, DQS, STATE_STRIDE, stateOffset, VX, VY, W } from './body-state.ts'
 import { PINCH_MASS_RATIO } from './constants.ts'
 import type { Contact } from './contact.ts'
-import { bucklingFactor, ColumnMarks, equivalentHeight, markColumns } from './contact-columns.ts'
+import { ColumnMarks } from './contact-columns.ts'
 import {
   ANCHOR_AX,
   ANCHOR_AY,
@@ -92,6 +93,31 @@ const RELATIVE_VELOCITY = 11
 const POINT_STRIDE = 12
 /** Numbers per constraint record. */
 const CONSTRAINT_STRIDE = POINTS + 2 * POINT_STRIDE
+
+/**
+ * The constraint record layout, for code outside the solver's passes (extra-sweeps.ts). The passes
+ * use the module's own constants: V8 reads an exported or imported constant through the module's
+ * binding, which measured 8-18 % slower in these loops when not bundled (engine/README.md).
+ */
+export const CONSTRAINT_LAYOUT = Object.freeze({
+  M_A,
+  I_A,
+  M_B,
+  I_B,
+  NX,
+  NY,
+  BIAS_RATE,
+  MASS_SCALE,
+  IMPULSE_SCALE,
+  POINTS,
+  RAX,
+  RAY,
+  RBX,
+  RBY,
+  NORMAL_MASS,
+  POINT_STRIDE,
+  CONSTRAINT_STRIDE,
+})
 
 /** Flat storage of the step's contact constraints. */
 export class ContactConstraints {
@@ -181,7 +207,6 @@ export function prepareContacts(
   count: number,
   contactSoftness: Softness,
   staticSoftness: Softness,
-  ctx: StepContext,
   records: number,
 ): void {
   out.reserve(count, records)
@@ -221,107 +246,6 @@ export function prepareContacts(
     if (mA > 0 && mB > 0) {
       if (mA > PINCH_MASS_RATIO * mB) pinchedRecord[out.stateA[i] / STATE_STRIDE] = 1
       else if (mB > PINCH_MASS_RATIO * mA) pinchedRecord[out.stateB[i] / STATE_STRIDE] = 1
-    }
-  }
-  markColumns(out.columns, out, count, records)
-  weighColumns(out, ctx.gravityX, ctx.gravityY)
-  const column = out.columns.mark
-  const stiffness = ctx.columnStiffness
-  let tallest = 0
-  let n = 0
-  for (let i = 0; i < count; i++) {
-    if (column[i] > 0) {
-      tallest = Math.max(tallest, column[i])
-      out.extra[n++] = i
-    } else if (
-      pinchedRecord[out.stateA[i] / STATE_STRIDE] === 1 ||
-      pinchedRecord[out.stateB[i] / STATE_STRIDE] === 1
-    ) {
-      out.extra[n++] = i
-    }
-  }
-  out.extraCount = n
-  // Extra sweeps within the budget; columns get the stiffness of their height, at most `cap`.
-  stiffness.limit(n, count, tallest)
-  out.extraSweeps = stiffness.stepSweeps
-  const cap = stiffness.stepCap
-  for (let q = 0; q < n; q++) {
-    const i = out.extra[q]
-    const height = Math.min(column[i], cap)
-    if (height === 0) continue
-    const o = i * CONSTRAINT_STRIDE
-    d[o + BIAS_RATE] = stiffness.biasRate[height]
-    d[o + MASS_SCALE] = stiffness.massScale[height]
-    d[o + IMPULSE_SCALE] = stiffness.impulseScale[height]
-  }
-}
-
-/**
- * Raises each column's height mark to the height of a column of 1 m boxes equally close to
- * buckling (contact-columns.ts equivalentHeight), so heavier-topped or narrower columns get the
- * stiffness of a taller one. Per body i, bottom to top: the interface below it as a rotational
- * spring of stiffness (normal mass 0 + normal mass 1) x (half the points' distance)^2 at unit
- * stiffness (a point sags F K / omega^2), and its load g (m_i c_i + M_i h_i) (bucklingFactor).
- */
-function weighColumns(k: ContactConstraints, gravityX: number, gravityY: number): void {
-  const cols = k.columns
-  const d = k.data
-  const stiffness = cols.stiffness
-  const load = cols.load
-  for (let c = 0; c < cols.columnCount; c++) {
-    const start = cols.columnStart[c]
-    const n = cols.columnLength[c]
-    let below = 0
-    for (let i = 0; i < n; i++) {
-      const j = cols.order[start + i]
-      const o = j * CONSTRAINT_STRIDE
-      const upperIsB = k.stateA[j] === below
-      const body = upperIsB ? k.stateB[j] : k.stateA[j]
-      const sign = upperIsB ? 1 : -1
-      const ax = sign * d[o + NX]
-      const ay = sign * d[o + NY]
-      const p0 = o + POINTS
-      const p1 = p0 + POINT_STRIDE
-      const rx = upperIsB ? RBX : RAX
-      const ry = upperIsB ? RBY : RAY
-      // Interface below body i: the points' half distance along the tangent (ny, -nx).
-      const half = 0.5 * ((d[p0 + RBX] - d[p1 + RBX]) * d[o + NY] - (d[p0 + RBY] - d[p1 + RBY]) * d[o + NX])
-      stiffness[i] = (d[p0 + NORMAL_MASS] + d[p1 + NORMAL_MASS]) * half * half
-      // Body i: its mass and centre height over the interface below, and (in load, for now) the
-      // interface's midpoint from its centre; the height to the next interface is found there.
-      const invMass = upperIsB ? d[o + M_B] : d[o + M_A]
-      const bottomX = 0.5 * (d[p0 + rx] + d[p1 + rx])
-      const bottomY = 0.5 * (d[p0 + ry] + d[p1 + ry])
-      const centreHeight = -(bottomX * ax + bottomY * ay)
-      let height = 0
-      if (i + 1 < n) {
-        const jn = cols.order[start + i + 1]
-        const on = jn * CONSTRAINT_STRIDE
-        const lowerIsA = k.stateA[jn] === body
-        const qx = lowerIsA ? RAX : RBX
-        const qy = lowerIsA ? RAY : RBY
-        const q0 = on + POINTS
-        const q1 = q0 + POINT_STRIDE
-        const topX = 0.5 * (d[q0 + qx] + d[q1 + qx])
-        const topY = 0.5 * (d[q0 + qy] + d[q1 + qy])
-        height = (topX - bottomX) * ax + (topY - bottomY) * ay
-      }
-      const g = -(gravityX * ax + gravityY * ay)
-      // Stash m_i, g c_i and g h_i; the loads need the mass above, summed top down below.
-      cols.mass[i] = invMass > 0 ? 1 / invMass : 0
-      cols.centre[i] = g * centreHeight
-      cols.rise[i] = g * height
-      below = body
-    }
-    let above = 0
-    for (let i = n - 1; i >= 0; i--) {
-      load[i] = cols.mass[i] * cols.centre[i] + above * cols.rise[i]
-      above += cols.mass[i]
-    }
-    const height = equivalentHeight(bucklingFactor(n, stiffness, load))
-    for (let i = 0; i < n; i++) {
-      const j = cols.order[start + i]
-      if (height > cols.mark[j]) cols.mark[j] = height
     }
   }
 }

@@ -48,6 +48,7 @@ import {
   warmStartContacts,
 } from './contact-solver.ts'
 import { solveContinuous } from './continuous.ts'
+import { planExtraSweeps } from './extra-sweeps.ts'
 import { type Joint, prepareJoints, solveJoints, warmStartJoints } from './joint.ts'
 import { ByteWriter } from './save-format.ts'
 import type { WorldDef } from './types.ts'
@@ -248,7 +249,7 @@ export class World extends WorldApi {
     prepareJoints(this.activeJoints, this.activeJointCount, this.state, this.stepContext)
   }
 
-  /** Copies the touching contacts into flat constraint records. */
+  /** Copies the touching contacts into flat constraint records; picks the ones that get extra sweeps. */
   private prepareContacts(): void {
     prepareContacts(
       this.constraints,
@@ -256,9 +257,9 @@ export class World extends WorldApi {
       this.activeContactCount,
       this.contactSoftness,
       this.staticSoftness,
-      this.stepContext,
       this.awakeCount + 1,
     )
+    planExtraSweeps(this.constraints, this.stepContext, this.awakeCount + 1)
   }
 
   /** Sub-step: gravity, damping and the speed limits. */

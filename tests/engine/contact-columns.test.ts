@@ -198,7 +198,7 @@ describe('buckling factor', () => {
     }
   })
   it('a column of 1 m boxes counts as its own height; a heavier load as a taller one', () => {
-    // c(n) = 106,384 (n / 20)^3 at unit stiffness, as contact-solver.ts weighs 1 m boxes.
+    // c(n) = 106,384 (n / 20)^3 at unit stiffness, as extra-sweeps.ts weighs 1 m boxes.
     for (const n of [12, 20, 25, 30, 50])
       expect(equivalentHeight(106384 * (n / 20) ** 3)).toBeLessThanOrEqual(n)
     expect(equivalentHeight(106384 * (30 / 20) ** 3)).toBe(30)

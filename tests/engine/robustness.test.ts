@@ -278,7 +278,7 @@ describe('tall stacks', () => {
   ] as const) {
     it(`a 20-box column of ${name} stands still for 20 s (column stiffness from load and lever)`, () => {
       // At the 1 m boxes' 90 Hz these columns buckle (down at about 18 s and 10 s): a narrower
-      // interface turns on a shorter lever, a heavier top pushes harder. contact-solver.ts weighs
+      // interface turns on a shorter lever, a heavier top pushes harder. extra-sweeps.ts weighs
       // each column and stiffens it as a column of 1 m boxes equally close to buckling.
       const world = createWorld({ enableSleep: false })
       world.createBody(groundDef())
