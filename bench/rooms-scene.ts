@@ -44,12 +44,12 @@ export interface Stepper {
   hash(): number
 }
 
-/** The pile with every dynamic body's enableSleep false: the server capacity scene (bench/server-load.ts awakePile). */
-export function awakeBlueprint(blueprint: Blueprint): Blueprint {
+/** The blueprint with every dynamic body's enableSleep false: the server capacity scene's pile (bench/server-load.ts awakePile). */
+export function awakeBlueprint<T extends Blueprint>(blueprint: T): T {
   return {
     ...blueprint,
     bodies: blueprint.bodies.map((b) => (b.type === 'static' ? b : { ...b, enableSleep: false })),
-  }
+  } as T
 }
 
 /** Players per room, and the bots' drag (server/bots.ts): 80 of every 100 of their 20 Hz steps. */

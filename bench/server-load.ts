@@ -12,6 +12,7 @@ import pino from 'pino'
 import { pileScene, type SceneBlueprint } from '../engine/index.ts'
 import { loadConfig } from '../server/config.ts'
 import { type RunningServer, startServer } from '../server/server.ts'
+import { awakeBlueprint } from './rooms-scene.ts'
 
 /** Durations of clock ticks (ms): wall time, and the process's CPU time over the same span. */
 export interface TickTimes {
@@ -82,12 +83,7 @@ export async function startTimedServer(workers = 0, roomIdleSeconds = 5): Promis
 
 /** A pile of `count` mixed bodies that never sleep (so every one costs a full step). */
 export function awakePile(count: number): SceneBlueprint {
-  const pile = pileScene(count)
-  return {
-    ...pile,
-    name: `pile-${count}-awake`,
-    bodies: pile.bodies.map((b) => (b.type === 'static' ? b : { ...b, enableSleep: false })),
-  }
+  return { ...awakeBlueprint(pileScene(count)), name: `pile-${count}-awake` }
 }
 
 /** Start `count` bots over rooms PREFIX-1..PREFIX-rooms in a child process. */
