@@ -116,6 +116,38 @@ export async function screenOfBody(page: Page, id: number): Promise<{ x: number;
   return screenOf(page, b.x, b.y)
 }
 
+/**
+ * With the grab tool picked, press on body `id` until the page shows it grabbed, and leave the
+ * button down: on a loaded machine the page can lag behind the position read here, and a press
+ * that misses grabs nothing, so nothing would move. Throws after `attempts` presses.
+ */
+export async function pressUntilGrabbed(
+  page: Page,
+  id: number,
+  attempts = 5,
+): Promise<{ x: number; y: number }> {
+  for (let attempt = 1; ; attempt++) {
+    const at = await screenOfBody(page, id)
+    await page.mouse.move(at.x, at.y)
+    await page.mouse.down()
+    const grabbed = await page
+      .waitForFunction(
+        (bodyId) =>
+          window.concord.sandbox
+            .bodies()
+            .some((v: { id: number; grabColor: string | null }) => v.id === bodyId && v.grabColor !== null),
+        id,
+        { timeout: 15_000 },
+      )
+      .then(() => true)
+      .catch(() => false)
+    if (grabbed) return at
+    await page.mouse.up()
+    if (attempt === attempts)
+      throw new Error(`${attempts} presses on body ${id} at ${at.x}, ${at.y} did not grab it`)
+  }
+}
+
 /** Wait until a body satisfies a predicate on the page (polled every animation frame). */
 export async function waitForBody(
   page: Page,

@@ -9,7 +9,7 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { startLatencyProxy } from '../../bench/latency-proxy.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from './chromium.ts'
-import { bodies, openSandbox, pickTool, screenOf, startClientServer } from './client-harness.ts'
+import { bodies, openSandbox, pickTool, pressUntilGrabbed, startClientServer } from './client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
@@ -63,31 +63,10 @@ describe('the sandbox page in lockstep modes', () => {
     await page.evaluate(() => window.concord.sandbox.send({ k: 'scene', name: 'tower' }))
     await page.waitForFunction(() => window.concord.sandbox.scene() === 'tower', null, { timeout: 90_000 })
     await pickTool(page, 'grab')
-    // Press on the top body until the page shows it grabbed: on a loaded machine the page can lag
-    // behind the coordinates read here, and a press that misses grabs nothing, so nothing moves.
-    let target: Awaited<ReturnType<typeof bodies>>[number] | undefined
-    let at = { x: 0, y: 0 }
-    for (let attempt = 1; ; attempt++) {
-      target = (await bodies(page)).filter((b) => b.kind === 2).sort((a, b) => b.y - a.y)[0]
-      expect(target).toBeDefined()
-      at = await screenOf(page, target.x, target.y)
-      await page.mouse.move(at.x, at.y)
-      await page.mouse.down()
-      const grabbed = await page
-        .waitForFunction(
-          (id) =>
-            window.concord.sandbox
-              .bodies()
-              .some((v: { id: number; grabColor: string | null }) => v.id === id && v.grabColor !== null),
-          target.id,
-          { timeout: 15_000 },
-        )
-        .then(() => true)
-        .catch(() => false)
-      if (grabbed) break
-      await page.mouse.up()
-      if (attempt === 5) throw new Error(`5 presses on body ${target.id} at ${at.x}, ${at.y} did not grab it`)
-    }
+    // The top body, pressed until the page shows it grabbed (client-harness.ts pressUntilGrabbed).
+    const target = (await bodies(page)).filter((b) => b.kind === 2).sort((a, b) => b.y - a.y)[0]
+    expect(target).toBeDefined()
+    const at = await pressUntilGrabbed(page, target.id)
     await page.waitForFunction(() => /rollbacks/.test(document.getElementById('hud')?.textContent ?? ''))
     // Count animation frames in the page from the pointer event until the body has moved 1 cm
     // right and 1 cm up from where it was drawn before, the way the pointer goes (a grabbed body
