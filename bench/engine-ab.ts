@@ -56,9 +56,7 @@ function requireModulePackage(label: string, dir: string): void {
 
 /** What the benchmark needs from one engine version's index.ts. */
 interface EngineModule extends RoomsEngine {
-  buildScene(world: unknown, blueprint: unknown): unknown
   pyramidScene(rows: number): Blueprint
-  pileScene(count: number): Blueprint
 }
 
 interface Version {
