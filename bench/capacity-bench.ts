@@ -17,11 +17,15 @@
  * p50/p99/max over every worker's ticks, the dropped ticks of all workers, and
  * RSS (worker heaps are not collected by the GC call, so memory per room and client is reported
  * from RSS there). --workers 0 (the default) is every room on the main thread's loop.
- * Flags: --quick (shorter windows), --step N (rooms added per step, default 4), --max N, --workers N.
+ * Each step also reports where the machine's CPU went in the window, in cores (bench/cpu-split.ts):
+ * the server's main thread, its other threads (the workers), and the bot processes.
+ * Flags: --quick (shorter windows), --window S (seconds measured per step, default 10, 5 with
+ * --quick), --step N (rooms added per step, default 4), --max N, --workers N.
  */
 import type { ChildProcess } from 'node:child_process'
 import { mkdirSync, writeFileSync } from 'node:fs'
 import { cpus, loadavg } from 'node:os'
+import { cpuSplit, sampleCpu } from './cpu-split.ts'
 import {
   awakePile,
   bytesSent,
@@ -35,17 +39,22 @@ import {
 } from './server-load.ts'
 
 const argv = process.argv.slice(2)
-const flag = (name: string, fallback: number): number => {
+const flag = (name: string, fallback: number, min = 0): number => {
   const i = argv.indexOf(name)
-  return i >= 0 ? Number(argv[i + 1]) : fallback
+  if (i < 0) return fallback
+  const value = Number(argv[i + 1])
+  if (!Number.isFinite(value) || value < min) {
+    throw new Error(`${name} takes a number of ${min} or more, got ${JSON.stringify(argv[i + 1])}`)
+  }
+  return value
 }
 const quick = argv.includes('--quick')
-const STEP = flag('--step', 4)
+const STEP = flag('--step', 4, 1)
 const MAX_ROOMS = flag('--max', 80)
 const BOTS_PER_ROOM = 5
 const BODIES = 100
 const WARMUP_MS = quick ? 2000 : 3000
-const WINDOW_MS = quick ? 5000 : 10_000
+const WINDOW_MS = flag('--window', quick ? 5 : 10, 0.5) * 1000
 const WORKERS = flag('--workers', 0)
 
 // Rooms are opened before their bots connect; a bots process starting slowly on a loaded machine
@@ -113,9 +122,12 @@ while (rooms < MAX_ROOMS) {
   if (bare.length > 0) throw new Error(`rooms without their ${BODIES}-body pile: ${bare.join(', ')}`)
   const dropped0 = take().overruns
   const bytes0 = await bytesSent(server)
+  const botPids = children.flatMap((c) => (c.pid === undefined ? [] : [c.pid]))
+  const cpu0 = sampleCpu(botPids)
   const t0 = performance.now()
   await wait(WINDOW_MS)
   const seconds = (performance.now() - t0) / 1000
+  const cpu = cpuSplit(cpu0, sampleCpu(botPids))
   if (pool) await wait(1100) // the workers' last stats of the window
   const ticks = take()
   const dropped = ticks.overruns - dropped0
@@ -149,6 +161,9 @@ while (rooms < MAX_ROOMS) {
     rssMb: Math.round(mem.rss),
     heapMb: Math.round(mem.heap),
     load1: loadavg()[0],
+    mainThreadCores: cpu.mainThread,
+    otherServerThreadsCores: cpu.otherServerThreads,
+    botsCores: cpu.bots,
   }
   steps.push(row)
   perWorkerTickMsP99.push(ticks.perWorkerP99)
@@ -156,7 +171,8 @@ while (rooms < MAX_ROOMS) {
     `${rooms} rooms x ${BOTS_PER_ROOM} bots (${row.awakeBodiesPerRoom} awake bodies/room): loop tick wall p50 ${row.tickMsP50.toFixed(2)} ms, ` +
       `p99 ${row.tickMsP99.toFixed(2)} ms${pool ? ` (per worker ${ticks.perWorkerP99.join(', ')})` : ''}, max ${row.tickMsMax.toFixed(1)} ms; CPU p50 ${row.cpuMsP50.toFixed(2)} ms p99 ${row.cpuMsP99.toFixed(2)} ms; dropped ${dropped}, ` +
       `out ${(bytesPerSecond / 1e6).toFixed(2)} MB/s (${(row.bytesOutPerClientPerSecond / 1000).toFixed(1)} kB/s per client), ` +
-      `RSS ${row.rssMb} MB, load ${row.load1.toFixed(2)}`,
+      `RSS ${row.rssMb} MB, load ${row.load1.toFixed(2)}; cores used: main thread ${cpu.mainThread}, ` +
+      `other server threads ${cpu.otherServerThreads}, bots ${cpu.bots}`,
   )
   // On a shared machine both p99s are inflated by waiting and by other threads' CPU; keep ramping
   // while the typical tick (CPU p50) still fits a frame, so the whole curve is on record.
