@@ -39,16 +39,34 @@ const hostile = fc.oneof(
   fc.dictionary(fc.string({ maxLength: 5 }), fc.integer(), { maxKeys: 3 }),
   fc.constantFrom('pyramid', 'lobby', 'empty', '__proto__', 'constructor', ''),
 )
-const coordinate = fc.oneof(fc.double({ min: -600, max: 600, noNaN: true }), hostile)
-const id = fc.oneof(fc.integer({ min: -2, max: 300 }), hostile)
+/** Mostly plausible values, so that most commands get past the schema to the rooms. */
+const mostly = <T>(plausible: fc.Arbitrary<T>) =>
+  fc.oneof({ weight: 4, arbitrary: plausible }, { weight: 1, arbitrary: hostile })
+const coordinate = mostly(fc.double({ min: -600, max: 600, noNaN: true }))
+const id = mostly(fc.integer({ min: -2, max: 300 }))
+const extent = mostly(fc.double({ min: 0, max: 5, noNaN: true }))
+/** Points on a circle in angle order (convex, though possibly degenerate), as the flat list `v`. */
+const convexRing = fc
+  .tuple(
+    fc.integer({ min: 3, max: 8 }),
+    fc.double({ min: 0, max: 4, noNaN: true }),
+    fc.array(fc.double({ min: 0, max: 2 * Math.PI, noNaN: true }), { minLength: 8, maxLength: 8 }),
+  )
+  .map(([n, r, angles]) =>
+    angles
+      .slice(0, n)
+      .sort((a, b) => a - b)
+      .flatMap((a) => [r * Math.cos(a), r * Math.sin(a)]),
+  )
 const shape = fc.oneof(
-  fc.record({ type: fc.constant('circle'), radius: fc.oneof(fc.double({ min: 0, max: 5 }), hostile) }),
-  fc.record({ type: fc.constant('box'), hx: hostile, hy: fc.oneof(fc.double({ min: 0, max: 5 }), hostile) }),
+  fc.record({ type: fc.constant('circle'), radius: extent }),
+  fc.record({ type: fc.constant('box'), hw: extent, hh: extent }),
+  fc.record({ type: fc.constant('polygon'), v: convexRing }),
   fc.record({
     type: fc.constant('polygon'),
-    vertices: fc.array(fc.record({ x: coordinate, y: coordinate }), { maxLength: 12 }),
+    v: fc.array(mostly(fc.double({ min: -10, max: 10, noNaN: true })), { minLength: 5, maxLength: 17 }),
   }),
-  fc.record({ type: fc.constant('polygon'), vertices: fc.array(coordinate, { maxLength: 24 }) }),
+  fc.record({ type: fc.constantFrom('circle', 'box', 'polygon'), radius: hostile, hw: hostile, v: hostile }),
   hostile,
 )
 const anything = fc.dictionary(fc.string({ maxLength: 6 }), hostile, { maxKeys: 6 })
@@ -63,9 +81,9 @@ const command = fc.oneof(
       vx: coordinate,
       vy: coordinate,
       w: coordinate,
-      density: hostile,
-      friction: hostile,
-      restitution: hostile,
+      density: mostly(fc.double({ min: 0, max: 20, noNaN: true })),
+      friction: mostly(fc.double({ min: 0, max: 2, noNaN: true })),
+      restitution: mostly(fc.double({ min: 0, max: 1, noNaN: true })),
     },
     { requiredKeys: ['k', 'shape', 'x', 'y'] },
   ),
@@ -95,7 +113,7 @@ const command = fc.oneof(
 const message = fc.oneof(
   {
     weight: 12,
-    arbitrary: fc.record({ t: fc.constant('input'), seq: fc.oneof(fc.nat(), hostile), cmd: command }),
+    arbitrary: fc.record({ t: fc.constant('input'), seq: mostly(fc.nat()), cmd: command }),
   },
   {
     weight: 1,
