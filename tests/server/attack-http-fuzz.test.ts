@@ -82,7 +82,7 @@ const path = fc
   )
   .map(([start, pieces, query]) => `${start}${pieces.join('/')}${query}`)
 /** A climb out of the served directory toward a named file. */
-const escape = fc
+const breakout = fc
   .tuple(
     fc.constantFrom('/', '/replays/', '/static/'),
     fc.array(climb, { minLength: 1, maxLength: 4 }),
@@ -92,7 +92,7 @@ const escape = fc
   .map(([start, climbs, join, file]) => `${start}${climbs.join(join)}${join}${file}`)
 const target = fc.oneof(
   { weight: 5, arbitrary: path },
-  { weight: 4, arbitrary: escape },
+  { weight: 4, arbitrary: breakout },
   {
     weight: 1,
     arbitrary: fc.string({ maxLength: 60, unit: 'binary' }).map((s) => s.replace(/[\r\n ]/g, '')),
