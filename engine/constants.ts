@@ -18,6 +18,18 @@ export const MAX_ROTATION = 0.25 * Math.PI
 export const MAX_POLYGON_VERTICES = 8
 /** Smallest radius, half extent or edge a shape may have (m). */
 export const MIN_SHAPE_EXTENT = 0.001
+/**
+ * Largest reach of a shape from its body origin, per axis (m): 100 km, Box2D's B2_HUGE. Beyond
+ * about 1e153 m a shape's inertia overflows to Infinity and its body's centre becomes NaN; the
+ * bound keeps every product of two lengths, a density and an area far inside the double range.
+ */
+export const MAX_SHAPE_EXTENT = 1e5
+/**
+ * Largest |x| or |y| of a position the API sets (m): 1000 km. There doubles still resolve 1.2e-10 m;
+ * at 2^53 m they are 2 m apart, so a body moves in jumps larger than a step's speed limit allows.
+ * Bodies may still travel past it under the simulation's own motion.
+ */
+export const MAX_POSITION = 1e6
 /** Fat AABBs grow this much around the tight box of a moving body (m), Box2D's b2_aabbMargin. */
 export const AABB_MARGIN = 0.1
 /** Re-fattened proxies reach this many displacements ahead along the motion (Box2D v2.4's aabbMultiplier). */

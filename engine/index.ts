@@ -7,12 +7,14 @@ export {
   LINEAR_SLOP,
   MAX_LINEAR_SPEED,
   MAX_POLYGON_VERTICES,
+  MAX_POSITION,
   MAX_ROTATION,
+  MAX_SHAPE_EXTENT,
   SPECULATIVE_DISTANCE,
   STEP_SECONDS,
 } from './constants.ts'
 export { CHAIN_LINK_LENGTH, CHAIN_TOP, hangingChainScene, ragdollScene } from './joint-stress-scenes.ts'
-export { atan2, cos, PI, sin, TWO_PI, type Vec2, wrapAngle } from './math.ts'
+export { atan2, cos, PI, sin, TRIG_LIMIT, TWO_PI, type Vec2, wrapAngle } from './math.ts'
 export { Prng } from './prng.ts'
 export { SAVE_FORMAT_VERSION, WorldLoadError } from './save-format.ts'
 export {

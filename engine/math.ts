@@ -22,6 +22,12 @@ export interface Vec2 {
 export const PI = Math.PI
 /** 2 * PI. */
 export const TWO_PI = 2 * Math.PI
+/**
+ * sin and cos take angles with |x| < TRIG_LIMIT = 2^20 rad, where their argument reduction is
+ * exact; beyond it they return NaN, as for a non-finite x (the reduction used to return values
+ * such as sin(1e20) = 2.7e27, and NaN at 1e308). The world API refuses such angles.
+ */
+export const TRIG_LIMIT = 1048576
 
 // fdlibm __kernel_sin coefficients (FreeBSD k_sin.c)
 const S1 = -1.66666666666666324348e-1
@@ -83,9 +89,9 @@ function reduce(x: number): number {
   return ((n % 4) + 4) % 4
 }
 
-/** Deterministic sine (radians), within about 1 ulp of the true value for |x| < 2^20. */
+/** Deterministic sine (radians), within about 1 ulp of the true value for |x| < 2^20; NaN beyond (TRIG_LIMIT). */
 export function sin(x: number): number {
-  if (!Number.isFinite(x)) return Number.NaN
+  if (!(x > -TRIG_LIMIT && x < TRIG_LIMIT)) return Number.NaN
   if (x > -PIO4 && x < PIO4) return kernelSin(x, 0)
   switch (reduce(x)) {
     case 0:
@@ -99,9 +105,9 @@ export function sin(x: number): number {
   }
 }
 
-/** Deterministic cosine (radians), within about 1 ulp of the true value for |x| < 2^20. */
+/** Deterministic cosine (radians), within about 1 ulp of the true value for |x| < 2^20; NaN beyond (TRIG_LIMIT). */
 export function cos(x: number): number {
-  if (!Number.isFinite(x)) return Number.NaN
+  if (!(x > -TRIG_LIMIT && x < TRIG_LIMIT)) return Number.NaN
   if (x > -PIO4 && x < PIO4) return kernelCos(x, 0)
   switch (reduce(x)) {
     case 0:

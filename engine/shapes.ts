@@ -10,7 +10,7 @@
  * Mass, centroid and rotational inertia come from density by the polygon triangle-fan formulas
  * (Box2D's b2ComputePolygonMass; Ericson, "Real-Time Collision Detection" 2.6).
  */
-import { MAX_POLYGON_VERTICES, MIN_SHAPE_EXTENT } from './constants.ts'
+import { MAX_POLYGON_VERTICES, MAX_SHAPE_EXTENT, MIN_SHAPE_EXTENT } from './constants.ts'
 import { PI, type Vec2 } from './math.ts'
 
 /*
@@ -63,22 +63,24 @@ export interface MassData {
   inertia: number
 }
 
-function checkFinitePositive(what: string, value: number): void {
-  if (!Number.isFinite(value) || value < MIN_SHAPE_EXTENT) {
-    throw new RangeError(`${what} must be a finite number >= ${MIN_SHAPE_EXTENT} m, got ${value}`)
+function checkSize(what: string, value: number): void {
+  if (!Number.isFinite(value) || value < MIN_SHAPE_EXTENT || value > MAX_SHAPE_EXTENT) {
+    throw new RangeError(
+      `${what} must be a finite number in [${MIN_SHAPE_EXTENT}, ${MAX_SHAPE_EXTENT}] m, got ${value}`,
+    )
   }
 }
 
 /** A circle of the given radius (m) centred on the body origin. */
 export function circle(radius: number): CircleShape {
-  checkFinitePositive('circle radius', radius)
+  checkSize('circle radius', radius)
   return { type: 'circle', radius, count: 0, vertices: [], normals: [], centroid: { x: 0, y: 0 }, box: null }
 }
 
 /** An axis-aligned box (in the body frame) of the given half extents (m), centred on the origin. */
 export function box(halfWidth: number, halfHeight: number): PolygonShape {
-  checkFinitePositive('box halfWidth', halfWidth)
-  checkFinitePositive('box halfHeight', halfHeight)
+  checkSize('box halfWidth', halfWidth)
+  checkSize('box halfHeight', halfHeight)
   const vertices = [
     { x: -halfWidth, y: -halfHeight },
     { x: halfWidth, y: -halfHeight },
@@ -120,6 +122,11 @@ export function polygon(points: readonly Vec2[]): PolygonShape {
     const p = points[i]
     if (!p || !Number.isFinite(p.x) || !Number.isFinite(p.y)) {
       throw new RangeError(`polygon vertex ${i} is not a finite point: ${JSON.stringify(p)}`)
+    }
+    if (Math.abs(p.x) > MAX_SHAPE_EXTENT || Math.abs(p.y) > MAX_SHAPE_EXTENT) {
+      throw new RangeError(
+        `polygon vertex ${i} (${p.x}, ${p.y}) is more than ${MAX_SHAPE_EXTENT} m from the body origin`,
+      )
     }
   }
   // Signed area decides the winding; make the list counter-clockwise.

@@ -7,7 +7,7 @@
 import { Body, DYNAMIC, STATIC, updateMassData } from './body.ts'
 import { limitBodyVelocity } from './body-state.ts'
 import { MAX_ROTATION, STEP_SECONDS } from './constants.ts'
-import { finite, finiteVec, inRange } from './def-checks.ts'
+import { angle as checkAngle, position as checkPosition, finite, finiteVec, inRange } from './def-checks.ts'
 import { JOINT_TYPE_NAMES, type Joint, MOUSE } from './joint.ts'
 import { buildJoint, jointInfo, jointReaction, localPoint } from './joint-defs.ts'
 import { atan2, cos, sin, type Vec2 } from './math.ts'
@@ -62,8 +62,8 @@ export class WorldApi extends WorldStore {
     const typeIndex = BODY_TYPES.indexOf(def.type ?? 'dynamic')
     if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${def.type}`)
     const body = new Body(this.nextBodyId, typeIndex, checkShape(def.shape))
-    const position = finiteVec('position', def.position ?? { x: 0, y: 0 })
-    const angle = finite('angle', def.angle ?? 0)
+    const position = checkPosition('position', def.position ?? { x: 0, y: 0 })
+    const angle = checkAngle('angle', def.angle ?? 0)
     body.density = inRange('density', def.density ?? 1, 1e-6, 1e6)
     body.friction = inRange('friction', def.friction ?? 0.6, 0, 100)
     body.restitution = inRange('restitution', def.restitution ?? 0, 0, 1)
@@ -85,6 +85,8 @@ export class WorldApi extends WorldStore {
       body.vx = v.x
       body.vy = v.y
       body.w = body.fixedRotation ? 0 : finite('angularVelocity', def.angularVelocity ?? 0)
+      // As setLinearVelocity does: a definition's speeds are clamped to the limits too.
+      limitBodyVelocity(body, this.maxAngularSpeed)
     }
     body.awake = typeIndex !== STATIC && def.awake !== false
     this.bodies.push(body)
@@ -239,8 +241,8 @@ export class WorldApi extends WorldStore {
   setTransform(id: BodyId, position: Vec2, angle: number): void {
     this.revision++
     const b = this.body(id)
-    finiteVec('position', position)
-    finite('angle', angle)
+    checkPosition('position', position)
+    checkAngle('angle', angle)
     b.x = position.x
     b.y = position.y
     b.c = cos(angle)

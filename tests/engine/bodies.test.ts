@@ -11,9 +11,15 @@ import {
   buildScene,
   circle,
   computeMass,
+  cos,
   createWorld,
+  MAX_LINEAR_SPEED,
+  MAX_POSITION,
+  MAX_SHAPE_EXTENT,
   POSE_STRIDE,
   polygon,
+  sin,
+  TRIG_LIMIT,
   towerScene,
 } from '../../engine/index.ts'
 
@@ -103,6 +109,70 @@ describe('shapes', () => {
     expect(() => circle(0)).toThrow(/radius.*0/)
     expect(() => circle(Number.POSITIVE_INFINITY)).toThrow(/radius/)
     expect(() => box(-1, 1)).toThrow(/halfWidth.*-1/)
+  })
+
+  it('circle(), box() and polygon() refuse sizes beyond MAX_SHAPE_EXTENT (100 km), naming the value', () => {
+    // Found by tests/engine/api-fuzz.test.ts: box(1e308, 0.02) was accepted, its inertia was
+    // Infinity and its body's centre NaN after one step; circle(1e154) had an infinite mass.
+    expect(MAX_SHAPE_EXTENT).toBe(1e5)
+    expect(() => circle(1e154)).toThrow(/radius.*1e\+154/)
+    expect(() => box(1e308, 0.02)).toThrow(/halfWidth.*1e\+308/)
+    expect(() => box(1, 100001)).toThrow(/halfHeight.*100001/)
+    expect(() =>
+      polygon([
+        { x: 0, y: 0 },
+        { x: 2e5, y: 0 },
+        { x: 0, y: 1 },
+      ]),
+    ).toThrow(/vertex 1 \(200000, 0\)/)
+    // At the bound everything stays finite: a 200 km box of the densest material falls as four
+    // semi-implicit Euler sub-steps of h = 1/240 s say, g h^2 (1 + 2 + 3 + 4).
+    const world = createWorld()
+    const id = world.createBody({ shape: box(MAX_SHAPE_EXTENT, MAX_SHAPE_EXTENT), density: 1e6 })
+    const mass = computeMass(box(MAX_SHAPE_EXTENT, MAX_SHAPE_EXTENT), 1e6)
+    expect([mass.mass, mass.inertia].every(Number.isFinite)).toBe(true)
+    world.step()
+    const c = world.getWorldCenter(id)
+    expect(c.x).toBe(0)
+    expect(c.y).toBeCloseTo(-10 * 10 * (1 / 240) ** 2, 12)
+  })
+
+  it('sin and cos take |x| < TRIG_LIMIT (2^20 rad) and give NaN beyond; bodies refuse such angles', () => {
+    // Found by tests/engine/api-fuzz.test.ts: createBody({ angle: 1e308 }) made a NaN body, and
+    // sin(1e20) was 2.7e27. Math.sin and Math.cos are the oracle inside the domain (within 1e-12).
+    expect(TRIG_LIMIT).toBe(2 ** 20)
+    for (const x of [TRIG_LIMIT - 1, -(TRIG_LIMIT - 0.5), 123456.789]) {
+      expect(Math.abs(sin(x) - Math.sin(x))).toBeLessThan(1e-12)
+      expect(Math.abs(cos(x) - Math.cos(x))).toBeLessThan(1e-12)
+    }
+    for (const x of [TRIG_LIMIT, -TRIG_LIMIT, 1e20, -1e308, Number.NaN, Number.POSITIVE_INFINITY]) {
+      expect(sin(x)).toBeNaN()
+      expect(cos(x)).toBeNaN()
+    }
+    const world = createWorld()
+    expect(() => world.createBody({ shape: circle(1), angle: 1e308 })).toThrow(/angle.*1e\+308/)
+    const id = world.createBody({ shape: circle(1), angle: TRIG_LIMIT - 1 })
+    expect(() => world.setTransform(id, { x: 0, y: 0 }, -TRIG_LIMIT)).toThrow(/angle.*-1048576/)
+    const q = world.getRotation(id)
+    expect(Math.abs(q.c - Math.cos(TRIG_LIMIT - 1))).toBeLessThan(1e-12)
+    expect(Math.abs(q.s - Math.sin(TRIG_LIMIT - 1))).toBeLessThan(1e-12)
+  })
+
+  it('positions set through the API lie within MAX_POSITION (1000 km); speeds a definition gives are clamped', () => {
+    // Found by tests/engine/api-fuzz.test.ts: a body created at y = 2^53 m, where doubles are 2 m
+    // apart, moved 7.4 m in one step at 29 m/s; createBody took a linear velocity of -1e308 m/s
+    // (and a kinematic angular velocity of 1e308 rad/s) unclamped, where setLinearVelocity clamps.
+    expect(MAX_POSITION).toBe(1e6)
+    const world = createWorld({ gravity: { x: 0, y: 0 } })
+    expect(() => world.createBody({ shape: circle(1), position: { x: 0, y: 2 ** 53 } })).toThrow(
+      /position.*9007199254740992/,
+    )
+    const id = world.createBody({ shape: circle(1), position: { x: -MAX_POSITION, y: MAX_POSITION } })
+    expect(() => world.setTransform(id, { x: MAX_POSITION + 1, y: 0 }, 0)).toThrow(/position.*1000001/)
+    const fast = world.createBody({ shape: circle(1), linearVelocity: { x: -1e308, y: 0 } })
+    expect(world.getLinearVelocity(fast)).toEqual({ x: -MAX_LINEAR_SPEED, y: 0 })
+    const spinner = world.createBody({ type: 'kinematic', shape: circle(1), angularVelocity: 1e308 })
+    expect(world.getAngularVelocity(spinner)).toBe(world.maxAngularSpeed)
   })
 
   it('mass properties match the closed forms (rectangle, circle, right triangle)', () => {
