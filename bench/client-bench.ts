@@ -26,6 +26,11 @@ import { machineInfo, saveResults, summarize } from './stats.ts'
 const OUT = 'test-results/client-bench-dist'
 const argSeconds = process.argv.indexOf('--seconds')
 const SECONDS = argSeconds > 0 ? Number(process.argv[argSeconds + 1]) : 10
+if (!(SECONDS > 0) || !Number.isFinite(SECONDS)) {
+  throw new Error(
+    `--seconds takes a number of seconds above 0, got ${JSON.stringify(process.argv[argSeconds + 1])}`,
+  )
+}
 const MOTION_ONLY = process.argv.includes('--motion-only')
 
 /*

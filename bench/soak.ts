@@ -25,6 +25,9 @@ import {
 const argv = process.argv.slice(2)
 const minutesAt = argv.indexOf('--minutes')
 const MINUTES = minutesAt >= 0 ? Number(argv[minutesAt + 1]) : 10
+if (!(MINUTES > 0) || !Number.isFinite(MINUTES)) {
+  throw new Error(`--minutes takes a number of minutes above 0, got ${JSON.stringify(argv[minutesAt + 1])}`)
+}
 const ROOMS = 10
 const BOTS_PER_ROOM = 3
 const SAMPLE_MS = 10_000
