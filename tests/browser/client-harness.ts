@@ -148,6 +148,25 @@ export async function pressUntilGrabbed(
   }
 }
 
+/**
+ * Open the Debug layer row: click Debug until the row shows. In a fresh-clone .ci/run (Nov 24,
+ * 10:00) one click on a loaded machine left the row hidden for 90 s; a click the page missed is
+ * clicked again, a click it took is never repeated (Debug toggles the row). Throws after `attempts`.
+ */
+export async function openLayerRow(page: Page, attempts = 5): Promise<void> {
+  for (let attempt = 1; attempt <= attempts; attempt++) {
+    await page.click('#layers')
+    const open = await page
+      .waitForFunction(() => document.getElementById('layers-panel')?.hidden === false, undefined, {
+        timeout: 15_000,
+      })
+      .then(() => true)
+      .catch(() => false)
+    if (open) return
+  }
+  throw new Error(`${attempts} clicks on Debug did not open the layer row`)
+}
+
 /** Wait until a body satisfies a predicate on the page (polled every animation frame). */
 export async function waitForBody(
   page: Page,

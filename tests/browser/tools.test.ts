@@ -14,6 +14,7 @@ import { launchBrowser } from './chromium.ts'
 import {
   ARTIFACTS,
   loadScene,
+  openLayerRow,
   openSandbox,
   pickTool,
   screenOf,
@@ -197,7 +198,7 @@ describe('contacts layer online', { timeout: 300_000 }, () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=contacts-layer`)
     await page.evaluate(() => window.concord.sandbox.send({ k: 'pause', paused: true }))
     await page.waitForFunction(() => window.concord.sandbox.paused())
-    await page.click('#layers')
+    await openLayerRow(page)
     await page.click('[data-layer="contacts"]')
     expect(await page.getAttribute('[data-layer="contacts"]', 'aria-pressed')).toBe('true')
     // Two boxes in the pyramid's middle rows, neither selected: hover one, then the other.
