@@ -30,6 +30,8 @@ import {
   encodePreamble,
   encodeRecord,
   frameBlock,
+  MAX_BLOCK_ENTRIES,
+  MAX_BLOCK_TICKS,
   REPLAY_FORMAT_VERSION,
   type ReplayRecord,
 } from '../shared/replay-log.ts'
@@ -381,6 +383,9 @@ export class RoomRecorder implements SimulationObserver {
 
   private pushSmall(r: BlockableRecord): void {
     if (this.failed) return
+    const small = this.small
+    if (small.length === MAX_BLOCK_ENTRIES || (small.length > 0 && r.tick - small[0].tick > MAX_BLOCK_TICKS))
+      this.sealBlock()
     this.small.push(r)
     this.dirty = true
   }

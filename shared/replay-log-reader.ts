@@ -2,8 +2,9 @@
  * Streaming reader of replay logs (format: replay-log.ts, docs/replay-format.md). push() takes
  * bytes as they arrive (a whole file, or fetch/stream chunks) and returns the records completed
  * by them. It never returns a record that fails its length bound, CRC-32, decoding or ordering
- * checks: at the first such record it stops for good and says why; bytes after it are ignored.
- * finish() tells a clean end from a torn tail (an incomplete last record). A block record's
+ * checks (ticks never go back, nor jump more than MAX_RECORD_GAP ahead): at the first such record
+ * it stops for good and says why; bytes after it are ignored. finish() tells a clean end from a
+ * torn tail (an incomplete last record). A block record's
  * records come out one by one, all with the byte offset of the block's end; a block is accepted
  * whole or not at all.
  */
@@ -12,6 +13,7 @@ import {
   decodePreamble,
   decodeRecordBody,
   MAX_RECORD_BYTES,
+  MAX_RECORD_GAP,
   PREAMBLE_BYTES,
   type Preamble,
   ReplayFormatError,
@@ -176,6 +178,8 @@ export class ReplayLogReader {
       if (count > 0 && r.type === 'header') return 'a second header'
       if (closed) return 'a record after the clean close'
       if (r.tick < lastTick) return `tick ${r.tick} goes back from ${lastTick}`
+      if (count > 0 && r.tick - lastTick > MAX_RECORD_GAP)
+        return `tick ${r.tick} is ${r.tick - lastTick} ticks after the record before it (at most ${MAX_RECORD_GAP})`
       count++
       closed = r.type === 'close'
       lastTick = r.tick

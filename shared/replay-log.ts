@@ -15,11 +15,13 @@
  *
  * Pure and browser-safe (Uint8Array/DataView only). The reader is streaming: push() chunks as
  * they arrive; it returns every complete, intact record and stops for good at the first torn or
- * corrupt one (bad length, bad checksum, undecodable payload, a tick going backwards), so a crash's
- * torn tail is cut, never misread. A block is accepted whole or not at all. Saved worlds may be deflated (zlib stream, RFC 1950): the
- * writer passes compressed bytes in, the reader hands them out untouched (see replay-runner.ts).
+ * corrupt one (bad length, bad checksum, undecodable payload, a tick going backwards or jumping
+ * more than MAX_RECORD_GAP ahead), so a crash's torn tail is cut, never misread. A block is
+ * accepted whole or not at all. Saved worlds may be deflated (zlib stream, RFC 1950): the writer
+ * passes compressed bytes in, the reader hands them out untouched (see replay-runner.ts).
  */
 import { decodeValue, encodeValue } from './codec.ts'
+import { TICK_RATE } from './constants.ts'
 import { crc32 } from './crc32.ts'
 import type { Command, WireJoint } from './messages.ts'
 import type { SimulationState } from './room-simulation.ts'
@@ -38,6 +40,21 @@ export const PREAMBLE_BYTES = 16
 export const MAX_RECORD_BYTES = 64 * 1024 * 1024
 /** Bytes a record adds around its payload: length, type, tick, CRC. */
 export const RECORD_OVERHEAD = 13
+/**
+ * Most ticks from one record to the next (and from a block's entry to the next): the writer puts a
+ * hash record at every tick divisible by 60, so no two records of a log it wrote are further apart.
+ * A reader refuses a record further ahead: replaying it would run ticks that no bytes pay for (one
+ * 21-byte record at tick 2^32 - 1 would take a replay days).
+ */
+export const MAX_RECORD_GAP = TICK_RATE
+/** Most entries in one block record; the writer starts a new block at this many. */
+export const MAX_BLOCK_ENTRIES = 65_536
+/**
+ * Most ticks from a block's first entry to its last; the writer starts a new block past it (a flush
+ * a second writes blocks of about 60 ticks). With MAX_BLOCK_ENTRIES this bounds what a small
+ * deflated block can ask a replay to do.
+ */
+export const MAX_BLOCK_TICKS = 600
 
 /** Record type codes. */
 export const RecordType = {
@@ -348,9 +365,15 @@ function decodeBlockEntries(tick: number, entries: Uint8Array): ReplayRecord[] {
     const type = entries[at++]
     if (!BLOCK_TYPES.has(type))
       throw new ReplayFormatError(`block entry ${out.length + 1}: type ${type} cannot be inside a block`)
+    if (out.length === MAX_BLOCK_ENTRIES)
+      throw new ReplayFormatError(`a block of more than ${MAX_BLOCK_ENTRIES} entries`)
     tick += varint('tick delta')
     if (tick > 0xffffffff)
       throw new ReplayFormatError(`block entry ${out.length + 1}: tick ${tick} overflows`)
+    if (out.length > 0 && tick - out[0].tick > MAX_BLOCK_TICKS)
+      throw new ReplayFormatError(
+        `block entry ${out.length + 1}: tick ${tick} is ${tick - out[0].tick} ticks after the block's first (at most ${MAX_BLOCK_TICKS})`,
+      )
     const length = varint('length')
     if (at + length > entries.length)
       throw new ReplayFormatError(`block entry ${out.length + 1}: ${length}-byte payload runs past the block`)

@@ -9,7 +9,7 @@
 import { mkdtemp, readFile } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
-import { inflateSync } from 'node:zlib'
+import { deflateSync, inflateSync } from 'node:zlib'
 import { decode } from '@msgpack/msgpack'
 import { beforeAll, describe, expect, it } from 'vitest'
 import { loadWorld, pyramidScene, SAVE_FORMAT_VERSION } from '../../engine/index.ts'
@@ -18,7 +18,13 @@ import { listLogNames } from '../../server/replay-files.ts'
 import { PROTOCOL_VERSION, TICK_RATE } from '../../shared/constants.ts'
 import { crc32 } from '../../shared/crc32.ts'
 import {
+  encodeBlockEntries,
+  encodeRecord,
+  frameBlock,
+  MAX_BLOCK_ENTRIES,
+  MAX_BLOCK_TICKS,
   MAX_RECORD_BYTES,
+  MAX_RECORD_GAP,
   PREAMBLE_BYTES,
   RECORD_OVERHEAD,
   REPLAY_FORMAT_VERSION,
@@ -137,6 +143,8 @@ function docBlock(
     tick += docVarint(bytes, at)
     const length = docVarint(bytes, at)
     if (at[0] + length > bytes.length) throw new Error('entry past the block')
+    if (out.length === 65536) throw new Error('more than 65536 entries')
+    if (out.length > 0 && tick - out[0].tick > 600) throw new Error('entries over more than 600 ticks')
     out.push({ type, tick, payload: bytes.subarray(at[0], at[0] + length) })
     at[0] += length
   }
@@ -198,12 +206,19 @@ function docRead(bytes: Uint8Array): DocRead {
     const tick = view.getUint32(at + 5, true)
     const payload = bytes.subarray(at + 9, at + 4 + L)
     const end = at + 4 + L + 4
-    const entries = type === 9 ? docBlock(payload, tick) : [{ type, tick, payload }]
+    let entries: Array<{ type: number; tick: number; payload: Uint8Array }>
+    try {
+      entries = type === 9 ? docBlock(payload, tick) : [{ type, tick, payload }]
+    } catch {
+      ending = 'corrupt'
+      break
+    }
     const fresh: DocRecord[] = []
     let prev = records.at(-1)
     for (const e of entries) {
       const first = records.length + fresh.length === 0
-      if (first !== (e.type === 1) || (prev && (prev.type === 8 || e.tick < prev.tick))) break
+      const misordered = prev && (prev.type === 8 || e.tick < prev.tick || e.tick > prev.tick + 60)
+      if (first !== (e.type === 1) || misordered) break
       prev = { type: e.type, tick: e.tick, end, fields: docFields(e.type, e.payload), inBlock: type === 9 }
       fresh.push(prev)
     }
@@ -266,6 +281,9 @@ describe('docs/replay-format.md', () => {
     expect(doc).toContain(`\`${TICK_RATE}\` |`)
     expect(doc).toContain(`L <= ${MAX_RECORD_BYTES}`)
     expect(doc).toContain(`(${RECORD_OVERHEAD} bytes of framing around the payload)`)
+    expect(doc).toContain(`more than ${MAX_RECORD_GAP} ticks after the previous`)
+    expect(doc).toContain(`more than ${MAX_BLOCK_ENTRIES} entries or whose last`)
+    expect(doc).toContain(`entry is more than ${MAX_BLOCK_TICKS} ticks after its first`)
     expect(doc).toContain('preamble (16 bytes)')
     expect(PREAMBLE_BYTES).toBe(16)
     const check = new TextEncoder().encode('123456789')
@@ -349,6 +367,52 @@ describe('docs/replay-format.md', () => {
     expect([...zs].sort()).toEqual([1, 2])
     expect(ours.records.filter((r) => r.type === 7).every((r) => r.tick % 60 === 0)).toBe(true)
     expect(ours.records.filter((r) => r.type === 6 && r.tick % 60 === 0).length).toBeGreaterThanOrEqual(3)
+  })
+
+  it('refuses a record too far ahead and a block past its limits where the code does', () => {
+    // The real log up to its close, then crafted records: framed correctly, only their ticks and
+    // sizes break the rules. Each case is tried at the limit (kept) and one past it (cut).
+    const records = docRead(log).records
+    // The last record of the frame before the close's (a block may hold the close and more).
+    const last = records.filter((r) => r.end < records.at(-1)!.end).at(-1)!
+    const prefix = log.subarray(0, last.end)
+    const t = last.tick
+    const hash = (tick: number) => ({ type: 'hash' as const, tick, hash: 1, step: 1 })
+    const block = (entries: ReturnType<typeof hash>[]) =>
+      frameBlock(entries[0].tick, deflateSync(encodeBlockEntries(entries)))
+    // Entries every 60 ticks (the gap rule holds), the last `span` ticks after the first.
+    const spread = (from: number, span: number) =>
+      [...Array.from({ length: Math.ceil(span / 60) }, (_, i) => i * 60), span].map((d) => hash(from + d))
+    const cases: Array<[string, Uint8Array, boolean]> = [
+      ['a hash record 60 ticks on', encodeRecord(hash(t + MAX_RECORD_GAP)), true],
+      ['a hash record 61 ticks on', encodeRecord(hash(t + MAX_RECORD_GAP + 1)), false],
+      ['3,000,000 ticks on', encodeRecord(hash(t + 3_000_000)), false],
+      ['a block 61 ticks on', block([hash(t + 61)]), false],
+      ['a block over 600 ticks', block(spread(t + 1, MAX_BLOCK_TICKS)), true],
+      ['a block over 601 ticks', block(spread(t + 1, MAX_BLOCK_TICKS + 1)), false],
+      ['65536 entries', block(Array.from({ length: MAX_BLOCK_ENTRIES }, () => hash(t))), true],
+      ['65537 entries', block(Array.from({ length: MAX_BLOCK_ENTRIES + 1 }, () => hash(t))), false],
+    ]
+    for (const [what, crafted, kept] of cases) {
+      const bytes = new Uint8Array(prefix.length + crafted.length)
+      bytes.set(prefix)
+      bytes.set(crafted, prefix.length)
+      const ours = docRead(bytes)
+      const reader = new ReplayLogReader()
+      reader.push(bytes)
+      const code = reader.finish()
+      const intact = kept ? bytes.length : prefix.length
+      expect({ what, doc: ours.records.at(-1)!.end, code: code.intactBytes }).toEqual({
+        what,
+        doc: intact,
+        code: intact,
+      })
+      expect({ what, doc: ours.ending, code: code.state }).toEqual({
+        what,
+        doc: kept ? 'boundary' : 'corrupt',
+        code: kept ? 'end' : 'corrupt',
+      })
+    }
   })
 
   it('cuts torn tails and corrupt records where the code does, keeping the same intact prefix', () => {
