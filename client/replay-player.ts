@@ -6,9 +6,27 @@
  * and including T applied: exactly what the room held after its commands at T, before the step to
  * T + 1. Seeking to T restores the newest keyframe at or before T (the header is the first one;
  * a delta keyframe is decoded through its chain from the last whole one, see deltaChain) and
- * applies the records after it, so a seek costs at most one keyframe interval of simulation.
- * Playing forward applies the same records in the same order, so a seek and a play-through reach
- * bit-identical worlds (the hash check below is on in both).
+ * applies the records after it; when the current tick is nearer (T is ahead and no keyframe lies
+ * between), it plays forward from there instead. A seek costs the ticks from where it starts to
+ * T, and that has no bound: the recorder's keyframe budget skips keyframes in busy rooms, and a
+ * log from untrusted hands may have none, so a seek to the end of a keyframe-free log of a million
+ * ticks replays all of them.
+ *
+ * So every move through the log (a seek, or playing forward) runs in slices: a slice goes tick by
+ * tick (the records of a tick, then the step to the next) until the target or until SLICE_MS have
+ * passed, then the move yields to the event loop (a macrotask) before the next slice, so the page
+ * keeps painting and taking input. The clock is checked after every tick (the cost of a tick
+ * ranges from microseconds in a resting world to milliseconds in a busy one, and can change a
+ * hundredfold within a log, so a tick count sized from past slices could block for seconds); it
+ * decides only where a slice ends, and every slice ends at "the state at" some tick, so where
+ * slices fall changes nothing in the world.
+ *
+ * Moves run one at a time, in the order asked (never two on the one runner at once). A seek
+ * supersedes every move asked before it: a running one stops at its next slice boundary, a waiting
+ * one never starts, and each resolves false; the world then goes on from wherever the older one
+ * stopped, which is always the state at some tick. Playing forward applies the same records in
+ * the same order as seeking, so a seek, a superseded seek followed by another, and a play-through
+ * reach bit-identical worlds at the same tick (the hash check below is on in all of them).
  *
  * The hash check: every hash record met while playing or seeking is compared with the replayed
  * world (the runner does it); the first mismatch is kept, with its tick, for the indicator.
@@ -70,7 +88,31 @@ export interface ReplayPerson {
   color: string
 }
 
-/** Plays a loaded log: seek, step and run forward, with the hash check. */
+/** A seek under way: where its replay started (after any keyframe restore) and where it is going. */
+export interface SeekProgress {
+  from: number
+  target: number
+}
+
+/** Main-thread time a slice of a move runs for (ms, plus at most one tick); the page paints between. */
+const SLICE_MS = 12
+
+/**
+ * Resolve in a new task: a MessageChannel message. A resolved promise would not let the page
+ * paint (microtasks run before it), and nested setTimeout(0)s are clamped to 4 ms each.
+ */
+function nextTask(): Promise<void> {
+  return new Promise((resolve) => {
+    const channel = new MessageChannel()
+    channel.port1.onmessage = () => {
+      channel.port1.close()
+      resolve()
+    }
+    channel.port2.postMessage(null)
+  })
+}
+
+/** Plays a loaded log: seek, step and run forward in slices, with the hash check. */
 export class ReplayPlayer {
   /** Players seen so far in the log, by id (names stay known after they leave). */
   readonly people = new Map<number, ReplayPerson>()
@@ -80,9 +122,17 @@ export class ReplayPlayer {
   checked = 0
   /** The first hash (or refused command) that did not match the log, kept across seeks. */
   mismatch: Divergence | null = null
+  /** The seek running now, or null. */
+  seeking: SeekProgress | null = null
   private next = 0
   /** The header, then every keyframe, in log order (what deltaChain walks). */
   private readonly stored: Array<HeaderRecord | KeyframeRecord>
+  /** Moves asked for so far (each move's ticket is its number), and the newest seek's ticket. */
+  private tickets = 0
+  private newestSeek = 0
+  /** Moves running or waiting, and the last one asked for (the next waits for it). */
+  private moves = 0
+  private last: Promise<unknown> = Promise.resolve()
 
   private constructor(
     readonly log: LoadedLog,
@@ -114,32 +164,105 @@ export class ReplayPlayer {
     return this.tick >= this.log.lastTick
   }
 
-  /** Play forward to `tick` (clamped to the log's end), applying every record up to it. */
-  async forwardTo(tick: number): Promise<void> {
-    const target = Math.min(Math.max(tick, this.tick), this.log.lastTick)
-    const records = this.log.records
-    while (this.next < records.length && records[this.next].tick <= target) {
-      const r = records[this.next++]
-      this.actingPlayer = r.type === 'command' ? r.player : 0
-      await this.runner.apply(r)
-      this.actingPlayer = 0
-      if (r.type === 'hash') this.checked++
-      this.noteDivergence()
-    }
-    this.runner.advanceTo(target)
+  /** Whether a move is running or waiting. */
+  get busy(): boolean {
+    return this.moves > 0
   }
 
-  /** Jump to any tick: through the newest keyframe at or before it, then forward. */
-  async seek(tick: number): Promise<void> {
+  /**
+   * Play forward to `tick` (clamped to the log's end), applying every record up to it, after the
+   * moves asked before. Resolves true there, false when a newer seek superseded it.
+   */
+  forwardTo(tick: number): Promise<boolean> {
+    return this.enqueue(false, (ticket) => this.forward(tick, ticket))
+  }
+
+  /** Play `ticks` forward from wherever the moves asked before leave the world (see forwardTo). */
+  forwardBy(ticks: number): Promise<boolean> {
+    return this.enqueue(false, (ticket) => this.forward(this.tick + ticks, ticket))
+  }
+
+  /**
+   * Jump to any tick: through the newest keyframe at or before it, then forward. Supersedes every
+   * move asked before it; resolves true at the tick, false when a newer seek superseded this one.
+   */
+  seek(tick: number): Promise<boolean> {
+    return this.enqueue(true, (ticket) => this.seekNow(tick, ticket))
+  }
+
+  /** Stop every move at its next slice boundary (the log is being closed). */
+  cancel(): void {
+    this.newestSeek = ++this.tickets
+  }
+
+  /**
+   * Run a move after the ones asked before it. With none under way it starts at once, so a short
+   * play-forward has run its ticks when the frame that asked for them draws.
+   */
+  private enqueue(supersedes: boolean, move: (ticket: number) => Promise<boolean>): Promise<boolean> {
+    const ticket = ++this.tickets
+    if (supersedes) this.newestSeek = ticket
+    const start = (): Promise<boolean> => (this.superseded(ticket) ? Promise.resolve(false) : move(ticket))
+    const idle = this.moves === 0
+    this.moves++
+    const run = (idle ? start() : this.last.then(start)).finally(() => {
+      this.moves--
+    })
+    this.last = run.catch(() => false)
+    return run
+  }
+
+  private superseded(ticket: number): boolean {
+    return ticket < this.newestSeek
+  }
+
+  private async seekNow(tick: number, ticket: number): Promise<boolean> {
     const target = Math.min(Math.max(tick, this.log.firstTick), this.log.lastTick)
-    if (target >= this.tick && this.keyframeBefore(target) <= this.next - 1) {
-      await this.forwardTo(target)
-      return
+    this.seeking = { from: this.tick, target }
+    try {
+      const k = this.keyframeBefore(target)
+      if (target < this.tick || k > this.next - 1) {
+        await this.runner.restore(deltaChain(this.stored, k < 0 ? 0 : this.log.keyframes.indexOf(k) + 1))
+        this.next = k + 1
+        this.seeking = { from: this.tick, target }
+      }
+      return await this.forward(target, ticket)
+    } finally {
+      this.seeking = null
     }
-    const k = this.keyframeBefore(target)
-    await this.runner.restore(deltaChain(this.stored, k < 0 ? 0 : this.log.keyframes.indexOf(k) + 1))
-    this.next = k + 1
-    await this.forwardTo(target)
+  }
+
+  /** Slice by slice to `tick` (clamped to the log); false when superseded at a slice boundary. */
+  private async forward(tick: number, ticket: number): Promise<boolean> {
+    const target = Math.min(Math.max(tick, this.tick), this.log.lastTick)
+    for (;;) {
+      await this.runSlice(target, performance.now() + SLICE_MS)
+      if (this.tick >= target) return true
+      await nextTask()
+      if (this.superseded(ticket)) return false
+    }
+  }
+
+  /**
+   * Tick by tick towards `target` until `deadline` (performance.now() ms) has passed; ends at the
+   * state at some tick (every record up to it applied, the room tick at it). The deadline is
+   * checked before each step: a slice whose records used up its time ends without one, the next
+   * one steps.
+   */
+  private async runSlice(target: number, deadline: number): Promise<void> {
+    const records = this.log.records
+    for (;;) {
+      while (this.next < records.length && records[this.next].tick <= this.tick) {
+        const r = records[this.next++]
+        this.actingPlayer = r.type === 'command' ? r.player : 0
+        await this.runner.apply(r)
+        this.actingPlayer = 0
+        if (r.type === 'hash') this.checked++
+        this.noteDivergence()
+      }
+      if (this.tick >= target || performance.now() >= deadline) return
+      this.runner.advanceTo(this.tick + 1)
+    }
   }
 
   /** Index of the newest keyframe at or before `tick`, or -1 for the header. */

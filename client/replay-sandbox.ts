@@ -40,7 +40,7 @@ export class ReplaySandbox implements Sandbox {
   private readonly cursorViews: ViewCursor[] = []
   private lastNow = Number.NaN
   private pending = 0
-  private busy: Promise<void> | null = null
+  /** The world's contacts, computed once per frame at most: cleared while and after a move. */
   private contactCache: ContactInfo[] | null = null
   private notice: string | null = null
   private noticeCount = 0
@@ -73,36 +73,30 @@ export class ReplaySandbox implements Sandbox {
     if (who) this.flashes.set(id, { color: who.color, until: this.player.tick + SPAWN_FLASH_TICKS })
   }
 
-  /** Wait until the last requested move through the log is done. */
-  async settled(): Promise<void> {
-    while (this.busy) await this.busy
-  }
-
-  /** Jump to a tick (through the nearest keyframe); pauses playback. */
-  async seek(tick: number): Promise<void> {
+  /**
+   * Jump to a tick (through the nearest keyframe, in slices; see replay-player.ts); pauses
+   * playback. Resolves true there, false when a newer seek took over.
+   */
+  async seek(tick: number): Promise<boolean> {
     this.playing = false
-    await this.settled()
-    this.run(() => this.player.seek(tick))
-    await this.settled()
-    this.redraw()
+    const arrived = await this.tracked(this.player.seek(tick))
+    if (arrived) this.redraw()
+    return arrived
   }
 
-  /** One tick forward; pauses playback. */
+  /** One tick forward from where the moves under way leave the world; pauses playback. */
   async stepOnce(): Promise<void> {
     this.playing = false
-    await this.settled()
-    this.view.capturePrevious(this.world)
-    this.run(() => this.player.forwardTo(this.player.tick + 1))
-    await this.settled()
-    this.redraw()
+    if (await this.tracked(this.player.forwardBy(1))) this.redraw()
   }
 
-  private run(move: () => Promise<void>): void {
-    this.contactCache = null
-    const done = move().then(() => {
-      if (this.busy === done) this.busy = null
-    })
-    this.busy = done
+  /** A move through the log; the world it ends in has new contacts. */
+  private async tracked(move: Promise<boolean>): Promise<boolean> {
+    try {
+      return await move
+    } finally {
+      this.contactCache = null
+    }
   }
 
   private redraw(): void {
@@ -113,14 +107,15 @@ export class ReplaySandbox implements Sandbox {
   update(nowMs: number): void {
     const dt = Number.isNaN(this.lastNow) ? 0 : Math.min((nowMs - this.lastNow) / 1000, 0.25)
     this.lastNow = nowMs
-    if (this.playing && this.player.atEnd) this.playing = false
-    if (this.playing && !this.busy) {
+    if (this.playing && this.player.atEnd && !this.player.busy) this.playing = false
+    if (this.player.busy) this.contactCache = null
+    if (this.playing && !this.player.busy) {
       this.pending += dt * 60 * this.speed
       const ticks = Math.min(Math.floor(this.pending), MAX_TICKS_PER_FRAME)
       if (ticks > 0) {
         this.pending -= ticks
         this.view.capturePrevious(this.world)
-        this.run(() => this.player.forwardTo(this.player.tick + ticks))
+        void this.tracked(this.player.forwardBy(ticks))
       }
     }
     this.refresh(this.playing ? Math.min(this.pending, 1) : 1)
@@ -243,5 +238,6 @@ export class ReplaySandbox implements Sandbox {
 
   dispose(): void {
     this.playing = false
+    this.player.cancel()
   }
 }

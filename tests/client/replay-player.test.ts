@@ -4,6 +4,13 @@
  * server's own recorder while the live hash of every tick is kept. The player must reach those
  * exact hashes whether it plays through, seeks forward through keyframes or seeks back; a torn log
  * plays its intact prefix; a file that is not a log is refused with one line naming the problem.
+ *
+ * Then a log with no keyframes at all (keyframe-free-log.ts, recorded by the same recorder, with
+ * its hash record every 60 ticks): a seek to its end replays every tick, so it must run in slices
+ * that let the event loop turn between them (a timer started before the seek runs while it is
+ * under way, and finds the world at the live state of some tick each time), a newer seek must
+ * stop an older one at a slice boundary and go on from there, and every seek must land on the
+ * live hash, that is, where a straight play-through lands.
  */
 import { mkdtemp, readFile } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
@@ -15,6 +22,7 @@ import { beforeAll, describe, expect, it } from 'vitest'
 import { ReplayLoadError, ReplayPlayer, readLog } from '../../client/replay-player.ts'
 import { RoomRecorder } from '../../server/recorder.ts'
 import { RoomSimulation } from '../../shared/room-simulation.ts'
+import { type KeyframeFreeLog, recordKeyframeFreeLog } from './keyframe-free-log.ts'
 
 const inflate = (bytes: Uint8Array): Uint8Array => new Uint8Array(inflateSync(bytes))
 const TICKS = 900
@@ -134,5 +142,102 @@ describe('replay player', () => {
     const player = await ReplayPlayer.open(log, inflate)
     await player.forwardTo(log.lastTick)
     expect(player.mismatch?.tick).toBe(r.tick)
+  })
+})
+
+describe('replay player on a log with no keyframes', () => {
+  const LONG_TICKS = 30_000
+  let long: KeyframeFreeLog
+  beforeAll(async () => {
+    long = await recordKeyframeFreeLog(LONG_TICKS)
+  })
+
+  /** One turn of the event loop's timers: resolves in a macrotask after the ones queued so far. */
+  const nextTimer = (): Promise<void> => new Promise((resolve) => setTimeout(resolve, 0))
+
+  it('seeks to the end in slices, letting a timer run between them, each slice ending at a live state', async () => {
+    const log = readLog(long.bytes)
+    expect(log.keyframes).toEqual([])
+    expect(log.lastTick).toBe(LONG_TICKS)
+    const player = await ReplayPlayer.open(log, inflate)
+    // A timer started before the seek notes the tick and hash it finds at each turn.
+    const seen: Array<{ tick: number; hash: number }> = []
+    let ticking = true
+    const turn = (): void => {
+      seen.push({ tick: player.tick, hash: player.sim.world.hash() })
+      if (ticking) setTimeout(turn, 0)
+    }
+    setTimeout(turn, 0)
+    const arrived = await player.seek(log.lastTick)
+    ticking = false
+    expect(arrived).toBe(true)
+    expect(player.tick).toBe(LONG_TICKS)
+    expect(player.sim.world.hash()).toBe(long.live[LONG_TICKS])
+    const during = seen.filter((s) => s.tick > log.firstTick && s.tick < log.lastTick)
+    expect(
+      during.length,
+      `timer turns while the seek ran: ${JSON.stringify(seen.map((s) => s.tick))}`,
+    ).toBeGreaterThanOrEqual(3)
+    for (const s of during) expect(s.hash, `between slices at tick ${s.tick}`).toBe(long.live[s.tick])
+    expect(player.checked).toBe(log.records.filter((r) => r.type === 'hash').length)
+    expect(player.mismatch).toBeNull()
+  })
+
+  it('stops a running seek at a slice boundary when a newer one comes, and lands where the newest asked', async () => {
+    const log = readLog(long.bytes)
+    const player = await ReplayPlayer.open(log, inflate)
+    const toEnd = player.seek(log.lastTick)
+    const ended = { toEnd: -1, back: -1 }
+    void toEnd.then(() => (ended.toEnd = player.tick))
+    while (player.tick < 10_000) await nextTimer()
+    // Back behind it (a restore of the header, then forward), and once that is under way, ahead.
+    const back = player.seek(7_777)
+    void back.then(() => (ended.back = player.tick))
+    while (player.seeking?.target !== 7_777 || player.tick < 1_000) await nextTimer()
+    const ahead = player.seek(20_000)
+    const late = player.forwardBy(1)
+    expect(await toEnd).toBe(false)
+    expect(await back).toBe(false)
+    expect(await ahead).toBe(true)
+    expect(player.tick).toBe(20_000)
+    expect(player.sim.world.hash()).toBe(long.live[20_000])
+    expect(ended.toEnd).toBeGreaterThanOrEqual(10_000)
+    expect(ended.toEnd).toBeLessThan(log.lastTick)
+    expect(ended.back).toBeGreaterThanOrEqual(1_000)
+    expect(ended.back).toBeLessThan(7_777)
+    // A move asked after the last seek runs after it, from where it landed.
+    expect(await late).toBe(true)
+    expect(player.tick).toBe(20_001)
+    expect(player.sim.world.hash()).toBe(long.live[20_001])
+    expect(player.busy).toBe(false)
+    expect(player.mismatch).toBeNull()
+  })
+
+  it('runs seeks asked at once one after the other, never two on the runner together', async () => {
+    const log = readLog(long.bytes)
+    const player = await ReplayPlayer.open(log, inflate)
+    await player.seek(12_000)
+    // A seek back (restore, then forward) and play-forwards asked in the same turn.
+    const moves = [player.seek(3_000), player.forwardBy(500), player.forwardTo(4_000)]
+    expect(await Promise.all(moves)).toEqual([true, true, true])
+    expect(player.tick).toBe(4_000)
+    expect(player.sim.world.hash()).toBe(long.live[4_000])
+    // Two seeks asked at once: the first never starts.
+    const both = [player.seek(LONG_TICKS - 1), player.seek(2_500)]
+    expect(await Promise.all(both)).toEqual([false, true])
+    expect(player.tick).toBe(2_500)
+    expect(player.sim.world.hash()).toBe(long.live[2_500])
+    expect(player.mismatch).toBeNull()
+  })
+
+  it('stops a running seek at the next slice boundary when the log is closed', async () => {
+    const log = readLog(long.bytes)
+    const player = await ReplayPlayer.open(log, inflate)
+    const seek = player.seek(log.lastTick)
+    await nextTimer()
+    player.cancel()
+    expect(await seek).toBe(false)
+    expect(player.tick).toBeLessThan(log.lastTick)
+    expect(player.busy).toBe(false)
   })
 })
