@@ -3,10 +3,13 @@
  * a log from the server's list (GET /replays), a file picker or a file dropped on the page; then a
  * control bar under the canvas: play/pause, single step, speed, a seek bar, the tick, and the hash
  * check (green while every recorded checkpoint matched, red with the tick of the first mismatch).
+ * A seek runs in slices (replay-player.ts), so a long one leaves the page live: the tick display
+ * shows the tick reached, the target and the percent done; the seek bar shows the target; dragging
+ * the bar again takes over; Play or Step pressed meanwhile act from where the seek lands.
  * With no server (a static page, a file: URL) the list is simply absent; files still play.
  */
 import { App } from './app.ts'
-import { type LoadedLog, ReplayLoadError, readLog } from './replay-player.ts'
+import { type LoadedLog, ReplayLoadError, readLog, type SeekProgress } from './replay-player.ts'
 import { REPLAY_SPEEDS, ReplaySandbox } from './replay-sandbox.ts'
 
 /** Inflate a zlib stream (RFC 1950) with the browser's DecompressionStream. */
@@ -38,6 +41,12 @@ const el = <K extends keyof HTMLElementTagNameMap>(
   e.append(...children)
   return e
 }
+
+/** How far a seek has come, in whole percent of the ticks it replays (0 until it has restored a keyframe). */
+const progress = (seek: SeekProgress, tick: number): number =>
+  seek.target > seek.from
+    ? Math.min(100, Math.max(0, Math.floor((100 * (tick - seek.from)) / (seek.target - seek.from))))
+    : 0
 
 /** The replay page: picker, then the player with its controls. */
 export class ReplayPage {
@@ -167,7 +176,8 @@ export class ReplayPage {
         ? ''
         : ` (${log.status.state}: kept ${log.status.records} records to tick ${log.lastTick}; ${log.status.reason})`
     play.addEventListener('click', () => {
-      if (s.player.atEnd) void s.seek(log.firstTick).then(() => (s.playing = true))
+      if (s.player.atEnd && !s.player.busy)
+        void s.seek(log.firstTick).then((arrived) => (s.playing = arrived))
       else s.playing = !s.playing
     })
     step.addEventListener('click', () => void s.stepOnce())
@@ -188,9 +198,13 @@ export class ReplayPage {
     const refresh = (): void => {
       play.textContent = s.playing ? 'Pause' : 'Play'
       const t = s.player.tick
-      if (document.activeElement !== seek) seek.value = String(t)
+      const seeking = s.player.seeking
+      if (document.activeElement !== seek) seek.value = String(seeking?.target ?? t)
       const secs = (t - log.firstTick) / 60
-      tick.textContent = `tick ${t} / ${log.lastTick}  ${secs.toFixed(1)} s`
+      tick.textContent = seeking
+        ? `tick ${t} / ${log.lastTick}  seeking to ${seeking.target}: ${progress(seeking, t)} %`
+        : `tick ${t} / ${log.lastTick}  ${secs.toFixed(1)} s`
+      tick.dataset.seeking = seeking ? 'true' : 'false'
       const bad = s.player.mismatch
       hash.textContent = bad
         ? `hash mismatch at tick ${bad.tick}`
