@@ -102,7 +102,7 @@ async function main(): Promise<void> {
   const targets = Array.from({ length: SEEKS }, () => Math.floor(rng.next() * TICKS))
   const rows = []
   for (const { keyframeTicks, budget, bytes } of logs) {
-    const log = readLog(bytes)
+    const log = await readLog(bytes)
     const player = await ReplayPlayer.open(log, inflate)
     // Keyframe ticks, kinds, the longest gap between them and the longest delta chain.
     const kf = log.keyframes.map((i) => log.records[i] as { tick: number; z: number })

@@ -51,6 +51,8 @@ const progress = (seek: SeekProgress, tick: number): number =>
 /** The replay page: picker, then the player with its controls. */
 export class ReplayPage {
   sandbox: ReplaySandbox | null = null
+  /** Logs asked to play so far; only the newest one's load goes on. */
+  private loads = 0
   app: App | null = null
   readonly panel = el('div', { id: 'replay-panel', className: 'panel' })
   private readonly message = el('div', { id: 'replay-message' })
@@ -136,17 +138,22 @@ export class ReplayPage {
 
   /** Load bytes as a log and start the player; a bad file gets one line saying what is wrong. */
   async play(bytes: Uint8Array, name: string): Promise<void> {
+    // Reading a big log takes slices of main thread; a file opened meanwhile takes over.
+    const load = ++this.loads
     let log: LoadedLog
     try {
-      log = readLog(bytes)
+      log = await readLog(bytes, (done) => this.say(`reading ${name}: ${Math.floor(100 * done)} %`))
     } catch (error) {
       if (!(error instanceof ReplayLoadError)) throw error
+      if (load !== this.loads) return
       this.panel.append(this.message)
       this.say(`${name}: ${error.message}`, true)
       return
     }
-    this.sandbox?.dispose()
+    if (load !== this.loads) return
     const sandbox = await ReplaySandbox.open(log, inflateZlib)
+    if (load !== this.loads) return
+    this.sandbox?.dispose()
     this.sandbox = sandbox
     this.app?.stop()
     this.app = new App(sandbox, this.httpBase, log.header.room)

@@ -21,6 +21,8 @@ import { Counter } from 'prom-client'
 import { beforeAll, describe, expect, it } from 'vitest'
 import { ReplayLoadError, ReplayPlayer, readLog } from '../../client/replay-player.ts'
 import { RoomRecorder } from '../../server/recorder.ts'
+import { encodeRecord, PREAMBLE_BYTES } from '../../shared/replay-log.ts'
+import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
 import { RoomSimulation } from '../../shared/room-simulation.ts'
 import { type KeyframeFreeLog, recordKeyframeFreeLog } from './keyframe-free-log.ts'
 
@@ -82,7 +84,7 @@ beforeAll(async () => {
 
 describe('replay player', () => {
   it('plays a whole log through with every recorded hash matching, reaching the live hash at every tick', async () => {
-    const log = readLog(bytes)
+    const log = await readLog(bytes)
     expect(log.status.reason).toBe('')
     expect(log.status.state).toBe('end')
     expect(log.keyframes.length).toBeGreaterThanOrEqual(Math.floor(TICKS / KEYFRAME_TICKS) - 1)
@@ -98,7 +100,7 @@ describe('replay player', () => {
   })
 
   it('seeks back and forth to any tick and lands on the live state there, through whole and delta keyframes', async () => {
-    const log = readLog(bytes)
+    const log = await readLog(bytes)
     // Seeks below go through chains of delta keyframes (z = 2) after whole ones (z = 1).
     const zs = log.keyframes.map((i) => (log.records[i] as { z: number }).z)
     expect(zs.filter((z) => z === 2).length).toBeGreaterThanOrEqual(2)
@@ -115,7 +117,7 @@ describe('replay player', () => {
 
   it('plays the intact prefix of a torn log and says how far it got', async () => {
     const torn = bytes.subarray(0, Math.floor(bytes.length * 0.6))
-    const log = readLog(torn)
+    const log = await readLog(torn)
     expect(log.status.state).toBe('torn')
     expect(log.lastTick).toBeGreaterThan(0)
     expect(log.lastTick).toBeLessThan(TICKS)
@@ -126,15 +128,15 @@ describe('replay player', () => {
     expect(player.tick).toBe(log.lastTick)
   })
 
-  it('turns a file that is not a log into one line naming the problem', () => {
-    expect(() => readLog(new TextEncoder().encode('hello, this is not a replay log at all'))).toThrow(
+  it('turns a file that is not a log into one line naming the problem', async () => {
+    await expect(readLog(new TextEncoder().encode('hello, this is not a replay log at all'))).rejects.toThrow(
       ReplayLoadError,
     )
-    expect(() => readLog(new Uint8Array(3))).toThrow(/not a replay log/)
+    await expect(readLog(new Uint8Array(3))).rejects.toThrow(/not a replay log/)
   })
 
   it('notices a log whose hashes do not match the replay and keeps the first mismatching tick', async () => {
-    const log = readLog(bytes)
+    const log = await readLog(bytes)
     const i = log.records.findIndex((r) => r.type === 'hash' && r.tick >= 300)
     const r = log.records[i]
     if (r.type !== 'hash') throw new Error('no hash record')
@@ -156,7 +158,7 @@ describe('replay player on a log with no keyframes', () => {
   const nextTimer = (): Promise<void> => new Promise((resolve) => setTimeout(resolve, 0))
 
   it('seeks to the end in slices, letting a timer run between them, each slice ending at a live state', async () => {
-    const log = readLog(long.bytes)
+    const log = await readLog(long.bytes)
     expect(log.keyframes).toEqual([])
     expect(log.lastTick).toBe(LONG_TICKS)
     const player = await ReplayPlayer.open(log, inflate)
@@ -184,7 +186,7 @@ describe('replay player on a log with no keyframes', () => {
   })
 
   it('stops a running seek at a slice boundary when a newer one comes, and lands where the newest asked', async () => {
-    const log = readLog(long.bytes)
+    const log = await readLog(long.bytes)
     const player = await ReplayPlayer.open(log, inflate)
     const toEnd = player.seek(log.lastTick)
     const ended = { toEnd: -1, back: -1 }
@@ -214,7 +216,7 @@ describe('replay player on a log with no keyframes', () => {
   })
 
   it('runs seeks asked at once one after the other, never two on the runner together', async () => {
-    const log = readLog(long.bytes)
+    const log = await readLog(long.bytes)
     const player = await ReplayPlayer.open(log, inflate)
     await player.seek(12_000)
     // A seek back (restore, then forward) and play-forwards asked in the same turn.
@@ -231,7 +233,7 @@ describe('replay player on a log with no keyframes', () => {
   })
 
   it('stops a running seek at the next slice boundary when the log is closed', async () => {
-    const log = readLog(long.bytes)
+    const log = await readLog(long.bytes)
     const player = await ReplayPlayer.open(log, inflate)
     const seek = player.seek(log.lastTick)
     await nextTimer()
@@ -239,5 +241,44 @@ describe('replay player on a log with no keyframes', () => {
     expect(await seek).toBe(false)
     expect(player.tick).toBeLessThan(log.lastTick)
     expect(player.busy).toBe(false)
+  })
+})
+
+describe('reading a log', () => {
+  it('reads a big log in slices: the event loop turns, progress is told, the records are the reader’s', async () => {
+    // The real log's preamble and header, then 200,000 hash records each framed alone (4.2 MB, as
+    // a crafted or a very long log may be): parsing it takes many slices.
+    const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength)
+    const headerEnd = PREAMBLE_BYTES + 8 + view.getUint32(PREAMBLE_BYTES, true)
+    const header = (await readLog(bytes)).header
+    const parts = [bytes.subarray(0, headerEnd)]
+    for (let i = 0; i < 200_000; i++)
+      parts.push(encodeRecord({ type: 'hash', tick: header.tick + (i >> 1), hash: 7, step: 7 }))
+    const big = new Uint8Array(parts.reduce((n, p) => n + p.length, 0))
+    let at = 0
+    for (const p of parts) {
+      big.set(p, at)
+      at += p.length
+    }
+    let turns = 0
+    let counting = true
+    const count = (): void => {
+      if (!counting) return
+      turns++
+      setTimeout(count, 0)
+    }
+    setTimeout(count, 0)
+    const told: number[] = []
+    const log = await readLog(big, (fraction) => told.push(fraction))
+    counting = false
+    // The same records and ending as the reader given the whole file at once.
+    const whole = new ReplayLogReader()
+    const expected = whole.push(big)
+    expect(log.status).toEqual(whole.finish())
+    expect(log.records).toEqual(expected.slice(1))
+    expect(turns).toBeGreaterThanOrEqual(3)
+    expect(told.length).toBeGreaterThanOrEqual(3)
+    expect(told).toEqual([...told].sort((a, b) => a - b))
+    expect(told.every((f) => f > 0 && f < 1)).toBe(true)
   })
 })
