@@ -4,9 +4,8 @@
  * by them. It never returns a record that fails its length bound, CRC-32, decoding or ordering
  * checks (ticks never go back, nor jump more than MAX_RECORD_GAP ahead): at the first such record
  * it stops for good and says why; bytes after it are ignored. finish() tells a clean end from a
- * torn tail (an incomplete last record). A block record's
- * records come out one by one, all with the byte offset of the block's end; a block is accepted
- * whole or not at all.
+ * torn tail (an incomplete last record). A block record's records come out one by one, all with
+ * the byte offset of the block's end; a block is accepted whole or not at all.
  */
 import { crc32 } from './crc32.ts'
 import {

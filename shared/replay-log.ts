@@ -44,7 +44,7 @@ export const RECORD_OVERHEAD = 13
  * Most ticks from one record to the next (and from a block's entry to the next): the writer puts a
  * hash record at every tick divisible by 60, so no two records of a log it wrote are further apart.
  * A reader refuses a record further ahead: replaying it would run ticks that no bytes pay for (one
- * 21-byte record at tick 2^32 - 1 would take a replay days).
+ * 21-byte record 3,000,000 ticks ahead took a replay 17 s; one near tick 2^32 would take hours).
  */
 export const MAX_RECORD_GAP = TICK_RATE
 /** Most entries in one block record; the writer starts a new block at this many. */
