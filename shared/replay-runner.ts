@@ -14,7 +14,7 @@ import { loadWorld, SAVE_FORMAT_VERSION, type World } from '../engine/index.ts'
 import { decodeByteDelta } from './byte-delta.ts'
 import { PROTOCOL_VERSION, TICK_RATE } from './constants.ts'
 import type { Preamble, ReplayRecord, StoredWorld } from './replay-log.ts'
-import { RoomSimulation, type SimulationListener } from './room-simulation.ts'
+import { RoomSimulation, type SimulationListener, type SimulationState } from './room-simulation.ts'
 
 /** Inflate a zlib stream (RFC 1950). */
 export type Inflate = (bytes: Uint8Array) => Uint8Array | Promise<Uint8Array>
@@ -23,6 +23,17 @@ export type Inflate = (bytes: Uint8Array) => Uint8Array | Promise<Uint8Array>
 export type HeaderRecord = Extract<ReplayRecord, { type: 'header' }>
 /** A keyframe record. */
 export type KeyframeRecord = Extract<ReplayRecord, { type: 'keyframe' }>
+
+/**
+ * A runner's position taken while replaying, to resume from later (the replay player's own
+ * snapshots): the simulation's state and saved world, and the saved world a delta keyframe met
+ * after it decodes against (the last header or keyframe passed; shared, never written to).
+ */
+export interface RunnerSnapshot {
+  state: SimulationState
+  world: Uint8Array
+  base: Uint8Array | null
+}
 
 /** The first place a replay differs from its log. */
 export interface Divergence {
@@ -195,6 +206,17 @@ export class ReplayRunner {
     if (!bytes || !last) throw new RangeError('restore needs at least one keyframe')
     this.base = bytes
     this.sim.restoreState(last.state, loadWorld(bytes))
+  }
+
+  /** The runner as of now (see RunnerSnapshot); costs a world.save(). */
+  save(): RunnerSnapshot {
+    return { state: this.sim.saveState(), world: this.sim.world.save(), base: this.base }
+  }
+
+  /** Go back (or on) to a snapshot from save(): afterwards the simulation is exactly the saved one. */
+  resume(snapshot: RunnerSnapshot): void {
+    this.base = snapshot.base
+    this.sim.restoreState(snapshot.state, loadWorld(snapshot.world))
   }
 
   private checkKeyframe(k: KeyframeRecord, world: World): void {
