@@ -4,13 +4,18 @@
  *
  * "The state at tick T" is the simulation with its room tick at T and every record of ticks up to
  * and including T applied: exactly what the room held after its commands at T, before the step to
- * T + 1. Seeking to T restores the newest keyframe at or before T (the header is the first one;
- * a delta keyframe is decoded through its chain from the last whole one, see deltaChain) and
- * applies the records after it; when the current tick is nearer (T is ahead and no keyframe lies
- * between), it plays forward from there instead. A seek costs the ticks from where it starts to
- * T, and that has no bound: the recorder's keyframe budget skips keyframes in busy rooms, and a
- * log from untrusted hands may have none, so a seek to the end of a keyframe-free log of a million
- * ticks replays all of them.
+ * T + 1. Seeking to T starts from the newest of: the log's keyframes at or before T (the header is
+ * the first one; a delta keyframe is decoded through its chain from the last whole one, see
+ * deltaChain), the player's own snapshots at or before T, and the current tick when T is ahead of
+ * it; then it applies the records after that. The recorder's keyframe budget skips keyframes in
+ * busy rooms, and a log from untrusted hands may have none, so the player takes its own snapshots
+ * (replay-snapshots.ts: the state at every SNAPSHOT_TICKS-th tick it passes with no keyframe or
+ * snapshot in the SNAPSHOT_TICKS ticks before, within a byte budget) and keeps them for the log's
+ * life. A seek costs the ticks from where it starts to T: once the player has passed T's stretch
+ * of the log, fewer than 2 * SNAPSHOT_TICKS (fewer than SNAPSHOT_TICKS where no keyframe is near,
+ * more where the budget has thinned the snapshots). The first pass is not bounded: a first seek to
+ * the end of a keyframe-free log of a million ticks replays all of them (taking snapshots on the
+ * way), and a seek back from there replays fewer than SNAPSHOT_TICKS.
  *
  * So every move through the log (a seek, or playing forward) runs in slices: a slice goes tick by
  * tick (the records of a tick, then the step to the next) until the target or until SLICE_MS have
@@ -25,8 +30,10 @@
  * supersedes every move asked before it: a running one stops at its next slice boundary, a waiting
  * one never starts, and each resolves false; the world then goes on from wherever the older one
  * stopped, which is always the state at some tick. Playing forward applies the same records in
- * the same order as seeking, so a seek, a superseded seek followed by another, and a play-through
- * reach bit-identical worlds at the same tick (the hash check below is on in all of them).
+ * the same order as seeking, and a snapshot is a keyframe the player made (World.save(), which
+ * loads into a world that steps bit-identically), so a seek, a superseded seek followed by
+ * another, and a play-through reach bit-identical worlds at the same tick (the hash check below
+ * is on in all of them). A snapshot is taken at the start of a slice (see runSlice).
  *
  * The hash check: every hash record met while playing or seeking is compared with the replayed
  * world (the runner does it); the first mismatch is kept, with its tick, for the indicator.
@@ -43,6 +50,7 @@ import {
   ReplayRunner,
 } from '../shared/replay-runner.ts'
 import type { RoomSimulation, SimulationListener } from '../shared/room-simulation.ts'
+import { SNAPSHOT_BUDGET_BYTES, SnapshotStore } from './replay-snapshots.ts'
 
 /** A log read whole: its records after the header and where its keyframes are. */
 export interface LoadedLog {
@@ -146,6 +154,12 @@ export interface SeekProgress {
   target: number
 }
 
+/** How a player is set up besides its log. */
+export interface PlayerOptions {
+  /** Bytes its own snapshots may hold (SNAPSHOT_BUDGET_BYTES unless given); 0 takes none. */
+  snapshotBudget?: number
+}
+
 /** Plays a loaded log: seek, step and run forward in slices, with the hash check. */
 export class ReplayPlayer {
   /** Players seen so far in the log, by id (names stay known after they leave). */
@@ -158,6 +172,8 @@ export class ReplayPlayer {
   mismatch: Divergence | null = null
   /** The seek running now, or null. */
   seeking: SeekProgress | null = null
+  /** Room ticks run by moves since the player opened (a seek's cost is what it adds). */
+  ticksRun = 0
   private next = 0
   /** The header, then every keyframe, in log order (what deltaChain walks). */
   private readonly stored: Array<HeaderRecord | KeyframeRecord>
@@ -167,20 +183,43 @@ export class ReplayPlayer {
   /** Moves running or waiting, and the last one asked for (the next waits for it). */
   private moves = 0
   private last: Promise<unknown> = Promise.resolve()
+  /** The player's own snapshots of the state at ticks it passed (replay-snapshots.ts). */
+  private readonly snapshots: SnapshotStore
 
   private constructor(
     readonly log: LoadedLog,
     private readonly runner: ReplayRunner,
+    snapshotBudget: number,
   ) {
     this.stored = [log.header, ...log.keyframes.map((i) => log.records[i] as KeyframeRecord)]
+    this.snapshots = new SnapshotStore(
+      this.stored.map((k) => k.tick),
+      log.lastTick,
+      snapshotBudget,
+    )
   }
 
   /** A player at the log's first tick. */
-  static async open(log: LoadedLog, inflate: Inflate, listener?: SimulationListener): Promise<ReplayPlayer> {
+  static async open(
+    log: LoadedLog,
+    inflate: Inflate,
+    listener?: SimulationListener,
+    options: PlayerOptions = {},
+  ): Promise<ReplayPlayer> {
     const runner = await ReplayRunner.start(log.preamble, log.header, { inflate, listener })
-    const player = new ReplayPlayer(log, runner)
+    const player = new ReplayPlayer(log, runner, options.snapshotBudget ?? SNAPSHOT_BUDGET_BYTES)
     player.collectPeople(log.records.length)
     return player
+  }
+
+  /** Ticks of the player's own snapshots, in order. */
+  get snapshotTicks(): number[] {
+    return this.snapshots.ticks
+  }
+
+  /** Bytes the player's own snapshots hold, as counted against their budget. */
+  get snapshotBytes(): number {
+    return this.snapshots.bytes
   }
 
   /** The simulation as of the current tick. */
@@ -217,7 +256,8 @@ export class ReplayPlayer {
   }
 
   /**
-   * Jump to any tick: through the newest keyframe at or before it, then forward. Supersedes every
+   * Jump to any tick: from the newest log keyframe or own snapshot at or before it (or from the
+   * current tick when that is nearer), then forward. Supersedes every
    * move asked before it; resolves true at the tick, false when a newer seek superseded this one.
    */
   seek(tick: number): Promise<boolean> {
@@ -254,10 +294,20 @@ export class ReplayPlayer {
     const target = Math.min(Math.max(tick, this.log.firstTick), this.log.lastTick)
     this.seeking = { from: this.tick, target }
     try {
+      // Start from the newest of: the current tick (when not past the target), the log keyframe
+      // and the own snapshot at or before the target. On a tie the current tick needs no restore.
       const k = this.keyframeBefore(target)
-      if (target < this.tick || k > this.next - 1) {
-        await this.runner.restore(deltaChain(this.stored, k < 0 ? 0 : this.log.keyframes.indexOf(k) + 1))
-        this.next = k + 1
+      const keyframeTick = k < 0 ? this.log.firstTick : this.log.records[k].tick
+      const snapshot = this.snapshots.before(target)
+      const start = Math.max(keyframeTick, snapshot?.tick ?? Number.NEGATIVE_INFINITY)
+      if (target < this.tick || start > this.tick || (start === this.tick && k >= this.next)) {
+        if (snapshot && snapshot.tick > keyframeTick) {
+          this.runner.resume(snapshot)
+          this.next = snapshot.next
+        } else {
+          await this.runner.restore(deltaChain(this.stored, k < 0 ? 0 : this.log.keyframes.indexOf(k) + 1))
+          this.next = k + 1
+        }
         this.seeking = { from: this.tick, target }
       }
       return await this.forward(target, ticket)
@@ -281,10 +331,14 @@ export class ReplayPlayer {
    * Tick by tick towards `target` until `deadline` (performance.now() ms) has passed; ends at the
    * state at some tick (every record up to it applied, the room tick at it). The deadline is
    * checked before each step: a slice whose records used up its time ends without one, the next
-   * one steps.
+   * one steps. A snapshot due at a tick is taken only by a slice that has not stepped yet: one
+   * that has ends there instead and the next slice starts with it, so a slice pays for SLICE_MS
+   * of ticks or a snapshot and the rest of SLICE_MS, never both. A move that ends on a snapshot
+   * tick leaves it to the next move forward from there.
    */
   private async runSlice(target: number, deadline: number): Promise<void> {
     const records = this.log.records
+    let stepped = false
     for (;;) {
       while (this.next < records.length && records[this.next].tick <= this.tick) {
         const r = records[this.next++]
@@ -294,8 +348,14 @@ export class ReplayPlayer {
         if (r.type === 'hash') this.checked++
         this.noteDivergence()
       }
+      if (this.snapshots.wants(this.tick)) {
+        if (stepped) return
+        this.snapshots.add({ ...this.runner.save(), tick: this.tick, next: this.next })
+      }
       if (this.tick >= target || performance.now() >= deadline) return
       this.runner.advanceTo(this.tick + 1)
+      this.ticksRun++
+      stepped = true
     }
   }
 

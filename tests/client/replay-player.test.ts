@@ -20,6 +20,8 @@ import pino from 'pino'
 import { Counter } from 'prom-client'
 import { beforeAll, describe, expect, it } from 'vitest'
 import { ReplayLoadError, ReplayPlayer, readLog } from '../../client/replay-player.ts'
+import { SNAPSHOT_TICKS } from '../../client/replay-snapshots.ts'
+import { Prng } from '../../engine/index.ts'
 import { RoomRecorder } from '../../server/recorder.ts'
 import { encodeRecord, PREAMBLE_BYTES } from '../../shared/replay-log.ts'
 import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
@@ -187,7 +189,8 @@ describe('replay player on a log with no keyframes', () => {
 
   it('stops a running seek at a slice boundary when a newer one comes, and lands where the newest asked', async () => {
     const log = await readLog(long.bytes)
-    const player = await ReplayPlayer.open(log, inflate)
+    // No snapshots of its own: the seek back replays from the header, long enough to be overtaken.
+    const player = await ReplayPlayer.open(log, inflate, undefined, { snapshotBudget: 0 })
     const toEnd = player.seek(log.lastTick)
     const ended = { toEnd: -1, back: -1 }
     void toEnd.then(() => (ended.toEnd = player.tick))
@@ -241,6 +244,77 @@ describe('replay player on a log with no keyframes', () => {
     expect(await seek).toBe(false)
     expect(player.tick).toBeLessThan(log.lastTick)
     expect(player.busy).toBe(false)
+  })
+})
+
+describe('replay player snapshots of its own', () => {
+  const LONG_TICKS = 30_000
+  let long: KeyframeFreeLog
+  beforeAll(async () => {
+    long = await recordKeyframeFreeLog(LONG_TICKS)
+  })
+
+  /** Seek to `target` and return the room ticks the seek ran, checking it lands on the live hash. */
+  async function seekCounting(player: ReplayPlayer, target: number): Promise<number> {
+    const before = player.ticksRun
+    expect(await player.seek(target)).toBe(true)
+    expect(player.tick).toBe(target)
+    expect(player.sim.world.hash(), `seek to ${target}`).toBe(long.live[target])
+    return player.ticksRun - before
+  }
+
+  it('takes one every SNAPSHOT_TICKS on a keyframe-free log, so a seek back replays fewer ticks than that', async () => {
+    const log = await readLog(long.bytes)
+    expect(log.keyframes).toEqual([])
+    const player = await ReplayPlayer.open(log, inflate)
+    // Without snapshots a seek back replays from the header: the first pass to the end does.
+    expect(await seekCounting(player, LONG_TICKS)).toBe(LONG_TICKS)
+    const grid = Array.from({ length: LONG_TICKS / SNAPSHOT_TICKS - 1 }, (_, i) => (i + 1) * SNAPSHOT_TICKS)
+    expect(player.snapshotTicks.filter((t) => t < LONG_TICKS)).toEqual(grid)
+    // Back near the end: from the snapshot at 29,400, not from the header 29,990 ticks away, and
+    // applying exactly the records after it (its hash records are counted as checked).
+    const checked = player.checked
+    expect(await seekCounting(player, LONG_TICKS - 10)).toBe(LONG_TICKS - 10 - 29_400)
+    const after = log.records.filter((r) => r.type === 'hash' && r.tick > 29_400 && r.tick <= LONG_TICKS - 10)
+    expect(player.checked - checked).toBe(after.length)
+    // Random seeks, back and forth: each starts from the grid point at or before it or from where
+    // the player is, whichever is nearer.
+    const rng = new Prng(5)
+    for (let i = 0; i < 20; i++) {
+      const target = Math.floor(rng.next() * LONG_TICKS)
+      const from = Math.max(target - (target % SNAPSHOT_TICKS), target >= player.tick ? player.tick : 0)
+      expect(await seekCounting(player, target), `seek from ${player.tick} to ${target}`).toBe(target - from)
+    }
+    expect(player.mismatch).toBeNull()
+  })
+
+  it('keeps its snapshots under a byte budget, spread over the log, and its seeks still land on the live hash', async () => {
+    const log = await readLog(long.bytes)
+    const full = await ReplayPlayer.open(log, inflate)
+    await full.seek(LONG_TICKS)
+    const budget = Math.floor(full.snapshotBytes / 5)
+    const player = await ReplayPlayer.open(log, inflate, undefined, { snapshotBudget: budget })
+    // Forward in steps, the budget checked after each.
+    for (let t = 1_000; t <= LONG_TICKS; t += 1_000) {
+      await player.forwardTo(t)
+      expect(player.snapshotBytes, `at ${t}`).toBeLessThanOrEqual(budget)
+    }
+    const ticks = player.snapshotTicks
+    expect(ticks.length).toBeGreaterThanOrEqual(5)
+    // Spread: no stretch between start points (header, snapshots, end) is longer than twice the
+    // stretch an even spacing of this many snapshots would leave.
+    const points = [log.firstTick, ...ticks, log.lastTick]
+    const stretches = points.slice(1).map((t, i) => t - points[i])
+    const even = (log.lastTick - log.firstTick) / (ticks.length + 1)
+    expect(Math.max(...stretches), `snapshots at ${ticks.join(', ')}`).toBeLessThanOrEqual(2 * even)
+    const longest = Math.max(...stretches)
+    const rng = new Prng(9)
+    for (let i = 0; i < 20; i++) {
+      const target = Math.floor(rng.next() * LONG_TICKS)
+      expect(await seekCounting(player, target)).toBeLessThanOrEqual(longest)
+      expect(player.snapshotBytes).toBeLessThanOrEqual(budget)
+    }
+    expect(player.mismatch).toBeNull()
   })
 })
 
