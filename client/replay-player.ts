@@ -301,6 +301,9 @@ export class ReplayPlayer {
       const snapshot = this.snapshots.before(target)
       const start = Math.max(keyframeTick, snapshot?.tick ?? Number.NEGATIVE_INFINITY)
       if (target < this.tick || start > this.tick || (start === this.tick && k >= this.next)) {
+        // A move that stopped on a snapshot tick left the snapshot to the next slice: take it
+        // before leaving.
+        if (this.snapshots.wants(this.tick)) this.takeSnapshot()
         if (snapshot && snapshot.tick > keyframeTick) {
           this.runner.resume(snapshot)
           this.next = snapshot.next
@@ -334,7 +337,8 @@ export class ReplayPlayer {
    * one steps. A snapshot due at a tick is taken only by a slice that has not stepped yet: one
    * that has ends there instead and the next slice starts with it, so a slice pays for SLICE_MS
    * of ticks or a snapshot and the rest of SLICE_MS, never both. A move that ends on a snapshot
-   * tick leaves it to the next move forward from there.
+   * tick leaves it to the next move: a forward one takes it in its first slice, a seek that
+   * restores takes it before it does.
    */
   private async runSlice(target: number, deadline: number): Promise<void> {
     const records = this.log.records
@@ -350,13 +354,18 @@ export class ReplayPlayer {
       }
       if (this.snapshots.wants(this.tick)) {
         if (stepped) return
-        this.snapshots.add({ ...this.runner.save(), tick: this.tick, next: this.next })
+        this.takeSnapshot()
       }
       if (this.tick >= target || performance.now() >= deadline) return
       this.runner.advanceTo(this.tick + 1)
       this.ticksRun++
       stepped = true
     }
+  }
+
+  /** Keep the state at the current tick (every record up to it applied) as a snapshot. */
+  private takeSnapshot(): void {
+    this.snapshots.add({ ...this.runner.save(), tick: this.tick, next: this.next })
   }
 
   /** Index of the newest keyframe at or before `tick`, or -1 for the header. */

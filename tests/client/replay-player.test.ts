@@ -288,6 +288,17 @@ describe('replay player snapshots of its own', () => {
     expect(player.mismatch).toBeNull()
   })
 
+  it('takes the snapshot a move stopped on before a seek leaves it', async () => {
+    const log = await readLog(long.bytes)
+    const player = await ReplayPlayer.open(log, inflate)
+    expect(await seekCounting(player, 2 * SNAPSHOT_TICKS)).toBe(2 * SNAPSHOT_TICKS)
+    expect(player.snapshotTicks).toEqual([SNAPSHOT_TICKS])
+    expect(await seekCounting(player, 100)).toBe(100)
+    expect(player.snapshotTicks).toEqual([SNAPSHOT_TICKS, 2 * SNAPSHOT_TICKS])
+    expect(await seekCounting(player, 2 * SNAPSHOT_TICKS + 500)).toBe(500)
+    expect(player.mismatch).toBeNull()
+  })
+
   it('keeps its snapshots under a byte budget, spread over the log, and its seeks still land on the live hash', async () => {
     const log = await readLog(long.bytes)
     const full = await ReplayPlayer.open(log, inflate)
