@@ -33,13 +33,18 @@ function drag(sim: RoomSimulation): void {
 }
 
 /** Record `ticks` ticks of the wrecking-ball room (see the file comment). */
-export async function recordKeyframeFreeLog(ticks: number): Promise<KeyframeFreeLog> {
+export function recordKeyframeFreeLog(ticks: number): Promise<KeyframeFreeLog> {
+  return recordWreckingBallLog(ticks, 100 * ticks)
+}
+
+/** The same room with the recorder's keyframes every `keyframeTicks` ticks (no keyframe budget). */
+export async function recordWreckingBallLog(ticks: number, keyframeTicks: number): Promise<KeyframeFreeLog> {
   const dir = await mkdtemp(join(tmpdir(), 'concord-no-keyframes-'))
   const sim = new RoomSimulation({ name: 'long', scene: 'wrecking-ball', maxBodies: 200, controls: true })
   const recorder = new RoomRecorder('long', sim, {
     dir,
     fsync: 'none',
-    keyframeTicks: 100 * ticks,
+    keyframeTicks,
     maxBytes: 1 << 30,
     keep: 10,
     compress: true,

@@ -26,7 +26,7 @@ import { RoomRecorder } from '../../server/recorder.ts'
 import { encodeRecord, PREAMBLE_BYTES } from '../../shared/replay-log.ts'
 import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
 import { RoomSimulation } from '../../shared/room-simulation.ts'
-import { type KeyframeFreeLog, recordKeyframeFreeLog } from './keyframe-free-log.ts'
+import { type KeyframeFreeLog, recordKeyframeFreeLog, recordWreckingBallLog } from './keyframe-free-log.ts'
 
 const inflate = (bytes: Uint8Array): Uint8Array => new Uint8Array(inflateSync(bytes))
 const TICKS = 900
@@ -296,6 +296,28 @@ describe('replay player snapshots of its own', () => {
     expect(await seekCounting(player, 100)).toBe(100)
     expect(player.snapshotTicks).toEqual([SNAPSHOT_TICKS, 2 * SNAPSHOT_TICKS])
     expect(await seekCounting(player, 2 * SNAPSHOT_TICKS + 500)).toBe(500)
+    expect(player.mismatch).toBeNull()
+  })
+
+  it('plays on from a snapshot across a delta keyframe after it (it needs a delta base) to the live hash', async () => {
+    const sparse = await recordWreckingBallLog(6_000, 1_500)
+    const log = await readLog(sparse.bytes)
+    const kf = log.keyframes.map((i) => log.records[i] as { tick: number; z: number })
+    const delta = kf.find((k) => k.z === 2)
+    if (!delta) throw new Error(`no delta keyframe: ${JSON.stringify(kf)}`)
+    const player = await ReplayPlayer.open(log, inflate)
+    await player.forwardTo(log.lastTick)
+    const before = player.snapshotTicks.filter((t) => t < delta.tick).at(-1)
+    if (before === undefined || before <= (kf.filter((k) => k.tick < delta.tick).at(-1)?.tick ?? 0))
+      throw new Error(
+        `no snapshot between keyframes before ${delta.tick}: ${player.snapshotTicks.join(', ')}`,
+      )
+    // Back to just before the delta keyframe (from the snapshot), then forward across it.
+    const ran = player.ticksRun
+    await player.seek(delta.tick - 10)
+    expect(player.ticksRun - ran).toBe(delta.tick - 10 - before)
+    expect(await player.forwardTo(delta.tick + 100)).toBe(true)
+    expect(player.sim.world.hash()).toBe(sparse.live[delta.tick + 100])
     expect(player.mismatch).toBeNull()
   })
 
