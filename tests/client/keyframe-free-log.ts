@@ -4,7 +4,8 @@
  * drags it about. The recorder writes a hash record at every multiple of 60 ticks, with the right
  * hashes; its keyframe interval is longer than the log, so a seek anywhere replays from the header.
  * The live hash at every tick is kept ("the state at T": after T's commands, before the step).
- * Shared by the player's unit test and the browser test.
+ * Shared by the player's unit test and the browser test. recordWreckingBallLog records the same
+ * room with keyframes (whole and delta) every so many ticks.
  */
 import { mkdtemp, readFile, rm } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
