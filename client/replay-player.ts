@@ -15,7 +15,7 @@
  * of the log, fewer than 2 * SNAPSHOT_TICKS (fewer than SNAPSHOT_TICKS where no keyframe is near,
  * more where the budget has thinned the snapshots). The first pass is not bounded: a first seek to
  * the end of a keyframe-free log of a million ticks replays all of them (taking snapshots on the
- * way), and a seek back from there replays fewer than SNAPSHOT_TICKS.
+ * way), and a seek back to near its end then replays fewer than SNAPSHOT_TICKS.
  *
  * So every move through the log (a seek, or playing forward) runs in slices: a slice goes tick by
  * tick (the records of a tick, then the step to the next) until the target or until SLICE_MS have
@@ -257,8 +257,8 @@ export class ReplayPlayer {
 
   /**
    * Jump to any tick: from the newest log keyframe or own snapshot at or before it (or from the
-   * current tick when that is nearer), then forward. Supersedes every
-   * move asked before it; resolves true at the tick, false when a newer seek superseded this one.
+   * current tick when that is nearer), then forward. Supersedes every move asked before it;
+   * resolves true at the tick, false when a newer seek superseded this one.
    */
   seek(tick: number): Promise<boolean> {
     return this.enqueue(true, (ticket) => this.seekNow(tick, ticket))
