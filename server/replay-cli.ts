@@ -1,16 +1,18 @@
 /*
- * The replay tool: `npm run replay -- FILE [--verify] [--to TICK] [--hash-every N] [--json]`.
+ * The replay tool:
+ *   npm run replay -- FILE [--verify] [--to TICK] [--hash-every N] [--progress N] [--json]
  * Rebuilds the world from the log's header, applies every record at its tick, checks every
  * recorded hash (with --verify also every keyframe), and prints ticks, duration, players,
- * commands and steps per second. Exit codes: 0 replayed and matched, 1 a hash or keyframe
- * differed (the first mismatch is printed), 2 bad usage or a file that is not a readable log
- * (one line, no stack trace), 3 replayed but the log's tail was torn or corrupt.
+ * commands and steps per second. With --progress N, a line `replay: tick T of L (P %)` goes to
+ * standard error every N room ticks while it runs. Exit codes: 0 replayed and matched, 1 a hash
+ * or keyframe differed (the first mismatch is printed), 2 bad usage or a file that is not a
+ * readable log (one line, no stack trace), 3 replayed but the log's tail was torn or corrupt.
  */
 import { readFile } from 'node:fs/promises'
 import { hex } from '../shared/replay-runner.ts'
 import { type ReplayOptions, ReplayToolError, replayLog } from './replay-tool.ts'
 
-const USAGE = 'usage: npm run replay -- FILE [--verify] [--to TICK] [--hash-every N] [--json]'
+const USAGE = 'usage: npm run replay -- FILE [--verify] [--to TICK] [--hash-every N] [--progress N] [--json]'
 
 function fail(message: string): never {
   process.stderr.write(`replay: ${message}\n`)
@@ -34,6 +36,7 @@ async function main(): Promise<void> {
     else if (a === '--json') json = true
     else if (a === '--to') options.to = intArg(a, argv[++i])
     else if (a === '--hash-every') options.hashEvery = intArg(a, argv[++i]) || undefined
+    else if (a === '--progress') options.progressEvery = intArg(a, argv[++i])
     else if (a === '--help' || a === '-h') {
       process.stdout.write(`${USAGE}\n`)
       return
@@ -48,6 +51,12 @@ async function main(): Promise<void> {
   } catch (error) {
     fail(`cannot read ${file}: ${(error as NodeJS.ErrnoException).code ?? (error as Error).message}`)
   }
+  // A long log replays for minutes (about 26x real time for an awake pyramid): --progress says how
+  // far it got.
+  options.onProgress = (tick, last) =>
+    process.stderr.write(
+      `replay: tick ${tick} of ${last} (${Math.floor((100 * tick) / Math.max(last, 1))} %)\n`,
+    )
   let report: Awaited<ReturnType<typeof replayLog>>
   try {
     report = await replayLog(bytes, options)

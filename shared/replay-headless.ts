@@ -21,6 +21,9 @@ export interface ReplayOptions {
   to?: number
   /** Also collect the world hash every N ticks. */
   hashEvery?: number
+  /** Called every `progressEvery` room ticks replayed (counted from the header's tick) with the tick reached and the log's last. */
+  onProgress?: (tick: number, lastTick: number) => void
+  progressEvery?: number
 }
 
 /** What a replay found. */
@@ -71,9 +74,13 @@ export async function replayBytes(
   }
   const hashes: ReplayReport['hashes'] = []
   const every = options.hashEvery ?? 0
-  if (every > 0) {
+  const progressEvery = options.progressEvery ?? 0
+  const onProgress = options.onProgress
+  const end = Math.min(options.to ?? Number.POSITIVE_INFINITY, read.lastTick)
+  if (every > 0 || (progressEvery > 0 && onProgress)) {
     runner.onTick = (sim) => {
-      if (sim.tick % every === 0) hashes.push({ tick: sim.tick, hash: sim.world.hash() })
+      if (every > 0 && sim.tick % every === 0) hashes.push({ tick: sim.tick, hash: sim.world.hash() })
+      if (progressEvery > 0 && (sim.tick - header.tick) % progressEvery === 0) onProgress?.(sim.tick, end)
     }
   }
   const players = new Set<number>()

@@ -93,6 +93,31 @@ describe('the replay CLI', { timeout: 120_000 }, () => {
     expect(text.stdout.match(/^tick \d+ 0x[0-9a-f]{8}$/gm)?.length).toBeGreaterThanOrEqual(3)
   })
 
+  it('--progress N writes how far it got every N ticks to standard error, and nothing without it', async () => {
+    const path = await variant('progress.cclog', log)
+    const { records, status } = read(log)
+    const first = records[0].tick
+    const r = cli(path, '--progress', '50', '--json')
+    expect(r.status, r.stderr).toBe(0)
+    const lines = r.stderr.trim().split('\n')
+    const ticks = lines.map((line) => {
+      const m = /^replay: tick (\d+) of (\d+) \((\d+) %\)$/.exec(line)
+      expect(m, line).not.toBeNull()
+      expect(Number(m![2])).toBe(status.lastTick)
+      expect(Number(m![3])).toBe(Math.floor((100 * Number(m![1])) / status.lastTick))
+      return Number(m![1])
+    })
+    // One line at every 50th tick after the header's, up to the last one replayed.
+    const expected: number[] = []
+    for (let t = first + 50; t <= status.lastTick; t += 50) expected.push(t)
+    expect(ticks).toEqual(expected)
+    expect(JSON.parse(r.stdout).lastTick).toBe(status.lastTick)
+    expect(cli(path).stderr).toBe('')
+    const bad = cli(path, '--progress', 'x')
+    expect(bad.status).toBe(2)
+    expect(bad.stderr).toBe('replay: --progress needs a non-negative integer, got "x"\n')
+  })
+
   it('a tampered hash (in a block rebuilt with a valid CRC) is reported as the first mismatch, exit 1', async () => {
     let start = PREAMBLE_BYTES
     for (const end of ends) {
