@@ -96,6 +96,11 @@ class WorkerLink {
   readonly seats = new Map<number, WorkerSeat>()
   /** Joins sent and not yet answered, by room (a room disposed meanwhile is reopened by them). */
   readonly pendingJoins = new Map<string, number>()
+  /**
+   * The room of each join not yet answered, by connection: kept apart from `seats`, which a client
+   * that leaves before the answer has already left, so that its answer still settles the count.
+   */
+  readonly unanswered = new Map<number, string>()
   summaries: RoomSummary[] = []
   metrics: Metrics = []
   /** Loop tick times (ms) collected while sampling, dropped ticks and heap from the last stats. */
@@ -187,6 +192,7 @@ export class WorkerPool implements RoomHost {
     const seat = new WorkerSeat(conn, request.room, request.conn, link, request.strike, request.refused)
     link.seats.set(conn, seat)
     link.pendingJoins.set(request.room, (link.pendingJoins.get(request.room) ?? 0) + 1)
+    link.unanswered.set(conn, request.room)
     const { room, name, token, mode } = request
     link.post({ op: 'join', conn, room, name, token, mode })
     return seat
@@ -450,14 +456,20 @@ export class WorkerPool implements RoomHost {
     this.reopening.delete(room)
   }
 
-  /** A join was answered: one fewer pending for its room. */
+  /**
+   * A join was answered: one fewer pending for its room, whether or not the client is still
+   * there (one that left first must not keep its room's `disposed` ignored, and the room counted
+   * against --max-rooms, for good). Returns the seat if the client is still there.
+   */
   private answered(link: WorkerLink, conn: number): WorkerSeat | undefined {
-    const seat = link.seats.get(conn)
-    if (!seat) return undefined
-    const left = (link.pendingJoins.get(seat.room) ?? 1) - 1
-    if (left > 0) link.pendingJoins.set(seat.room, left)
-    else link.pendingJoins.delete(seat.room)
-    return seat
+    const room = link.unanswered.get(conn)
+    if (room !== undefined) {
+      link.unanswered.delete(conn)
+      const left = (link.pendingJoins.get(room) ?? 1) - 1
+      if (left > 0) link.pendingJoins.set(room, left)
+      else link.pendingJoins.delete(room)
+    }
+    return link.seats.get(conn)
   }
 
   /** A worker ended: report it, close its clients, replace it, rebuild its rooms from their logs. */
