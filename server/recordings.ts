@@ -12,7 +12,7 @@ import type { ServerConfig } from './config.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { type OpenLog, RoomRecorder } from './recorder.ts'
 import { type RecoveredRoom, recoverLog, truncateToCheckpoint } from './recovery.ts'
-import { isLogName, type LogSummary, listLogNames, listLogs, summarize } from './replay-files.ts'
+import { isLogName, type LogSummary, listLogNames, listLogs, roomOfLog, summarize } from './replay-files.ts'
 import type { Room } from './room.ts'
 import type { RoomManager } from './room-manager.ts'
 
@@ -25,11 +25,6 @@ function writerAlive(writer: { host: string; pid: number }): boolean {
   } catch (error) {
     return (error as NodeJS.ErrnoException).code === 'EPERM'
   }
-}
-
-/** The room a log belongs to (its name up to the timestamp). */
-export function roomOfLog(name: string): string {
-  return name.slice(0, name.search(/-\d{8}T/))
 }
 
 /** The server's recorders (see the file comment). */
@@ -115,6 +110,9 @@ export class Recordings {
    */
   async reopen(rooms: RoomManager, name: string): Promise<RecoveredRoom> {
     const recovered = await recoverLog(this.dir, name)
+    // Whoever asked for this log's room (a worker reopening it) waits for that room by name.
+    if (recovered.room !== roomOfLog(name))
+      throw new Error(`${name} holds room "${recovered.room}", not the room its name gives`)
     await truncateToCheckpoint(this.dir, recovered)
     this.recovered.set(recovered.room, recovered)
     if (!rooms.getOrCreate(recovered.room)) this.recovered.delete(recovered.room)

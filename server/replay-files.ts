@@ -15,6 +15,22 @@ export const LOG_EXTENSION = '.cclog'
 /** A valid log name: room, start time (UTC, ms), optional counter, extension; nothing else. */
 export const LOG_NAME_PATTERN = /^[A-Za-z0-9_-]{1,32}-\d{8}T\d{9}Z(?:-\d{1,4})?\.cclog$/
 
+/**
+ * A log name's room and start stamp (with its counter), read from the fixed-format end of the name:
+ * a room name may itself contain what looks like a stamp (`lobby-99999999T` is a valid room name).
+ */
+const LOG_NAME_PARTS = /^(.+)-(\d{8}T\d{9}Z(?:-\d{1,4})?)\.cclog$/
+
+/** The room a log belongs to (its name before the start stamp), or '' for a name that is not a log's. */
+export function roomOfLog(name: string): string {
+  return LOG_NAME_PARTS.exec(name)?.[1] ?? ''
+}
+
+/** A log's start stamp and counter as they appear at the end of its name, or ''. */
+function stampOfLog(name: string): string {
+  return LOG_NAME_PARTS.exec(name)?.[2] ?? ''
+}
+
 /** The file name for a room log started at `startMs` (counter > 0 on a name collision). */
 export function logFileName(room: string, startMs: number, counter = 0): string {
   const stamp = new Date(startMs).toISOString().replace(/[-:.]/g, '')
@@ -116,7 +132,7 @@ export async function summarize(dir: string, name: string, open: ReadonlySet<str
     const ticks = scan.header ? scan.status.lastTick - scan.status.firstTick : 0
     summary = {
       name,
-      room: scan.header?.room ?? name.slice(0, name.lastIndexOf('-', name.indexOf('T') - 1)),
+      room: scan.header?.room ?? roomOfLog(name),
       start: new Date(scan.header?.start ?? info.mtimeMs).toISOString(),
       duration: ticks / rate,
       ticks,
@@ -142,7 +158,7 @@ export async function listLogNames(dir: string): Promise<string[]> {
     return []
   }
   const logs = names.filter(isLogName)
-  const stamp = (n: string): string => n.match(/\d{8}T\d{9}Z(?:-\d{1,4})?/)?.[0] ?? ''
+  const stamp = stampOfLog
   return logs.sort((a, b) => (stamp(a) < stamp(b) ? -1 : stamp(a) > stamp(b) ? 1 : a < b ? -1 : 1))
 }
 

@@ -23,11 +23,13 @@ export interface ServerProcess {
 
 /**
  * Start the server with `args` (after `--port 0 --log-level info`) and extra environment; resolves
- * once it logs "listening". Rejects if it exits first.
+ * once it logs "listening". Rejects if it exits first, or, given `listenTimeoutMs`, kills it and
+ * rejects when it has not listened by then (a server that hangs at startup).
  */
 export function startServerProcess(
   args: string[] = [],
   env: Record<string, string> = {},
+  listenTimeoutMs?: number,
 ): Promise<ServerProcess> {
   const proc = spawn(
     process.execPath,
@@ -45,6 +47,13 @@ export function startServerProcess(
     exited.then(({ code, signal }) =>
       reject(new Error(`server exited early (code ${code}, signal ${signal})`)),
     )
+    const timer =
+      listenTimeoutMs === undefined
+        ? undefined
+        : setTimeout(() => {
+            reject(new Error(`server did not listen within ${listenTimeoutMs} ms`))
+            proc.kill('SIGKILL')
+          }, listenTimeoutMs)
     createInterface({ input: proc.stdout! }).on('line', (text) => {
       let entry: LogLine
       try {
@@ -53,8 +62,10 @@ export function startServerProcess(
         return
       }
       lines.push(entry)
-      if (entry.msg === 'listening' && typeof entry.port === 'number')
+      if (entry.msg === 'listening' && typeof entry.port === 'number') {
+        clearTimeout(timer)
         resolve({ process: proc, port: entry.port, url: `http://127.0.0.1:${entry.port}`, lines, exited })
+      }
     })
   })
 }
