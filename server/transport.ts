@@ -52,6 +52,8 @@ interface Peer {
   budget: MessageBudget
   /** Set once the server has decided to close it: nothing more it sends is read. */
   dropped: boolean
+  /** Its join waits for the room directory's answer (one claim per socket at a time). */
+  joining: boolean
 }
 
 /** Unsent bytes at which a client is dropped at once: 8 send-buffer budgets, at least 1 MiB. */
@@ -70,6 +72,8 @@ export class Transport {
   accepting = true
   /** The shared room directory (--redis), or null for a server on its own. */
   directory: RoomDirectory | null = null
+  /** Directory claims not yet answered, by room (a claim no room came of is given back). */
+  private readonly claiming = new Map<string, number>()
 
   constructor(
     private readonly config: ServerConfig,
@@ -161,6 +165,7 @@ export class Transport {
       access: opened.access,
       budget: new MessageBudget(this.config.maxMessagesPerSecond, () => performance.now()),
       dropped: false,
+      joining: false,
     }
     this.sessions.add(session)
     this.peers.set(session, peer)
@@ -332,7 +337,7 @@ export class Transport {
 
   private join(peer: Peer, message: Extract<ClientMessage, { t: 'join' }>): void {
     const session = peer.session
-    if (session.seat) {
+    if (session.seat || peer.joining) {
       this.reject(peer, 'already-joined', 'this socket has already joined a room')
       return
     }
@@ -371,9 +376,23 @@ export class Transport {
     name: string,
   ): void {
     const session = peer.session
+    peer.joining = true
+    this.claiming.set(name, (this.claiming.get(name) ?? 0) + 1)
+    const answered = (): void => {
+      peer.joining = false
+      const left = (this.claiming.get(name) ?? 1) - 1
+      if (left > 0) this.claiming.set(name, left)
+      else this.claiming.delete(name)
+    }
     directory.claim(name).then(
       (where) => {
-        if (peer.dropped || !session.open || session.seat) return
+        answered()
+        if (peer.dropped || !session.open || session.seat) {
+          // Nobody joins: give the claim back unless the room opened here or another claim waits.
+          if (where.holder === 'self' && !this.rooms.has(name) && !this.claiming.has(name))
+            directory.release(name).catch(() => {})
+          return
+        }
         if (where.holder === 'self') {
           try {
             // At the room limit nothing is opened: give the claim back.
@@ -390,6 +409,7 @@ export class Transport {
         this.drop(peer, CLOSE_CODES.moved, `room ${name} is on another server`)
       },
       (error: Error) => {
+        answered()
         this.log.warn({ room: name, err: error.message }, 'room directory unavailable; join refused')
         if (peer.dropped || !session.open) return
         session.sendError('unavailable', `room directory unavailable: ${error.message}`)
