@@ -54,18 +54,27 @@ function fields(
   return value as Fields
 }
 
+/**
+ * -0 as +0. The server writes every whole number as a MessagePack integer, so a -0 a client sent
+ * reaches the replay log and the lockstep stream as 0; applied as -0 it would leave different
+ * bits in the world than every replay of it (a spawn's vx, w or angle, a vertex, a grab point).
+ */
+function positiveZero(value: number): number {
+  return value === 0 ? 0 : value
+}
+
 function int(value: unknown, what: string, min: number, max: number): number {
   if (typeof value !== 'number' || !Number.isInteger(value) || value < min || value > max) {
     throw new SchemaError(`${what} must be an integer in [${min}, ${max}]`)
   }
-  return value
+  return positiveZero(value)
 }
 
 function num(value: unknown, what: string, limit: number): number {
   if (typeof value !== 'number' || !Number.isFinite(value) || Math.abs(value) > limit) {
     throw new SchemaError(`${what} must be a finite number in [-${limit}, ${limit}]`)
   }
-  return value
+  return positiveZero(value)
 }
 
 function optNum(value: unknown, what: string, limit: number): number | undefined {
@@ -77,7 +86,7 @@ function optRange(value: unknown, what: string, [min, max]: readonly [number, nu
   if (typeof value !== 'number' || !Number.isFinite(value) || value < min || value > max) {
     throw new SchemaError(`${what} must be a finite number in [${min}, ${max}]`)
   }
-  return value
+  return positiveZero(value)
 }
 
 function str(value: unknown, what: string, maxLength: number): string {
