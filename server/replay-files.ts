@@ -5,7 +5,7 @@
  * reader, cached by size and mtime), and pruning to --replay-keep files.
  */
 import { createReadStream } from 'node:fs'
-import { readdir, readFile, stat, unlink } from 'node:fs/promises'
+import { open as openFile, readdir, readFile, stat, unlink } from 'node:fs/promises'
 import { join } from 'node:path'
 import { PREAMBLE_BYTES, type Preamble, REPLAY_MAGIC, type ReplayRecord } from '../shared/replay-log.ts'
 import { type ReadStatus, ReplayLogReader } from '../shared/replay-log-reader.ts'
@@ -73,8 +73,27 @@ export interface LogScan {
   checkpointTick: number
 }
 
-/** Stream a log through the reader; `onRecord` sees every accepted record in order. */
-export async function scanLog(path: string, onRecord?: (r: ReplayRecord) => void): Promise<LogScan> {
+/**
+ * A read of a log that can go on where it stopped: a log being recorded only grows, so listing it
+ * again reads only what was appended (GET /replays once re-read every open log from its start, a
+ * cost that grew with each log's size, up to --replay-max-bytes, for every request).
+ */
+interface LogRead {
+  reader: ReplayLogReader
+  scan: LogScan
+  /** Bytes of the file read so far. */
+  bytes: number
+  /** The last bytes read (up to TAIL_CHECK), to tell an appended file from a rewritten one. */
+  tail: Uint8Array
+}
+
+/** Bytes compared before a read goes on: a log cut back (crash recovery) and regrown differs here. */
+const TAIL_CHECK = 32
+
+/** Bytes of log files read for listings and scans (tests check that listings read only what is new). */
+export const logBytesRead = { total: 0 }
+
+function newRead(): LogRead {
   const reader = new ReplayLogReader()
   const scan: LogScan = {
     preamble: null,
@@ -83,8 +102,18 @@ export async function scanLog(path: string, onRecord?: (r: ReplayRecord) => void
     checkpointBytes: 0,
     checkpointTick: -1,
   }
-  for await (const chunk of createReadStream(path, { highWaterMark: 1 << 20 })) {
-    reader.push(chunk as Buffer, (r, end) => {
+  return { reader, scan, bytes: 0, tail: new Uint8Array(0) }
+}
+
+/** Read `path` on from `read.bytes` through the reader (to the end, or until the reader stops). */
+async function readOn(path: string, read: LogRead, onRecord?: (r: ReplayRecord) => void): Promise<void> {
+  const { reader, scan } = read
+  for await (const chunk of createReadStream(path, { start: read.bytes, highWaterMark: 1 << 20 })) {
+    const bytes = chunk as Buffer
+    read.bytes += bytes.length
+    logBytesRead.total += bytes.length
+    read.tail = Buffer.concat([read.tail, bytes.subarray(-TAIL_CHECK)]).subarray(-TAIL_CHECK)
+    reader.push(bytes, (r, end) => {
       if (r.type === 'header') scan.header = r
       onRecord?.(r)
       if (r.type === 'hash' || r.type === 'keyframe' || r.type === 'header') {
@@ -95,8 +124,29 @@ export async function scanLog(path: string, onRecord?: (r: ReplayRecord) => void
     if (reader.current.state !== 'reading') break
   }
   scan.preamble = reader.preamble
-  scan.status = reader.finish()
-  return scan
+  scan.status = reader.finalStatus()
+}
+
+/** Whether the file still holds the bytes `read` ended with (it was appended to, not rewritten). */
+async function continues(path: string, read: LogRead): Promise<boolean> {
+  const n = read.tail.length
+  if (n === 0) return read.bytes === 0
+  const file = await openFile(path, 'r')
+  try {
+    const now = Buffer.alloc(n)
+    const { bytesRead } = await file.read(now, 0, n, read.bytes - n)
+    return bytesRead === n && now.equals(read.tail)
+  } finally {
+    await file.close()
+  }
+}
+
+/** Stream a log through the reader; `onRecord` sees every accepted record in order. */
+export async function scanLog(path: string, onRecord?: (r: ReplayRecord) => void): Promise<LogScan> {
+  const read = newRead()
+  await readOn(path, read, onRecord)
+  read.scan.status = read.reader.finish()
+  return read.scan
 }
 
 /**
@@ -115,38 +165,65 @@ function statusOf(s: ReadStatus): LogSummary['status'] {
   return 'torn'
 }
 
-const cache = new Map<string, { size: number; mtime: number; summary: LogSummary }>()
+const cache = new Map<string, { size: number; mtime: number; summary: LogSummary; read: LogRead | null }>()
 
-/** Summarize one log (cached while its size and mtime stay the same). */
+/** Listings of a log under way, by path: a second request waits for the same read. */
+const reading = new Map<string, Promise<LogSummary>>()
+
+/**
+ * Summarize one log (cached while its size and mtime stay the same). A log that has grown since
+ * is read on from where the last read stopped, when the reader could go on and the file still
+ * holds the bytes it ended with; otherwise it is read again from the start. One read per log at a
+ * time: concurrent requests share it.
+ */
 export async function summarize(dir: string, name: string, open: ReadonlySet<string>): Promise<LogSummary> {
   const path = join(dir, name)
+  let summary = reading.get(path)
+  if (!summary) {
+    summary = summarizeNow(path, name)
+    reading.set(path, summary)
+    summary.finally(() => reading.delete(path)).catch(() => {})
+  }
+  const done = await summary
+  return open.has(name) ? { ...done, status: 'recording', problem: undefined } : done
+}
+
+async function summarizeNow(path: string, name: string): Promise<LogSummary> {
   const info = await stat(path)
   const hit = cache.get(path)
-  let summary: LogSummary
-  if (hit && hit.size === info.size && hit.mtime === info.mtimeMs) summary = hit.summary
-  else {
-    const scan = await scanLog(path)
-    const head = info.size < PREAMBLE_BYTES ? new Uint8Array(await readFile(path)) : new Uint8Array(0)
-    const empty = cutBeforeHeader(scan, info.size, head)
-    const rate = scan.preamble?.tickRate || 60
-    const ticks = scan.header ? scan.status.lastTick - scan.status.firstTick : 0
-    summary = {
-      name,
-      room: scan.header?.room ?? roomOfLog(name),
-      start: new Date(scan.header?.start ?? info.mtimeMs).toISOString(),
-      duration: ticks / rate,
-      ticks,
-      size: info.size,
-      status: empty ? 'empty' : statusOf(scan.status),
-    }
-    if (scan.header) summary.writer = { host: scan.header.host, pid: scan.header.pid }
-    if (empty)
-      summary.problem = `nothing recorded: the writer stopped before the header was whole (${info.size} bytes)`
-    else if (scan.status.reason) summary.problem = scan.status.reason
-    else if (!scan.status.closed) summary.problem = 'no clean-close record'
-    cache.set(path, { size: info.size, mtime: info.mtimeMs, summary })
+  if (hit && hit.size === info.size && hit.mtime === info.mtimeMs) return hit.summary
+  const previous = hit?.read
+  const goOn =
+    previous !== null &&
+    previous !== undefined &&
+    info.size > previous.bytes &&
+    (await continues(path, previous).catch(() => false))
+  const read = goOn ? previous : newRead()
+  await readOn(path, read)
+  const scan = read.scan
+  const head = info.size < PREAMBLE_BYTES ? new Uint8Array(await readFile(path)) : new Uint8Array(0)
+  const empty = cutBeforeHeader(scan, info.size, head)
+  const rate = scan.preamble?.tickRate || 60
+  const ticks = scan.header ? scan.status.lastTick - scan.status.firstTick : 0
+  const summary: LogSummary = {
+    name,
+    room: scan.header?.room ?? roomOfLog(name),
+    start: new Date(scan.header?.start ?? info.mtimeMs).toISOString(),
+    duration: ticks / rate,
+    ticks,
+    size: info.size,
+    status: empty ? 'empty' : statusOf(scan.status),
   }
-  return open.has(name) ? { ...summary, status: 'recording', problem: undefined } : summary
+  if (scan.header) summary.writer = { host: scan.header.host, pid: scan.header.pid }
+  if (empty)
+    summary.problem = `nothing recorded: the writer stopped before the header was whole (${info.size} bytes)`
+  else if (scan.status.reason) summary.problem = scan.status.reason
+  else if (!scan.status.closed) summary.problem = 'no clean-close record'
+  const more = read.reader.current.state === 'reading'
+  // A read kept for later goes on from here; the header's saved world is not needed for that.
+  if (more && scan.header) scan.header = { ...scan.header, world: new Uint8Array(0) }
+  cache.set(path, { size: info.size, mtime: info.mtimeMs, summary, read: more ? read : null })
+  return summary
 }
 
 /** Log names in the directory, oldest first (an absent directory has none). */

@@ -84,14 +84,27 @@ export class ReplayLogReader {
 
   /** The stream ended: the final status (torn when bytes of an incomplete record are left). */
   finish(): ReadStatus {
+    const final = this.finalStatus()
     if (this.status.state === 'reading') {
-      if (!this.preamble) this.stop('invalid', `too short for a replay log (${this.buffer.length} bytes)`)
-      else if (this.status.records === 0) this.stop('invalid', 'the log has no header record')
-      else if (this.buffer.length > this.offset)
-        this.stop('torn', `torn tail: ${this.buffer.length - this.offset} bytes of an incomplete record`)
-      else this.status.state = 'end'
+      if (final.state === 'end') this.status.state = 'end'
+      else this.stop(final.state, final.reason)
     }
     return { ...this.status }
+  }
+
+  /**
+   * What finish() would report if the bytes ended here, without ending the read: a reader of a
+   * log that is still being written can go on with the bytes appended later.
+   */
+  finalStatus(): ReadStatus {
+    const status = { ...this.status }
+    if (status.state !== 'reading') return status
+    const end = (state: ReadStatus['state'], reason: string): ReadStatus => ({ ...status, state, reason })
+    if (!this.preamble) return end('invalid', `too short for a replay log (${this.buffer.length} bytes)`)
+    if (status.records === 0) return end('invalid', 'the log has no header record')
+    if (this.buffer.length > this.offset)
+      return end('torn', `torn tail: ${this.buffer.length - this.offset} bytes of an incomplete record`)
+    return { ...status, state: 'end' }
   }
 
   /** The current status. */
