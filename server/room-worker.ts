@@ -22,7 +22,7 @@ import type { FromWorker, ToWorker, WorkerFault, WorkerInit } from './worker-pro
 
 const port = parentPort
 if (!port) throw new Error('room-worker.ts runs only as a worker thread')
-const { id, config } = workerData as WorkerInit
+const { id, config, phase } = workerData as WorkerInit
 const log = pino({ level: config.logLevel }).child({ worker: id })
 const metrics = createMetrics(false)
 metrics.registry.setDefaultLabels({ worker: String(id) })
@@ -227,4 +227,4 @@ async function shutdown(reason: string): Promise<void> {
   port?.postMessage({ t: 'closed' } satisfies FromWorker)
 }
 
-rooms.clock.start()
+rooms.clock.start(phase)

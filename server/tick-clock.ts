@@ -26,11 +26,15 @@ export class TickClock {
     private readonly onOverrun: (dropped: number) => void = () => {},
   ) {}
 
-  /** Start ticking. */
-  start(): void {
+  /**
+   * Start ticking. With a phase (a fraction of a tick, 0 <= phase < 1), ticks fall where the
+   * process's time (performance.timeOrigin + performance.now(), the same in every thread) is that
+   * fraction of a step past a whole number of steps since the epoch, so clocks started in different
+   * threads with phases k / N take turns instead of ticking together (worker-pool.ts).
+   */
+  start(phase?: number): void {
     if (this.timer) return
-    this.last = performance.now()
-    this.accumulator = 0
+    this.reset(performance.now(), phase)
     this.schedule()
   }
 
@@ -77,9 +81,24 @@ export class TickClock {
     return steps
   }
 
-  /** Start counting from `nowMs` without a timer (tests drive pump() themselves). */
-  reset(nowMs: number): void {
+  /**
+   * Start counting from `nowMs` (performance.now() time) without a timer (tests drive pump()
+   * themselves); with a phase, the ticks fall as start(phase) places them.
+   */
+  reset(nowMs: number, phase?: number): void {
     this.last = nowMs
-    this.accumulator = 0
+    this.accumulator =
+      phase === undefined ? 0 : phaseAccumulator(this.stepSeconds, phase, performance.timeOrigin + nowMs)
   }
+}
+
+/**
+ * The accumulator (s) that makes a clock with step `stepSeconds` tick when the time `nowMs` (ms
+ * since the epoch) is `phase` steps past a multiple of the step: the time since the last such
+ * moment.
+ */
+export function phaseAccumulator(stepSeconds: number, phase: number, nowMs: number): number {
+  const stepMs = stepSeconds * 1000
+  const since = (nowMs - phase * stepMs) % stepMs
+  return (since < 0 ? since + stepMs : since) / 1000
 }

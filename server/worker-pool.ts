@@ -119,6 +119,8 @@ class WorkerLink {
 
   constructor(
     readonly id: number,
+    /** Its place in the pool, 0..size-1: its clock ticks slot / size of a tick after slot 0's. */
+    readonly slot: number,
     readonly worker: Worker,
   ) {}
 
@@ -175,7 +177,7 @@ export class WorkerPool implements RoomHost {
     })
     // Nobody may be waiting yet when a worker fails (startServer awaits soon after): no unhandled rejection.
     this.ready.catch(() => {})
-    for (let i = 0; i < size; i++) this.spawn()
+    for (let slot = 0; slot < size; slot++) this.spawn(slot)
   }
 
   has(name: string): boolean {
@@ -323,9 +325,9 @@ export class WorkerPool implements RoomHost {
     return best
   }
 
-  private spawn(): WorkerLink {
+  private spawn(slot: number): WorkerLink {
     const id = this.nextId++
-    const init: WorkerInit = { id, config: this.config }
+    const init: WorkerInit = { id, config: this.config, phase: slot / this.size }
     const here = import.meta.url
     // From source (tests, tsx) the worker loads TypeScript through tsx; the build ships dist/room-worker.js.
     const worker = here.endsWith('.ts')
@@ -333,7 +335,7 @@ export class WorkerPool implements RoomHost {
           workerData: { ...init, entry: new URL('./room-worker.ts', here).href },
         })
       : new Worker(new URL('./room-worker.js', here), { workerData: init })
-    const link = new WorkerLink(id, worker)
+    const link = new WorkerLink(id, slot, worker)
     this.links.push(link)
     this.health.beat(link.loop)
     worker.on('message', (message: FromWorker) => {
@@ -502,7 +504,7 @@ export class WorkerPool implements RoomHost {
       this.reopened(room)
     }
     this.metrics.rooms.set(this.roomLinks.size)
-    this.spawn()
+    this.spawn(link.slot)
     for (const room of rooms) {
       if (this.config.record && this.config.recover)
         this.place(room)?.post({ op: 'open', room, recover: true })

@@ -16,6 +16,8 @@ import type { RoomMessage } from './room-messages.ts'
 export interface WorkerInit {
   id: number
   config: ServerConfig
+  /** The worker's tick phase, a fraction of a tick (TickClock.start): workers take turns on the cores. */
+  phase: number
 }
 
 /** A test-only fault to inject into a worker (never reachable from the network). */

@@ -1,3 +1,4 @@
+import { performance } from 'node:perf_hooks'
 import { describe, expect, it } from 'vitest'
 import { MAX_CATCH_UP, TickClock } from '../../server/tick-clock.ts'
 
@@ -33,5 +34,35 @@ describe('the fixed-step tick clock (driven with made-up times)', () => {
     expect(dropped).toEqual([60 - MAX_CATCH_UP])
     // Back to normal: the next frame runs its one tick, no backlog.
     expect(clock.pump(2000 + 1000 / 60 + 0.01)).toBe(1)
+  })
+
+  it('with a phase, ticks fall that fraction of a step past the process-wide grid of steps', () => {
+    // Pumped every 0.01 ms, a clock reports each tick within 0.01 ms of when it falls due. Where it
+    // falls is read against the process's time (timeOrigin + now), which every thread shares.
+    const stepMs = STEP * 1000
+    const dueAt = (phase: number, startMs: number): number[] => {
+      const due: number[] = []
+      const clock = new TickClock(STEP, () => due.push(now))
+      let now = startMs
+      clock.reset(now, phase)
+      while (due.length < 5) clock.pump((now += 0.01))
+      return due
+    }
+    for (const phase of [0, 0.25, 0.5, 0.75]) {
+      for (const startMs of [1000, 1003.7, 1016.6]) {
+        const due = dueAt(phase, startMs)
+        // The first tick comes within one step of the start, at the next point of its grid.
+        expect(due[0] - startMs).toBeLessThanOrEqual(stepMs + 0.01)
+        for (const t of due) {
+          const into = (performance.timeOrigin + t - phase * stepMs) % stepMs
+          expect(Math.min(into, stepMs - into)).toBeLessThan(0.011)
+        }
+      }
+    }
+    // Clocks started at different times with phases 0 and 1/2 tick half a step apart.
+    const a = dueAt(0, 1000)
+    const b = dueAt(0.5, 1011)
+    const gap = (((b[0] - a[0]) % stepMs) + stepMs) % stepMs
+    expect(gap).toBeCloseTo(stepMs / 2, 1)
   })
 })
