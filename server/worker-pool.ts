@@ -251,6 +251,11 @@ export class WorkerPool implements RoomHost {
     return this.links.map((l) => l.id)
   }
 
+  /** The live workers' tick phases (fractions of a tick, in slot order): k / size for slot k. */
+  get workerPhases(): number[] {
+    return this.links.map((l) => l.slot / this.size).sort((a, b) => a - b)
+  }
+
   /** Inject a test fault into the worker holding `room` (never reachable from the network). */
   fault(room: string, fault: WorkerFault): void {
     this.roomLinks.get(room)?.post({ op: 'fault', fault })

@@ -269,6 +269,8 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
       return durable.tick > 0
     }, 'a checkpoint after the spawn in the log')
     const worker = server.pool?.workerOf('phoenix')
+    // The workers take turns: their clocks tick half a tick apart.
+    expect(server.pool?.workerPhases).toEqual([0, 0.5])
     server.pool?.fault('phoenix', { kind: 'exit' })
 
     await first.closed
@@ -287,6 +289,8 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
     expect(await metricsText(server)).toMatch(/concord_room_workers_failed_total 1/)
     expect(server.pool?.workerIds).toHaveLength(2)
     expect(server.pool?.workerIds).not.toContain(worker)
+    // The new worker takes the dead one's turn.
+    expect(server.pool?.workerPhases).toEqual([0, 0.5])
 
     await until(
       () => lines.some((l) => l.msg === 'room rebuilt from its log on a worker' && l.room === 'phoenix'),
