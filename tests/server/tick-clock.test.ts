@@ -1,6 +1,7 @@
 import { performance } from 'node:perf_hooks'
 import { describe, expect, it } from 'vitest'
 import { MAX_CATCH_UP, TickClock } from '../../server/tick-clock.ts'
+import { FLUSH_LEAD_MS, flushDelay } from '../../server/worker-pool.ts'
 
 const STEP = 1 / 60
 
@@ -64,5 +65,22 @@ describe('the fixed-step tick clock (driven with made-up times)', () => {
     const b = dueAt(0.5, 1011)
     const gap = (((b[0] - a[0]) % stepMs) + stepMs) % stepMs
     expect(gap).toBeCloseTo(stepMs / 2, 1)
+  })
+
+  it("inputs for a worker wait until FLUSH_LEAD_MS before that worker's next tick", () => {
+    const stepMs = 1000 / 60
+    // 0.01 ms after a whole number of steps since the epoch (at 1.7e12 ms a double resolves 0.0002 ms).
+    const grid = Math.ceil(1.7e12 / stepMs) * stepMs + 0.01
+    for (const phase of [0, 0.5]) {
+      // Just after this worker's tick fell due (the grid of TickClock.start(phase)).
+      const tick = grid + phase * stepMs
+      expect(flushDelay(tick, phase)).toBeCloseTo(stepMs - FLUSH_LEAD_MS - 0.01, 2)
+      expect(flushDelay(tick + 5, phase)).toBeCloseTo(stepMs - FLUSH_LEAD_MS - 5.01, 2)
+      // Inside the last FLUSH_LEAD_MS: send now.
+      expect(flushDelay(tick + stepMs - 1, phase)).toBeLessThanOrEqual(0)
+      expect(flushDelay(tick - 1, phase)).toBeLessThanOrEqual(0)
+    }
+    // The other worker's tick is half a step away: the same moment waits differently.
+    expect(flushDelay(grid, 0.5)).toBeCloseTo(stepMs / 2 - FLUSH_LEAD_MS - 0.01, 2)
   })
 })

@@ -10,11 +10,13 @@ import { mkdtemp } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { Writable } from 'node:stream'
+import { Worker } from 'node:worker_threads'
 import pino from 'pino'
-import { afterEach, describe, expect, it } from 'vitest'
+import { afterEach, describe, expect, it, vi } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import { listLogNames, scanLog } from '../../server/replay-files.ts'
 import type { RunningServer } from '../../server/server.ts'
+import { FLUSH_LEAD_MS } from '../../server/worker-pool.ts'
 import { CLOSE_CODES } from '../../shared/index.ts'
 import { readSlowly } from './slow-socket.ts'
 import { startTestServer } from './test-server.ts'
@@ -137,6 +139,31 @@ describe('rooms on worker threads', { timeout: 60_000 }, () => {
     await hog.waitFor(() => hog.mirror.tick >= hog0 + 12, 'the hog to advance 12 ticks')
     return { hog: hog.mirror.tick - hog0, calm: calm.mirror.tick - calm0, same }
   }
+
+  it("a client's inputs go to its room's worker in about one message per tick, in order, none lost", async () => {
+    const server = await start({ workers: 2 })
+    const b = await bot(server, 'flow', 'ada')
+    const body = await spawnAndDrag(b)
+    b.command({ k: 'grab', body, lx: 0, ly: 0 })
+    // 100 moves 4 ms apart (about 4 a tick, under the input budget), each in its own event-loop
+    // turn on the server; the last one takes the body back to x = -6.
+    const posts = vi.spyOn(Worker.prototype, 'postMessage')
+    const started = performance.now()
+    for (let i = 1; i <= 100; i++) {
+      b.command({ k: 'move', x: 6 - (12 * i) / 100, y: 4 })
+      await new Promise((resolve) => setTimeout(resolve, 4))
+    }
+    const ticks = (performance.now() - started) / (1000 / 60)
+    await b.waitFor(() => (b.mirror.bodies.get(body)?.x ?? 0) < -5, 'the last move')
+    const sent = posts.mock.calls.length
+    posts.mockRestore()
+    // One by one that was at least 100 messages (one per event-loop turn, and the bot's acks);
+    // held until 3 ms before the worker's next tick, it is one a tick plus the moves that arrive
+    // within those 3 ms, which go at once.
+    expect(sent).toBeLessThan(ticks + 100 * (FLUSH_LEAD_MS / (1000 / 60)) + 15)
+    expect(sent).toBeLessThan(75)
+    expect(b.received.some((m) => m.t === 'error')).toBe(false)
+  })
 
   it('a room that hogs its worker does not slow a room on another worker', async () => {
     const { hog, calm, same } = await hogAndNeighbour(2)
