@@ -530,3 +530,8 @@ export function helpText(): string {
     ...rows,
   ].join('\n')
 }
+
+/** Unsent bytes at which a client is dropped at once: 8 send-buffer budgets, at least 1 MiB. */
+export function hardBufferLimit(config: ServerConfig): number {
+  return Math.max(config.sendBufferBytes * 8, 1 << 20)
+}

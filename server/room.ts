@@ -52,7 +52,7 @@ import {
   WORLD_HALF_EXTENT,
 } from '../shared/index.ts'
 import { RoomSimulation, type SimulationListener, worldFromBlueprint } from '../shared/room-simulation.ts'
-import type { ServerConfig } from './config.ts'
+import { hardBufferLimit, type ServerConfig } from './config.ts'
 import { LockstepFeed } from './lockstep-feed.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { DROP_CONNECTION, type PlayerConnection } from './player-connection.ts'
@@ -437,11 +437,45 @@ export class Room {
     const shared = this.sharedSnapshots
     shared.length = 0
     for (const p of this.players.values()) {
-      if (p.lockstep) continue
+      // A lockstep player's tick stream cannot be skipped, but the slow-reader rule closes it too.
+      if (p.lockstep) {
+        if (!p.dropped) this.overBudget(p)
+        continue
+      }
       staleness = Math.max(staleness, this.sendSnapshot(p, cursors, contacts?.get(p.inspect), shared))
     }
     shared.length = 0
     this.lastMaxStaleness = staleness
+  }
+
+  /**
+   * The slow-reader rule, on snapshot ticks: whether `player` has more unread data than the
+   * send-buffer budget. One that has been over it for --slow-client-seconds, or is over the hard
+   * limit (8 budgets, at least 1 MiB), is closed without a close frame.
+   */
+  private overBudget(player: RoomPlayer): boolean {
+    const buffered = player.conn.buffered()
+    if (buffered <= this.config.sendBufferBytes) {
+      player.behindSince = -1
+      return false
+    }
+    if (player.behindSince < 0) player.behindSince = this.tick
+    const tooLong = this.tick - player.behindSince > this.config.slowClientSeconds * TICK_RATE
+    if (tooLong || buffered > hardBufferLimit(this.config)) {
+      this.log.warn(
+        {
+          room: this.name,
+          player: player.id,
+          buffered,
+          rule: tooLong ? 'slow-client-seconds' : 'hard-limit',
+        },
+        'closing a client that stopped reading',
+      )
+      this.metrics.slowClientsClosed.inc()
+      player.dropped = true
+      player.conn.close(DROP_CONNECTION, 'stopped reading')
+    }
+    return true
   }
 
   /**
@@ -457,29 +491,10 @@ export class Room {
     shared: SharedSnapshot[],
   ): number {
     if (player.dropped) return 0
-    const buffered = player.conn.buffered()
-    if (buffered > this.config.sendBufferBytes) {
+    if (this.overBudget(player)) {
       this.metrics.snapshotsSkipped.inc()
-      if (player.behindSince < 0) player.behindSince = this.tick
-      const hardLimit = Math.max(this.config.sendBufferBytes * 8, 1 << 20)
-      const tooLong = this.tick - player.behindSince > this.config.slowClientSeconds * TICK_RATE
-      if (tooLong || buffered > hardLimit) {
-        this.log.warn(
-          {
-            room: this.name,
-            player: player.id,
-            buffered,
-            rule: tooLong ? 'slow-client-seconds' : 'hard-limit',
-          },
-          'closing a client that stopped reading',
-        )
-        this.metrics.slowClientsClosed.inc()
-        player.dropped = true
-        player.conn.close(DROP_CONNECTION, 'stopped reading')
-      }
       return 0
     }
-    player.behindSince = -1
     let bytes: Uint8Array | null = null
     let stats: EncodeStats | null = null
     for (let i = 0; i < shared.length; i++) {

@@ -27,7 +27,7 @@ import {
   ROOM_NAME_PATTERN,
 } from '../shared/index.ts'
 import { ClientSession } from './client-session.ts'
-import type { ServerConfig } from './config.ts'
+import { hardBufferLimit, type ServerConfig } from './config.ts'
 import { type Access, checkAccess } from './http-access.ts'
 import { clientAddress } from './http-connections.ts'
 import { parseRequestTarget, rawHttpResponse } from './http-request-url.ts'
@@ -54,11 +54,6 @@ interface Peer {
   dropped: boolean
   /** Its join waits for the room directory's answer (one claim per socket at a time). */
   joining: boolean
-}
-
-/** Unsent bytes at which a client is dropped at once: 8 send-buffer budgets, at least 1 MiB. */
-export function hardBufferLimit(config: ServerConfig): number {
-  return Math.max(config.sendBufferBytes * 8, 1 << 20)
 }
 
 /** Accepts sockets and routes their messages to rooms. */

@@ -10,6 +10,7 @@ import {
   ClientMirror,
   decodeServerMessage,
   encodeMessage,
+  type JoinMode,
   MAX_POSITION_ERROR,
   type ServerMessage,
 } from '../../shared/index.ts'
@@ -55,9 +56,9 @@ function makeRoom(overrides: Partial<ServerConfig> = {}): Room {
   return new Room('unit', config, createMetrics(false), pino({ level: 'silent' }))
 }
 
-function join(room: Room, name: string): FakeConnection {
+function join(room: Room, name: string, mode: JoinMode = 'snapshot'): FakeConnection {
   const conn = new FakeConnection()
-  const player = room.join(conn, name, undefined)
+  const player = room.join(conn, name, undefined, mode)
   if (typeof player === 'string') throw new Error(player)
   conn.player = player
   // What the transport does when a socket closes.
@@ -183,6 +184,36 @@ describe('a room driven tick by tick with fake connections', () => {
     room.runTick()
     expect(flooded.closed?.code).toBe(DROP_CONNECTION)
     expect(wobbly.closed).toBeNull()
+  })
+})
+
+describe('the slow-reader rule for lockstep players (their tick stream is never skipped)', () => {
+  it('closes one over the send-buffer budget for --slow-client-seconds or over the hard limit, not one that catches up', () => {
+    const room = makeRoom({ snapshotRate: 60, sendBufferBytes: 10_000, slowClientSeconds: 1 })
+    const behind = join(room, 'behind', 'lockstep')
+    const wobbly = join(room, 'wobbly', 'lockstep')
+    const flooded = join(room, 'flooded', 'lockstep')
+    room.runTick()
+    behind.bufferedBytes = 10_001
+    wobbly.bufferedBytes = 20_000
+    for (let t = 0; t < 50; t++) room.runTick()
+    wobbly.bufferedBytes = 0
+    for (let t = 0; t < 10; t++) room.runTick()
+    // Behind for a whole second (not more than slowClientSeconds): still in the room.
+    expect(behind.closed).toBeNull()
+    room.runTick()
+    room.runTick()
+    expect(behind.closed?.code).toBe(DROP_CONNECTION)
+    expect(room.players.has(behind.player!.id)).toBe(false)
+    for (let t = 0; t < 60; t++) room.runTick()
+    expect(wobbly.closed).toBeNull()
+    flooded.bufferedBytes = (1 << 20) + 1
+    room.runTick()
+    expect(flooded.closed?.code).toBe(DROP_CONNECTION)
+    expect(wobbly.closed).toBeNull()
+    // Its tick stream was sent all along: lockstep players get no snapshots to skip.
+    expect(wobbly.count('ticks')).toBeGreaterThan(0)
+    expect(wobbly.count('snap')).toBe(0)
   })
 })
 

@@ -1,8 +1,8 @@
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
 import type { ClientSession } from '../../server/client-session.ts'
+import { hardBufferLimit } from '../../server/config.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { hardBufferLimit } from '../../server/transport.ts'
 import { socketOf } from './slow-socket.ts'
 import { inProcessRooms, startTestServer } from './test-server.ts'
 
