@@ -12,7 +12,6 @@
  * a fresh worker takes its place, and with recording and recovery on, each of its rooms is rebuilt
  * from its log on a live worker (recovery.ts) before any rejoin reaches it.
  */
-
 import { performance } from 'node:perf_hooks'
 import { Worker } from 'node:worker_threads'
 import type { Logger } from 'pino'
@@ -126,7 +125,7 @@ class WorkerLink {
   lastError = ''
   private pending: ToWorker[] = []
   private scheduled = false
-
+  /** Holds ops that can wait until FLUSH_LEAD_MS before the worker's next tick. */
   private timer: NodeJS.Timeout | null = null
 
   constructor(
