@@ -10,7 +10,7 @@ import { Camera } from './camera.ts'
 import { FpsMeter, hudText } from './hud.ts'
 import { computeFreeBody, describeFreeBody, type FreeBody } from './lab.ts'
 import { LabPlot } from './lab-plot.ts'
-import { cleanRoomName, offlineLink, roomLink, showLobby } from './lobby.ts'
+import { cleanRoomName, offlineLink, replaysLink, roomLink, showLobby } from './lobby.ts'
 import { pickBody, shapeRadius } from './picking.ts'
 import { type DebugLayers, Renderer } from './renderer.ts'
 import type { Sandbox, ViewBody } from './sandbox.ts'
@@ -207,6 +207,7 @@ export class App {
         break
       case 'lobby':
         $('lobby').hidden = !$('lobby').hidden
+        $('replays-link').setAttribute('href', replaysLink())
         if (!$('lobby').hidden) void showLobby($('lobby-list'), this.httpBase, this.room)
         break
       case 'escape':

@@ -18,6 +18,11 @@ export function roomLink(room: string): string {
   return pageLink({ room })
 }
 
+/** The URL of the replay picker on this page (the access key carried over: a token-only server's replays need it). */
+export function replaysLink(): string {
+  return pageLink({ replay: '' })
+}
+
 /**
  * The URL of this page in offline mode with `scene`, remembering the room it came from, so that
  * going back online returns to the same room.
@@ -34,7 +39,7 @@ function pageLink(params: Record<string, string>): string {
     const value = url.searchParams.get(name)
     if (value) keep.set(name, value)
   }
-  url.search = `?${keep.toString().replace(/^offline=&/, 'offline&')}`
+  url.search = `?${keep.toString().replace(/^(offline|replay)=(&|$)/, '$1$2')}`
   return url.toString()
 }
 

@@ -4,7 +4,8 @@
  *   ?offline        run the engine in the page, no server (&scene=NAME picks the scene); the
  *                   static build (npm run build:static) always runs offline
  *   ?replay[=NAME]  play a recorded log: the server's log NAME, or pick one (list, file, drop)
- *   &key=KEY        access key of a server with join or admin tokens (sent on to the WebSocket)
+ *   &key=KEY        access key of a server with join or admin tokens (sent on to the WebSocket,
+ *                   and to GET /replays, which a server with a join token refuses without it)
  *   &name=NAME      player name (default: "guest" and a number)
  *   &server=URL     a WebSocket URL other than this page's origin (ws://host:port/ws)
  *   &mode=lockstep  simulate the room in the page from the server's tick stream (&mode=predict:
@@ -54,10 +55,11 @@ declare global {
   }
 }
 
-const replay = new URLSearchParams(location.search).get('replay')
+const pageParams = new URLSearchParams(location.search)
+const replay = pageParams.get('replay')
 if (replay !== null) {
   const base = location.protocol === 'file:' ? '' : `${location.protocol}//${location.host}`
-  window.concordReplay = new ReplayPage(base, replay)
+  window.concordReplay = new ReplayPage(base, replay, pageParams.get('key') ?? '')
 } else {
   window.concord = boot()
 }

@@ -6,7 +6,9 @@
  * A seek runs in slices (replay-player.ts), so a long one leaves the page live: the tick display
  * shows the tick reached, the target and the percent done; the seek bar shows the target; dragging
  * the bar again takes over; Play or Step pressed meanwhile act from where the seek lands.
- * With no server (a static page, a file: URL) the list is simply absent; files still play.
+ * With no server (a static page, a file: URL) the list is simply absent; files still play. The
+ * page's `&key=` goes with every request for the server's logs (a server with a join token
+ * refuses them without it, as it refuses a join).
  */
 import { App } from './app.ts'
 import { type LoadedLog, ReplayLoadError, readLog, type SeekProgress } from './replay-player.ts'
@@ -60,6 +62,8 @@ export class ReplayPage {
   constructor(
     private readonly httpBase: string,
     logName: string,
+    /** The page's access key ('' for none), sent as `?key=` with every request for a log. */
+    private readonly key = '',
   ) {
     document.body.append(this.panel)
     this.panel.style.cssText =
@@ -68,6 +72,11 @@ export class ReplayPage {
     this.acceptDrops()
     if (logName) void this.fetchLog(logName)
     else void this.showPicker()
+  }
+
+  /** The URL of a replay route (`/replays` or `/replays/NAME`), with the page's key. */
+  private replayUrl(path: string): string {
+    return `${this.httpBase}${path}${this.key ? `?key=${encodeURIComponent(this.key)}` : ''}`
   }
 
   private say(text: string, error = false): void {
@@ -94,7 +103,11 @@ export class ReplayPage {
       this.message,
     )
     try {
-      const res = await fetch(`${this.httpBase}/replays`)
+      const res = await fetch(this.replayUrl('/replays'))
+      if (res.status === 401 || res.status === 403) {
+        list.textContent = `The server's logs need its key (HTTP ${res.status}): open this page with &key=KEY.`
+        return
+      }
       if (!res.ok) return
       const logs = (await res.json()) as ListedLog[]
       if (logs.length === 0) list.textContent = 'The server has no recorded sessions yet.'
@@ -125,7 +138,14 @@ export class ReplayPage {
   private async fetchLog(name: string): Promise<void> {
     this.say(`loading ${name}...`)
     try {
-      const res = await fetch(`${this.httpBase}/replays/${encodeURIComponent(name)}`)
+      const res = await fetch(this.replayUrl(`/replays/${encodeURIComponent(name)}`))
+      if (res.status === 401 || res.status === 403) {
+        this.say(
+          `the server's log ${name} needs its key (HTTP ${res.status}): open this page with &key=KEY`,
+          true,
+        )
+        return
+      }
       if (!res.ok) {
         this.say(`the server has no log ${name} (HTTP ${res.status})`, true)
         return

@@ -8,6 +8,8 @@
  * token-only (the WebSocket upgrade must carry `key=<join token>` or `key=<admin token>`) except
  * the rooms listed in --public-rooms. With --admin-token, room controls (scene, reset, pause,
  * step, gravity) are admin-only: only a connection that presented the admin token may use them.
+ * The replay logs follow the join token: with it, GET /replays and /replays/NAME need either key
+ * (http-access.ts checkReplayAccess), --public-rooms or not.
  */
 import { ROOM_NAME_PATTERN } from '../shared/index.ts'
 import type { ServerConfig, Setting } from './config.ts'
@@ -63,7 +65,7 @@ export const SECURITY_SETTINGS: readonly Setting[] = [
     env: 'JOIN_TOKEN',
     kind: 'string',
     fallback: '',
-    help: 'when set, rooms are token-only: the WebSocket URL needs key=TOKEN (401/403 otherwise)',
+    help: 'when set, rooms and replays are token-only: the WebSocket URL and /replays need key=TOKEN (401/403 otherwise)',
   },
   {
     key: 'adminToken',

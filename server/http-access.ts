@@ -5,6 +5,11 @@
  * (`/ws?room=NAME&key=KEY`). A key that matches neither token is refused (403) wherever it is
  * sent; without a key, a token-only room is refused (401) and a public room admits the
  * connection to that room only. The room policy is described in config-security.ts.
+ *
+ * The replay logs (GET /replays, GET /replays/NAME) hold every command of every room and the
+ * players' names, so with a join token they need a key too (`/replays?key=KEY`, the join or the
+ * admin token), whichever room they recorded: checkReplayAccess. Before, a token-only server
+ * served the recording of its rooms to anyone.
  */
 import { timingSafeEqual } from 'node:crypto'
 import type { IncomingMessage } from 'node:http'
@@ -31,6 +36,42 @@ export function sameSecret(given: string, secret: string): boolean {
   return a.length === b.length && timingSafeEqual(a, b)
 }
 
+/** What a key in a URL is: the admin token, the join token, none given, or a key matching neither. */
+function keyRole(config: ServerConfig, key: string): 'admin' | 'member' | 'none' | 'forged' {
+  if (key === '') return 'none'
+  if (config.adminToken !== '' && sameSecret(key, config.adminToken)) return 'admin'
+  if (config.joinToken !== '' && sameSecret(key, config.joinToken)) return 'member'
+  return config.adminToken !== '' || config.joinToken !== '' ? 'forged' : 'none'
+}
+
+/** A refused HTTP request for the replay logs: status, a one-line answer, the reason for the log. */
+export interface ReplayRefusal {
+  status: 401 | 403
+  text: string
+  reason: string
+}
+
+/**
+ * Whether the replay routes may answer a request for `url`: null when they may (no join token, or
+ * the URL's `key=` is the join or the admin token), else the refusal. A key that matches neither
+ * token is refused (403) as it is at the upgrade, even on a server whose replays are public.
+ */
+export function checkReplayAccess(config: ServerConfig, url: URL): ReplayRefusal | null {
+  const role = keyRole(config, url.searchParams.get('key') ?? '')
+  if (role === 'forged')
+    return {
+      status: 403,
+      text: 'the key matches neither the join token nor the admin token',
+      reason: 'bad-key',
+    }
+  if (config.joinToken === '' || role !== 'none') return null
+  return {
+    status: 401,
+    text: 'the replays of this server need its join or admin key: add key=KEY to the URL',
+    reason: 'no-key',
+  }
+}
+
 /** Decide an upgrade request for `room` (the URL's room, or '' when the join will name it). */
 export function checkAccess(
   config: ServerConfig,
@@ -43,11 +84,10 @@ export function checkAccess(
   if (origins.length > 0 && origin !== undefined && !origins.includes(origin)) {
     return { ok: false, status: 403, text: 'Forbidden', reason: 'origin' }
   }
-  const key = url.searchParams.get('key') ?? ''
-  const admin = config.adminToken !== '' && key !== '' && sameSecret(key, config.adminToken)
-  const member = admin || (config.joinToken !== '' && key !== '' && sameSecret(key, config.joinToken))
-  const tokensSet = config.adminToken !== '' || config.joinToken !== ''
-  if (key !== '' && tokensSet && !member) {
+  const role = keyRole(config, url.searchParams.get('key') ?? '')
+  const admin = role === 'admin'
+  const member = admin || role === 'member'
+  if (role === 'forged') {
     return { ok: false, status: 403, text: 'Forbidden', reason: 'bad-key' }
   }
   const controls = config.adminToken === '' || admin

@@ -3,7 +3,9 @@
  * health and readiness probes, Prometheus metrics, the open rooms as JSON for the lobby, and the
  * replay logs (GET /replays lists them, GET /replays/NAME downloads one). Static paths are resolved
  * inside the static directory only (no traversal); a replay name must match the log name pattern
- * exactly, so it can only name a file directly inside the replay directory. GET and HEAD only.
+ * exactly, so it can only name a file directly inside the replay directory. With a join token the
+ * replay routes need the join or admin key in the URL, as a join does (http-access.ts
+ * checkReplayAccess); 401 without one, 403 for a wrong one. GET and HEAD only.
  * A request target that does not parse (`//%`) is answered 400 (http-request-url.ts).
  */
 import { createReadStream } from 'node:fs'
@@ -11,6 +13,7 @@ import { stat } from 'node:fs/promises'
 import type { IncomingMessage, ServerResponse } from 'node:http'
 import { extname, join, normalize, resolve, sep } from 'node:path'
 import type { Logger } from 'pino'
+import type { ReplayRefusal } from './http-access.ts'
 import { parseRequestTarget } from './http-request-url.ts'
 import type { ServerMetrics } from './metrics.ts'
 import type { Recordings } from './recordings.ts'
@@ -36,6 +39,8 @@ export interface RouteContext {
   staticDir: string
   rooms: RoomHost
   recordings?: Recordings
+  /** Null when a request for the replay logs may be answered, else its refusal (checkReplayAccess). */
+  replayAccess: (url: URL) => ReplayRefusal | null
   metrics: ServerMetrics
   /** The /metrics text when it is more than the registry's (room workers' metrics merged in). */
   metricsText?: () => Promise<string>
@@ -79,16 +84,22 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
         return
       case '/rooms':
         return send(res, 200, 'application/json', JSON.stringify(listRooms(ctx.rooms)))
-      case '/replays':
+      case '/replays': {
         if (!ctx.recordings) return send(res, 404, 'text/plain', 'not found\n')
+        const refusal = ctx.replayAccess(url)
+        if (refusal) return send(res, refusal.status, 'text/plain', `${refusal.text}\n`)
         ctx.recordings.list().then(
           (logs) => send(res, 200, 'application/json', JSON.stringify(logs)),
           () => send(res, 500, 'text/plain', 'listing failed\n'),
         )
         return
+      }
       default:
-        if (url.pathname.startsWith('/replays/') && ctx.recordings)
+        if (url.pathname.startsWith('/replays/') && ctx.recordings) {
+          const refusal = ctx.replayAccess(url)
+          if (refusal) return send(res, refusal.status, 'text/plain', `${refusal.text}\n`)
           return serveReplay(ctx.recordings, url.pathname.slice('/replays/'.length), req, res, ctx.log)
+        }
         serveStatic(root, url.pathname, req, res, ctx.log)
     }
   }

@@ -13,6 +13,7 @@ import pino, { type Logger } from 'pino'
 import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
 import { AgonesLink, agonesPresent } from './agones.ts'
 import type { ServerConfig } from './config.ts'
+import { checkReplayAccess } from './http-access.ts'
 import { ConnectionGuard, timeoutCheckInterval, tuneHttpTimeouts } from './http-connections.ts'
 import { rawHttpResponse } from './http-request-url.ts'
 import { createRequestHandler } from './http-routes.ts'
@@ -101,6 +102,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     staticDir: config.staticDir,
     rooms: host,
     recordings,
+    replayAccess: (url) => checkReplayAccess(config, url),
     metrics,
     metricsText: pool ? () => pool.metricsText() : undefined,
     log,

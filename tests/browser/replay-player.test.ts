@@ -1,8 +1,9 @@
 /*
  * The browser replay player against a real recorded session: two bots play in a room of a real
  * server that records (spawns, a grab dragged around, a pin, a rope, a delete, gravity, a scene
- * load); the server shuts down cleanly, a second server on the same replay directory serves the
- * page and the log. In Chromium the player opens the log from the server's list, plays it, seeks
+ * load); the server shuts down cleanly, a second server on the same replay directory, with a join
+ * token, serves the page and the log (to a page opened with the key; one without it is told the
+ * logs need a key). In Chromium the player opens the log from the server's list, plays it, seeks
  * back and forward through the seek bar, and the hash indicator stays green. At every sought tick
  * the page's world hash equals the replay CLI's (server/replay-tool.ts, `--to TICK`) in Node, and
  * the page's engine reaches the same final hash as Node's.
@@ -23,6 +24,9 @@ import { collectErrors } from './client-harness.ts'
 const DIST = 'test-results/browser-replay/dist'
 const ROOM = 'replayed'
 const TICKS = 900
+
+/** The serving server's join token: its replays need it, as its rooms do. */
+const KEY = 'replay-key-5d1e'
 
 let browser: Browser
 let server: RunningServer
@@ -89,10 +93,11 @@ beforeAll(async () => {
       heartbeatMs: 60_000,
       record: false,
       replayDir,
+      joinToken: KEY,
     },
   )
   server = await startServer(config, { processMetrics: false })
-  const listed = (await (await fetch(`${httpBase()}/replays`)).json()) as Array<{
+  const listed = (await (await fetch(`${httpBase()}/replays?key=${KEY}`)).json()) as Array<{
     name: string
     room: string
     status: string
@@ -132,7 +137,7 @@ describe('browser replay player', () => {
     const context = await browser.newContext({ viewport: { width: 1280, height: 800 } })
     const page = await context.newPage()
     const errors = collectErrors(page)
-    await page.goto(`${httpBase()}/?replay`)
+    await page.goto(`${httpBase()}/?replay&key=${KEY}`)
     await page.click(`#replay-list button[data-log="${logName}"]`)
     await page.waitForSelector('#replay-play')
     await page.waitForFunction(() => (window.concord?.sandbox.bodies().length ?? 0) > 0)
@@ -170,10 +175,13 @@ describe('browser replay player', () => {
     await context.close()
   })
 
-  it('says in one line what is wrong with a file that is not a log', async () => {
+  it('without the key, says the logs need it; says in one line what is wrong with a file that is not a log', async () => {
     const context = await browser.newContext()
     const page = await context.newPage()
     await page.goto(`${httpBase()}/?replay`)
+    await page.waitForFunction(() =>
+      /need its key \(HTTP 401\)/.test(document.getElementById('replay-list')?.textContent ?? ''),
+    )
     await page.setInputFiles('#replay-file', {
       name: 'notes.txt',
       mimeType: 'text/plain',

@@ -1,8 +1,12 @@
 /*
  * Who may connect (issue 11, "Also"): the origin allowlist and the join and admin tokens, decided
  * at the WebSocket upgrade of a real server on 127.0.0.1. Refusals are read as raw HTTP status
- * lines; admitted clients are ordinary protocol clients.
+ * lines; admitted clients are ordinary protocol clients. The replay logs (GET /replays and
+ * /replays/NAME) are asked for with and without keys.
  */
+import { mkdtemp, writeFile } from 'node:fs/promises'
+import { tmpdir } from 'node:os'
+import { join } from 'node:path'
 import { encode } from '@msgpack/msgpack'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../server/bot-client.ts'
@@ -15,10 +19,18 @@ import { startTestServer } from './test-server.ts'
 const JOIN = 'join-secret-7f3a'
 const ADMIN = 'admin-secret-91c2'
 
+/** A file in the replay directory with a log's name (its bytes stand for a private room's commands). */
+const LOG = 'private-20260101T000000000Z.cclog'
+const LOG_BYTES = 'every command of the private room'
+
 let server: RunningServer
+let replayDir: string
 
 beforeAll(async () => {
+  replayDir = await mkdtemp(join(tmpdir(), 'concord-access-'))
+  await writeFile(join(replayDir, LOG), LOG_BYTES)
   server = await startTestServer({
+    replayDir,
     joinToken: JOIN,
     adminToken: ADMIN,
     publicRooms: 'lobby,open',
@@ -107,5 +119,48 @@ describe('join and admin tokens', { timeout: 20_000 }, () => {
       joinToken: JOIN,
       publicRooms: 'lobby, hall',
     })
+  })
+})
+
+describe('the replay logs of a server with a join token', { timeout: 20_000 }, () => {
+  const get = (path: string, method = 'GET'): Promise<Response> => fetch(`${server.url}${path}`, { method })
+
+  it('the listing and a log are refused without a key (401) and with a wrong one (403), their bytes unsent', async () => {
+    for (const path of ['/replays', `/replays/${LOG}`]) {
+      const none = await get(path)
+      expect(none.status, path).toBe(401)
+      const text = await none.text()
+      expect(text).toContain('key=')
+      expect(text).not.toContain(LOG_BYTES)
+      expect(text).not.toContain(LOG)
+      expect((await get(path, 'HEAD')).status, `HEAD ${path}`).toBe(401)
+      expect((await get(`${path}?key=`)).status, path).toBe(401)
+      const forged = await get(`${path}?key=${JOIN}x`)
+      expect(forged.status, path).toBe(403)
+      expect(await forged.text()).toContain('matches neither')
+    }
+  })
+
+  it('the join key and the admin key each open the listing and the log', async () => {
+    for (const key of [JOIN, ADMIN]) {
+      const listing = await get(`/replays?key=${key}`)
+      expect(listing.status).toBe(200)
+      expect(((await listing.json()) as Array<{ name: string }>).map((l) => l.name)).toEqual([LOG])
+      const log = await get(`/replays/${LOG}?key=${encodeURIComponent(key)}`)
+      expect(log.status).toBe(200)
+      expect(await log.text()).toBe(LOG_BYTES)
+    }
+  })
+
+  it('without a join token the replays stay public; with only an admin token a wrong key is still 403', async () => {
+    const open = await startTestServer({ replayDir, adminToken: ADMIN })
+    try {
+      expect(await (await fetch(`${open.url}/replays/${LOG}`)).text()).toBe(LOG_BYTES)
+      expect((await fetch(`${open.url}/replays`)).status).toBe(200)
+      expect((await fetch(`${open.url}/replays?key=${ADMIN}`)).status).toBe(200)
+      expect((await fetch(`${open.url}/replays?key=${JOIN}`)).status).toBe(403)
+    } finally {
+      await open.close()
+    }
   })
 })
