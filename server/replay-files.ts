@@ -6,7 +6,7 @@
  */
 import { createReadStream } from 'node:fs'
 import { open as openFile, readdir, readFile, stat, unlink } from 'node:fs/promises'
-import { join } from 'node:path'
+import { dirname, join } from 'node:path'
 import { PREAMBLE_BYTES, type Preamble, REPLAY_MAGIC, type ReplayRecord } from '../shared/replay-log.ts'
 import { type ReadStatus, ReplayLogReader } from '../shared/replay-log-reader.ts'
 
@@ -165,7 +165,24 @@ function statusOf(s: ReadStatus): LogSummary['status'] {
   return 'torn'
 }
 
+/**
+ * Summaries by path, with the read to go on from. A listing drops the entries of its directory's
+ * logs that are gone (pruned, deleted by hand): before, every log ever listed stayed here, with its
+ * reader, for the life of the process.
+ */
 const cache = new Map<string, { size: number; mtime: number; summary: LogSummary; read: LogRead | null }>()
+
+/** Paths of the logs whose summaries are cached (tests check that deleted logs are forgotten). */
+export function cachedLogPaths(): string[] {
+  return [...cache.keys()]
+}
+
+/** Drop the cached summaries of logs of `dir` that are not among `names` (its logs now). */
+function forgetDeleted(dir: string, names: readonly string[]): void {
+  const here = join(dir, '.')
+  const present = new Set(names.map((name) => join(dir, name)))
+  for (const path of cache.keys()) if (dirname(path) === here && !present.has(path)) cache.delete(path)
+}
 
 /** Listings of a log under way, by path: a second request waits for the same read. */
 const reading = new Map<string, Promise<LogSummary>>()
@@ -242,7 +259,9 @@ export async function listLogNames(dir: string): Promise<string[]> {
 /** Summaries of every log, newest first. */
 export async function listLogs(dir: string, open: ReadonlySet<string>): Promise<LogSummary[]> {
   const out: LogSummary[] = []
-  for (const name of (await listLogNames(dir)).reverse()) {
+  const names = await listLogNames(dir)
+  forgetDeleted(dir, names)
+  for (const name of names.reverse()) {
     try {
       out.push(await summarize(dir, name, open))
     } catch {

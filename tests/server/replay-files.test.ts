@@ -1,8 +1,8 @@
-import { mkdtemp, writeFile } from 'node:fs/promises'
+import { mkdtemp, unlink, writeFile } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { describe, expect, it } from 'vitest'
-import { listLogs } from '../../server/replay-files.ts'
+import { cachedLogPaths, listLogs } from '../../server/replay-files.ts'
 import { encodePreamble, REPLAY_FORMAT_VERSION } from '../../shared/replay-log.ts'
 
 describe('GET /replays summaries', () => {
@@ -27,5 +27,26 @@ describe('GET /replays summaries', () => {
       expect(entry?.ticks ?? 0, name).toBe(0)
       if (status === 'empty') expect(entry?.problem, name).toMatch(/^nothing recorded: .*\(\d+ bytes\)$/)
     }
+  })
+})
+
+describe('the listing cache', () => {
+  it('forgets the logs deleted from the directory at the next listing, keeps the others and other directories', async () => {
+    const [dir, other] = await Promise.all([
+      mkdtemp(join(tmpdir(), 'concord-replay-cache-')),
+      mkdtemp(join(tmpdir(), 'concord-replay-cache-')),
+    ])
+    const names = ['a', 'b', 'c'].map((room) => `${room}-20261123T000000000Z.cclog`)
+    for (const name of names) await writeFile(join(dir, name), 'not a log')
+    await writeFile(join(other, names[0]), 'not a log')
+    await listLogs(dir, new Set())
+    await listLogs(other, new Set())
+    const cached = (d: string): string[] => cachedLogPaths().filter((p) => p.startsWith(`${d}/`))
+    expect(cached(dir).sort()).toEqual(names.map((n) => join(dir, n)))
+    await unlink(join(dir, names[0]))
+    await unlink(join(dir, names[2]))
+    expect((await listLogs(dir, new Set())).map((l) => l.name)).toEqual([names[1]])
+    expect(cached(dir)).toEqual([join(dir, names[1])])
+    expect(cached(other)).toEqual([join(other, names[0])])
   })
 })
