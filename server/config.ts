@@ -4,6 +4,7 @@
  * message naming the setting, never silently replaced.
  */
 
+import { isIP } from 'node:net'
 import { availableParallelism } from 'node:os'
 import { SCENES } from '../engine/index.ts'
 import { ROOM_NAME_PATTERN } from '../shared/index.ts'
@@ -439,6 +440,10 @@ export const SETTINGS: readonly Setting[] = [
   },
 ]
 
+/** A DNS host name (RFC 1123 labels of letters, digits and inner hyphens), for --host. */
+const HOST_NAME =
+  /^(?=.{1,253}$)[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-9])?(?:\.[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-9])?)*$/
+
 /** The defaults alone. */
 export function defaultConfig(): ServerConfig {
   const config: Record<string, unknown> = {}
@@ -506,6 +511,9 @@ export function loadConfig(
   }
   if (result.publicUrl !== '' && !/^wss?:\/\/[^\s/?#]+$/.test(result.publicUrl)) {
     throw new Error(`public URL must be ws://HOST:PORT or wss://HOST (no path), got "${result.publicUrl}"`)
+  }
+  if (isIP(result.host) === 0 && !HOST_NAME.test(result.host)) {
+    throw new Error(`host (--host, HOST) must be an IP address or a host name, got "${result.host}"`)
   }
   if (!FSYNC_MODES.includes(result.replayFsync)) {
     throw new Error(`replay fsync must be one of ${FSYNC_MODES.join(', ')}, got "${result.replayFsync}"`)

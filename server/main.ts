@@ -4,7 +4,7 @@
  * logs are flushed, and the process exits within 5 s even if something hangs.
  */
 import { helpText, loadConfig, type ServerConfig } from './config.ts'
-import { startServer } from './server.ts'
+import { ListenError, startServer } from './server.ts'
 
 /** Hard deadline for shutdown after the drain period (ms). */
 const SHUTDOWN_DEADLINE_MS = 4500
@@ -35,6 +35,8 @@ async function main(): Promise<void> {
 }
 
 main().catch((error) => {
-  process.stderr.write(`concord: ${(error as Error).stack ?? error}\n`)
+  // A listen failure is a bad setting, named in the message; anything else is worth its stack.
+  const text = error instanceof ListenError ? error.message : ((error as Error).stack ?? error)
+  process.stderr.write(`concord: ${text}\n`)
   process.exit(1)
 })

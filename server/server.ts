@@ -138,9 +138,13 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   health.beat('main')
   rooms.clock.start()
   await new Promise<void>((resolve, reject) => {
-    http.once('error', reject)
+    const refused = (error: Error): void =>
+      reject(
+        new ListenError(`cannot listen on --host ${config.host} --port ${config.port}: ${error.message}`),
+      )
+    http.once('error', refused)
     http.listen(config.port, config.host, () => {
-      http.off('error', reject)
+      http.off('error', refused)
       resolve()
     })
   })
@@ -222,6 +226,12 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     close,
   }
 }
+
+/**
+ * The server could not listen where its settings say (a --host that does not resolve or is not an
+ * address of this machine, a --port in use): the command line prints its one-line message.
+ */
+export class ListenError extends Error {}
 
 /** The URL other servers send this server's players to: --public-url, else ws://HOST:PORT. */
 function publicUrl(config: ServerConfig, port: number): string {

@@ -1,4 +1,4 @@
-import { execFileSync } from 'node:child_process'
+import { execFileSync, spawnSync } from 'node:child_process'
 import { describe, expect, it } from 'vitest'
 import { defaultConfig, helpText, loadConfig, SETTINGS } from '../../server/config.ts'
 
@@ -94,5 +94,52 @@ describe('the README settings table', () => {
       else
         expect(s.fallback === '' ? documented.startsWith('(') : documented === String(s.fallback)).toBe(true)
     }
+  })
+})
+
+describe('a bad --host', () => {
+  /** `server/main.ts` (the real command line) with `--host host`; its exit code and standard error. */
+  const start = (host: string): { status: number | null; stderr: string } => {
+    const args = [
+      '--port',
+      '0',
+      '--host',
+      host,
+      '--workers',
+      '0',
+      '--record',
+      'false',
+      '--log-level',
+      'silent',
+    ]
+    const r = spawnSync(process.execPath, ['--import', 'tsx', 'server/main.ts', ...args], {
+      encoding: 'utf8',
+      timeout: 20_000,
+    })
+    return { status: r.status, stderr: r.stderr }
+  }
+
+  it('that is no address or host name stops startup with one line naming the setting and value, no stack', () => {
+    for (const host of ['', 'not a host', '[::1]', 'http://127.0.0.1']) {
+      const r = start(host)
+      expect(r.status, host).toBe(2)
+      expect(r.stderr, host).toBe(
+        `concord: host (--host, HOST) must be an IP address or a host name, got "${host}"\n`,
+      )
+    }
+    expect(loadConfig([], { HOST: '::1' }).host).toBe('::1')
+    expect(loadConfig(['--host', 'fe80::1%lo'], {}).host).toBe('fe80::1%lo')
+    expect(loadConfig(['--host', 'game-1.example.com'], {}).host).toBe('game-1.example.com')
+  })
+
+  it('that cannot be listened on (not an address of this machine) stops startup with one line, no stack', {
+    timeout: 30_000,
+  }, () => {
+    // 192.0.2.1 is TEST-NET-1 (RFC 5737): never an address of this machine, no DNS involved.
+    const r = start('192.0.2.1')
+    expect(r.status).toBe(1)
+    expect(r.stderr).toMatch(
+      /^concord: cannot listen on --host 192\.0\.2\.1 --port 0: listen EADDRNOTAVAIL[^\n]*\n$/,
+    )
   })
 })
