@@ -39,7 +39,7 @@ export const SECURITY_SETTINGS: readonly Setting[] = [
     fallback: 128,
     min: 0,
     max: 100000,
-    help: 'TCP connections per client address, 0 = no cap; more get HTTP 429',
+    help: 'TCP connections per client address (IPv6: per /64), 0 = no cap; more get HTTP 429',
   },
   {
     key: 'maxMessagesPerSecond',

@@ -29,7 +29,7 @@ import {
 import { ClientSession } from './client-session.ts'
 import { hardBufferLimit, type ServerConfig } from './config.ts'
 import { type Access, checkAccess } from './http-access.ts'
-import { clientAddress } from './http-connections.ts'
+import { addressKey, clientAddress } from './http-connections.ts'
 import { parseRequestTarget, rawHttpResponse } from './http-request-url.ts'
 import { LogLimiter } from './log-limiter.ts'
 import { MessageBudget } from './message-budget.ts'
@@ -129,7 +129,7 @@ export class Transport {
     const address = clientAddress(request.socket)
     if (!decision.ok) {
       this.metrics.connectionsRefused.inc({ reason: decision.reason })
-      this.warnings.warn(address, { address, reason: decision.reason }, 'upgrade refused')
+      this.warnings.warn(addressKey(address), { address, reason: decision.reason }, 'upgrade refused')
       this.refuse(socket, decision.status, decision.text)
       return
     }
@@ -208,7 +208,11 @@ export class Transport {
     try {
       this.receive(peer, data, isBinary)
     } catch (error) {
-      this.warnings.warn(peer.address, { player: peer.session.id, err: error }, 'message handling failed')
+      this.warnings.warn(
+        addressKey(peer.address),
+        { player: peer.session.id, err: error },
+        'message handling failed',
+      )
       try {
         this.drop(peer, CLOSE_CODES.internal, 'server error handling your message')
       } catch {
@@ -228,7 +232,7 @@ export class Transport {
     session.strikes++
     if (session.strikes > this.config.maxRejects) {
       this.warnings.warn(
-        peer.address,
+        addressKey(peer.address),
         { player: session.id, address: peer.address, reason },
         'disconnecting a client that keeps sending invalid messages',
       )
