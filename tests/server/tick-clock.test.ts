@@ -1,7 +1,7 @@
 import { performance } from 'node:perf_hooks'
 import { describe, expect, it } from 'vitest'
 import { MAX_CATCH_UP, TickClock } from '../../server/tick-clock.ts'
-import { FLUSH_LEAD_MS, flushDelay } from '../../server/worker-pool.ts'
+import { FLUSH_LEAD_MS, flushDelay } from '../../server/worker-link.ts'
 
 const STEP = 1 / 60
 
