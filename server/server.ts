@@ -126,6 +126,13 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     if (guard.refused(socket)) return guard.closeRefused(socket)
     transport.handleUpgrade(req, socket, head)
   })
+  http.on('connect', (_req, socket) => {
+    // CONNECT (a proxy tunnel request): this is not a proxy. Without a listener Node closed the
+    // socket without an answer.
+    if (guard.refused(socket)) return guard.closeRefused(socket)
+    socket.end(rawHttpResponse(405, 'Method Not Allowed', { Allow: 'GET, HEAD' }))
+    setTimeout(() => socket.destroy(), 1000).unref()
+  })
   http.on('clientError', (error: NodeJS.ErrnoException, socket) => {
     // Unparseable requests and Node's own timeouts: answer when the socket can still take it.
     if (socket.writable && !guard.refused(socket)) {

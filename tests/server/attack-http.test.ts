@@ -32,6 +32,16 @@ describe('request targets that made URL parsing throw', { timeout: 20_000 }, () 
     })
   }
 
+  it('CONNECT gets 405 (this is not a proxy), not a silent close, and the server carries on', async () => {
+    const connect = await rawRequest(
+      server.port,
+      'CONNECT 127.0.0.1:22 HTTP/1.1\r\nHost: 127.0.0.1:22\r\n\r\n',
+    )
+    expect(connect.status).toBe(405)
+    expect(connect.answer).toMatch(/^Allow: GET, HEAD$/m)
+    expect(await healthy(server.url)).toBe(true)
+  })
+
   it('a request line Node cannot parse gets 400', async () => {
     const bad = await rawRequest(server.port, 'GET /\x01 HTTP/1.1\r\n\r\n')
     expect(bad.status).toBe(400)
