@@ -1,7 +1,7 @@
 /*
  * The security settings of the server (issue 11): connection caps and timeouts, the per-client
  * message rate, the origin allowlist, and the join and admin tokens with the rooms that stay
- * public. They join config.ts's SETTINGS table (flag, environment variable, default, help), and
+ * public. They join the SETTINGS table (config-settings.ts) (flag, environment variable, default, help), and
  * checkSecurityConfig refuses bad values at startup with a message naming the setting.
  *
  * Room access policy: without --join-token every room is public. With it, every room is
@@ -12,7 +12,8 @@
  * (http-access.ts checkReplayAccess), --public-rooms or not.
  */
 import { ROOM_NAME_PATTERN } from '../shared/index.ts'
-import type { ServerConfig, Setting } from './config.ts'
+import type { ServerConfig } from './config.ts'
+import type { Setting } from './config-settings.ts'
 
 /** Shortest accepted token (characters): shorter secrets are guessable. */
 export const MIN_KEY_LENGTH = 8
