@@ -7,9 +7,9 @@ import { mkdir } from 'node:fs/promises'
 import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { buildClient } from '../../scripts/build-client.mjs'
-import { loadConfig } from '../../server/config.ts'
-import { type RunningServer, startServer } from '../../server/server.ts'
+import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from './chromium.ts'
+import { serveClient } from './client-harness.ts'
 
 const DIST = 'test-results/browser-access/dist'
 let browser: Browser
@@ -18,20 +18,7 @@ let server: RunningServer
 beforeAll(async () => {
   await mkdir(DIST, { recursive: true })
   await buildClient(DIST)
-  const config = loadConfig(
-    [],
-    {},
-    {
-      port: 0,
-      host: '127.0.0.1',
-      staticDir: DIST,
-      logLevel: 'silent',
-      heartbeatMs: 60_000,
-      record: false,
-      joinToken: 'open-sesame',
-    },
-  )
-  server = await startServer(config, { processMetrics: false })
+  server = await serveClient(DIST, { joinToken: 'open-sesame' })
   browser = await launchBrowser()
 }, 120_000)
 

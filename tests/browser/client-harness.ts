@@ -7,7 +7,7 @@
 import { mkdir } from 'node:fs/promises'
 import type { Browser, BrowserContext, CDPSession, Page } from 'playwright-core'
 import { buildClient } from '../../scripts/build-client.mjs'
-import { loadConfig } from '../../server/config.ts'
+import { loadConfig, type ServerConfig } from '../../server/config.ts'
 import { type RunningServer, startServer } from '../../server/server.ts'
 
 /** Where screenshots go (git-ignored). */
@@ -18,11 +18,27 @@ const DIST = 'test-results/browser-client/dist'
 export async function startClientServer(port = 0): Promise<RunningServer> {
   await mkdir(ARTIFACTS, { recursive: true })
   if (port === 0) await buildClient(DIST)
-  // No recording: these pages do not need logs, and a test must not leave files in ./replays.
+  return serveClient(DIST, { port })
+}
+
+/**
+ * A server on 127.0.0.1 (any free port) serving the client already built in `dist`, with
+ * `settings` over these. No recording unless asked: a test must not leave files in ./replays.
+ * Test files that build the client in parallel each use a `dist` of their own.
+ */
+export function serveClient(dist: string, settings: Partial<ServerConfig> = {}): Promise<RunningServer> {
   const config = loadConfig(
     [],
     {},
-    { port, staticDir: DIST, logLevel: 'silent', heartbeatMs: 60_000, record: false },
+    {
+      port: 0,
+      host: '127.0.0.1',
+      staticDir: dist,
+      logLevel: 'silent',
+      heartbeatMs: 60_000,
+      record: false,
+      ...settings,
+    },
   )
   return startServer(config, { processMetrics: false })
 }

@@ -14,11 +14,10 @@ import { join } from 'node:path'
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { buildClient } from '../../scripts/build-client.mjs'
-import { loadConfig } from '../../server/config.ts'
-import { type RunningServer, startServer } from '../../server/server.ts'
+import type { RunningServer } from '../../server/server.ts'
 import { type KeyframeFreeLog, recordKeyframeFreeLog } from '../client/keyframe-free-log.ts'
 import { launchBrowser } from './chromium.ts'
-import { collectErrors } from './client-harness.ts'
+import { collectErrors, serveClient } from './client-harness.ts'
 
 const DIST = 'test-results/browser-replay-long/dist'
 const TICKS = 120_000
@@ -31,20 +30,7 @@ beforeAll(async () => {
   await mkdir(DIST, { recursive: true })
   await buildClient(DIST)
   long = await recordKeyframeFreeLog(TICKS)
-  const config = loadConfig(
-    [],
-    {},
-    {
-      port: 0,
-      host: '127.0.0.1',
-      staticDir: DIST,
-      logLevel: 'silent',
-      heartbeatMs: 60_000,
-      record: false,
-      replayDir: await mkdtemp(join(tmpdir(), 'concord-long-seek-')),
-    },
-  )
-  server = await startServer(config, { processMetrics: false })
+  server = await serveClient(DIST, { replayDir: await mkdtemp(join(tmpdir(), 'concord-long-seek-')) })
   browser = await launchBrowser()
 }, 240_000)
 

@@ -15,11 +15,10 @@ import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { buildClient } from '../../scripts/build-client.mjs'
 import { BotClient } from '../../server/bot-client.ts'
-import { loadConfig } from '../../server/config.ts'
 import { replayLog } from '../../server/replay-tool.ts'
-import { type RunningServer, startServer } from '../../server/server.ts'
+import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from './chromium.ts'
-import { collectErrors } from './client-harness.ts'
+import { collectErrors, serveClient } from './client-harness.ts'
 
 const DIST = 'test-results/browser-replay/dist'
 const ROOM = 'replayed'
@@ -34,21 +33,7 @@ let logName = ''
 let logBytes: Uint8Array
 
 async function recordSession(replayDir: string): Promise<void> {
-  const config = loadConfig(
-    [],
-    {},
-    {
-      port: 0,
-      host: '127.0.0.1',
-      staticDir: DIST,
-      logLevel: 'silent',
-      heartbeatMs: 60_000,
-      record: true,
-      replayDir,
-      keyframeTicks: 120,
-    },
-  )
-  const recording = await startServer(config, { processMetrics: false })
+  const recording = await serveClient(DIST, { record: true, replayDir, keyframeTicks: 120 })
   try {
     const a = await BotClient.connect({ url: recording.url, room: ROOM, name: 'ada' })
     const b = await BotClient.connect({ url: recording.url, room: ROOM, name: 'bob' })
@@ -82,21 +67,7 @@ beforeAll(async () => {
   await buildClient(DIST)
   const replayDir = await mkdtemp(join(tmpdir(), 'concord-replays-'))
   await recordSession(replayDir)
-  const config = loadConfig(
-    [],
-    {},
-    {
-      port: 0,
-      host: '127.0.0.1',
-      staticDir: DIST,
-      logLevel: 'silent',
-      heartbeatMs: 60_000,
-      record: false,
-      replayDir,
-      joinToken: KEY,
-    },
-  )
-  server = await startServer(config, { processMetrics: false })
+  server = await serveClient(DIST, { replayDir, joinToken: KEY })
   const listed = (await (await fetch(`${httpBase()}/replays?key=${KEY}`)).json()) as Array<{
     name: string
     room: string
