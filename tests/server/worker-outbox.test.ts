@@ -1,8 +1,9 @@
 /*
  * The room worker's outbox (server/worker-outbox.ts): the sends of a tick packed into one buffer
  * (a broadcast copied once), the operations in the order the room produced them, and the buffer
- * sized to the last batch. Checked against the bytes handed in, byte for byte.
+ * handed over holding exactly the batch's bytes. Checked against the bytes handed in, byte for byte.
  */
+import { MessageChannel } from 'node:worker_threads'
 import { describe, expect, it } from 'vitest'
 import { Outbox, WorkerConnection } from '../../server/worker-outbox.ts'
 import type { FromWorker, FromWorkerOp } from '../../server/worker-protocol.ts'
@@ -54,20 +55,52 @@ describe('worker outbox', () => {
     expect(message.ops[5]).toEqual({ k: 'close', conn: 2, code: 4008, reason: 'room lost' })
   })
 
-  it('posts nothing when empty unless asked; a large batch does not keep the next buffers large', () => {
+  it('posts nothing when empty unless asked; hands over exactly the filled bytes and keeps its own buffer', () => {
     const outbox = new Outbox()
     expect(outbox.take(1, false)).toBeNull()
     expect(batch(outbox).buf.byteLength).toBe(0)
     const conn = new WorkerConnection(5, outbox)
+    const channel = new MessageChannel()
+    try {
+      for (let tick = 0; tick < 3; tick++) {
+        const sent = [bytes(1000 + tick, tick), bytes(30, 10 + tick)]
+        for (const b of sent) conn.sendBytes(b)
+        const taken = outbox.take(tick, true)
+        if (taken?.message.t !== 'batch') throw new Error('no batch')
+        expect(taken.message.buf.byteLength).toBe(1030 + tick)
+        expect(taken.transfer).toEqual([taken.message.buf])
+        const view = new Uint8Array(taken.message.buf)
+        expect(view.subarray(0, 1000 + tick)).toEqual(sent[0])
+        expect(view.subarray(1000 + tick)).toEqual(sent[1])
+        // Transferring detaches the handed-over buffer, never the outbox's own.
+        channel.port1.postMessage(taken.message, taken.transfer)
+        expect(taken.message.buf.byteLength).toBe(0)
+      }
+    } finally {
+      channel.port1.close()
+    }
+  })
+
+  it('copies a batch bigger than its buffer whole, and shrinks back to the size the next batches need', () => {
+    const outbox = new Outbox()
+    const conn = new WorkerConnection(5, outbox)
     const big = bytes(300_000, 3)
+    conn.sendBytes(bytes(10, 2))
     conn.sendBytes(big)
     const first = batch(outbox)
-    expect(Buffer.compare(new Uint8Array(first.buf).subarray(0, big.length), big)).toBe(0)
-    expect(first.buf.byteLength).toBeGreaterThanOrEqual(big.length)
-    // The next buffer is sized for the last batch (300,000 bytes: 512 KiB), the one after that for a small one again.
-    conn.sendBytes(bytes(10, 4))
-    expect(batch(outbox).buf.byteLength).toBe(512 * 1024)
+    expect(first.buf.byteLength).toBe(300_010)
+    expect(Buffer.compare(new Uint8Array(first.buf).subarray(10), big)).toBe(0)
+    expect(outboxBufferBytes(outbox)).toBe(512 * 1024)
+    conn.sendBytes(bytes(100_000, 4))
+    expect(batch(outbox).buf.byteLength).toBe(100_000)
+    expect(outboxBufferBytes(outbox)).toBe(128 * 1024)
     conn.sendBytes(bytes(10, 5))
-    expect(batch(outbox).buf.byteLength).toBe(64 * 1024)
+    expect(batch(outbox).buf.byteLength).toBe(10)
+    expect(outboxBufferBytes(outbox)).toBe(64 * 1024)
   })
 })
+
+/** The size of the outbox's own buffer (a private field, read for this test only). */
+function outboxBufferBytes(outbox: Outbox): number {
+  return (outbox as unknown as { buf: Uint8Array }).buf.length
+}
