@@ -13,13 +13,12 @@
  *   3. send the tick's events (bodies and joints created or removed, room settings) to everyone,
  *      encoded once; new bodies carry their pose after this tick's step, and a spawned body the
  *      spawner's player id and input seq
- *   4. on snapshot ticks (every 60 / snapshotRate ticks, at an offset that spreads the rooms of
- *      a manager over the ticks of an interval): quantize the world once into a shared frame,
- *      then write each player's delta against its own acknowledged baseline within its byte
- *      budget (players whose
- *      baselines are equal, the usual case, share one encoded message), followed by the
- *      contacts of the body it inspects, if any; a player whose connection has too much buffered
- *      is skipped, and closed if it stays behind
+ *   4. on snapshot ticks (every 60 / snapshotRate ticks, at an offset that spreads the rooms of a
+ *      manager over the ticks of an interval; room-snapshots.ts): quantize the world once into a
+ *      shared frame, then write each player's delta against its own acknowledged baseline within
+ *      its byte budget (players whose baselines are equal, the usual case, share one encoded
+ *      message), followed by the contacts of the body it inspects, if any; a player whose
+ *      connection has too much buffered is skipped, and closed if it stays behind
  *   5. every second: a state hash checkpoint, forget departed players past the reconnect window
  *   6. the lockstep feed (lockstep-feed.ts): the tick's accepted commands, joins and leaves to the
  *      lockstep and predict players, the checkpoint hash, and saved worlds to those waiting for one
@@ -34,40 +33,31 @@
 import type { Logger } from 'pino'
 import { SCENES, type SceneBlueprint, type World } from '../engine/index.ts'
 import {
-  ByteWriter,
   type Command,
-  type EncodeStats,
   encodeMessage,
   isMovable,
   type JoinMode,
   PROTOCOL_VERSION,
   QuantizedFrame,
-  quantizePosition,
   type RoomRules,
   type ServerMessage,
-  type SnapshotEncoder,
   TICK_RATE,
   type WireBody,
   type WireJoint,
   WORLD_HALF_EXTENT,
 } from '../shared/index.ts'
 import { RoomSimulation, type SimulationListener, worldFromBlueprint } from '../shared/room-simulation.ts'
-import { hardBufferLimit, type ServerConfig } from './config.ts'
+import type { ServerConfig } from './config.ts'
 import { LockstepFeed } from './lockstep-feed.ts'
 import type { ServerMetrics } from './metrics.ts'
-import { DROP_CONNECTION, type PlayerConnection } from './player-connection.ts'
+import type { PlayerConnection } from './player-connection.ts'
 import { RoomPlayer } from './room-player.ts'
 import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
-import { encodeInspections, fillFrame, fullState, refreshPose, wireBody } from './room-wire.ts'
+import { RoomSnapshots } from './room-snapshots.ts'
+import { fillFrame, fullState, refreshPose, wireBody } from './room-wire.ts'
 
 /** How many ticks' worth of inputs over the budget may wait for later ticks before refusals. */
 export const WAITING_TICKS = 4
-
-/** A snapshot encoded this tick, for players with the same baseline (SnapshotEncoder.follow). */
-interface SharedSnapshot {
-  encoder: SnapshotEncoder
-  bytes: Uint8Array
-}
 
 /** A queued input: who sent it, its sequence number and the validated command. */
 interface QueuedInput {
@@ -85,16 +75,12 @@ export class Room {
   nextPlayerId = 1
   /** Room tick at which the last player left (for disposal), or -1 while occupied. */
   emptySince = 0
-  /** Largest staleness (ticks) of a body write in the last snapshot round, for the benchmark. */
-  lastMaxStaleness = 0
   readonly rules: RoomRules
   /** The tick stream, syncs and desync reports of lockstep and predict players. */
   readonly feed: LockstepFeed
   private queue: QueuedInput[] = []
   /** The other of the two queue arrays, swapped each tick (no new array per tick). */
   private spareQueue: QueuedInput[] = []
-  /** The encodes of this snapshot tick that later clients may take over (emptied after each). */
-  private readonly sharedSnapshots: SharedSnapshot[] = []
   /** The input being applied, so a body it spawns names its player and seq in `events`. */
   private applying: QueuedInput | null = null
   private events = {
@@ -104,13 +90,11 @@ export class Room {
     jremove: [] as number[],
   }
   private roomChanged = false
-  private readonly frame = new QuantizedFrame(256)
-  private readonly writer = new ByteWriter(4096)
   private readonly snapshotInterval: number
   /** Ticks with (tick + phase) % snapshotInterval === 0 send snapshots (see the constructor). */
   private readonly snapshotPhase: number
-  private readonly budget: number
-  private readonly weight = (id: number): number => (this.sim.grabCounts.has(id) ? 8 : 0)
+  /** Snapshots and the slow-reader rule (room-snapshots.ts). */
+  private readonly snapshots: RoomSnapshots
 
   constructor(
     readonly name: string,
@@ -128,7 +112,7 @@ export class Room {
   ) {
     this.snapshotInterval = TICK_RATE / config.snapshotRate
     this.snapshotPhase = spread.snapshotPhase % this.snapshotInterval
-    this.budget = Math.floor(config.clientBandwidth / config.snapshotRate)
+    this.snapshots = new RoomSnapshots(this)
     this.sim = new RoomSimulation({
       name,
       scene: Object.hasOwn(SCENES, config.defaultScene) ? config.defaultScene : 'pyramid',
@@ -148,6 +132,11 @@ export class Room {
       scenes: Object.keys(SCENES),
       worldHalfExtent: WORLD_HALF_EXTENT,
     }
+  }
+
+  /** Largest staleness (ticks) of a body write in the last snapshot round, for the benchmark. */
+  get lastMaxStaleness(): number {
+    return this.snapshots.lastMaxStaleness
   }
 
   /** The current world. */
@@ -304,7 +293,7 @@ export class Room {
     }
     this.sim.runTick()
     this.flushEvents()
-    if ((this.tick + this.snapshotPhase) % this.snapshotInterval === 0) this.sendSnapshots()
+    if ((this.tick + this.snapshotPhase) % this.snapshotInterval === 0) this.snapshots.send()
     const hash = this.tick % TICK_RATE === 0 ? this.world.hash() : undefined
     if (hash !== undefined) this.everySecond(hash)
     this.feed.endTick(hash)
@@ -415,107 +404,6 @@ export class Room {
       })
       this.roomChanged = false
     }
-  }
-
-  private sendSnapshots(): void {
-    if (this.players.size === 0) return
-    fillFrame(this.world, this.frame)
-    const cursors: number[] = []
-    for (const p of this.players.values()) {
-      if (!p.cursorDirty) continue
-      const s = this.sim.players.get(p.id)
-      if (!s) continue
-      cursors.push(p.id, quantizePosition(s.cursorX), quantizePosition(s.cursorY), s.grab ? s.grab.body : 0)
-      p.cursorDirty = false
-    }
-    let inspected: Set<number> | null = null
-    for (const p of this.players.values()) if (p.inspect !== 0) (inspected ??= new Set()).add(p.inspect)
-    const contacts = inspected
-      ? encodeInspections(this.world, this.tick, inspected, this.sim.userJoints)
-      : null
-    let staleness = 0
-    const shared = this.sharedSnapshots
-    shared.length = 0
-    for (const p of this.players.values()) {
-      // A lockstep player's tick stream cannot be skipped, but the slow-reader rule closes it too.
-      if (p.lockstep) {
-        if (!p.dropped) this.overBudget(p)
-        continue
-      }
-      staleness = Math.max(staleness, this.sendSnapshot(p, cursors, contacts?.get(p.inspect), shared))
-    }
-    shared.length = 0
-    this.lastMaxStaleness = staleness
-  }
-
-  /**
-   * The slow-reader rule, on snapshot ticks: whether `player` has more unread data than the
-   * send-buffer budget. One that has been over it for --slow-client-seconds, or is over the hard
-   * limit (8 budgets, at least 1 MiB), is closed without a close frame.
-   */
-  private overBudget(player: RoomPlayer): boolean {
-    const buffered = player.conn.buffered()
-    if (buffered <= this.config.sendBufferBytes) {
-      player.behindSince = -1
-      return false
-    }
-    if (player.behindSince < 0) player.behindSince = this.tick
-    const tooLong = this.tick - player.behindSince > this.config.slowClientSeconds * TICK_RATE
-    if (tooLong || buffered > hardBufferLimit(this.config)) {
-      this.log.warn(
-        {
-          room: this.name,
-          player: player.id,
-          buffered,
-          rule: tooLong ? 'slow-client-seconds' : 'hard-limit',
-        },
-        'closing a client that stopped reading',
-      )
-      this.metrics.slowClientsClosed.inc()
-      player.dropped = true
-      player.conn.close(DROP_CONNECTION, 'stopped reading')
-    }
-    return true
-  }
-
-  /**
-   * Send one player its snapshot and, when it inspects a body, that body's contacts; or skip both
-   * when its connection has too much buffered. Returns the snapshot's staleness. A player whose
-   * baseline equals that of a player already encoded this tick gets the same message bytes
-   * (SnapshotEncoder.follow); otherwise its encode joins `shared` for the players after it.
-   */
-  private sendSnapshot(
-    player: RoomPlayer,
-    cursors: number[],
-    contacts: Uint8Array | undefined,
-    shared: SharedSnapshot[],
-  ): number {
-    if (player.dropped) return 0
-    if (this.overBudget(player)) {
-      this.metrics.snapshotsSkipped.inc()
-      return 0
-    }
-    let bytes: Uint8Array | null = null
-    let stats: EncodeStats | null = null
-    for (let i = 0; i < shared.length; i++) {
-      stats = player.encoder.follow(shared[i].encoder, this.frame, this.tick, this.budget)
-      if (stats) {
-        bytes = shared[i].bytes
-        break
-      }
-    }
-    if (!bytes || !stats) {
-      this.writer.reset()
-      const base = player.encoder.referenceTick
-      stats = player.encoder.encode(this.writer, this.frame, this.tick, this.budget, this.weight)
-      const data = this.writer.bytes.subarray(0, this.writer.length)
-      bytes = encodeMessage({ t: 'snap', tick: this.tick, base, data, cursors })
-      shared.push({ encoder: player.encoder, bytes })
-    }
-    // Marked as the snapshot of this tick: its ack tells how far the client has read.
-    player.conn.sendBytes(bytes, this.tick)
-    if (contacts) player.conn.sendBytes(contacts)
-    return stats.maxStaleness
   }
 
   private everySecond(hash: number): void {
