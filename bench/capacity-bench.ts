@@ -29,7 +29,9 @@ import { cpuSplit, sampleCpu } from './cpu-split.ts'
 import {
   awakePile,
   bytesSent,
+  loopStats,
   memoryMb,
+  openRoom,
   quantile,
   startBots,
   startTimedServer,
@@ -60,19 +62,11 @@ const WORKERS = flag('--workers', 0)
 // Rooms are opened before their bots connect; a bots process starting slowly on a loaded machine
 // (more than 5 s, the server's idle limit) used to find its rooms closed as idle and open empty
 // ones, so steps measured rooms without their piles (Nov 24: 69 bodies per room at 20 rooms).
-const { server, take: takeMain } = await startTimedServer(WORKERS, 600)
+const timed = await startTimedServer(WORKERS, 600)
+const { server } = timed
 const pool = server.pool
-/** Loop tick times since the last call: the main loop's, or every worker's (wall only). */
-const take = (): { wall: number[]; cpu: number[]; overruns: number; perWorkerP99: number[] } => {
-  if (!pool) return { ...takeMain(), overruns: server.rooms.clock.overruns, perWorkerP99: [] }
-  const stats = pool.takeLoopStats()
-  return {
-    wall: stats.flatMap((s) => s.loopMs),
-    cpu: stats.flatMap((s) => s.cpuMs),
-    overruns: stats.reduce((n, s) => n + s.overruns, 0),
-    perWorkerP99: stats.map((s) => Number(quantile(s.loopMs, 0.99).toFixed(2))),
-  }
-}
+/** Loop tick times since the last call: the main loop's, or every worker's. */
+const take = loopStats(timed)
 /** Memory in MB: RSS, and the heap after a GC (main thread), or RSS again with workers (their heaps are not collected). */
 const memoryNow = (): { rss: number; heap: number } => {
   const m = memoryMb()
@@ -99,9 +93,7 @@ while (rooms < MAX_ROOMS) {
   const prefix = `cap${rooms}`
   const before = memoryNow()
   for (let k = 1; k <= STEP; k++) {
-    const name = `${prefix}-${k}`
-    if (pool) pool.open(name, { name: blueprint.name, scene: blueprint })
-    else server.rooms.getOrCreate(name)?.loadBlueprint(blueprint.name, blueprint)
+    openRoom(server, `${prefix}-${k}`, blueprint)
   }
   rooms += STEP
   if (pool)

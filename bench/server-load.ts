@@ -81,6 +81,43 @@ export async function startTimedServer(workers = 0, roomIdleSeconds = 5): Promis
   }
 }
 
+/** Loop ticks since the last call, of the main thread's loop or of every worker's. */
+export interface LoopStats {
+  /** Loop tick durations (ms), wall and CPU (the worker thread's own, or the process's on the main thread). */
+  wall: number[]
+  cpu: number[]
+  /** Ticks dropped since the server started, all loops. */
+  overruns: number
+  /** Each worker's wall p99 (ms) over these ticks; empty without workers. */
+  perWorkerP99: number[]
+  /** Each worker's V8 heap (MB) as it last reported it; empty without workers. */
+  workerHeapMb: number[]
+}
+
+/** A function returning the loop ticks since its last call (see LoopStats), for the server's rooms wherever they run. */
+export function loopStats(timed: TimedServer): () => LoopStats {
+  const { server } = timed
+  return () => {
+    const pool = server.pool
+    if (!pool)
+      return { ...timed.take(), overruns: server.rooms.clock.overruns, perWorkerP99: [], workerHeapMb: [] }
+    const stats = pool.takeLoopStats()
+    return {
+      wall: stats.flatMap((s) => s.loopMs),
+      cpu: stats.flatMap((s) => s.cpuMs),
+      overruns: stats.reduce((n, s) => n + s.overruns, 0),
+      perWorkerP99: stats.map((s) => Number(quantile(s.loopMs, 0.99).toFixed(2))),
+      workerHeapMb: stats.map((s) => Number(s.heapMb.toFixed(1))),
+    }
+  }
+}
+
+/** Open a room holding `blueprint`, on the main thread or on a worker. */
+export function openRoom(server: RunningServer, name: string, blueprint: SceneBlueprint): void {
+  if (server.pool) server.pool.open(name, { name: blueprint.name, scene: blueprint })
+  else server.rooms.getOrCreate(name)?.loadBlueprint(blueprint.name, blueprint)
+}
+
 /** A pile of `count` mixed bodies that never sleep (so every one costs a full step). */
 export function awakePile(count: number): SceneBlueprint {
   return { ...awakeBlueprint(pileScene(count)), name: `pile-${count}-awake` }

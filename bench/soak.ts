@@ -4,16 +4,22 @@
  * Steady load: 10 rooms, each a pile of 100 never-sleeping bodies, with 3 bots dragging things
  * (a child process running server/bots.ts). Churn: every 250 ms a client joins one of the rooms
  * or one of 20 short-lived rooms, stays 1-3 s, and leaves, so rooms open and close too.
- * Every 10 s: RSS and heap (after a full GC), loop tick p50/p99 over those 10 s, dropped ticks,
- * rooms, clients, churn joins so far. Growth of RSS over the run is the leak signal.
+ * The rooms run as `npm start` runs them: on one worker thread per core (--workers N to change
+ * it; 0 puts every room on the main thread).
+ * Every 10 s: RSS, the main thread's heap (after a full GC) and each worker's heap (as it last
+ * reported it, not collected first), loop tick p50/p99 over those 10 s (wall, and CPU of the
+ * loop's thread), dropped ticks, rooms, clients, churn joins so far. Growth of RSS and of the
+ * heaps over the run is the leak signal.
  */
 import { mkdirSync, writeFileSync } from 'node:fs'
-import { cpus, loadavg } from 'node:os'
+import { availableParallelism, cpus, loadavg } from 'node:os'
 import { Prng } from '../engine/index.ts'
 import { BotClient } from '../server/bot-client.ts'
 import {
   awakePile,
+  loopStats,
   memoryMb,
+  openRoom,
   quantile,
   startBots,
   startTimedServer,
@@ -28,17 +34,36 @@ const MINUTES = minutesAt >= 0 ? Number(argv[minutesAt + 1]) : 10
 if (!(MINUTES > 0) || !Number.isFinite(MINUTES)) {
   throw new Error(`--minutes takes a number of minutes above 0, got ${JSON.stringify(argv[minutesAt + 1])}`)
 }
+const workersAt = argv.indexOf('--workers')
+const WORKERS = workersAt >= 0 ? Number(argv[workersAt + 1]) : Math.min(256, availableParallelism())
+if (!Number.isInteger(WORKERS) || WORKERS < 0) {
+  throw new Error(`--workers takes a whole number of 0 or more, got ${JSON.stringify(argv[workersAt + 1])}`)
+}
 const ROOMS = 10
 const BOTS_PER_ROOM = 3
 const SAMPLE_MS = 10_000
 
-const { server, take } = await startTimedServer()
-const blueprint = awakePile(100)
-for (let k = 1; k <= ROOMS; k++)
-  server.rooms.getOrCreate(`soak-${k}`)?.loadBlueprint(blueprint.name, blueprint)
+// Rooms close 5 s after their last client leaves, as by default, so the churn rooms come and go.
+// The piles are loaded once the bots are in: a room opened before them, empty, would close if
+// the bots process took more than 5 s to start, and the bots would then join empty rooms.
+const timed = await startTimedServer(WORKERS)
+const { server } = timed
+const take = loopStats(timed)
 const bots = startBots(server.url, 'soak', ROOMS, ROOMS * BOTS_PER_ROOM)
-await until(() => server.rooms.playerCount >= ROOMS * BOTS_PER_ROOM, 'the bots to join')
-console.log(`soak: ${MINUTES} min, ${cpus().length} cores, load ${loadavg()[0].toFixed(2)}`)
+await until(() => server.host.playerCount >= ROOMS * BOTS_PER_ROOM, 'the bots to join')
+const blueprint = awakePile(100)
+for (let k = 1; k <= ROOMS; k++) openRoom(server, `soak-${k}`, blueprint)
+const bodiesOf = (name: string): number =>
+  server.pool
+    ? (server.pool.summaries().find((r) => r.name === name)?.bodies ?? 0)
+    : (server.rooms.get(name)?.world.bodyCount ?? 0)
+await until(
+  () => Array.from({ length: ROOMS }, (_, k) => bodiesOf(`soak-${k + 1}`)).every((n) => n >= 100),
+  'the soak rooms to hold their piles',
+)
+console.log(
+  `soak: ${MINUTES} min, ${WORKERS} worker(s), ${cpus().length} cores, load ${loadavg()[0].toFixed(2)}`,
+)
 
 const prng = new Prng(7)
 let joins = 0
@@ -69,29 +94,31 @@ const churn = (async () => {
 
 const samples: Record<string, number>[] = []
 const started = performance.now()
-take()
+let dropped = take().overruns
 while (performance.now() - started < MINUTES * 60_000) {
-  const dropped0 = server.rooms.clock.overruns
   await wait(SAMPLE_MS)
   const ticks = take()
   const mem = memoryMb()
+  const rooms = server.pool ? server.pool.summaries().length : server.rooms.list().length
   const row = {
     seconds: Math.round((performance.now() - started) / 1000),
     rssMb: Number(mem.rss.toFixed(1)),
     heapMb: Number(mem.heap.toFixed(1)),
+    workerHeapMb: ticks.workerHeapMb.reduce((a, b) => a + b, 0),
     tickMsP50: Number(quantile(ticks.wall, 0.5).toFixed(3)),
     tickMsP99: Number(quantile(ticks.wall, 0.99).toFixed(3)),
     cpuMsP99: Number(quantile(ticks.cpu, 0.99).toFixed(3)),
-    droppedTicks: server.rooms.clock.overruns - dropped0,
-    rooms: server.rooms.list().length,
-    clients: server.rooms.playerCount,
+    droppedTicks: ticks.overruns - dropped,
+    rooms,
+    clients: server.host.playerCount,
     churnJoins: joins,
     churnFailures: failures,
     load1: Number(loadavg()[0].toFixed(2)),
   }
+  dropped = ticks.overruns
   samples.push(row)
   console.log(
-    `${row.seconds} s: RSS ${row.rssMb} MB, heap ${row.heapMb} MB, tick p50 ${row.tickMsP50} ms p99 ${row.tickMsP99} ms (CPU p99 ${row.cpuMsP99} ms), ` +
+    `${row.seconds} s: RSS ${row.rssMb} MB, heap ${row.heapMb} MB (workers ${row.workerHeapMb.toFixed(1)} MB), tick p50 ${row.tickMsP50} ms p99 ${row.tickMsP99} ms (CPU p99 ${row.cpuMsP99} ms), ` +
       `dropped ${row.droppedTicks}, rooms ${row.rooms}, clients ${row.clients}, churn joins ${joins} (failed ${failures}), load ${row.load1}`,
   )
 }
@@ -107,6 +134,7 @@ const results = {
   node: process.version,
   cores: cpus().length,
   minutes: MINUTES,
+  workers: WORKERS,
   rooms: ROOMS,
   botsPerRoom: BOTS_PER_ROOM,
   summary: {
@@ -114,6 +142,9 @@ const results = {
     rssMbLast: last?.rssMb,
     heapMbFirst: first?.heapMb,
     heapMbLast: last?.heapMb,
+    workerHeapMbFirst: first?.workerHeapMb,
+    workerHeapMbLast: last?.workerHeapMb,
+    droppedTicks: samples.reduce((n, s) => n + s.droppedTicks, 0),
     tickMsP99Max: Math.max(...samples.map((s) => s.tickMsP99)),
     cpuMsP99Max: Math.max(...samples.map((s) => s.cpuMsP99)),
     churnJoins: joins,
