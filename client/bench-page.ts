@@ -5,7 +5,10 @@
  * interleaved rounds on this page's thread: each round every engine takes a few steps, the
  * engine that goes first rotates, then the page draws each scene small beside its live step-time
  * chart. Warm-up rounds are excluded. At the end, a table: mean, median and p95 ms per step,
- * Concord's time over each engine's, and the end state.
+ * Concord's time over each engine's, and the end state. Each step is timed with performance.now(),
+ * which browsers coarsen (to 0.1 ms in Chromium for a page that is not cross-origin isolated, as
+ * this one is not): the page measures that resolution and states it, since a step faster than it
+ * mostly reads 0 (the mean over many steps still estimates the time; a median can be 0).
  *
  * On every run the page also checks Concord's broadphase: at the end of every quarter of the run
  * it compares the pairs its tree reports with the pairs a brute-force loop finds over the same
@@ -45,7 +48,7 @@ export interface PageResult {
   engine: PeerEngine
   steps: Summary | null
   quality: SceneQuality | null
-  /** Concord's mean over this engine's mean (below 1: Concord is faster). */
+  /** Concord's mean over this engine's mean (below 1: Concord is faster); null when a mean read 0. */
   concordOverThis: number | null
   error: string | null
 }
@@ -57,6 +60,8 @@ export interface BenchState {
   options: BenchOptions | null
   results: PageResult[]
   broadPhase: BroadPhaseCheck[]
+  /** The smallest step of this page's performance.now() (ms), measured when a run starts. */
+  timerResolutionMs: number | null
 }
 
 const CHUNK_STEPS = 5
@@ -70,7 +75,26 @@ const yieldToPage = (): Promise<void> => new Promise((resolve) => setTimeout(res
 
 setWasmLocator((file) => new URL(`wasm/${file}`, document.baseURI).href)
 
-const state: BenchState = { status: 'idle', error: null, options: null, results: [], broadPhase: [] }
+const state: BenchState = {
+  status: 'idle',
+  error: null,
+  options: null,
+  results: [],
+  broadPhase: [],
+  timerResolutionMs: null,
+}
+
+/** The smallest step of performance.now() seen in 20 tries (ms): what one timed step can resolve. */
+function timerResolutionMs(): number {
+  let smallest = Number.POSITIVE_INFINITY
+  for (let i = 0; i < 20; i++) {
+    const t0 = performance.now()
+    let t1 = performance.now()
+    while (t1 === t0) t1 = performance.now()
+    smallest = Math.min(smallest, t1 - t0)
+  }
+  return smallest
+}
 
 interface Lane {
   engine: PeerEngine
@@ -155,6 +179,7 @@ function draw(
 async function runBench(options: BenchOptions): Promise<BenchState> {
   if (state.status === 'running') throw new Error('a run is already in progress')
   Object.assign(state, { status: 'running', error: null, options, results: [], broadPhase: [] })
+  state.timerResolutionMs = timerResolutionMs()
   ;($('scene') as HTMLSelectElement).value = options.scene
   ;($('count') as HTMLInputElement).value = String(options.count)
   ;($('steps') as HTMLInputElement).value = String(options.steps)
@@ -211,7 +236,7 @@ async function runBench(options: BenchOptions): Promise<BenchState> {
         engine: lane.engine,
         steps,
         quality,
-        concordOverThis: cMean === null ? null : cMean / steps.mean,
+        concordOverThis: cMean === null || cMean === 0 || steps.mean === 0 ? null : cMean / steps.mean,
         error: null,
       }
     })
@@ -219,7 +244,8 @@ async function runBench(options: BenchOptions): Promise<BenchState> {
     showTable()
     state.status = 'done'
     $('status').textContent =
-      `done: ${options.steps} timed steps of ${scene.name} (${options.count} bodies, sleep ${options.sleep ? 'on' : 'off'})`
+      `done: ${options.steps} timed steps of ${scene.name} (${options.count} bodies, sleep ${options.sleep ? 'on' : 'off'}); ` +
+      `this browser's timer resolves ${state.timerResolutionMs.toFixed(3)} ms, so a step faster than that mostly reads 0`
   } catch (error) {
     state.status = 'error'
     state.error = error instanceof Error ? error.message : String(error)
