@@ -101,6 +101,7 @@ export function loopStats(timed: TimedServer): () => LoopStats {
     const pool = server.pool
     if (!pool)
       return { ...timed.take(), overruns: server.rooms.clock.overruns, perWorkerP99: [], workerHeapMb: [] }
+    timed.take() // the main thread's own (roomless) loop: dropped, so its samples do not pile up
     const stats = pool.takeLoopStats()
     return {
       wall: stats.flatMap((s) => s.loopMs),

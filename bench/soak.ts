@@ -104,7 +104,7 @@ while (performance.now() - started < MINUTES * 60_000) {
     seconds: Math.round((performance.now() - started) / 1000),
     rssMb: Number(mem.rss.toFixed(1)),
     heapMb: Number(mem.heap.toFixed(1)),
-    workerHeapMb: ticks.workerHeapMb.reduce((a, b) => a + b, 0),
+    workerHeapMb: Number(ticks.workerHeapMb.reduce((a, b) => a + b, 0).toFixed(1)),
     tickMsP50: Number(quantile(ticks.wall, 0.5).toFixed(3)),
     tickMsP99: Number(quantile(ticks.wall, 0.99).toFixed(3)),
     cpuMsP99: Number(quantile(ticks.cpu, 0.99).toFixed(3)),
