@@ -12,7 +12,8 @@
  * short grace whether or not it answers the close (a peer ignoring the close frame once made the
  * server decode and log 930,000 frames in 3 s). Every handler a client can reach is wrapped, so
  * no frame or request ends in an uncaught throw; every socket has an 'error' listener for the same
- * reason. Warnings about clients go through a LogLimiter.
+ * reason. Warnings about clients go through a LogLimiter. A `join` goes on to join-flow.ts (room
+ * name, key, and the room directory).
  */
 import type { IncomingMessage } from 'node:http'
 import { performance } from 'node:perf_hooks'
@@ -31,6 +32,7 @@ import { hardBufferLimit, type ServerConfig } from './config.ts'
 import { type Access, checkAccess } from './http-access.ts'
 import { addressKey, clientAddress } from './http-connections.ts'
 import { parseRequestTarget, rawHttpResponse } from './http-request-url.ts'
+import { JoinFlow } from './join-flow.ts'
 import { LogLimiter } from './log-limiter.ts'
 import { MessageBudget } from './message-budget.ts'
 import type { ServerMetrics } from './metrics.ts'
@@ -44,7 +46,7 @@ export const DROP_GRACE_MS = 1000
 const RATE_STRIKE_INTERVAL_MS = 1000 / 60
 
 /** The transport's view of one connection: its session, socket, access and message budget. */
-interface Peer {
+export interface Peer {
   session: ClientSession
   socket: Duplex
   address: string
@@ -65,10 +67,8 @@ export class Transport {
   /** Rate-limited warnings about clients (at most 3 per address per 10 s, then a count). */
   readonly warnings: LogLimiter
   accepting = true
-  /** The shared room directory (--redis), or null for a server on its own. */
-  directory: RoomDirectory | null = null
-  /** Directory claims not yet answered, by room (a claim no room came of is given back). */
-  private readonly claiming = new Map<string, number>()
+  /** Joins: room names, keys, the room directory (join-flow.ts). */
+  private readonly joins: JoinFlow
 
   constructor(
     private readonly config: ServerConfig,
@@ -83,7 +83,21 @@ export class Transport {
       perMessageDeflate: false,
     })
     this.warnings = new LogLimiter(log)
+    this.joins = new JoinFlow(config, rooms, metrics, log, {
+      reject: (peer, code, reason) => this.reject(peer, code, reason),
+      drop: (peer, code, reason) => this.drop(peer, code, reason),
+      roomStrike: (peer, code, reason, tick, seq) => this.roomStrike(peer, code, reason, tick, seq),
+    })
     this.heartbeat = setInterval(() => this.sweep(), config.heartbeatMs)
+  }
+
+  /** The shared room directory (--redis), or null for a server on its own. */
+  get directory(): RoomDirectory | null {
+    return this.joins.directory
+  }
+
+  set directory(directory: RoomDirectory | null) {
+    this.joins.directory = directory
   }
 
   /** Handle an HTTP upgrade request; never throws (a bad request gets an HTTP error status). */
@@ -300,7 +314,7 @@ export class Transport {
   private dispatch(peer: Peer, message: ClientMessage): void {
     const session = peer.session
     if (message.t === 'join') {
-      this.join(peer, message)
+      this.joins.join(peer, message)
       return
     }
     const seat = session.seat
@@ -332,118 +346,6 @@ export class Transport {
     if (peer.dropped) return
     if (code === 'input-budget') this.overBudget(peer, tick, reason, seq)
     else this.reject(peer, code, reason, seq)
-  }
-
-  private join(peer: Peer, message: Extract<ClientMessage, { t: 'join' }>): void {
-    const session = peer.session
-    if (session.seat || peer.joining) {
-      this.reject(peer, 'already-joined', 'this socket has already joined a room')
-      return
-    }
-    const name = message.room || session.urlRoom || this.config.defaultRoom
-    if (message.room && session.urlRoom && message.room !== session.urlRoom) {
-      this.reject(
-        peer,
-        'room-mismatch',
-        `join names room "${message.room}" but the URL names "${session.urlRoom}"`,
-      )
-      return
-    }
-    if (peer.access.room !== null && name !== peer.access.room) {
-      const reason = `room "${name}" needs a key; without one this connection may join only "${peer.access.room}"`
-      this.metrics.rejected.inc({ reason: 'forbidden' })
-      session.sendError('forbidden', reason)
-      this.drop(peer, CLOSE_CODES.forbidden, reason)
-      return
-    }
-    if (this.directory && !this.rooms.has(name)) {
-      this.joinThroughDirectory(this.directory, peer, message, name)
-      return
-    }
-    this.joinHere(peer, message, name)
-  }
-
-  /**
-   * A room this server does not have open: claim it in the directory first. If another server
-   * holds it, the client gets `moved` with that server's URL and a 4006 close; if the directory
-   * cannot answer, the join is refused (1013) rather than risk a second copy of the room.
-   */
-  private joinThroughDirectory(
-    directory: RoomDirectory,
-    peer: Peer,
-    message: Extract<ClientMessage, { t: 'join' }>,
-    name: string,
-  ): void {
-    const session = peer.session
-    peer.joining = true
-    this.claiming.set(name, (this.claiming.get(name) ?? 0) + 1)
-    const answered = (): void => {
-      peer.joining = false
-      const left = (this.claiming.get(name) ?? 1) - 1
-      if (left > 0) this.claiming.set(name, left)
-      else this.claiming.delete(name)
-    }
-    directory.claim(name).then(
-      (where) => {
-        answered()
-        if (peer.dropped || !session.open || session.seat) {
-          // Nobody joins: give the claim back unless the room opened here or another claim waits.
-          if (where.holder === 'self' && !this.rooms.has(name) && !this.claiming.has(name))
-            directory.release(name).catch(() => {})
-          return
-        }
-        if (where.holder === 'self') {
-          try {
-            // At the room limit nothing is opened: give the claim back.
-            this.joinHere(peer, message, name, () => {
-              if (!this.rooms.has(name)) directory.release(name).catch(() => {})
-            })
-          } catch (error) {
-            this.log.error({ err: error, room: name }, 'join after the directory claim failed')
-            this.drop(peer, CLOSE_CODES.internal, 'join failed')
-          }
-          return
-        }
-        session.send({ t: 'moved', room: name, url: where.url })
-        this.drop(peer, CLOSE_CODES.moved, `room ${name} is on another server`)
-      },
-      (error: Error) => {
-        answered()
-        this.log.warn({ room: name, err: error.message }, 'room directory unavailable; join refused')
-        if (peer.dropped || !session.open) return
-        session.sendError('unavailable', `room directory unavailable: ${error.message}`)
-        this.drop(peer, CLOSE_CODES.tryAgain, 'room directory unavailable')
-      },
-    )
-  }
-
-  private joinHere(
-    peer: Peer,
-    message: Extract<ClientMessage, { t: 'join' }>,
-    name: string,
-    afterRefusal?: () => void,
-  ): void {
-    const session = peer.session
-    const seat = this.rooms.join({
-      conn: session,
-      room: name,
-      name: message.name,
-      token: message.token,
-      mode: message.mode,
-      strike: (code, reason, tick, seq) => this.roomStrike(peer, code, reason, tick, seq),
-      refused: (error, reason) => {
-        session.seat = null
-        session.sendError('full', error)
-        this.drop(peer, CLOSE_CODES.full, reason)
-        afterRefusal?.()
-      },
-    })
-    if (!seat) return
-    session.seat = seat
-    // The feed holds empty ticks for lockstep players; the join reaches a room worker without it.
-    if (message.hold !== undefined && message.mode !== 'snapshot')
-      seat.deliver({ t: 'hold', hold: message.hold })
-    this.metrics.clients.set(this.rooms.playerCount)
   }
 
   /** Heartbeat: close peers that missed a pong, ping the rest, forgive old strikes. */
