@@ -49,7 +49,9 @@ export async function startTimedServer(workers = 0, roomIdleSeconds = 5): Promis
       maxRooms: 1000,
       maxBodies: 5000,
       maxConnections: 100000,
+      // Every bot connects from 127.0.0.1: no per-address caps.
       maxConnectionsPerIp: 0,
+      maxRequestsPerIp: 0,
       roomIdleSeconds,
       // Measure raw capacity: no room is closed for going over the per-room tick budget.
       roomTickBudgetMs: 0,

@@ -43,6 +43,16 @@ export const SECURITY_SETTINGS: readonly Setting[] = [
     help: 'TCP connections per client address (IPv6: per /64), 0 = no cap; more get HTTP 429',
   },
   {
+    key: 'maxRequestsPerIp',
+    flag: '--max-requests-per-ip',
+    env: 'MAX_REQUESTS_PER_IP',
+    kind: 'int',
+    fallback: 200,
+    min: 0,
+    max: 1000000,
+    help: 'HTTP requests and WebSocket upgrades per client address per second (1 s burst), 0 = no limit; more get HTTP 429 and the connection is closed',
+  },
+  {
     key: 'maxMessagesPerSecond',
     flag: '--max-messages-per-second',
     env: 'MAX_MESSAGES_PER_SECOND',

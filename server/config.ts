@@ -50,6 +50,7 @@ export interface ServerConfig {
   drainSeconds: number
   handshakeTimeoutMs: number
   maxConnectionsPerIp: number
+  maxRequestsPerIp: number
   maxMessagesPerSecond: number
   allowedOrigins: string
   joinToken: string

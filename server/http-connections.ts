@@ -5,11 +5,14 @@
  * that never upgrade take places like real players do. A connection that does not complete its
  * request (or upgrade) within --handshake-timeout-ms is answered 408 and closed by Node's own
  * header and request timers, which tuneHttpTimeouts sets; before, such sockets were held ~70 s.
+ * Every request and upgrade also draws on its address's request rate (--max-requests-per-ip,
+ * http-request-rate.ts): over it, 429 and the connection is closed.
  */
-import type { Server } from 'node:http'
+import type { IncomingMessage, Server, ServerResponse } from 'node:http'
 import { isIP, type Socket } from 'node:net'
 import type { Duplex } from 'node:stream'
 import type { ServerConfig } from './config.ts'
+import { PENALTY_SECONDS, RequestRate } from './http-request-rate.ts'
 import { rawHttpResponse } from './http-request-url.ts'
 import type { LogLimiter } from './log-limiter.ts'
 import type { ServerMetrics } from './metrics.ts'
@@ -60,6 +63,9 @@ export function addressKey(address: string): string {
     .join(':')}::/64`
 }
 
+/** What a refused connection may send before it is closed without waiting (bytes: a request's worth). */
+const REFUSED_READ_BYTES = 16 * 1024
+
 /** Set Node's header, request and keep-alive timers from the handshake timeout. */
 export function tuneHttpTimeouts(http: Server, config: ServerConfig): void {
   http.headersTimeout = config.handshakeTimeoutMs
@@ -72,30 +78,81 @@ export function timeoutCheckInterval(config: ServerConfig): number {
   return Math.max(50, Math.min(1000, Math.floor(config.handshakeTimeoutMs / 4)))
 }
 
-/** Counts open TCP connections, in total and per address, and refuses those over the caps. */
+/**
+ * Counts open TCP connections, in total and per address, refuses those over the caps, and draws
+ * every request and upgrade from its address's request rate.
+ */
 export class ConnectionGuard {
   private total = 0
   private readonly perAddress = new Map<string, number>()
+  /** Each address's connections that are still plain HTTP (not upgraded to WebSocket). */
+  private readonly plain = new Map<string, Set<Socket>>()
   private readonly refusedSockets = new WeakSet<Socket>()
+  private readonly requests: RequestRate
 
   constructor(
     private readonly config: ServerConfig,
     private readonly metrics: ServerMetrics,
     private readonly warnings: LogLimiter,
-  ) {}
+  ) {
+    this.requests = new RequestRate(config.maxRequestsPerIp)
+  }
 
   /**
-   * True for a connection already answered 429 or 503: Node still parses what it sends, so the
-   * request and upgrade handlers call this first and do nothing more (the socket closes itself).
+   * True for a connection refused after Node began parsing it (over the request rate): the
+   * requests already pipelined behind the refused one still reach the handlers, which call this
+   * first and then closeRefused. (A connection refused when it opens is never parsed at all.)
    */
   refused(socket: Socket | Duplex): boolean {
     return this.refusedSockets.has(socket as Socket)
   }
 
-  /** Close a refused connection whose request Node has read (its answer was written at connect). */
+  /**
+   * A request arrived pipelined behind a refused one: close the connection now (a client that
+   * waits for its answers never gets here), so that Node reads nothing more from it.
+   */
   closeRefused(socket: Socket | Duplex): void {
-    if (socket.writableFinished) socket.destroy()
-    else socket.once('finish', () => socket.destroy())
+    socket.destroy()
+  }
+
+  /**
+   * Draw an HTTP request from its address's request rate. Over the rate it is answered 429 with
+   * `Connection: close` and false is returned: the connection is closed once the answer is
+   * written, and the address's other plain HTTP connections at once (WebSockets stay), since each
+   * could hold thousands of pipelined requests for Node to parse.
+   */
+  admitRequest(req: IncomingMessage, res: ServerResponse): boolean {
+    const address = clientAddress(req.socket)
+    const key = addressKey(address)
+    if (this.requests.take(key)) return true
+    this.refuseRequests(req.socket, address, key)
+    res.once('finish', () => req.socket.destroy())
+    res.writeHead(429, {
+      'content-type': 'text/plain',
+      'cache-control': 'no-store',
+      'retry-after': String(PENALTY_SECONDS),
+      connection: 'close',
+    })
+    res.end('too many requests from this address\n')
+    return false
+  }
+
+  /**
+   * Draw a WebSocket upgrade from its address's request rate; over it, 429 and false (as
+   * admitRequest). An admitted upgrade stops being a plain HTTP connection.
+   */
+  admitUpgrade(req: IncomingMessage, socket: Duplex): boolean {
+    const address = clientAddress(req.socket)
+    const key = addressKey(address)
+    if (this.requests.take(key)) {
+      this.plain.get(key)?.delete(req.socket)
+      return true
+    }
+    this.refuseRequests(req.socket, address, key)
+    socket.end(rawHttpResponse(429, 'Too Many Requests', { 'Retry-After': String(PENALTY_SECONDS) }), () =>
+      socket.destroy(),
+    )
+    return false
   }
 
   /** Open TCP connections of one address (of its /64, for an IPv6 address). */
@@ -108,41 +165,88 @@ export class ConnectionGuard {
     return this.total
   }
 
-  /** Start counting the connections of an HTTP server. */
+  /**
+   * Guard the connections of an HTTP server. Node's own 'connection' listeners (the one that
+   * attaches the HTTP parser) run only for admitted connections, so what a refused connection
+   * sends is never parsed: one 64 KiB read holds about 1,900 pipelined requests, which took Node
+   * about 30 ms to parse and hand to the handlers in a test run.
+   */
   attach(http: Server): void {
-    http.on('connection', (socket: Socket) => this.admit(socket))
+    const parsers = http.listeners('connection') as Array<(socket: Socket) => void>
+    http.removeAllListeners('connection')
+    http.on('connection', (socket: Socket) => {
+      if (this.admit(socket)) for (const parse of parsers) parse.call(http, socket)
+    })
   }
 
-  private admit(socket: Socket): void {
+  private admit(socket: Socket): boolean {
     socket.on('error', () => socket.destroy())
     const address = clientAddress(socket)
     const key = addressKey(address)
     const perIp = this.config.maxConnectionsPerIp
     if (this.total >= this.config.maxConnections) {
       this.refuse(socket, address, 503, 'Service Unavailable', 'max-connections')
-      return
+      return false
     }
     if (perIp > 0 && this.countOf(key) >= perIp) {
       this.refuse(socket, address, 429, 'Too Many Requests', 'max-connections-per-ip')
-      return
+      return false
+    }
+    if (!this.requests.allows(key)) {
+      this.refuse(socket, address, 429, 'Too Many Requests', 'max-requests-per-ip')
+      return false
     }
     this.total++
     this.perAddress.set(key, this.countOf(key) + 1)
+    let plain = this.plain.get(key)
+    if (!plain) {
+      plain = new Set()
+      this.plain.set(key, plain)
+    }
+    plain.add(socket)
     socket.once('close', () => {
       this.total--
       const n = this.countOf(key) - 1
       if (n > 0) this.perAddress.set(key, n)
       else this.perAddress.delete(key)
+      const open = this.plain.get(key)
+      open?.delete(socket)
+      if (open?.size === 0) this.plain.delete(key)
     })
+    return true
   }
 
+  /** A connection refused as it opens: answered at once, never parsed. */
   private refuse(socket: Socket, address: string, status: number, text: string, reason: string): void {
+    this.countRefusal(address, status, reason)
+    const retry = reason === 'max-requests-per-ip' ? PENALTY_SECONDS : 5
+    socket.end(rawHttpResponse(status, text, status === 429 ? { 'Retry-After': String(retry) } : {}))
+    // What the client sends is read and dropped, so that the close is a FIN it reads after the
+    // answer: the socket closes when the client is done, when it sends more than a request's
+    // worth, or after 1 s.
+    let unread = REFUSED_READ_BYTES
+    socket.on('data', (data: Buffer) => {
+      unread -= data.length
+      if (unread < 0) socket.destroy()
+    })
+    socket.on('end', () => socket.destroy())
+    setTimeout(() => socket.destroy(), 1000).unref()
+  }
+
+  /** The address went over its request rate on `socket`: refuse it and close its other HTTP connections. */
+  private refuseRequests(socket: Socket, address: string, key: string): void {
     this.refusedSockets.add(socket)
+    this.countRefusal(address, 429, 'max-requests-per-ip')
+    setTimeout(() => socket.destroy(), 1000).unref()
+    for (const other of this.plain.get(key) ?? []) {
+      if (other === socket) continue
+      this.refusedSockets.add(other)
+      other.destroy()
+    }
+  }
+
+  private countRefusal(address: string, status: number, reason: string): void {
     this.metrics.connectionsRefused.inc({ reason })
     this.warnings.warn(addressKey(address), { address, status, reason }, 'connection refused')
-    // Answer at once. The socket is destroyed once its request has been read (closeRefused), so
-    // the close is a FIN the client reads after the answer, or after 1 s for a silent socket.
-    socket.end(rawHttpResponse(status, text, status === 429 ? { 'Retry-After': '5' } : {}))
-    setTimeout(() => socket.destroy(), 1000).unref()
   }
 }

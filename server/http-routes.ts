@@ -59,6 +59,16 @@ function send(res: ServerResponse, status: number, type: string, body: string): 
 /** The HTTP request handler. */
 export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, res: ServerResponse) => void {
   const root = resolve(ctx.staticDir)
+  const render = ctx.metricsText ?? (() => ctx.metrics.registry.metrics())
+  // Requests for /metrics that arrive while it is being rendered share that rendering (it costs
+  // about a millisecond of this thread, where the cheap routes cost a few microseconds).
+  let rendering: Promise<string> | null = null
+  const metricsText = (): Promise<string> => {
+    rendering ??= render().finally(() => {
+      rendering = null
+    })
+    return rendering
+  }
   return (req, res) => {
     res.on('error', () => {})
     const url = parseRequestTarget(req.url)
@@ -77,7 +87,7 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
           ? send(res, 200, 'text/plain', 'ready\n')
           : send(res, 503, 'text/plain', 'shutting down\n')
       case '/metrics':
-        ;(ctx.metricsText ?? (() => ctx.metrics.registry.metrics()))().then(
+        metricsText().then(
           (text) => send(res, 200, ctx.metrics.registry.contentType, text),
           () => send(res, 500, 'text/plain', 'metrics failed\n'),
         )

@@ -23,12 +23,33 @@ export class MessageBudget {
 
   /** Take one message from the budget; false when it is exhausted (the message is to be dropped). */
   take(): boolean {
+    if (!this.refill()) return false
+    this.tokens--
+    return true
+  }
+
+  /** Whether one message is left, without taking it. */
+  left(): boolean {
+    return this.refill()
+  }
+
+  /** Empty the bucket so that the next message is allowed only after `seconds` of refilling. */
+  owe(seconds: number): void {
+    this.refill()
+    this.tokens = Math.min(this.tokens, 1 - this.perSecond * seconds)
+  }
+
+  /** Whether the bucket is full again (nothing taken in the last second). */
+  full(): boolean {
+    this.refill()
+    return this.tokens >= this.perSecond
+  }
+
+  private refill(): boolean {
     const now = this.now()
     this.tokens = Math.min(this.perSecond, this.tokens + ((now - this.last) * this.perSecond) / 1000)
     this.last = now
-    if (this.tokens < 1) return false
-    this.tokens--
-    return true
+    return this.tokens >= 1
   }
 
   /**

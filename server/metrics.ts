@@ -105,7 +105,7 @@ export function createMetrics(processMetrics: boolean): ServerMetrics {
     }),
     connectionsRefused: new Counter({
       name: 'concord_connections_refused_total',
-      help: 'TCP connections and upgrades refused, by reason (caps, origin, token)',
+      help: 'TCP connections, requests and upgrades refused, by reason (caps, request rate, origin, token)',
       labelNames: ['reason'],
       registers,
     }),

@@ -111,6 +111,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   })
   const http = createServer({ connectionsCheckingInterval: timeoutCheckInterval(config) }, (req, res) => {
     if (guard.refused(req.socket)) return guard.closeRefused(req.socket)
+    if (!guard.admitRequest(req, res)) return
     try {
       routes(req, res)
     } catch (error) {
@@ -124,6 +125,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   guard.attach(http)
   http.on('upgrade', (req, socket, head) => {
     if (guard.refused(socket)) return guard.closeRefused(socket)
+    if (!guard.admitUpgrade(req, socket)) return
     transport.handleUpgrade(req, socket, head)
   })
   http.on('connect', (_req, socket) => {

@@ -51,11 +51,19 @@ describe('addressKey', () => {
   })
 })
 
-/** A socket that says it comes from `address` and swallows what is written to it. */
-function socketFrom(address: string): Socket {
-  const socket = new Duplex({ read() {}, write: (_chunk, _encoding, done) => done() })
+/** A socket that says it comes from `address` and keeps what is written to it in `written`. */
+function socketFrom(address: string): Socket & { written: string } {
+  let written = ''
+  const socket = new Duplex({
+    read() {},
+    write: (chunk: Buffer, _encoding, done) => {
+      written += chunk.toString('latin1')
+      done()
+    },
+  })
   Object.defineProperty(socket, 'remoteAddress', { value: address })
-  return socket as unknown as Socket
+  Object.defineProperty(socket, 'written', { get: () => written })
+  return socket as unknown as Socket & { written: string }
 }
 
 describe('the per-address connection cap over IPv6', () => {
@@ -71,7 +79,7 @@ describe('the per-address connection cap over IPv6', () => {
         return socket
       },
     )
-    expect(sockets.map((s) => guard.refused(s))).toEqual([false, false, true, false])
+    expect(sockets.map((s) => s.written.startsWith('HTTP/1.1 429 '))).toEqual([false, false, true, false])
     expect(guard.countOf('2001:db8:0:1::abcd')).toBe(2)
     expect(guard.countOf('2001:db8:0:2::abcd')).toBe(1)
     expect(guard.count).toBe(3)

@@ -11,10 +11,10 @@ import pino, { type Logger } from 'pino'
 /** The issue's frame: {t: "ping", "é€…€": 1} with 31 euro signs, a 95-byte field name. */
 export const LONG_NAME_FRAME = Buffer.from(`82a174a470696e67d95fc3a9${'e282ac'.repeat(31)}01`, 'hex')
 
-/** Open a TCP connection to 127.0.0.1:port. */
-export function rawConnect(port: number): Promise<Socket> {
+/** Open a TCP connection to 127.0.0.1:port (from `localAddress`, another loopback address, if given). */
+export function rawConnect(port: number, localAddress?: string): Promise<Socket> {
   return new Promise((resolve, reject) => {
-    const socket = connect(port, '127.0.0.1', () => resolve(socket))
+    const socket = connect({ port, host: '127.0.0.1', localAddress }, () => resolve(socket))
     socket.once('error', reject)
   })
 }
@@ -33,8 +33,12 @@ export function readUntilClosed(socket: Socket): Promise<Buffer> {
  * Write `text` on a fresh connection; resolves with the status code (0 if none) and the response
  * head once the head is complete (the socket is then closed), or with what came before a close.
  */
-export async function rawRequest(port: number, text: string): Promise<{ status: number; answer: string }> {
-  const socket = await rawConnect(port)
+export async function rawRequest(
+  port: number,
+  text: string,
+  localAddress?: string,
+): Promise<{ status: number; answer: string }> {
+  const socket = await rawConnect(port, localAddress)
   let received = ''
   const done = new Promise<void>((resolve) => {
     socket.on('data', (c: Buffer) => {
