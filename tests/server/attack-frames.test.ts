@@ -1,7 +1,8 @@
 /*
  * WebSocket frames an attacker sends to a real server on 127.0.0.1 (issue 11, items 1, 3 and 5):
  * a close reason quoting a long non-ASCII field name, a client that ignores the close frame and
- * keeps blasting, and floods of moves and acks. Frames are built by hand on raw sockets.
+ * keeps blasting, and floods of moves, acks and WebSocket pongs. Frames are built by hand on raw
+ * sockets.
  */
 import { encode } from '@msgpack/msgpack'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
@@ -112,12 +113,16 @@ describe('frames that used to crash or freeze the server', { timeout: 30_000 }, 
 })
 
 describe('floods of messages that used to be free', { timeout: 30_000 }, () => {
-  const flood = async (message: Uint8Array, what: string): Promise<BotClient> => {
+  const flood = async (
+    message: Uint8Array | ((bot: BotClient) => void),
+    what: string,
+  ): Promise<BotClient> => {
     const flooder = await BotClient.connect({ url: server.url, room: 'flood', name: what })
+    const send = typeof message === 'function' ? message : (bot: BotClient) => bot.ws.send(message)
     // A sustained flood, 500 frames per turn of the event loop until the server closes the
     // socket: far over the 600 per second budget and its one-second burst.
     while (flooder.ws.readyState === flooder.ws.OPEN) {
-      if (flooder.ws.bufferedAmount < 1 << 20) for (let i = 0; i < 500; i++) flooder.ws.send(message)
+      if (flooder.ws.bufferedAmount < 1 << 20) for (let i = 0; i < 500; i++) send(flooder)
       await new Promise((resolve) => setImmediate(resolve))
     }
     await flooder.closed
@@ -142,6 +147,12 @@ describe('floods of messages that used to be free', { timeout: 30_000 }, () => {
 
   it('a flood of acks is cut and the flooder is closed with 1008', async () => {
     const flooder = await flood(encode({ t: 'ack', tick: 1 }), 'acker')
+    expect(flooder.closeCode).toBe(1008)
+    expect(flooder.closeReason).toContain('message rate exceeded')
+  })
+
+  it('a flood of WebSocket pongs (unsolicited heartbeat answers, once free) is cut and closed with 1008', async () => {
+    const flooder = await flood((bot) => bot.ws.pong(), 'ponger')
     expect(flooder.closeCode).toBe(1008)
     expect(flooder.closeReason).toContain('message rate exceeded')
   })
