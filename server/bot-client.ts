@@ -27,6 +27,8 @@ export interface BotOptions {
   ack?: boolean
   /** Access key for servers with a join or admin token (sent as `key=` in the WebSocket URL). */
   key?: string
+  /** The local address to connect from (tests use other loopback addresses as other clients). */
+  localAddress?: string
   /** Origin header to send (browsers always send one; Node clients only when asked). */
   origin?: string
   /** How to follow the room (default 'snapshot'); lockstep-bot.ts runs the lockstep modes. */
@@ -68,7 +70,11 @@ export class BotClient {
   constructor(readonly options: BotOptions) {
     const key = options.key === undefined ? '' : `&key=${encodeURIComponent(options.key)}`
     const url = `${options.url.replace(/\/$/, '')}/ws?room=${encodeURIComponent(options.room)}${key}`
-    this.ws = new WebSocket(url, { perMessageDeflate: false, origin: options.origin })
+    this.ws = new WebSocket(url, {
+      perMessageDeflate: false,
+      origin: options.origin,
+      localAddress: options.localAddress,
+    })
     this.ws.binaryType = 'nodebuffer'
     this.opened = new Promise((resolve, reject) => {
       this.ws.once('open', () => resolve())

@@ -155,6 +155,14 @@ export class ConnectionGuard {
     return false
   }
 
+  /**
+   * Refuse the address's requests and upgrades for the penalty (PENALTY_SECONDS): one of its
+   * WebSockets was closed for flooding, and each new one would cost a read of frames.
+   */
+  penalize(address: string): void {
+    this.requests.penalize(addressKey(address))
+  }
+
   /** Open TCP connections of one address (of its /64, for an IPv6 address). */
   countOf(address: string): number {
     return this.perAddress.get(addressKey(address)) ?? 0

@@ -37,14 +37,15 @@ export class RequestRate {
   take(key: string): boolean {
     if (this.perSecond <= 0) return true
     this.sweep()
-    let bucket = this.buckets.get(key)
-    if (!bucket) {
-      bucket = new MessageBudget(this.perSecond, this.now)
-      this.buckets.set(key, bucket)
-    }
+    const bucket = this.bucket(key)
     if (bucket.take()) return true
     bucket.owe(PENALTY_SECONDS)
     return false
+  }
+
+  /** Refuse the address's requests for PENALTY_SECONDS (it flooded a WebSocket). */
+  penalize(key: string): void {
+    if (this.perSecond > 0) this.bucket(key).owe(PENALTY_SECONDS)
   }
 
   /** Whether the address has a request left (without taking it). */
@@ -55,6 +56,15 @@ export class RequestRate {
   /** Addresses with a bucket (those that made a request within about the last sweep period). */
   get size(): number {
     return this.buckets.size
+  }
+
+  private bucket(key: string): MessageBudget {
+    let bucket = this.buckets.get(key)
+    if (!bucket) {
+      bucket = new MessageBudget(this.perSecond, this.now)
+      this.buckets.set(key, bucket)
+    }
+    return bucket
   }
 
   /** Forget full buckets now and then, so the map holds only recently active addresses. */

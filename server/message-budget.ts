@@ -11,6 +11,8 @@ export class MessageBudget {
   private tokens: number
   private last: number
   private lastStrike = Number.NEGATIVE_INFINITY
+  private overSince = Number.NEGATIVE_INFINITY
+  private over = 0
 
   constructor(
     /** Messages per second allowed on average, and the burst size. */
@@ -31,6 +33,20 @@ export class MessageBudget {
   /** Whether one message is left, without taking it. */
   left(): boolean {
     return this.refill()
+  }
+
+  /**
+   * Count a message the bucket refused; true once more than twice the rate were refused within
+   * one second (a client sending at three times the rate or more: a flood, not a burst).
+   */
+  flooded(): boolean {
+    const now = this.now()
+    if (now - this.overSince >= 1000) {
+      this.overSince = now
+      this.over = 0
+    }
+    this.over++
+    return this.over > 2 * this.perSecond
   }
 
   /** Empty the bucket so that the next message is allowed only after `seconds` of refilling. */

@@ -67,6 +67,8 @@ export class Transport {
   /** Rate-limited warnings about clients (at most 3 per address per 10 s, then a count). */
   readonly warnings: LogLimiter
   accepting = true
+  /** Told the address of a client closed for flooding messages (the server penalizes it). */
+  onFlood: ((address: string) => void) | null = null
   /** Joins: room names, keys, the room directory (join-flow.ts). */
   private readonly joins: JoinFlow
 
@@ -281,6 +283,24 @@ export class Transport {
    */
   private withinRate(peer: Peer): boolean {
     if (peer.budget.take()) return true
+    if (peer.budget.flooded()) {
+      // At three times the rate or more: closed at once, not after --max-rejects strikes (one per
+      // tick), and its address may not reconnect for a while (onFlood). With strikes alone, 32
+      // sockets of one address flooding pongs each lived for seconds and stalled the server.
+      this.metrics.rejected.inc({ reason: 'message-rate' })
+      this.warnings.warn(
+        addressKey(peer.address),
+        { player: peer.session.id, address: peer.address },
+        'disconnecting a client flooding messages',
+      )
+      this.drop(
+        peer,
+        CLOSE_CODES.policy,
+        `message rate exceeded: at most ${this.config.maxMessagesPerSecond} messages per second`,
+      )
+      this.onFlood?.(peer.address)
+      return false
+    }
     if (peer.budget.strikeDue(RATE_STRIKE_INTERVAL_MS)) {
       this.reject(
         peer,

@@ -14,7 +14,9 @@ import {
   closeOf,
   healthy,
   LONG_NAME_FRAME,
+  rawRequest,
   rawWebSocket,
+  upgradeRequest,
   waitUntil,
 } from './raw-client.ts'
 import { startTestServer } from './test-server.ts'
@@ -113,11 +115,14 @@ describe('frames that used to crash or freeze the server', { timeout: 30_000 }, 
 })
 
 describe('floods of messages that used to be free', { timeout: 30_000 }, () => {
+  let flooders = 0
   const flood = async (
     message: Uint8Array | ((bot: BotClient) => void),
     what: string,
   ): Promise<BotClient> => {
-    const flooder = await BotClient.connect({ url: server.url, room: 'flood', name: what })
+    // Each flooder from an address of its own: a flooder's address may not reconnect for a while.
+    const localAddress = `127.0.0.${++flooders + 10}`
+    const flooder = await BotClient.connect({ url: server.url, room: 'flood', name: what, localAddress })
     const send = typeof message === 'function' ? message : (bot: BotClient) => bot.ws.send(message)
     // A sustained flood, 500 frames per turn of the event loop until the server closes the
     // socket: far over the 600 per second budget and its one-second burst.
@@ -155,6 +160,26 @@ describe('floods of messages that used to be free', { timeout: 30_000 }, () => {
     const flooder = await flood((bot) => bot.ws.pong(), 'ponger')
     expect(flooder.closeCode).toBe(1008)
     expect(flooder.closeReason).toContain('message rate exceeded')
+  })
+
+  it('a socket sending at many times the rate is closed within a read, and its address may not reconnect for a while', async () => {
+    // Before, such a socket earned one strike per tick and lived through --max-rejects ticks, and
+    // 32 of them from one address (reconnecting when closed) held the main thread for 7 s.
+    const address = '127.0.0.40'
+    const before = await metric('concord_messages_rejected_total', 'reason="message-rate"')
+    const ws = await rawWebSocket(server.port, '/ws?room=flood', [], address)
+    const pong = clientFrame(new Uint8Array(0), 10)
+    ws.socket.write(Buffer.concat(new Array<Buffer>(100_000).fill(pong)))
+    await ws.closed
+    expect(ws.frames.map((f) => f.opcode)).toContain(8)
+    expect(closeOf(ws.frames.find((f) => f.opcode === 8)!).code).toBe(1008)
+    // Closed once twice the rate (1,200) were over it: the rest of the 100,000 were not counted.
+    const counted = (await metric('concord_messages_rejected_total', 'reason="message-rate"')) - before
+    expect(counted).toBeGreaterThan(1200)
+    expect(counted).toBeLessThan(20_000)
+    // Its address is refused for the penalty; another address is not.
+    expect((await rawRequest(server.port, upgradeRequest('/ws?room=flood'), address)).status).toBe(429)
+    expect((await rawRequest(server.port, upgradeRequest('/ws?room=flood'), '127.0.0.41')).status).toBe(101)
   })
 
   it('a burst of 201 moves (a fast mouse after a stall) stays within the budget', async () => {

@@ -89,8 +89,9 @@ export async function rawWebSocket(
   port: number,
   target: string,
   extra: string[] = [],
+  localAddress?: string,
 ): Promise<RawWebSocket> {
-  const socket = await rawConnect(port)
+  const socket = await rawConnect(port, localAddress)
   const frames: ServerFrame[] = []
   let buffer = Buffer.alloc(0)
   let upgraded = false
