@@ -98,7 +98,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   }
   let ready = true
   const guard = new ConnectionGuard(config, metrics, transport.warnings)
-  transport.onFlood = (address) => guard.penalize(address)
+  transport.policy.onFlood = (address) => guard.penalize(address)
   const routes = createRequestHandler({
     staticDir: config.staticDir,
     rooms: host,

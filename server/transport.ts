@@ -7,10 +7,8 @@
  * refused; strict decoding and validation with strikes (too many -> closed with 1008 and a
  * reason); the join timeout; the per-tick input budget; heartbeats for dead peers.
  *
- * Once the server decides to drop a client it stops reading from it: the close frame is sent,
- * the socket is paused, nothing more it sent is decoded or logged, and it is terminated after a
- * short grace whether or not it answers the close (a peer ignoring the close frame once made the
- * server decode and log 930,000 frames in 3 s). Every handler a client can reach is wrapped, so
+ * Strikes, the input budget, the message rate and dropping a client (after which nothing more it
+ * sends is read) are peer-policy.ts. Every handler a client can reach is wrapped, so
  * no frame or request ends in an uncaught throw; every socket has an 'error' listener for the same
  * reason. Warnings about clients go through a LogLimiter. A `join` goes on to join-flow.ts (room
  * name, key, and the room directory).
@@ -36,14 +34,9 @@ import { JoinFlow } from './join-flow.ts'
 import { LogLimiter } from './log-limiter.ts'
 import { MessageBudget } from './message-budget.ts'
 import type { ServerMetrics } from './metrics.ts'
+import { PeerPolicy } from './peer-policy.ts'
 import type { RoomDirectory } from './room-directory.ts'
 import type { RoomHost } from './room-host.ts'
-
-/** Time a dropped client's socket stays open for its close frame to leave (ms). */
-export const DROP_GRACE_MS = 1000
-
-/** Over-budget messages cost at most one strike per this many ms (one tick). */
-const RATE_STRIKE_INTERVAL_MS = 1000 / 60
 
 /** The transport's view of one connection: its session, socket, access and message budget. */
 export interface Peer {
@@ -67,8 +60,8 @@ export class Transport {
   /** Rate-limited warnings about clients (at most 3 per address per 10 s, then a count). */
   readonly warnings: LogLimiter
   accepting = true
-  /** Told the address of a client closed for flooding messages (the server penalizes it). */
-  onFlood: ((address: string) => void) | null = null
+  /** Strikes, the message rate and dropping clients (peer-policy.ts). */
+  readonly policy: PeerPolicy
   /** Joins: room names, keys, the room directory (join-flow.ts). */
   private readonly joins: JoinFlow
 
@@ -85,11 +78,8 @@ export class Transport {
       perMessageDeflate: false,
     })
     this.warnings = new LogLimiter(log)
-    this.joins = new JoinFlow(config, rooms, metrics, log, {
-      reject: (peer, code, reason) => this.reject(peer, code, reason),
-      drop: (peer, code, reason) => this.drop(peer, code, reason),
-      roomStrike: (peer, code, reason, tick, seq) => this.roomStrike(peer, code, reason, tick, seq),
-    })
+    this.policy = new PeerPolicy(config, metrics, this.warnings)
+    this.joins = new JoinFlow(config, rooms, metrics, log, this.policy)
     this.heartbeat = setInterval(() => this.sweep(), config.heartbeatMs)
   }
 
@@ -182,7 +172,7 @@ export class Transport {
     this.peers.set(session, peer)
     this.metrics.connections.set(this.sessions.size)
     const joinTimer = setTimeout(() => {
-      if (!session.seat) this.drop(peer, CLOSE_CODES.joinTimeout, 'no join message in time')
+      if (!session.seat) this.policy.drop(peer, CLOSE_CODES.joinTimeout, 'no join message in time')
     }, this.config.joinTimeoutMs)
     ws.on('error', (error) => {
       this.log.debug({ err: error.message, player: session.id }, 'socket error')
@@ -191,7 +181,7 @@ export class Transport {
     // one socket in 6 s). A ping flood is cut by ws itself, which terminates a socket with too
     // many of its answers unsent (maxPendingAutoPongs).
     ws.on('pong', () => {
-      if (!peer.dropped && this.withinRate(peer)) session.alive = true
+      if (!peer.dropped && this.policy.withinRate(peer)) session.alive = true
     })
     ws.on('message', (data, isBinary) => this.receiveGuarded(peer, data, isBinary))
     ws.on('close', () => {
@@ -208,19 +198,6 @@ export class Transport {
     })
   }
 
-  /**
-   * Close a client and stop reading from it: the close frame (reason cut to 123 bytes) goes out,
-   * the socket is paused so nothing more is decoded, and it is terminated after DROP_GRACE_MS.
-   */
-  private drop(peer: Peer, code: number, reason: string): void {
-    if (peer.dropped) return
-    peer.dropped = true
-    peer.session.close(code, reason)
-    peer.socket.pause()
-    const ws = peer.session.ws
-    setTimeout(() => ws.terminate(), DROP_GRACE_MS).unref()
-  }
-
   /** receive() with a guard: a bug reached by a client's frame drops that client, never the process. */
   private receiveGuarded(peer: Peer, data: RawData, isBinary: boolean): void {
     if (peer.dropped) return
@@ -233,82 +210,11 @@ export class Transport {
         'message handling failed',
       )
       try {
-        this.drop(peer, CLOSE_CODES.internal, 'server error handling your message')
+        this.policy.drop(peer, CLOSE_CODES.internal, 'server error handling your message')
       } catch {
         peer.session.ws.terminate()
       }
     }
-  }
-
-  /**
-   * A refused message: one strike, and an `error` (with the input's `seq` when it has one), except
-   * that the strike which passes --max-rejects closes the socket instead, its reason naming this
-   * refusal.
-   */
-  private reject(peer: Peer, code: string, reason: string, seq?: number): void {
-    const session = peer.session
-    this.metrics.rejected.inc({ reason: code })
-    session.strikes++
-    if (session.strikes > this.config.maxRejects) {
-      this.warnings.warn(
-        addressKey(peer.address),
-        { player: session.id, address: peer.address, reason },
-        'disconnecting a client that keeps sending invalid messages',
-      )
-      this.drop(peer, CLOSE_CODES.policy, `too many invalid messages; last: ${reason}`)
-      return
-    }
-    session.sendError(code, reason, seq)
-  }
-
-  /**
-   * Over the per-tick input budget: the input is dropped and answered (`input-budget`, with its
-   * `seq`), but it counts as a strike only once per tick, so a burst after a network hiccup costs
-   * little while a sustained flood is disconnected.
-   */
-  private overBudget(peer: Peer, tick: number, reason: string, seq?: number): void {
-    const session = peer.session
-    if (session.budgetStrikeTick === tick) {
-      this.metrics.rejected.inc({ reason: 'input-budget' })
-      session.sendError('input-budget', reason, seq)
-      return
-    }
-    session.budgetStrikeTick = tick
-    this.reject(peer, 'input-budget', reason, seq)
-  }
-
-  /**
-   * Draw one frame from the client's message rate; over it, false, counted, and at most one
-   * strike (with an `error` message-rate) per tick.
-   */
-  private withinRate(peer: Peer): boolean {
-    if (peer.budget.take()) return true
-    if (peer.budget.flooded()) {
-      // At three times the rate or more: closed at once, not after --max-rejects strikes (one per
-      // tick), and its address may not reconnect for a while (onFlood). With strikes alone, 32
-      // sockets of one address flooding pongs each lived for seconds and stalled the server.
-      this.metrics.rejected.inc({ reason: 'message-rate' })
-      this.warnings.warn(
-        addressKey(peer.address),
-        { player: peer.session.id, address: peer.address },
-        'disconnecting a client flooding messages',
-      )
-      this.drop(
-        peer,
-        CLOSE_CODES.policy,
-        `message rate exceeded: at most ${this.config.maxMessagesPerSecond} messages per second`,
-      )
-      this.onFlood?.(peer.address)
-      return false
-    }
-    if (peer.budget.strikeDue(RATE_STRIKE_INTERVAL_MS)) {
-      this.reject(
-        peer,
-        'message-rate',
-        `message rate exceeded: at most ${this.config.maxMessagesPerSecond} messages per second`,
-      )
-    } else this.metrics.rejected.inc({ reason: 'message-rate' })
-    return false
   }
 
   private receive(peer: Peer, data: RawData, isBinary: boolean): void {
@@ -317,9 +223,9 @@ export class Transport {
     this.metrics.bytesReceived.inc(
       Array.isArray(data) ? data.reduce((n, b) => n + b.length, 0) : data.byteLength,
     )
-    if (!this.withinRate(peer)) return
+    if (!this.policy.withinRate(peer)) return
     if (!isBinary) {
-      this.reject(peer, 'text-frame', 'text frames are not accepted; send binary MessagePack')
+      this.policy.reject(peer, 'text-frame', 'text frames are not accepted; send binary MessagePack')
       return
     }
     const bytes = Array.isArray(data)
@@ -332,10 +238,10 @@ export class Transport {
       if (result.code === 'version') {
         this.metrics.rejected.inc({ reason: 'version' })
         session.sendError('version', result.reason)
-        this.drop(peer, CLOSE_CODES.version, result.reason)
+        this.policy.drop(peer, CLOSE_CODES.version, result.reason)
         return
       }
-      this.reject(peer, result.code, result.reason, result.seq)
+      this.policy.reject(peer, result.code, result.reason, result.seq)
       return
     }
     this.dispatch(peer, result.value)
@@ -349,11 +255,16 @@ export class Transport {
     }
     const seat = session.seat
     if (!seat) {
-      this.reject(peer, 'not-joined', 'send join first', message.t === 'input' ? message.seq : undefined)
+      this.policy.reject(
+        peer,
+        'not-joined',
+        'send join first',
+        message.t === 'input' ? message.seq : undefined,
+      )
       return
     }
     if (!seat.open) {
-      this.drop(peer, CLOSE_CODES.internal, 'room closed')
+      this.policy.drop(peer, CLOSE_CODES.internal, 'room closed')
       return
     }
     if (message.t === 'input' && !peer.access.controls && ROOM_CONTROL_COMMANDS.includes(message.cmd.k)) {
@@ -363,19 +274,6 @@ export class Transport {
     // The client has read everything up to the snapshot it acknowledges (the slow-reader rule).
     if (message.t === 'ack') session.unread.acknowledged(message.tick)
     seat.deliver(message)
-  }
-
-  /** A strike the room reported: over the input budget (once per tick), or a refused message. */
-  private roomStrike(
-    peer: Peer,
-    code: 'input-budget' | 'invalid',
-    reason: string,
-    tick: number,
-    seq: number | undefined,
-  ): void {
-    if (peer.dropped) return
-    if (code === 'input-budget') this.overBudget(peer, tick, reason, seq)
-    else this.reject(peer, code, reason, seq)
   }
 
   /** Heartbeat: close peers that missed a pong, ping the rest, forgive old strikes. */
