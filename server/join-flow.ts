@@ -11,27 +11,15 @@ import type { Logger } from 'pino'
 import { CLOSE_CODES, type ClientMessage } from '../shared/index.ts'
 import type { ServerConfig } from './config.ts'
 import type { ServerMetrics } from './metrics.ts'
+import type { PeerPolicy } from './peer-policy.ts'
 import type { RoomDirectory } from './room-directory.ts'
 import type { RoomHost } from './room-host.ts'
 import type { Peer } from './transport.ts'
 
 export type JoinMessage = Extract<ClientMessage, { t: 'join' }>
 
-/** What a join may do to its connection; the transport's own strike and close rules. */
-export interface JoinActions {
-  /** A refused message: one strike, and an `error`. */
-  reject(peer: Peer, code: string, reason: string): void
-  /** Close the client and stop reading from it. */
-  drop(peer: Peer, code: number, reason: string): void
-  /** A strike the room reports later about this client's messages. */
-  roomStrike(
-    peer: Peer,
-    code: 'input-budget' | 'invalid',
-    reason: string,
-    tick: number,
-    seq: number | undefined,
-  ): void
-}
+/** What a join may do to its connection: the transport's own strike and close rules (peer-policy.ts). */
+export type JoinActions = Pick<PeerPolicy, 'reject' | 'drop' | 'roomStrike'>
 
 /** Joins for one transport (see the file comment). */
 export class JoinFlow {

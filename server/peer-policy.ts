@@ -12,7 +12,6 @@
 import { CLOSE_CODES } from '../shared/index.ts'
 import type { ServerConfig } from './config.ts'
 import { addressKey } from './http-connections.ts'
-import type { JoinActions } from './join-flow.ts'
 import type { LogLimiter } from './log-limiter.ts'
 import type { ServerMetrics } from './metrics.ts'
 import type { Peer } from './transport.ts'
@@ -24,7 +23,7 @@ export const DROP_GRACE_MS = 1000
 const RATE_STRIKE_INTERVAL_MS = 1000 / 60
 
 /** Strikes, budgets, the message rate and drops for the clients of one transport. */
-export class PeerPolicy implements JoinActions {
+export class PeerPolicy {
   /** Told the address of a client closed for flooding messages (the server penalizes it). */
   onFlood: ((address: string) => void) | null = null
 
