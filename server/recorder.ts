@@ -14,7 +14,6 @@
  * Any write error stops recording for this room: one log line, concord_recorder_failures_total,
  * and the room keeps running.
  */
-import { open as openFile } from 'node:fs/promises'
 import { hostname } from 'node:os'
 import { join } from 'node:path'
 import { promisify } from 'node:util'
@@ -37,32 +36,12 @@ import {
 } from '../shared/replay-log.ts'
 import type { RoomSimulation, SimulationObserver } from '../shared/room-simulation.ts'
 import { KeyframePolicy } from './keyframe-policy.ts'
-import { logFileName, pruneLogs } from './replay-files.ts'
+import { type LogFile, logFileName, type OpenLog, openLogFile, pruneLogs } from './replay-files.ts'
 
 const deflateAsync = promisify(deflate)
 
 /** Memory a recorder may hold unwritten before it gives up (a disk far too slow). */
 const MAX_PENDING_BYTES = 64 * 1024 * 1024
-
-/** The file operations a recorder uses (tests inject failing ones). */
-export interface LogFile {
-  write(bytes: Uint8Array): Promise<unknown>
-  sync(): Promise<void>
-  close(): Promise<void>
-}
-
-/** Open a log file: 'create' fails if it exists; 'append' continues one (recovery). */
-export type OpenLog = (path: string, mode: 'create' | 'append') => Promise<LogFile>
-
-/** Node's filesystem. */
-export const openLogFile: OpenLog = async (path, mode) => {
-  const handle = await openFile(path, mode === 'create' ? 'wx' : 'a')
-  return {
-    write: (bytes) => handle.write(bytes),
-    sync: () => handle.sync(),
-    close: () => handle.close(),
-  }
-}
 
 /** Recorder settings (from the server config). */
 export interface RecorderOptions {

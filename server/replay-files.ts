@@ -2,7 +2,8 @@
  * The replay directory: log file names (room, UTC start time, a counter on collision), the one
  * pattern a name must match to be served or read (so `..`, absolute paths, slashes and NUL can
  * never name a file), summaries for GET /replays (read by streaming each file through the log
- * reader, cached by size and mtime), and pruning to --replay-keep files.
+ * reader, cached by size and mtime), pruning to --replay-keep files, and opening a log for the
+ * recorder (a seam the tests replace with failing disks).
  */
 import { createReadStream } from 'node:fs'
 import { open as openFile, readdir, readFile, stat, unlink } from 'node:fs/promises'
@@ -284,4 +285,24 @@ export async function pruneLogs(dir: string, keep: number, open: ReadonlySet<str
     excess--
   }
   return deleted
+}
+
+/** The file operations a recorder uses (tests inject failing ones). */
+export interface LogFile {
+  write(bytes: Uint8Array): Promise<unknown>
+  sync(): Promise<void>
+  close(): Promise<void>
+}
+
+/** Open a log file: 'create' fails if it exists; 'append' continues one (recovery). */
+export type OpenLog = (path: string, mode: 'create' | 'append') => Promise<LogFile>
+
+/** Node's filesystem. */
+export const openLogFile: OpenLog = async (path, mode) => {
+  const handle = await openFile(path, mode === 'create' ? 'wx' : 'a')
+  return {
+    write: (bytes) => handle.write(bytes),
+    sync: () => handle.sync(),
+    close: () => handle.close(),
+  }
 }
