@@ -37,7 +37,7 @@ describe('RequestRate, against a hand-driven clock', () => {
     expect(rate.take('a')).toBe(false)
   })
 
-  it('forgets addresses whose bucket has filled again, and 0 means no limit', () => {
+  it('forgets addresses whose bucket has filled again, and 0 means no limit and no penalty', () => {
     let now = 0
     const rate = new RequestRate(10, () => now)
     for (const key of ['a', 'b', 'c']) rate.take(key)
@@ -47,6 +47,9 @@ describe('RequestRate, against a hand-driven clock', () => {
     expect(rate.size).toBe(1)
     const open = new RequestRate(0, () => now)
     for (let i = 0; i < 1000; i++) expect(open.take('a')).toBe(true)
+    // Nor does a flood penalize an address then (a server behind a proxy sets 0).
+    open.penalize('a')
+    expect(open.allows('a')).toBe(true)
     expect(open.size).toBe(0)
   })
 })
