@@ -180,9 +180,7 @@ export class Transport {
     // Pongs draw on the message rate too: unsolicited ones were free (18.5 million were read from
     // one socket in 6 s). A ping flood is cut by ws itself, which terminates a socket with too
     // many of its answers unsent (maxPendingAutoPongs).
-    ws.on('pong', () => {
-      if (!peer.dropped && this.policy.withinRate(peer)) session.alive = true
-    })
+    ws.on('pong', () => this.pong(peer))
     ws.on('message', (data, isBinary) => this.receiveGuarded(peer, data, isBinary))
     ws.on('close', () => {
       clearTimeout(joinTimer)
@@ -204,16 +202,31 @@ export class Transport {
     try {
       this.receive(peer, data, isBinary)
     } catch (error) {
-      this.warnings.warn(
-        addressKey(peer.address),
-        { player: peer.session.id, err: error },
-        'message handling failed',
-      )
-      try {
-        this.policy.drop(peer, CLOSE_CODES.internal, 'server error handling your message')
-      } catch {
-        peer.session.ws.terminate()
-      }
+      this.failed(peer, error)
+    }
+  }
+
+  /** A pong, guarded as frames are: it counts against the message rate and marks the peer alive. */
+  private pong(peer: Peer): void {
+    if (peer.dropped) return
+    try {
+      if (this.policy.withinRate(peer)) peer.session.alive = true
+    } catch (error) {
+      this.failed(peer, error)
+    }
+  }
+
+  /** Handling a client's frame failed: log it (rate-limited) and drop that client. */
+  private failed(peer: Peer, error: unknown): void {
+    this.warnings.warn(
+      addressKey(peer.address),
+      { player: peer.session.id, err: error },
+      'message handling failed',
+    )
+    try {
+      this.policy.drop(peer, CLOSE_CODES.internal, 'server error handling your message')
+    } catch {
+      peer.session.ws.terminate()
     }
   }
 

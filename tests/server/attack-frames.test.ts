@@ -55,6 +55,33 @@ describe('frames that used to crash or freeze the server', { timeout: 30_000 }, 
     expect(await healthy(server.url)).toBe(true)
   })
 
+  it('a bug reached by a pong or a message drops that client with 1011, never the process', async () => {
+    // The rate check stands in for any bug on the path: it throws for the next two frames.
+    const policy = server.transport.policy
+    const withinRate = policy.withinRate
+    let throws = 0
+    policy.withinRate = (peer) => {
+      if (throws > 0) {
+        throws--
+        throw new Error('a bug on the frame path')
+      }
+      return withinRate.call(policy, peer)
+    }
+    try {
+      for (const send of [(bot: BotClient) => bot.ws.pong(), (bot: BotClient) => bot.ping()]) {
+        const bot = await BotClient.connect({ url: server.url, room: 'bug', name: 'bug' })
+        throws = 1
+        send(bot)
+        await bot.closed
+        expect(bot.closeCode).toBe(1011)
+        expect(bot.closeReason).toBe('server error handling your message')
+        expect(await healthy(server.url)).toBe(true)
+      }
+    } finally {
+      policy.withinRate = withinRate
+    }
+  })
+
   it('a client that ignores the close frame is no longer read: nothing decoded, a bounded log, /healthz answers', async () => {
     const received = await metric('concord_messages_received_total')
     const linesBefore = capture.lines.length
