@@ -86,7 +86,7 @@ export class PeerPolicy {
 
   /**
    * Draw one frame from the client's message rate; over it, false, counted, and at most one
-   * strike (with an `error` message-rate) per tick.
+   * strike (with an `error` message-rate) per tick, or, at three times the rate, a drop.
    */
   withinRate(peer: Peer): boolean {
     if (peer.budget.take()) return true
@@ -100,22 +100,18 @@ export class PeerPolicy {
         { player: peer.session.id, address: peer.address },
         'disconnecting a client flooding messages',
       )
-      this.drop(
-        peer,
-        CLOSE_CODES.policy,
-        `message rate exceeded: at most ${this.config.maxMessagesPerSecond} messages per second`,
-      )
+      this.drop(peer, CLOSE_CODES.policy, this.rateReason())
       this.onFlood?.(peer.address)
       return false
     }
-    if (peer.budget.strikeDue(RATE_STRIKE_INTERVAL_MS)) {
-      this.reject(
-        peer,
-        'message-rate',
-        `message rate exceeded: at most ${this.config.maxMessagesPerSecond} messages per second`,
-      )
-    } else this.metrics.rejected.inc({ reason: 'message-rate' })
+    if (peer.budget.strikeDue(RATE_STRIKE_INTERVAL_MS)) this.reject(peer, 'message-rate', this.rateReason())
+    else this.metrics.rejected.inc({ reason: 'message-rate' })
     return false
+  }
+
+  /** Why an over-rate client gets an error or is closed (built only when one is sent). */
+  private rateReason(): string {
+    return `message rate exceeded: at most ${this.config.maxMessagesPerSecond} messages per second`
   }
 
   /** A strike the room reported: over the input budget (once per tick), or a refused message. */
