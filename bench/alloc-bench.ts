@@ -20,9 +20,9 @@
  */
 import { mkdirSync, writeFileSync } from 'node:fs'
 import { loadavg } from 'node:os'
+import { botCommand } from '../bots/index.ts'
 import { buildScene, createWorld, Prng, pileScene, type World } from '../engine/index.ts'
-import { botCommand } from '../server/bots.ts'
-import { RoomSimulation, worldFromBlueprint } from '../shared/room-simulation.ts'
+import { RoomSimulation, worldFromBlueprint } from '../shared/index.ts'
 import { awakePile } from './server-load.ts'
 
 const gc = (globalThis as { gc?: () => void }).gc

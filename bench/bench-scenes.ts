@@ -2,7 +2,7 @@
  * The scenes of the cross-engine comparison (`npm run bench:peers` and the benchmark page), each
  * defined once as data and built identically in every engine.
  *
- * Pyramids, the pile and the tower are the engine's own blueprints (engine/scenes.ts). Two more
+ * Pyramids, the pile and the tower are the engine's own blueprints (engine/scenes/scenes.ts). Two more
  * live here because only the comparison uses them: a grid of circles pinned to their neighbours
  * by revolute joints and hung from its top corners (Box2D v3's joint-grid benchmark, smaller), and
  * a rain of mixed bodies arriving in rows over time into the pile's container (what a sandbox
@@ -11,11 +11,20 @@
  * row has fallen 1.4 m before the next appears above it.
  */
 
-import { PI } from '../engine/math.ts'
-import { Prng } from '../engine/prng.ts'
-import { pileScene, pyramidScene, regularPolygon, type SceneBlueprint, towerScene } from '../engine/scenes.ts'
-import { box, circle, type Shape } from '../engine/shapes.ts'
-import type { BodyDef, JointDef } from '../engine/types.ts'
+import {
+  type BodyDef,
+  box,
+  circle,
+  type JointDef,
+  PI,
+  Prng,
+  pileScene,
+  pyramidScene,
+  regularPolygon,
+  type SceneBlueprint,
+  type Shape,
+  towerScene,
+} from '../engine/index.ts'
 
 /** Which end-state test a scene gets. */
 export type BenchSceneKind = 'pyramid' | 'pile' | 'tower' | 'grid' | 'rain'

@@ -15,9 +15,8 @@
  */
 import { writeFileSync } from 'node:fs'
 import os from 'node:os'
-import { BroadPhase, PairBuffer } from '../engine/broad-phase.ts'
-import { buildScene, createWorld, pileScene } from '../engine/index.ts'
-import { Prng } from '../engine/prng.ts'
+import { buildScene, createWorld, Prng, pileScene } from '../engine/index.ts'
+import { BroadPhase, PairBuffer } from '../engine/internal.ts'
 
 const SIZES = [250, 500, 1000, 2000, 4000]
 const MARGIN = 0.1

@@ -5,8 +5,9 @@
  * benchmark page runs this on every run; tests/engine/broad-phase.test.ts does the same
  * comparison against its own model of the proxies.
  */
-import { PairBuffer } from '../engine/broad-phase.ts'
+
 import type { World } from '../engine/index.ts'
+import { PairBuffer } from '../engine/internal.ts'
 
 /** Outcome of one comparison. */
 export interface BroadPhaseCheck {

@@ -3,7 +3,7 @@
  * bench/results/capacity.json, never pass/fail.
  *
  * One server in this process on its real 60 Hz clock; rooms are added in steps, each room a pile
- * of 100 bodies that never sleep plus 5 bots (a child process running server/bots.ts per step:
+ * of 100 bodies that never sleep plus 5 bots (a child process running bots/bots.ts per step:
  * each bot spawns 3 shapes, then grabs and drags bodies in circles). At each step, after a warm-up,
  * every clock tick (one tick of every room) is timed for the window, in wall time and in process
  * CPU time (what the tick costs on a core of its own; wall time also counts waiting for a core on
@@ -13,7 +13,7 @@
  * client (after they join), measured after a full GC (run with --expose-gc, as the npm script does).
  * With --workers N the rooms run on N worker threads (the server's --workers): each worker's loop
  * ticks are timed in the worker (wall time, and CPU time of the worker's thread from Linux's
- * /proc/thread-self/schedstat, server/thread-cpu.ts: Node 20 has no per-thread CPU clock), and the step reports the
+ * /proc/thread-self/schedstat, server/workers/thread-cpu.ts: Node 20 has no per-thread CPU clock), and the step reports the
  * p50/p99/max over every worker's ticks, the dropped ticks of all workers, and
  * RSS (worker heaps are not collected by the GC call, so memory per room and client is reported
  * from RSS there). --workers 0 (the default) is every room on the main thread's loop.

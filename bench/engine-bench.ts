@@ -6,7 +6,7 @@
  * interleaved.
  *
  * For each scene and each sleep setting, every engine builds the same blueprint from
- * engine/scenes.ts. All worlds warm up together, then the harness runs rounds: in each round every
+ * engine/scenes/scenes.ts. All worlds warm up together, then the harness runs rounds: in each round every
  * engine takes a chunk of steps, each step timed alone with performance.now(), and the engine
  * that goes first rotates from round to round. Machine noise (other workers on the two shared
  * cores, turbo, thermal) therefore lands on all engines alike, and all worlds are sampled at the
@@ -29,17 +29,21 @@
  */
 import { performance } from 'node:perf_hooks'
 import { parseArgs } from 'node:util'
-import { pileScene, pyramidScene, type SceneBlueprint } from '../engine/scenes.ts'
+import { pileScene, pyramidScene, type SceneBlueprint } from '../engine/index.ts'
 import {
   BOX2D_POSITION_ITERATIONS,
   BOX2D_VELOCITY_ITERATIONS,
   BOX2D_WASM_BUILD,
+  BOX2D3_SUB_STEPS,
+  Box2D3WasmPeer,
   Box2DWasmPeer,
-} from './peers/box2d-wasm-peer.ts'
-import { BOX2D3_SUB_STEPS, Box2D3WasmPeer } from './peers/box2d3-wasm-peer.ts'
-import { ConcordPeer } from './peers/concord-peer.ts'
-import { PLANCK_POSITION_ITERATIONS, PLANCK_VELOCITY_ITERATIONS, PlanckPeer } from './peers/planck-peer.ts'
-import { RapierPeer, rapierVersion } from './peers/rapier-peer.ts'
+  ConcordPeer,
+  PLANCK_POSITION_ITERATIONS,
+  PLANCK_VELOCITY_ITERATIONS,
+  PlanckPeer,
+  RapierPeer,
+  rapierVersion,
+} from './peers/index.ts'
 import {
   checkScene,
   formatTable,

@@ -11,7 +11,7 @@
  * timeStamp, both on the page's clock; the frames between them are counted too.
  */
 import type { Page } from 'playwright-core'
-import { pickTool, screenOf } from '../tests/browser/client-harness.ts'
+import { pickTool, screenOf } from '../tests/support/client-harness.ts'
 import { median, p95 } from './summary.ts'
 
 /** One mode's trials (ms and animation frames). */

@@ -6,8 +6,7 @@
  * of equal duration in the order they were set.
  */
 
-import type { AddressInfo } from 'node:net'
-import { connect, createServer, type Server, type Socket } from 'node:net'
+import { type AddressInfo, connect, createServer, type Server, type Socket } from 'node:net'
 
 /** A running proxy. */
 export interface LatencyProxy {

@@ -3,7 +3,7 @@
  * bench/results/lockstep.json, not pass/fail.
  *
  * Part 1, bandwidth: a real server in this process on its 60 Hz clock, a room holding a pile of
- * 1,000 bodies, 5 snapshot-mode bots dragging bodies (server/bots.ts driveBot, 20 Hz), one
+ * 1,000 bodies, 5 snapshot-mode bots dragging bodies (bots/bots.ts driveBot, 20 Hz), one
  * snapshot-mode observer and one lockstep client (LockstepBot). Reported per room second (60
  * ticks, so a loaded machine that drops ticks does not flatter either mode): bytes received by the
  * lockstep client after its first sync against the snapshot observer's, and the first sync's size
@@ -20,12 +20,9 @@
  */
 import { mkdirSync, writeFileSync } from 'node:fs'
 import pino from 'pino'
+import { BotClient, driveBot, LockstepBot } from '../bots/index.ts'
 import { Prng, pileScene } from '../engine/index.ts'
-import { BotClient } from '../server/bot-client.ts'
-import { driveBot } from '../server/bots.ts'
-import { loadConfig } from '../server/config.ts'
-import { LockstepBot } from '../server/lockstep-bot.ts'
-import { startServer } from '../server/server.ts'
+import { loadConfig, startServer } from '../server/index.ts'
 import { formatRollbackCost, measureRollbackScenes } from './rollback-cost.ts'
 
 const quick = process.argv.includes('--quick')

@@ -19,8 +19,8 @@
  * Flags: --quick (8 trials per mode, 5 rollback runs).
  */
 import { build } from 'esbuild'
-import { launchBrowser } from '../tests/browser/chromium.ts'
-import { openSandbox, startClientServer } from '../tests/browser/client-harness.ts'
+import { launchBrowser } from '../tests/support/chromium.ts'
+import { openSandbox, startClientServer } from '../tests/support/client-harness.ts'
 import { type GrabLatency, measureGrabLatency } from './grab-latency.ts'
 import { startLatencyProxy } from './latency-proxy.ts'
 import { formatRollbackCost, measureRollbackScenes, type RollbackCost } from './rollback-cost.ts'

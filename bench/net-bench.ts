@@ -10,7 +10,7 @@
  * knocked over by a fast ball, each with 1, 10 and 50 clients.
  *
  * Part 2, capacity: the server in this process on its real 60 Hz clock, 10 rooms x 10 bots (a
- * child process running server/bots.ts), every room tick timed; reports p50/p99 tick time and
+ * child process running bots/bots.ts), every room tick timed; reports p50/p99 tick time and
  * overruns, once in empty rooms (bots' own shapes only) and once in the default pyramid scene.
  * Part 1 also reports the snapshot encode cost per client.
  * Flags: --quick (shorter runs, fewer clients), --capacity (part 2 only).
@@ -19,11 +19,9 @@ import { spawn } from 'node:child_process'
 import { mkdirSync, writeFileSync } from 'node:fs'
 import { performance } from 'node:perf_hooks'
 import pino from 'pino'
+import { BotClient } from '../bots/index.ts'
 import { pileScene, pyramidScene, type SceneBlueprint } from '../engine/index.ts'
-import { BotClient } from '../server/bot-client.ts'
-import { loadConfig } from '../server/config.ts'
-import type { Room } from '../server/room.ts'
-import { type RunningServer, startServer } from '../server/server.ts'
+import { loadConfig, type Room, type RunningServer, startServer } from '../server/index.ts'
 
 const silent = pino({ level: 'silent' })
 const quick = process.argv.includes('--quick')
@@ -172,7 +170,7 @@ async function capacity(scene: string): Promise<Record<string, unknown>> {
     }
   }
   const seconds = quick ? 8 : 20
-  const args = ['--import', 'tsx', 'server/bots.ts', '--url', server.url, '--room', 'load']
+  const args = ['--import', 'tsx', 'bots/bots.ts', '--url', server.url, '--room', 'load']
   args.push(
     '--rooms',
     String(roomCount),

@@ -11,7 +11,7 @@
  */
 import { benchScene } from './bench-scenes.ts'
 import { PeerRun } from './peer-run.ts'
-import { isPeerEngine } from './peers/peer-registry.ts'
+import { isPeerEngine } from './peers/index.ts'
 import type { SceneQuality } from './scene-quality.ts'
 
 /** A command from the parent. */

@@ -7,9 +7,9 @@
  * created before their step, outside the timing, and the awake count (to find when everything
  * fell asleep) is read after it, also outside.
  */
-import type { BodyDef } from '../engine/types.ts'
+import type { BodyDef } from '../engine/index.ts'
 import type { Arrival, BenchScene, BenchSceneInstance } from './bench-scenes.ts'
-import { createPeer, type PeerEngine } from './peers/peer-registry.ts'
+import { createPeer, type PeerEngine } from './peers/index.ts'
 import { allBodies, measureQuality, type SceneQuality } from './scene-quality.ts'
 import type { PeerWorld } from './stats.ts'
 

@@ -7,7 +7,7 @@
  * are per room tick, so machine load does not change them), by three recorders at once: the
  * server's defaults (keyframe opportunities every --keyframe-ticks, the --keyframe-budget, deflated
  * and delta keyframes), the same without a budget, and without a budget with raw whole keyframes:
- * - busy: a 1,000-body pile with 5 players dragging bodies on the schedule of server/bots.ts
+ * - busy: a 1,000-body pile with 5 players dragging bodies on the schedule of bots/bots.ts
  *   driveBot (20 Hz: grab a random dynamic body, 79 moves around a circle, release; every 100
  *   steps);
  * - quiet: the 210-box pyramid with one player who does nothing.
@@ -17,7 +17,7 @@
  * one keyframe, and a 10-minute session counts that keyframe 6 times: an upper bound.
  *
  * Replay speed. A pyramid room with one player dragging, recorded for SPEED_TICKS with the default
- * keyframes, is replayed with --verify (every hash and keyframe checked; server/replay-tool.ts, the
+ * keyframes, is replayed with --verify (every hash and keyframe checked; server/replay/replay-tool.ts, the
  * CLI's code) REPS times in this process: median ticks per second, and the first (cold) run.
  */
 import { mkdir, mkdtemp, readFile } from 'node:fs/promises'
@@ -26,11 +26,8 @@ import { join } from 'node:path'
 import pino from 'pino'
 import { Counter } from 'prom-client'
 import { Prng, pileScene, pyramidScene, type SceneBlueprint } from '../engine/index.ts'
-import { SETTINGS } from '../server/config.ts'
-import { RoomRecorder } from '../server/recorder.ts'
-import { replayLog } from '../server/replay-tool.ts'
-import { ReplayLogReader } from '../shared/replay-log-reader.ts'
-import { RoomSimulation, worldFromBlueprint } from '../shared/room-simulation.ts'
+import { RoomRecorder, replayLog, SETTINGS } from '../server/index.ts'
+import { ReplayLogReader, RoomSimulation, worldFromBlueprint } from '../shared/index.ts'
 import { formatTable, machineInfo, median, saveResults } from './stats.ts'
 
 const quick = process.argv.includes('--quick')
@@ -68,7 +65,7 @@ function recorder(room: string, sim: RoomSimulation, dir: string, v: Variant): R
 }
 
 /**
- * The driveBot schedule (server/bots.ts) at 20 Hz, applied straight to the simulation: every
+ * The driveBot schedule (bots/bots.ts) at 20 Hz, applied straight to the simulation: every
  * 3 ticks a step; per 100 steps a grab of a random dynamic body, 79 moves around a circle, a release.
  */
 function drag(sim: RoomSimulation, player: number, prng: Prng): void {

@@ -3,7 +3,7 @@
  * room with a player dragging bodies around and spawning, recorded by the server's recorder with
  * keyframes every 300, 600 (the default) and 1,200 ticks under the default keyframe budget, and
  * every 600 with no budget, at once (four recorders on one room), then the player's seek
- * (client/replay-player.ts, the code the browser runs) timed to random ticks of each log, in Node.
+ * (client/replay/replay-player.ts, the code the browser runs) timed to random ticks of each log, in Node.
  * Also the chain cost: a seek to exactly the keyframe with the longest delta chain (a restore
  * through the chain, no ticks replayed). Prints and saves bench/results/replay-seek.json: log
  * sizes, keyframes (whole, delta, the longest gap and chain) and seek times (median, p95, max).
@@ -16,11 +16,10 @@ import { performance } from 'node:perf_hooks'
 import { inflateSync } from 'node:zlib'
 import pino from 'pino'
 import { Counter } from 'prom-client'
-import { ReplayPlayer, readLog } from '../client/replay-player.ts'
+import { ReplayPlayer, readLog } from '../client/index.ts'
 import { Prng } from '../engine/index.ts'
-import { SETTINGS } from '../server/config.ts'
-import { RoomRecorder } from '../server/recorder.ts'
-import { RoomSimulation } from '../shared/room-simulation.ts'
+import { RoomRecorder, SETTINGS } from '../server/index.ts'
+import { RoomSimulation } from '../shared/index.ts'
 
 const TICKS = Number(process.env.SEEK_BENCH_TICKS ?? 36_000)
 const BUDGET = (SETTINGS.find((s) => s.key === 'keyframeBudget')!.fallback as number) * 1_000_000

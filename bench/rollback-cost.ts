@@ -8,8 +8,7 @@
  * re-simulates an already stepped world.
  */
 import { pileScene, pyramidScene, type SceneBlueprint } from '../engine/index.ts'
-import { cloneSimulation, RoomSimulation } from '../shared/index.ts'
-import { worldFromBlueprint } from '../shared/room-simulation.ts'
+import { cloneSimulation, RoomSimulation, worldFromBlueprint } from '../shared/index.ts'
 import { median } from './summary.ts'
 
 /** One scene's rollback cost: medians in ms. */

@@ -5,11 +5,11 @@
  * What one room worker does per loop tick, without sockets, bots processes or other threads: N
  * rooms (default 10, what each of 2 workers holds at 20 rooms) of the capacity benchmark's scene
  * (a pile of 100 bodies that never sleep), each with 5 simulated players on the bots' schedule
- * (server/bots.ts at 20 Hz: 3 spawns, then grab a random dynamic body, drag it around a circle
+ * (bots/bots.ts at 20 Hz: 3 spawns, then grab a random dynamic body, drag it around a circle
  * for 80 steps, release), through the real RoomManager, Room, recorder (on, as the server's
  * default, into a temporary directory) and worker Outbox, whose batch is posted to a
  * MessageChannel each tick. Every snapshot is acknowledged one tick later, as a client on
- * loopback would. Each loop tick is timed in this thread's CPU time (server/thread-cpu.ts) and in wall
+ * loopback would. Each loop tick is timed in this thread's CPU time (server/workers/thread-cpu.ts) and in wall
  * time; the summary splits the ticks into snapshot ticks of room 1, the other ticks, and the
  * once-a-second checkpoint ticks (hash, sweep, recorder flush), so the cost of each kind of work
  * shows. The inputs are deterministic, so the bytes sent per tick are the same from run to run
@@ -23,16 +23,19 @@ import { loadavg, tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { MessageChannel } from 'node:worker_threads'
 import pino from 'pino'
+import { botCommand } from '../bots/index.ts'
 import { Prng } from '../engine/index.ts'
-import { botCommand } from '../server/bots.ts'
-import { loadConfig } from '../server/config.ts'
-import { createMetrics } from '../server/metrics.ts'
-import { Recordings } from '../server/recordings.ts'
-import { RoomManager } from '../server/room-manager.ts'
-import { handleRoomMessage } from '../server/room-messages.ts'
-import type { RoomPlayer } from '../server/room-player.ts'
-import { StretchTimer } from '../server/thread-cpu.ts'
-import { Outbox, WorkerConnection } from '../server/worker-outbox.ts'
+import {
+  createMetrics,
+  handleRoomMessage,
+  loadConfig,
+  Outbox,
+  Recordings,
+  RoomManager,
+  type RoomPlayer,
+  StretchTimer,
+  WorkerConnection,
+} from '../server/index.ts'
 import type { Command } from '../shared/index.ts'
 import { awakePile, quantile } from './server-load.ts'
 
@@ -117,7 +120,7 @@ function send(player: Player, cmd: Command): void {
   handleRoomMessage(room, joined, { t: 'input', seq: ++player.seq, cmd }, 0, () => {})
 }
 
-/** One step of the bots' schedule (server/bots.ts botCommand, with the room's world as the mirror). */
+/** One step of the bots' schedule (bots/bots.ts botCommand, with the room's world as the mirror). */
 function drive(player: Player): void {
   const world = rooms.get(player.room)?.world
   const cmd = botCommand(player.prng, player.step++, () =>
@@ -126,7 +129,7 @@ function drive(player: Player): void {
   if (cmd) send(player, cmd)
 }
 
-/** The loop tick's CPU time on this thread (server/thread-cpu.ts). */
+/** The loop tick's CPU time on this thread (server/workers/thread-cpu.ts). */
 const cpuTimer = new StretchTimer()
 
 const cpu: number[] = []

@@ -52,7 +52,7 @@ export function awakeBlueprint<T extends Blueprint>(blueprint: T): T {
   } as T
 }
 
-/** Players per room, and the bots' drag (server/bots.ts): 80 of every 100 of their 20 Hz steps. */
+/** Players per room, and the bots' drag (bots/bots.ts): 80 of every 100 of their 20 Hz steps. */
 const ROOM_PLAYERS = 5
 const DRAG_TICKS = 240
 const CYCLE_TICKS = 300

@@ -9,8 +9,7 @@
  * a pyramid or tower 'stood' while no box moved 1 m; a pile or rain is 'contained' while no body
  * escaped; a grid 'held' while no joint stretched 5 cm.
  */
-import type { SceneBlueprint } from '../engine/scenes.ts'
-import type { BodyDef } from '../engine/types.ts'
+import type { BodyDef, SceneBlueprint } from '../engine/index.ts'
 import type { BenchSceneKind } from './bench-scenes.ts'
 
 /** A stack stands while no box moved this far from its start (m). */

@@ -18,7 +18,7 @@
 import { resolve } from 'node:path'
 import { pathToFileURL } from 'node:url'
 import { parseArgs } from 'node:util'
-import { driftOver, fastest, type MovingWorld } from '../tests/engine/motion-measures.ts'
+import { driftOver, fastest, type MovingWorld } from '../tests/support/motion-measures.ts'
 import { machineInfo, saveResults } from './stats.ts'
 
 /** The part of engine/index.ts this script uses. */

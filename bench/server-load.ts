@@ -1,6 +1,6 @@
 /*
  * Shared pieces of the server load benchmarks (bench:capacity, soak): a server in this process
- * with a timed tick loop, bot processes (server/bots.ts: each bot spawns a few shapes, then grabs
+ * with a timed tick loop, bot processes (bots/bots.ts: each bot spawns a few shapes, then grabs
  * and drags bodies in circles), percentiles and memory readings.
  */
 import { type ChildProcess, spawn } from 'node:child_process'
@@ -10,8 +10,8 @@ import { join } from 'node:path'
 import { performance } from 'node:perf_hooks'
 import pino from 'pino'
 import { pileScene, type SceneBlueprint } from '../engine/index.ts'
-import { loadConfig } from '../server/config.ts'
-import { type RunningServer, startServer } from '../server/server.ts'
+import { loadConfig, type RunningServer, startServer } from '../server/index.ts'
+import { until as waitUntil } from '../tests/support/wait.ts'
 import { awakeBlueprint } from './rooms-scene.ts'
 
 /** Durations of clock ticks (ms): wall time, and the process's CPU time over the same span. */
@@ -128,7 +128,7 @@ export function awakePile(count: number): SceneBlueprint {
 
 /** Start `count` bots over rooms PREFIX-1..PREFIX-rooms in a child process. */
 export function startBots(url: string, prefix: string, rooms: number, count: number): ChildProcess {
-  const args = ['--import', 'tsx', 'server/bots.ts', '--url', url, '--room', prefix]
+  const args = ['--import', 'tsx', 'bots/bots.ts', '--url', url, '--room', prefix]
   args.push('--rooms', String(rooms), '--count', String(count), '--seconds', '0')
   const child = spawn(process.execPath, args, { stdio: ['ignore', 'ignore', 'inherit'] })
   // The bots stand in for clients on other machines: on this machine they run at the lowest CPU
@@ -171,13 +171,9 @@ export async function bytesSent(server: RunningServer): Promise<number> {
   return (await server.metrics.bytesSent.get()).values[0]?.value ?? 0
 }
 
-/** Wait until `condition` holds, polling; throws naming `what` after the timeout. */
-export async function until(condition: () => boolean, what: string, timeoutMs = 120_000): Promise<void> {
-  const deadline = Date.now() + timeoutMs
-  while (!condition()) {
-    if (Date.now() > deadline) throw new Error(`timed out waiting for ${what}`)
-    await new Promise((resolve) => setTimeout(resolve, 100))
-  }
+/** Waits up to two minutes for a load condition (tests/support/wait.ts, polled every 100 ms). */
+export function until(condition: () => boolean, what: string, timeoutMs = 120_000): Promise<void> {
+  return waitUntil(condition, what, timeoutMs, 100)
 }
 
 /** Sleep for the measurement window (benchmarks only; never in tests). */

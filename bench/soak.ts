@@ -2,7 +2,7 @@
  * Soak (npm run soak): join/leave churn and bot play against one server for a long run (default
  * 10 minutes; --minutes M to change it), printed and saved to bench/results/soak.json.
  * Steady load: 10 rooms, each a pile of 100 never-sleeping bodies, with 3 bots dragging things
- * (a child process running server/bots.ts). Churn: every 250 ms a client joins one of the rooms
+ * (a child process running bots/bots.ts). Churn: every 250 ms a client joins one of the rooms
  * or one of 20 short-lived rooms, stays 1-3 s, and leaves, so rooms open and close too.
  * The rooms run as `npm start` runs them: on one worker thread per core (--workers N to change
  * it; 0 puts every room on the main thread).
@@ -13,8 +13,8 @@
  */
 import { mkdirSync, writeFileSync } from 'node:fs'
 import { availableParallelism, cpus, loadavg } from 'node:os'
+import { BotClient } from '../bots/index.ts'
 import { Prng } from '../engine/index.ts'
-import { BotClient } from '../server/bot-client.ts'
 import {
   awakePile,
   loopStats,

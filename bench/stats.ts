@@ -14,8 +14,7 @@ import { mkdirSync, writeFileSync } from 'node:fs'
 import os from 'node:os'
 import { dirname } from 'node:path'
 import { PerformanceObserver } from 'node:perf_hooks'
-import type { SceneBlueprint } from '../engine/scenes.ts'
-import type { BodyDef } from '../engine/types.ts'
+import type { BodyDef, SceneBlueprint } from '../engine/index.ts'
 import { median } from './summary.ts'
 
 /** One engine's world, built from a scene blueprint, as the benchmark drives it. */

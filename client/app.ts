@@ -6,17 +6,30 @@
  */
 import { SCENES } from '../engine/index.ts'
 import { TICK_RATE } from '../shared/index.ts'
-import { Camera } from './camera.ts'
-import { FpsMeter, hudText } from './hud.ts'
-import { computeFreeBody, describeFreeBody, type FreeBody } from './lab.ts'
-import { LabPlot } from './lab-plot.ts'
+import {
+  Camera,
+  computeFreeBody,
+  type DebugLayers,
+  describeFreeBody,
+  FpsMeter,
+  type FreeBody,
+  hudText,
+  LabPlot,
+  Renderer,
+} from './draw/index.ts'
+import {
+  helpRows,
+  pickBody,
+  type ShortcutAction,
+  SpawnPanel,
+  shapeRadius,
+  shortcutFor,
+  TOOLS,
+  ToolController,
+  type ToolName,
+} from './input/index.ts'
 import { cleanRoomName, offlineLink, replaysLink, roomLink, showLobby } from './lobby.ts'
-import { pickBody, shapeRadius } from './picking.ts'
-import { type DebugLayers, Renderer } from './renderer.ts'
-import type { Sandbox, ViewBody } from './sandbox.ts'
-import { helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
-import { SpawnPanel } from './spawn-settings.ts'
-import { TOOLS, ToolController, type ToolName } from './tools.ts'
+import type { Sandbox, ViewBody } from './modes/index.ts'
 
 /** Shortest time between two changes of the hovered body whose contacts are drawn online (ms). */
 const HOVER_MS = 150

@@ -13,11 +13,8 @@
  * Without ?room the page joins the server's default room and writes it into the address bar.
  */
 import { App } from './app.ts'
-import { LockstepSandbox } from './lockstep-sandbox.ts'
-import { OfflineSandbox } from './offline-sandbox.ts'
-import { OnlineSandbox } from './online-sandbox.ts'
-import { ReplayPage } from './replay-page.ts'
-import type { Sandbox } from './sandbox.ts'
+import { LockstepSandbox, OfflineSandbox, OnlineSandbox, type Sandbox } from './modes/index.ts'
+import { ReplayPage } from './replay/index.ts'
 
 function boot(): App {
   const params = new URLSearchParams(location.search)

@@ -4,6 +4,16 @@
  */
 
 export {
+  box,
+  type CircleShape,
+  circle,
+  computeMass,
+  type MassData,
+  type PolygonShape,
+  polygon,
+  type Shape,
+} from './collision/index.ts'
+export {
   LINEAR_SLOP,
   MAX_LINEAR_SPEED,
   MAX_POLYGON_VERTICES,
@@ -13,38 +23,30 @@ export {
   SPECULATIVE_DISTANCE,
   STEP_SECONDS,
 } from './constants.ts'
-export { CHAIN_LINK_LENGTH, CHAIN_TOP, hangingChainScene, ragdollScene } from './joint-stress-scenes.ts'
 export { atan2, cos, PI, sin, TRIG_LIMIT, TWO_PI, type Vec2, wrapAngle } from './math.ts'
 export { Prng } from './prng.ts'
-export { SAVE_FORMAT_VERSION, WorldLoadError } from './save-format.ts'
 export {
   buildScene,
+  CHAIN_LINK_LENGTH,
+  CHAIN_TOP,
   cardHouseScene,
   chainBridgeScene,
   emptyScene,
   groundDef,
+  hangingChainScene,
   heavyOnLightScene,
   jointsScene,
   newtonsCradleScene,
   pileScene,
   pyramidScene,
+  ragdollScene,
   rampScene,
   regularPolygon,
   SCENES,
   type SceneBlueprint,
   towerScene,
   wreckingBallScene,
-} from './scenes.ts'
-export {
-  box,
-  type CircleShape,
-  circle,
-  computeMass,
-  type MassData,
-  type PolygonShape,
-  polygon,
-  type Shape,
-} from './shapes.ts'
+} from './scenes/index.ts'
 export { FixedStepper } from './stepper.ts'
 export type {
   BodyDef,
@@ -60,6 +62,20 @@ export type {
   RevoluteJointDef,
   WorldDef,
 } from './types.ts'
-export { createWorld, loadWorld, World } from './world.ts'
-export { POSE_STRIDE } from './world-api.ts'
-export { DEFAULT_WORLD_DEF, resolveWorldDef } from './world-store.ts'
+export {
+  createWorld,
+  DEFAULT_WORLD_DEF,
+  loadWorld,
+  POSE_ANGLE,
+  POSE_AWAKE,
+  POSE_ID,
+  POSE_STATIC,
+  POSE_STRIDE,
+  POSE_TYPE,
+  POSE_X,
+  POSE_Y,
+  resolveWorldDef,
+  SAVE_FORMAT_VERSION,
+  World,
+  WorldLoadError,
+} from './world/index.ts'

@@ -2,8 +2,9 @@
  * The engine's public definitions: what callers pass in (definitions with defaults, like Box2D's
  * b2DefaultBodyDef) and what they read back. The World class implements these.
  */
+
+import type { Shape } from './collision/index.ts'
 import type { Vec2 } from './math.ts'
-import type { Shape } from './shapes.ts'
 
 /** Opaque body id: handed out in creation order from 1, never reused within a world. */
 export type BodyId = number

@@ -1,5 +1,5 @@
-// Build the benchmark page: client/bench-page.ts -> OUTDIR/bench.js (esbuild, browser, minified,
-// every engine bundled in) plus client/bench.html, and the WebAssembly binaries of box2d-wasm and
+// Build the benchmark page: bench/page/bench-page.ts -> OUTDIR/bench.js (esbuild, browser, minified,
+// every engine bundled in) plus bench/page/bench.html, and the WebAssembly binaries of box2d-wasm and
 // box2d3-wasm under OUTDIR/wasm/, which the page finds relative to its own address (so the page
 // works under any base path). Run alone with `node scripts/build-bench-page.mjs [OUTDIR]`.
 import { copyFile, mkdir, stat } from 'node:fs/promises'
@@ -25,7 +25,7 @@ function wasmFiles() {
 export async function buildBenchPage(outdir = 'dist/client') {
   await mkdir(join(outdir, 'wasm'), { recursive: true })
   await build({
-    entryPoints: ['client/bench-page.ts'],
+    entryPoints: ['bench/page/bench-page.ts'],
     outfile: `${outdir}/bench.js`,
     bundle: true,
     minify: true,
@@ -37,7 +37,7 @@ export async function buildBenchPage(outdir = 'dist/client') {
     legalComments: 'none',
     logLevel: 'warning',
   })
-  await copyFile('client/bench.html', `${outdir}/bench.html`)
+  await copyFile('bench/page/bench.html', `${outdir}/bench.html`)
   for (const [source, name] of wasmFiles()) await copyFile(source, join(outdir, 'wasm', name))
   return { bytes: (await stat(`${outdir}/bench.js`)).size }
 }

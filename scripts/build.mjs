@@ -1,4 +1,4 @@
-// Build with esbuild: the server (server/main.ts -> dist/server.js, and server/room-worker.ts ->
+// Build with esbuild: the server (server/main.ts -> dist/server.js, and server/workers/room-worker.ts ->
 // dist/room-worker.js for --workers; Node, runtime packages left external), the bots, the container health check, and, when the browser client exists, the minified client
 // (scripts/build-client.mjs) and the benchmark page (scripts/build-bench-page.mjs, served as /bench.html). Usage: node scripts/build.mjs
 import { stat } from 'node:fs/promises'
@@ -14,14 +14,14 @@ const exists = (path) =>
 
 // The server, its room worker thread (loaded from beside dist/server.js), the bots and the container health check: Node bundles, runtime packages left external.
 const OUTPUTS = {
-  main: 'dist/server.js',
-  'room-worker': 'dist/room-worker.js',
-  bots: 'dist/bots.js',
-  healthcheck: 'dist/healthcheck.js',
+  'server/main.ts': 'dist/server.js',
+  'server/workers/room-worker.ts': 'dist/room-worker.js',
+  'bots/bots.ts': 'dist/bots.js',
+  'server/hosting/healthcheck.ts': 'dist/healthcheck.js',
 }
-for (const [name, outfile] of Object.entries(OUTPUTS)) {
+for (const [entry, outfile] of Object.entries(OUTPUTS)) {
   await build({
-    entryPoints: [`server/${name}.ts`],
+    entryPoints: [entry],
     outfile,
     bundle: true,
     platform: 'node',
@@ -34,4 +34,4 @@ for (const [name, outfile] of Object.entries(OUTPUTS)) {
 }
 
 if (await exists('client/main.ts')) await buildClient()
-if (await exists('client/bench-page.ts')) await buildBenchPage()
+if (await exists('bench/page/bench-page.ts')) await buildBenchPage()

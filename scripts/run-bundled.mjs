@@ -9,7 +9,7 @@
 // Usage: node [node flags] scripts/run-bundled.mjs bench/ENTRY.ts [arguments]
 // The bundle is written beside the entry as .ENTRY.bundle.mjs, so paths the entry takes from
 // import.meta.url (./results/...) still hold; npm packages stay external. The room worker
-// (server/room-worker.ts) is bundled beside it as room-worker.js, where server/worker-pool.ts
+// (server/workers/room-worker.ts) is bundled beside it as room-worker.js, where server/workers/worker-pool.ts
 // looks for it when it runs from a bundle. Both files are ignored by git and rewritten every run.
 import { basename, dirname, join, resolve } from 'node:path'
 import { pathToFileURL } from 'node:url'
@@ -33,6 +33,10 @@ const common = {
   logLevel: 'warning',
 }
 await build({ ...common, entryPoints: [entry], outfile })
-await build({ ...common, entryPoints: ['server/room-worker.ts'], outfile: join(dir, 'room-worker.js') })
+await build({
+  ...common,
+  entryPoints: ['server/workers/room-worker.ts'],
+  outfile: join(dir, 'room-worker.js'),
+})
 process.argv = [process.argv[0], outfile, ...args]
 await import(pathToFileURL(outfile).href)

@@ -3,7 +3,7 @@
  * server, and on SIGTERM or SIGINT shuts down gracefully: clients get a close frame with a reason,
  * logs are flushed, and the process exits within 5 s even if something hangs.
  */
-import { helpText, loadConfig, type ServerConfig } from './config.ts'
+import { helpText, loadConfig, type ServerConfig } from './config/index.ts'
 import { ListenError, startServer } from './server.ts'
 
 /** Hard deadline for shutdown after the drain period (ms). */

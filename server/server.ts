@@ -11,20 +11,27 @@ import type { AddressInfo } from 'node:net'
 import { hostname } from 'node:os'
 import pino, { type Logger } from 'pino'
 import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
-import { AgonesLink, agonesPresent } from './agones.ts'
-import type { ServerConfig } from './config.ts'
-import { checkReplayAccess } from './http-access.ts'
-import { ConnectionGuard, timeoutCheckInterval, tuneHttpTimeouts } from './http-connections.ts'
-import { rawHttpResponse } from './http-request-url.ts'
-import { createRequestHandler } from './http-routes.ts'
-import { createMetrics, type ServerMetrics } from './metrics.ts'
-import { Recordings } from './recordings.ts'
-import { RoomDirectory } from './room-directory.ts'
-import { LocalRoomHost, type RoomHost } from './room-host.ts'
-import { RoomManager } from './room-manager.ts'
-import { TickHealth } from './tick-health.ts'
-import { Transport } from './transport.ts'
-import { WorkerPool } from './worker-pool.ts'
+import type { ServerConfig } from './config/index.ts'
+import {
+  AgonesLink,
+  agonesPresent,
+  createMetrics,
+  RoomDirectory,
+  type ServerMetrics,
+  TickHealth,
+} from './hosting/index.ts'
+import {
+  ConnectionGuard,
+  checkReplayAccess,
+  createRequestHandler,
+  rawHttpResponse,
+  timeoutCheckInterval,
+  tuneHttpTimeouts,
+} from './http/index.ts'
+import { Transport } from './net/index.ts'
+import { Recordings } from './replay/index.ts'
+import { LocalRoomHost, type RoomHost, RoomManager } from './rooms/index.ts'
+import { WorkerPool } from './workers/index.ts'
 
 /** A running server. */
 export interface RunningServer {

@@ -17,9 +17,7 @@ import {
   type b2Shape,
   b2World,
 } from '@box2d/core'
-import type { SceneBlueprint } from '../../engine/scenes.ts'
-import type { Shape as ConcordShape } from '../../engine/shapes.ts'
-import type { BodyDef, JointDef } from '../../engine/types.ts'
+import type { BodyDef, Shape as ConcordShape, JointDef, SceneBlueprint } from '../../engine/index.ts'
 import type { PeerWorld } from '../stats.ts'
 
 const STEP = 1 / 60

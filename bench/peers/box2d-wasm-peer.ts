@@ -13,9 +13,14 @@
  * as soon as Box2D has copied it; body wrappers are released from Emscripten's cache on dispose.
  * The world steps 1/60 s with 8 velocity and 3 position iterations (Box2D 2.4's testbed values).
  */
-import type { SceneBlueprint } from '../../engine/scenes.ts'
-import type { Shape as ConcordShape } from '../../engine/shapes.ts'
-import type { BodyDef, BodyType, JointDef } from '../../engine/types.ts'
+
+import type {
+  BodyDef,
+  BodyType,
+  Shape as ConcordShape,
+  JointDef,
+  SceneBlueprint,
+} from '../../engine/index.ts'
 import type { PeerWorld } from '../stats.ts'
 import { inNode, wasmLocator } from './wasm-location.ts'
 

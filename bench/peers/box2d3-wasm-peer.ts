@@ -19,8 +19,7 @@
  * with 4 sub-steps (Box2D v3's documented default) and every other world setting at its default.
  * Embind handles we create are deleted as soon as Box2D has copied them.
  */
-import type { SceneBlueprint } from '../../engine/scenes.ts'
-import type { BodyDef, JointDef } from '../../engine/types.ts'
+import type { BodyDef, JointDef, SceneBlueprint } from '../../engine/index.ts'
 import type { PeerWorld } from '../stats.ts'
 import { inNode, wasmLocator } from './wasm-location.ts'
 

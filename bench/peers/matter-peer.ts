@@ -15,8 +15,7 @@
  * iterations; sleeping is engine.enableSleeping.
  */
 import Matter from 'matter-js'
-import type { SceneBlueprint } from '../../engine/scenes.ts'
-import type { BodyDef, JointDef } from '../../engine/types.ts'
+import type { BodyDef, JointDef, SceneBlueprint } from '../../engine/index.ts'
 import type { PeerWorld } from '../stats.ts'
 
 /** Pixels per metre in the matter-js world. */

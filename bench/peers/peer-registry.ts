@@ -4,7 +4,7 @@
  * and builds the blueprint in a new world. The terminal benchmark and the benchmark page both go
  * through here.
  */
-import type { SceneBlueprint } from '../../engine/scenes.ts'
+import type { SceneBlueprint } from '../../engine/index.ts'
 import type { PeerWorld } from '../stats.ts'
 
 /** The engines compared, Concord first. */

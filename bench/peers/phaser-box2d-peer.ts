@@ -38,8 +38,7 @@ import {
   type b2WorldId,
   CreateWorld,
 } from 'phaser-box2d/dist/PhaserBox2D.js'
-import type { SceneBlueprint } from '../../engine/scenes.ts'
-import type { BodyDef, JointDef } from '../../engine/types.ts'
+import type { BodyDef, JointDef, SceneBlueprint } from '../../engine/index.ts'
 import type { PeerWorld } from '../stats.ts'
 
 const STEP = 1 / 60

@@ -9,9 +9,7 @@
  * as in Box2D 2.4; sleeping is switched per run.
  */
 import { type Body, BoxShape, CircleShape, PolygonShape, RevoluteJoint, type Shape, World } from 'planck'
-import type { SceneBlueprint } from '../../engine/scenes.ts'
-import type { Shape as ConcordShape } from '../../engine/shapes.ts'
-import type { BodyDef, JointDef } from '../../engine/types.ts'
+import type { BodyDef, Shape as ConcordShape, JointDef, SceneBlueprint } from '../../engine/index.ts'
 import type { PeerWorld } from '../stats.ts'
 
 /** Box2D 2.x velocity iterations per step (planck's default). */

@@ -12,8 +12,7 @@
  * iteration; sleeping is switched per body with setCanSleep.
  */
 import type RAPIER_TYPES from '@dimforge/rapier2d-compat'
-import type { SceneBlueprint } from '../../engine/scenes.ts'
-import type { BodyDef, JointDef } from '../../engine/types.ts'
+import type { BodyDef, JointDef, SceneBlueprint } from '../../engine/index.ts'
 import type { PeerWorld } from '../stats.ts'
 
 type Rapier = typeof RAPIER_TYPES

@@ -8,8 +8,8 @@ import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { buildClient } from '../../scripts/build-client.mjs'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from './chromium.ts'
-import { serveClient } from './client-harness.ts'
+import { launchBrowser } from '../support/chromium.ts'
+import { serveClient } from '../support/client-harness.ts'
 
 const DIST = 'test-results/browser-access/dist'
 let browser: Browser

@@ -11,7 +11,7 @@ import type { Browser, BrowserContext, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
 import { CLOSE_CODES, encodeMessage } from '../../shared/index.ts'
-import { launchBrowser } from './chromium.ts'
+import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
   bodies,
@@ -27,7 +27,7 @@ import {
   screenOfBody,
   startClientServer,
   waitForBody,
-} from './client-harness.ts'
+} from '../support/client-harness.ts'
 
 const THETA = (20 * Math.PI) / 180
 const M_G = 1 * 10 // the ramp scene's box: 1 m x 1 m at density 1, gravity 10 m/s^2

@@ -12,7 +12,7 @@ import { build } from 'esbuild'
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { GOLDEN_HASH, hex } from '../engine/determinism-fixtures.ts'
-import { launchBrowser } from './chromium.ts'
+import { launchBrowser } from '../support/chromium.ts'
 import { type EngineCheck, runGolden, trigReport } from './engine-page.ts'
 
 let browser: Browser

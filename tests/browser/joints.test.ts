@@ -8,9 +8,9 @@
 import { copyFile } from 'node:fs/promises'
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
-import { JOINT_COLORS } from '../../client/joint-drawing.ts'
+import { JOINT_COLORS } from '../../client/draw/joint-drawing.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from './chromium.ts'
+import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
   bodies,
@@ -20,7 +20,7 @@ import {
   screenOfBody,
   startClientServer,
   waitForBody,
-} from './client-harness.ts'
+} from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser

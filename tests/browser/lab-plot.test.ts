@@ -7,9 +7,9 @@
  */
 import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
-import { PLOT_COLORS, type PlotSample } from '../../client/lab-plot.ts'
+import { PLOT_COLORS, type PlotSample } from '../../client/draw/lab-plot.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from './chromium.ts'
+import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
   openSandbox,
@@ -17,7 +17,7 @@ import {
   screenOfBody,
   startClientServer,
   waitForBody,
-} from './client-harness.ts'
+} from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser

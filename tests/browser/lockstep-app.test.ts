@@ -8,8 +8,14 @@ import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { startLatencyProxy } from '../../bench/latency-proxy.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from './chromium.ts'
-import { bodies, openSandbox, pickTool, pressUntilGrabbed, startClientServer } from './client-harness.ts'
+import { launchBrowser } from '../support/chromium.ts'
+import {
+  bodies,
+  openSandbox,
+  pickTool,
+  pressUntilGrabbed,
+  startClientServer,
+} from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser

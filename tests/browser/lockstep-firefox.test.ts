@@ -12,9 +12,9 @@
 import type { Browser, Page } from 'puppeteer-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
-import { driveClock } from '../server/lockstep-bots.ts'
-import { inProcessRooms, startTestServer } from '../server/test-server.ts'
-import { firefoxMissing, launchFirefox } from './firefox.ts'
+import { firefoxMissing, launchFirefox } from '../support/firefox.ts'
+import { driveClock } from '../support/lockstep-bots.ts'
+import { inProcessRooms, startTestServer } from '../support/test-server.ts'
 import {
   bundleLockstepPage,
   expectLongSync,

@@ -15,10 +15,11 @@
 import { readFile } from 'node:fs/promises'
 import { build, type Plugin } from 'esbuild'
 import { expect } from 'vitest'
-import { BotClient } from '../../server/bot-client.ts'
-import { LockstepBot } from '../../server/lockstep-bot.ts'
+import { BotClient } from '../../bots/bot-client.ts'
+import { LockstepBot } from '../../bots/lockstep-bot.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { ActiveBots } from '../server/lockstep-bots.ts'
+import { ActiveBots } from '../support/lockstep-bots.ts'
+import { until as waitUntil } from '../support/wait.ts'
 import type { PageReport } from './lockstep-page.ts'
 
 /** What the harness needs of a browser page: playwright-core's and puppeteer-core's both fit. */
@@ -76,17 +77,9 @@ export async function readReport(page: ScriptPage): Promise<PageReport> {
   return (await page.evaluate('globalThis.concordLockstep.report()')) as PageReport
 }
 
-/** Poll until `condition` holds (generous timeout; no fixed sleeps in the assertions). */
-export async function until(
-  what: string,
-  condition: () => Promise<boolean>,
-  timeoutMs = 600_000,
-): Promise<void> {
-  const start = Date.now()
-  while (!(await condition())) {
-    if (Date.now() - start > timeoutMs) throw new Error(`timed out waiting for ${what}`)
-    await new Promise((resolve) => setTimeout(resolve, 250))
-  }
+/** Waits up to 10 minutes (the long runs), polling every 250 ms. */
+export function until(what: string, condition: () => Promise<boolean>, timeoutMs = 600_000): Promise<void> {
+  return waitUntil(condition, what, timeoutMs, 250)
 }
 
 /**

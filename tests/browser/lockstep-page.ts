@@ -4,7 +4,7 @@
  * `window.concordLockstep`. Bundled with esbuild and injected into a page served by the test
  * server; the "perturbed" build swaps the engine's own sin for Math.sin (lockstep-harness.ts).
  */
-import { LockstepClient } from '../../client/lockstep-client.ts'
+
 import { sin } from '../../engine/index.ts'
 import {
   type ClientMessage,
@@ -12,6 +12,7 @@ import {
   encodeMessage,
   PROTOCOL_VERSION,
 } from '../../shared/index.ts'
+import { LockstepClient } from '../../shared/sim/lockstep-client.ts'
 
 /** What the test reads. */
 export interface PageReport {

@@ -15,9 +15,9 @@
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
-import { driveClock } from '../server/lockstep-bots.ts'
-import { inProcessRooms, startTestServer } from '../server/test-server.ts'
-import { launchBrowser } from './chromium.ts'
+import { launchBrowser } from '../support/chromium.ts'
+import { driveClock } from '../support/lockstep-bots.ts'
+import { inProcessRooms, startTestServer } from '../support/test-server.ts'
 import {
   bundleLockstepPage,
   expectLongSync,

@@ -1,10 +1,10 @@
 /*
  * The page side of the Node-versus-Chromium replay check (replay-session.test.ts): the shared
- * headless replay (shared/replay-headless.ts, the code the replay CLI runs) bundled with esbuild
+ * headless replay (shared/replay/replay-headless.ts, the code the replay CLI runs) bundled with esbuild
  * for the browser, inflating keyframes with the browser's DecompressionStream.
  */
-import { type ReplayReport, replayBytes } from '../../shared/replay-headless.ts'
-import { inflate } from '../../shared/sync-payload.ts'
+import { type ReplayReport, replayBytes } from '../../shared/replay/replay-headless.ts'
+import { inflate } from '../../shared/sim/sync-payload.ts'
 
 /** Replay a base64-encoded log with --verify, collecting the world hash every `every` ticks. */
 export async function replayBase64(base64: string, every: number): Promise<ReplayReport> {

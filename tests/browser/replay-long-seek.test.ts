@@ -15,9 +15,9 @@ import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { buildClient } from '../../scripts/build-client.mjs'
 import type { RunningServer } from '../../server/server.ts'
-import { type KeyframeFreeLog, recordKeyframeFreeLog } from '../client/keyframe-free-log.ts'
-import { launchBrowser } from './chromium.ts'
-import { collectErrors, serveClient } from './client-harness.ts'
+import { type KeyframeFreeLog, recordKeyframeFreeLog } from '../client/replay/keyframe-free-log.ts'
+import { launchBrowser } from '../support/chromium.ts'
+import { collectErrors, serveClient } from '../support/client-harness.ts'
 
 const DIST = 'test-results/browser-replay-long/dist'
 const TICKS = 120_000

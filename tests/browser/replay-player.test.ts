@@ -5,7 +5,7 @@
  * token, serves the page and the log (to a page opened with the key; one without it is told the
  * logs need a key). In Chromium the player opens the log from the server's list, plays it, seeks
  * back and forward through the seek bar, and the hash indicator stays green. At every sought tick
- * the page's world hash equals the replay CLI's (server/replay-tool.ts, `--to TICK`) in Node, and
+ * the page's world hash equals the replay CLI's (server/replay/replay-tool.ts, `--to TICK`) in Node, and
  * the page's engine reaches the same final hash as Node's.
  */
 import { mkdir, mkdtemp, readFile } from 'node:fs/promises'
@@ -13,12 +13,12 @@ import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { BotClient } from '../../bots/bot-client.ts'
 import { buildClient } from '../../scripts/build-client.mjs'
-import { BotClient } from '../../server/bot-client.ts'
-import { replayLog } from '../../server/replay-tool.ts'
+import { replayLog } from '../../server/replay/replay-tool.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from './chromium.ts'
-import { collectErrors, serveClient } from './client-harness.ts'
+import { launchBrowser } from '../support/chromium.ts'
+import { collectErrors, serveClient } from '../support/client-harness.ts'
 
 const DIST = 'test-results/browser-replay/dist'
 const ROOM = 'replayed'

@@ -16,13 +16,13 @@ import { join } from 'node:path'
 import { build } from 'esbuild'
 import type { Browser } from 'playwright-core'
 import { afterAll, describe, expect, it } from 'vitest'
-import { listLogNames } from '../../server/replay-files.ts'
+import { listLogNames } from '../../server/replay/replay-files.ts'
 import type { RunningServer } from '../../server/server.ts'
-import type { ReplayReport } from '../../shared/replay-headless.ts'
-import { ReplayLogReader } from '../../shared/replay-log-reader.ts'
-import { ActiveBots, driveClock } from '../server/lockstep-bots.ts'
-import { inProcessRooms, startTestServer } from '../server/test-server.ts'
-import { launchBrowser } from './chromium.ts'
+import type { ReplayReport } from '../../shared/replay/replay-headless.ts'
+import { ReplayLogReader } from '../../shared/replay/replay-log-reader.ts'
+import { launchBrowser } from '../support/chromium.ts'
+import { ActiveBots, driveClock } from '../support/lockstep-bots.ts'
+import { inProcessRooms, startTestServer } from '../support/test-server.ts'
 import type { ReplayCheck } from './replay-check-page.ts'
 
 const ROOM = 'long'
@@ -102,7 +102,7 @@ describe('a 5,000-tick recorded session', () => {
     await writeFile(file, bytes)
     const cli = spawnSync(
       process.execPath,
-      ['--import', 'tsx', 'server/replay-cli.ts', file, '--verify', '--json', '--hash-every', '60'],
+      ['--import', 'tsx', 'server/replay/replay-cli.ts', file, '--verify', '--json', '--hash-every', '60'],
       { encoding: 'utf8', maxBuffer: 64 * 1024 * 1024 },
     )
     expect(cli.stderr).toBe('')

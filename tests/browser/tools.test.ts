@@ -7,10 +7,10 @@
  */
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
-import { LABEL_TEXT, labelBox } from '../../client/renderer.ts'
+import { LABEL_TEXT, labelBox } from '../../client/draw/renderer.ts'
 import { SCENES } from '../../engine/index.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from './chromium.ts'
+import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
   loadScene,
@@ -20,7 +20,7 @@ import {
   screenOf,
   screenOfBody,
   startClientServer,
-} from './client-harness.ts'
+} from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser

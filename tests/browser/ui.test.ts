@@ -9,8 +9,14 @@
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from './chromium.ts'
-import { ARTIFACTS, collectErrors, pickTool, screenOfBody, startClientServer } from './client-harness.ts'
+import { launchBrowser } from '../support/chromium.ts'
+import {
+  ARTIFACTS,
+  collectErrors,
+  pickTool,
+  screenOfBody,
+  startClientServer,
+} from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser

@@ -21,7 +21,7 @@ import { tmpdir } from 'node:os'
 import { dirname, join, resolve } from 'node:path'
 import { createInterface } from 'node:readline'
 import { afterAll, describe, expect, it } from 'vitest'
-import { BotClient } from '../../server/bot-client.ts'
+import { BotClient } from '../../bots/bot-client.ts'
 import { envPairs, execForm, type Instruction, readDockerfile, splitFlags } from './dockerfile.ts'
 
 const REPO = resolve('.')

@@ -7,8 +7,8 @@
  */
 import { readFileSync } from 'node:fs'
 import { describe, expect, it } from 'vitest'
-import { loadConfig } from '../../server/config.ts'
-import { SETTINGS } from '../../server/config-settings.ts'
+import { loadConfig } from '../../server/config/config.ts'
+import { SETTINGS } from '../../server/config/config-settings.ts'
 
 /** The container's env entries, in order. */
 function manifestEnv(): Array<[string, string]> {

@@ -1,5 +1,5 @@
 /*
- * The scenes of allocation.test.ts, stepped in the measuring process of tests/measure-allocation.ts
+ * The scenes of allocation.test.ts, stepped in the measuring process of tests/support/measure-allocation.ts
  * (bundled with esbuild, run in a separate quiet `node --expose-gc` process).
  *
  * - pile: a 300-body pile (pileScene(300), sleeping off, so every body is simulated every step) and,

@@ -1,7 +1,7 @@
 /*
  * A warm step allocates nothing: proven by measurement, not by inspection.
  *
- * The engine runs in a separate, quiet `node --expose-gc` process (tests/measure-allocation.ts,
+ * The engine runs in a separate, quiet `node --expose-gc` process (tests/support/measure-allocation.ts,
  * bundled with esbuild), so that vitest's own work cannot allocate or collect in the measured
  * window. Two scenes (allocation-scenes.ts): a 300-body pile with sleeping off (every body
  * simulated every step), and the server's capacity room without the server (a 100-body pile that
@@ -18,7 +18,7 @@
 import { dirname } from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { describe, expect, it } from 'vitest'
-import { type AllocationResult, measureAllocation } from '../measure-allocation.ts'
+import { type AllocationResult, measureAllocation } from '../support/measure-allocation.ts'
 
 /**
  * Warm-up steps, measured steps per round and rounds of each scene. The room's warm-up is long:
@@ -78,7 +78,7 @@ describe('allocation', () => {
   // the first few thousand steps is compiled code and feedback, not the step's own allocation.
   // Before shapes shared one hidden class (2026-11-22), reading `shape.radius` at a site that saw
   // both circles and polygons allocated about 5 bytes per circle per call (1-26 scavenges and
-  // 300-670 bytes/step here). Every shape now has every field in one order (engine/shapes.ts).
+  // 300-670 bytes/step here). Every shape now has every field in one order (engine/collision/shapes.ts).
   it('a warm 300-body pile and two tall towers (column contacts) step 3 x 3000 times without garbage collection or heap growth', async () => {
     const result = await measure('pile')
     expect(result.facts.contacts).toBeGreaterThan(300) // a real pile, not bodies in free fall

@@ -5,7 +5,7 @@
  * that model: same pairs, same order.
  */
 import { describe, expect, it } from 'vitest'
-import { BroadPhase, IdBuffer, PairBuffer, sortKeys } from '../../engine/broad-phase.ts'
+import { BroadPhase, IdBuffer, PairBuffer, sortKeys } from '../../engine/collision/broad-phase.ts'
 import { Prng } from '../../engine/prng.ts'
 
 const MARGIN = 0.1

@@ -4,11 +4,11 @@
  * edge normal of two convex polygons, and a brute-force closest point on a polygon's boundary.
  */
 import { describe, expect, it } from 'vitest'
-import { collideShapes, REFERENCE_FACE_TOLERANCE } from '../../engine/collide.ts'
-import { Manifold } from '../../engine/manifold.ts'
+import { collideShapes, REFERENCE_FACE_TOLERANCE } from '../../engine/collision/collide.ts'
+import { Manifold } from '../../engine/collision/manifold.ts'
+import { box, circle, type PolygonShape, polygon, type Shape } from '../../engine/collision/shapes.ts'
 import { cos, PI, sin, type Vec2 } from '../../engine/math.ts'
 import { Prng } from '../../engine/prng.ts'
-import { box, circle, type PolygonShape, polygon, type Shape } from '../../engine/shapes.ts'
 
 const SPEC = 0.02
 const SLOP = 0.005

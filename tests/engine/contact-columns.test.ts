@@ -1,5 +1,5 @@
 /*
- * The column search (engine/contact-columns.ts) on contact graphs written by hand: bodies are solver
+ * The column search (engine/dynamics/contact-columns.ts) on contact graphs written by hand: bodies are solver
  * state records 1, 2, ... (record 0 is the static ground), a contact is a pair of records and its
  * point count. The expected marks are read off the drawing in each test's name: a chain of at least
  * COLUMN_MIN_BODIES bodies standing on the ground, each body touching only the one below and the one
@@ -7,7 +7,6 @@
  * stiffness table is checked against the formula computed here with Math.pow.
  */
 import { describe, expect, it } from 'vitest'
-import { STATE_STRIDE } from '../../engine/body-state.ts'
 import {
   COLUMN_MAX_BODIES,
   COLUMN_MIN_BODIES,
@@ -17,14 +16,15 @@ import {
   EXTRA_SWEEP_FLOOR,
   PINCHED_EXTRA_ITERATIONS,
 } from '../../engine/constants.ts'
+import { STATE_STRIDE } from '../../engine/dynamics/body-state.ts'
 import {
   bucklingFactor,
   ColumnMarks,
   ColumnStiffness,
   equivalentHeight,
   markColumns,
-} from '../../engine/contact-columns.ts'
-import { Softness } from '../../engine/softness.ts'
+} from '../../engine/dynamics/contact-columns.ts'
+import { Softness } from '../../engine/dynamics/softness.ts'
 
 /** Marks for contacts given as [recordA, recordB, points]; returns each contact's column height or 0. */
 function marksFor(contacts: [number, number, number][]): number[] {

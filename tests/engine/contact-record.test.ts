@@ -1,16 +1,16 @@
 /*
- * Contacts keep their numbers in a shared record array (engine/contact-record.ts). The oracle is
+ * Contacts keep their numbers in a shared record array (engine/dynamics/contact-record.ts). The oracle is
  * a plain object per contact holding what was written through the named properties: every
  * property must read back its own value (no two properties share a slot, no two contacts share a
  * record), also after the array has grown, and the narrowphase's writes must be what the
  * properties read.
  */
 import { describe, expect, it } from 'vitest'
-import { Body, DYNAMIC, updateMassData } from '../../engine/body.ts'
+import { box } from '../../engine/collision/shapes.ts'
 import { SPECULATIVE_DISTANCE } from '../../engine/constants.ts'
-import { CONTACT_POINT_FIELDS, Contact, updateContact } from '../../engine/contact.ts'
-import { CONTACT_STRIDE, ContactStore } from '../../engine/contact-record.ts'
-import { box } from '../../engine/shapes.ts'
+import { Body, DYNAMIC, updateMassData } from '../../engine/dynamics/body.ts'
+import { CONTACT_POINT_FIELDS, Contact, updateContact } from '../../engine/dynamics/contact.ts'
+import { CONTACT_STRIDE, ContactStore } from '../../engine/dynamics/contact-record.ts'
 
 const NAMES = [
   'friction',

@@ -6,8 +6,8 @@
  */
 import { describe, expect, it } from 'vitest'
 import { box, circle, createWorld, type World } from '../../engine/index.ts'
-import { ByteWriter } from '../../engine/save-format.ts'
-import { hashWorld } from '../../engine/world-state.ts'
+import { ByteWriter } from '../../engine/world/save-format.ts'
+import { hashWorld } from '../../engine/world/world-state.ts'
 
 const fresh = (world: World): number => hashWorld(new ByteWriter(), world)
 

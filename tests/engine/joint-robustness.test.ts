@@ -18,7 +18,7 @@ import {
   ragdollScene,
   type World,
 } from '../../engine/index.ts'
-import { fastest } from './motion-measures.ts'
+import { fastest } from '../support/motion-measures.ts'
 
 const G = 10
 

@@ -1,5 +1,5 @@
 /*
- * The joint scenes (engine/scenes.ts) do what their descriptions say, checked against physics:
+ * The joint scenes (engine/scenes/scenes.ts) do what their descriptions say, checked against physics:
  * the cradle passes the raised ball's speed sqrt(2 g L (1 - cos 30 deg)) down the row, the spring
  * ball rests g / omega^2 below its rest length, the hinged arm rests on its limit, the card house
  * stands. Then determinism with every joint type and a bullet: two runs are bit-identical, a

@@ -1,12 +1,12 @@
 /*
- * PairMap (engine/pair-map.ts), the world's contacts by body pair, against a JavaScript Map keyed
+ * PairMap (engine/collision/pair-map.ts), the world's contacts by body pair, against a JavaScript Map keyed
  * by the exact pair key a * 2^26 + b: the same answers after every operation of long random
  * sequences of inserts, replacements and deletions (with many collisions in a small table and
  * ids up to 2^26 - 1), including deletions that shift probe runs across the table's wrap-around.
  */
 import { describe, expect, it } from 'vitest'
+import { PairMap } from '../../engine/collision/pair-map.ts'
 import { Prng } from '../../engine/index.ts'
-import { PairMap } from '../../engine/pair-map.ts'
 
 const SCALE = 67108864
 

@@ -7,7 +7,7 @@
  *   cbrt/asin/acos/sinh/cosh/tanh/random... differ between JavaScript engines.
  * - No `**` (it is Math.pow), no Date, performance, timers, process, require, dynamic import,
  *   globalThis/window/document.
- * - Imports only from ./ paths inside engine/ (no packages, no Node built-ins, no other layer).
+ * - Imports only relative paths inside engine/ (no packages, no Node built-ins, no other layer).
  *
  * The checker itself is tested on small fixtures first, so a broken regex cannot pass silently.
  */
@@ -15,6 +15,7 @@ import { readdirSync, readFileSync, statSync } from 'node:fs'
 import { dirname, join, relative, resolve } from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { describe, expect, it } from 'vitest'
+import { importSpecifiers, stripCommentsAndStrings } from '../support/source-scan.ts'
 
 const ENGINE = resolve(dirname(fileURLToPath(import.meta.url)), '../../engine')
 
@@ -54,36 +55,6 @@ const FORBIDDEN: Array<[RegExp, string]> = [
   [/\bMath\s*\[/, 'computed Math access'],
 ]
 
-/** Source with comments, string and template literals replaced by spaces (line breaks kept). */
-function stripCommentsAndStrings(src: string): string {
-  let out = ''
-  let i = 0
-  const blank = (s: string) => s.replace(/[^\n]/g, ' ')
-  while (i < src.length) {
-    const c = src[i]
-    const next = src[i + 1]
-    let end = i + 1
-    if (c === '/' && next === '/') {
-      end = src.indexOf('\n', i)
-      if (end < 0) end = src.length
-    } else if (c === '/' && next === '*') {
-      end = src.indexOf('*/', i + 2)
-      end = end < 0 ? src.length : end + 2
-    } else if (c === "'" || c === '"' || c === '`') {
-      end = i + 1
-      while (end < src.length && src[end] !== c) end += src[end] === '\\' ? 2 : 1
-      end = Math.min(end + 1, src.length)
-    } else {
-      out += c
-      i++
-      continue
-    }
-    out += c === '/' ? blank(src.slice(i, end)) : `${c}${blank(src.slice(i + 1, end - 1))}${c}`
-    i = end
-  }
-  return out
-}
-
 /** Every rule violation in one file's source, as "line: reason". */
 function violations(src: string): string[] {
   const found: string[] = []
@@ -96,19 +67,6 @@ function violations(src: string): string[] {
     for (const [pattern, why] of FORBIDDEN) if (pattern.test(line)) found.push(`${index + 1}: ${why}`)
   })
   return found
-}
-
-/** Module specifiers of static imports and re-exports (read from the raw source: specifiers are strings). */
-function importSpecifiers(src: string): string[] {
-  const code = stripCommentsAndStrings(src)
-  const specs: string[] = []
-  // Find `from '...'` / `import '...'` in the stripped code, then read the specifier from the raw source.
-  for (const m of code.matchAll(/\b(from|import)\s*(['"])/g)) {
-    const start = (m.index ?? 0) + m[0].length
-    const end = src.indexOf(m[2], start)
-    specs.push(src.slice(start, end))
-  }
-  return specs
 }
 
 function engineFiles(dir = ENGINE): string[] {
@@ -188,7 +146,7 @@ describe('engine/ follows the determinism rules', () => {
     expect(found).toEqual([])
   })
 
-  it('imports only ./ paths that stay inside engine/ and exist', () => {
+  it('imports only relative paths that stay inside engine/ and exist', () => {
     const bad: string[] = []
     for (const file of files) {
       for (const spec of importSpecifiers(readFileSync(file, 'utf8'))) {
@@ -198,7 +156,7 @@ describe('engine/ follows the determinism rules', () => {
         try {
           exists = statSync(target).isFile()
         } catch {}
-        if (!spec.startsWith('./') || !inside || !exists)
+        if (!spec.startsWith('.') || !inside || !exists)
           bad.push(`${relative(ENGINE, file)} imports '${spec}'`)
       }
     }

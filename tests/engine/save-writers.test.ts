@@ -1,16 +1,16 @@
 /*
- * The save writers (engine/world-state.ts) name every field instead of looping over the field
+ * The save writers (engine/world/world-state.ts) name every field instead of looping over the field
  * lists (for speed); the readers loop over the lists. Here each writer's bytes are compared with
  * an independent writer that loops over the lists, on objects whose every listed field holds a
  * distinct value, so a field left out, written twice or out of order changes the bytes.
  */
 import { describe, expect, it } from 'vitest'
-import { Body, DYNAMIC } from '../../engine/body.ts'
-import { Contact } from '../../engine/contact.ts'
-import { ContactStore } from '../../engine/contact-record.ts'
-import { Joint } from '../../engine/joint.ts'
-import { ByteWriter } from '../../engine/save-format.ts'
-import { box } from '../../engine/shapes.ts'
+import { box } from '../../engine/collision/shapes.ts'
+import { Body, DYNAMIC } from '../../engine/dynamics/body.ts'
+import { Contact } from '../../engine/dynamics/contact.ts'
+import { ContactStore } from '../../engine/dynamics/contact-record.ts'
+import { Joint } from '../../engine/joints/joint.ts'
+import { ByteWriter } from '../../engine/world/save-format.ts'
 import {
   BODY_MATERIAL_FIELDS,
   BODY_STATE_FIELDS,
@@ -19,7 +19,7 @@ import {
   writeBody,
   writeContact,
   writeJoint,
-} from '../../engine/world-state.ts'
+} from '../../engine/world/world-state.ts'
 
 type Fields = Record<string, number>
 

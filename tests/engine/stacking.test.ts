@@ -31,7 +31,7 @@ import {
   towerScene,
   type World,
 } from '../../engine/index.ts'
-import { driftOver } from './motion-measures.ts'
+import { driftOver } from '../support/motion-measures.ts'
 
 const SLEEP_SPEED = DEFAULT_WORLD_DEF.sleepThreshold
 

@@ -1,0 +1,19 @@
+/*
+ * Where the physics runs for the page: the Sandbox seam and its modes: online (a server room
+ * mirrored from snapshots), lockstep and predict (the room simulated in the page from the tick
+ * stream), offline (the engine alone); plus the smoothing of predicted corrections.
+ */
+export { LockstepSandbox } from './lockstep-sandbox.ts'
+export { OfflineSandbox } from './offline-sandbox.ts'
+export { OnlineSandbox } from './online-sandbox.ts'
+export type {
+  LabContact,
+  LabData,
+  LabJointForce,
+  Sandbox,
+  SandboxStats,
+  SandboxStatus,
+  ViewBody,
+  ViewCursor,
+  ViewJoint,
+} from './sandbox.ts'

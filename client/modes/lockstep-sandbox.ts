@@ -1,0 +1,307 @@
+/*
+ * Lockstep and predict modes in the page (?mode=lockstep or ?mode=predict): the sandbox simulates
+ * the room itself. The connection joins with that mode; the server's `sync` and `ticks` go to a
+ * LockstepClient (or a PredictClient), stepped every animation frame; the view is read straight
+ * from the local simulation (the present one when predicting, with the correction offsets of
+ * predict-smoothing.ts added), so there is no snapshot interpolation and the lab reads contacts
+ * from the local world. Commands go to the server as inputs; a predicting sandbox also applies
+ * them to its present at once. The HUD shows the mode, the last verified tick, desyncs, resyncs
+ * and, when predicting, rollbacks per second, their depth and the re-simulation time.
+ */
+
+import type { Vec2 } from '../../engine/index.ts'
+import {
+  type Command,
+  type JoinMessage,
+  LockstepClient,
+  PROTOCOL_VERSION,
+  PredictClient,
+  type RoomRules,
+  type RoomSimulation,
+  type ServerMessage,
+  TICK_RATE,
+  toWireShape,
+  type WirePlayer,
+  type WireShape,
+} from '../../shared/index.ts'
+import { labFromWorld, viewJoints } from '../draw/index.ts'
+import { Connection } from '../net/index.ts'
+import { CorrectionSmoother } from './predict-smoothing.ts'
+import type {
+  LabContact,
+  LabData,
+  Sandbox,
+  SandboxStats,
+  SandboxStatus,
+  ViewBody,
+  ViewCursor,
+  ViewJoint,
+} from './sandbox.ts'
+
+/** Where and how to join. */
+export interface LockstepSandboxOptions {
+  url: string
+  room: string
+  name: string
+  mode: 'lockstep' | 'predict'
+  /** Access key for a server with join or admin tokens (the page's `?key=`), sent as `&key=`. */
+  key?: string
+}
+
+const KIND = { static: 0, kinematic: 1, dynamic: 2 } as const
+
+/** The sandbox simulating a server room locally (see the file comment). */
+export class LockstepSandbox implements Sandbox {
+  readonly mode = 'online'
+  readonly runner: LockstepClient
+  private readonly connection: Connection
+  private readonly smoother = new CorrectionSmoother()
+  private readonly view: ViewBody[] = []
+  private readonly shapes = new Map<number, WireShape>()
+  private players: WirePlayer[] = []
+  private statusValue: SandboxStatus = { state: 'connecting' }
+  private readonly notice = { count: 0, latest: null as string | null }
+  private lastFrame = Number.NaN
+  private lastPing = 0
+  private rttMs: number | null = null
+  private seq = 0
+  private downWindow = { start: Number.NaN, bytes: 0, value: 0 }
+  private contactCache: { tick: number; contacts: LabContact[] } | null = null
+
+  constructor(private readonly options: LockstepSandboxOptions) {
+    const send = (m: Parameters<Connection['send']>[0]): void => {
+      this.connection.send(m)
+    }
+    this.runner =
+      options.mode === 'predict'
+        ? new PredictClient({
+            send,
+            clock: () => performance.now(),
+            onRollback: (before, after) => this.smoother.correct(before, after),
+          })
+        : new LockstepClient({ send })
+    const key = options.key ? `&key=${encodeURIComponent(options.key)}` : ''
+    this.connection = new Connection(
+      `${options.url}?room=${encodeURIComponent(options.room)}${key}`,
+      () => this.join(),
+      {
+        message: (m, bytes) => this.receive(m, bytes),
+        status: (text, retrying, fatal) => {
+          this.statusValue =
+            text === null
+              ? { state: 'connected' }
+              : { state: 'error', message: text, retrying: retrying && !fatal }
+        },
+      },
+    )
+  }
+
+  private join(): JoinMessage {
+    return {
+      t: 'join',
+      v: PROTOCOL_VERSION,
+      room: this.options.room,
+      name: this.options.name,
+      mode: this.options.mode,
+      hold: this.runner.hold,
+    }
+  }
+
+  private receive(message: ServerMessage, bytes: number): void {
+    const now = performance.now()
+    this.downWindow.bytes += bytes
+    if (message.t === 'pong') this.rttMs = now - message.time
+    if (message.t === 'players') this.players = message.players
+    if (message.t === 'welcome') this.players = message.players
+    if (message.t === 'error' && message.code === 'refused') {
+      this.notice.count++
+      this.notice.latest = message.reason
+    }
+    this.runner.handle(message, now)
+  }
+
+  /** The simulation drawn: the present when predicting, else the confirmed one. */
+  private drawn(): RoomSimulation | null {
+    return this.runner instanceof PredictClient ? (this.runner.present ?? this.runner.sim) : this.runner.sim
+  }
+
+  update(nowMs: number): void {
+    this.runner.advance(nowMs)
+    if (!Number.isNaN(this.lastFrame)) this.smoother.decay(nowMs - this.lastFrame)
+    this.lastFrame = nowMs
+    if (nowMs - this.lastPing >= 1000 && this.connection.isJoined) {
+      this.lastPing = nowMs
+      this.connection.send({ t: 'ping', id: Math.floor(nowMs), time: nowMs })
+    }
+    const w = this.downWindow
+    if (Number.isNaN(w.start)) w.start = nowMs
+    if (nowMs - w.start >= 1000) {
+      w.value = (w.bytes * 1000) / (nowMs - w.start)
+      w.bytes = 0
+      w.start = nowMs
+    }
+    this.refreshView()
+  }
+
+  private refreshView(): void {
+    this.view.length = 0
+    const sim = this.drawn()
+    if (!sim) return
+    const world = sim.world
+    const grabbed = new Map<number, string>()
+    for (const [id, p] of sim.players) if (p.grab) grabbed.set(p.grab.body, this.playerColor(id))
+    const p = { x: 0, y: 0 }
+    for (const id of world.bodyIds()) {
+      let shape = this.shapes.get(id)
+      if (!shape) {
+        shape = toWireShape(world.getShape(id))
+        this.shapes.set(id, shape)
+      }
+      world.getPosition(id, p)
+      const o = this.smoother.offset(id)
+      this.view.push({
+        id,
+        kind: KIND[world.getBodyType(id)],
+        shape,
+        x: p.x + (o?.x ?? 0),
+        y: p.y + (o?.y ?? 0),
+        angle: world.getAngle(id) + (o?.a ?? 0),
+        awake: world.isAwake(id),
+        grabColor: grabbed.get(id) ?? null,
+      })
+    }
+    this.view.sort((a, b) => a.kind - b.kind || a.id - b.id)
+    if (this.shapes.size > this.view.length * 2 + 64) {
+      const alive = new Set(this.view.map((v) => v.id))
+      for (const id of this.shapes.keys()) if (!alive.has(id)) this.shapes.delete(id)
+    }
+  }
+
+  private playerColor(id: number): string {
+    return this.players.find((p) => p.id === id)?.color ?? '#fff'
+  }
+
+  bodies(): readonly ViewBody[] {
+    return this.view
+  }
+
+  joints(): readonly ViewJoint[] {
+    const sim = this.drawn()
+    if (!sim) return []
+    const forces = new Map<number, Vec2>()
+    for (const info of sim.world.joints()) forces.set(info.id, info.force)
+    const byId = new Map(this.view.map((v) => [v.id, v]))
+    return viewJoints(
+      sim.userJoints.values(),
+      (id) => byId.get(id),
+      (id) => forces.get(id) ?? null,
+    )
+  }
+
+  cursors(): readonly ViewCursor[] {
+    const sim = this.drawn()
+    if (!sim) return []
+    const out: ViewCursor[] = []
+    for (const pl of this.players) {
+      const s = sim.players.get(pl.id)
+      if (pl.id === this.runner.playerId || !s) continue
+      out.push({
+        id: pl.id,
+        name: pl.name,
+        color: pl.color,
+        x: s.cursorX,
+        y: s.cursorY,
+        body: s.grab?.body ?? 0,
+      })
+    }
+    return out
+  }
+
+  contacts(): readonly LabContact[] | null {
+    const sim = this.drawn()
+    if (!sim) return null
+    if (this.contactCache?.tick !== sim.tick)
+      this.contactCache = { tick: sim.tick, contacts: sim.world.contacts() }
+    return this.contactCache.contacts
+  }
+
+  send(cmd: Command): void {
+    if (this.runner instanceof PredictClient) this.runner.input(cmd, performance.now())
+    else this.connection.send({ t: 'input', seq: ++this.seq, cmd })
+  }
+
+  color(): string {
+    return this.playerColor(this.runner.playerId)
+  }
+
+  status(): SandboxStatus {
+    return this.statusValue
+  }
+
+  stats(): SandboxStats {
+    const sim = this.drawn()
+    const r = this.runner
+    let awake = 0
+    for (const v of this.view) if (v.kind !== 0 && v.awake) awake++
+    const predict = r instanceof PredictClient ? r.predict : null
+    return {
+      room: this.options.room,
+      players: this.players.length,
+      tick: sim?.tick ?? 0,
+      pingMs: this.rttMs,
+      delayMs: (r.playout.delay * 1000) / TICK_RATE,
+      snapshotHz: null,
+      downKBs: this.downWindow.value / 1000,
+      upKBs: null,
+      awake,
+      total: this.view.length,
+      stepMs: null,
+      lockstep: {
+        mode: this.options.mode,
+        state: r.state,
+        verifiedTick: r.stats.verifiedTick,
+        desyncs: r.stats.desyncs,
+        resyncs: r.stats.resyncs,
+        rollbacksPerSecond: predict?.rollbacksPerSecond ?? null,
+        rollbackDepth: predict?.lastDepth ?? null,
+        resimMs: predict?.resimMsSmoothed ?? null,
+      },
+    }
+  }
+
+  rules(): RoomRules | null {
+    return this.runner.rules
+  }
+
+  scene(): string {
+    return this.drawn()?.scene ?? ''
+  }
+
+  paused(): boolean {
+    return this.drawn()?.paused ?? false
+  }
+
+  gravity(): { x: number; y: number } {
+    return this.drawn()?.world.getGravity() ?? { x: 0, y: -10 }
+  }
+
+  inspect(): void {}
+
+  lab(bodyId: number): LabData | null {
+    const sim = this.drawn()
+    if (!sim?.world.hasBody(bodyId) || sim.world.getBodyType(bodyId) !== 'dynamic') return null
+    return labFromWorld(sim.world, bodyId, sim.world.contacts(), (id) => sim.userJoints.get(id)?.kind)
+  }
+
+  notices(): { count: number; latest: string | null } {
+    return this.notice
+  }
+
+  retry(): void {
+    this.connection.retryNow()
+  }
+
+  dispose(): void {
+    this.connection.close()
+  }
+}

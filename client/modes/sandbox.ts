@@ -1,0 +1,171 @@
+/*
+ * The seam between the page and where the physics runs. An online sandbox mirrors a server room
+ * (snapshots, interpolation); an offline sandbox steps the engine in the page. Both speak the wire
+ * protocol's Command type, so every tool produces the same commands whichever side applies them,
+ * and both hand the renderer the same view: bodies with poses for this frame, joints, cursors.
+ */
+import type { Vec2 } from '../../engine/index.ts'
+import type {
+  Command,
+  RoomRules,
+  WireJoint,
+  WireJointForceKind,
+  WireJointKind,
+  WireShape,
+} from '../../shared/index.ts'
+
+/** A body as drawn this frame. */
+export interface ViewBody {
+  id: number
+  /** 0 static, 1 kinematic, 2 dynamic. */
+  kind: 0 | 1 | 2
+  shape: WireShape
+  x: number
+  y: number
+  angle: number
+  awake: boolean
+  /** Colour of the player grabbing it, or null. */
+  grabColor: string | null
+}
+
+/** A joint as drawn this frame: its wire description placed on this frame's body poses. */
+export interface ViewJoint {
+  id: number
+  kind: WireJointKind
+  /** The joint's kind and parameters as they travel. */
+  spec: WireJoint
+  /** World anchors (m) on body a (or the world) and on body b. */
+  ax: number
+  ay: number
+  bx: number
+  by: number
+  /** Angle of body a (rad), 0 for the world. */
+  angleA: number
+  /** Pins: the relative angle (angle b - angle a - ref) in (-pi, pi] (rad). */
+  angle: number
+  /** Reaction force on body b at its anchor in the last step (N); body a feels the opposite. Null when unknown. */
+  force: Vec2 | null
+}
+
+/** Another player's cursor (m) with its grab. */
+export interface ViewCursor {
+  id: number
+  name: string
+  color: string
+  x: number
+  y: number
+  /** Grabbed body id, 0 when none. */
+  body: number
+}
+
+/** Numbers for the HUD; null where a mode has no such number. */
+export interface SandboxStats {
+  room: string
+  players: number
+  tick: number
+  pingMs: number | null
+  delayMs: number | null
+  snapshotHz: number | null
+  downKBs: number | null
+  upKBs: number | null
+  awake: number
+  total: number
+  stepMs: number | null
+  /** Lockstep and predict modes only (lockstep-sandbox.ts). */
+  lockstep?: LockstepStats
+}
+
+/** What the HUD shows in lockstep and predict modes; null where lockstep has no such number. */
+export interface LockstepStats {
+  mode: 'lockstep' | 'predict'
+  /** 'loading', 'running' or 'repairing' (waiting for a sync). */
+  state: string
+  /** Last tick whose state hash matched the server's. */
+  verifiedTick: number
+  desyncs: number
+  resyncs: number
+  rollbacksPerSecond: number | null
+  /** Depth of the last rollback (ticks). */
+  rollbackDepth: number | null
+  /** Re-simulation time per frame (ms, smoothed). */
+  resimMs: number | null
+}
+
+/**
+ * A touching contact as the lab and the debug layer need it: the engine's ContactInfo without the
+ * separations. Normal from A to B; impulses of the last step (N s), tangent (normal.y, -normal.x).
+ */
+export interface LabContact {
+  bodyA: number
+  bodyB: number
+  normal: Vec2
+  points: ReadonlyArray<{ point: Vec2; normalImpulse: number; tangentImpulse: number }>
+}
+
+/** A joint's or grab's force on the lab's body (N) at a world point (m). */
+export interface LabJointForce {
+  id: number
+  kind: WireJointForceKind
+  point: Vec2
+  force: Vec2
+}
+
+/** Everything the lab needs about one body, with where it came from. */
+export interface LabData {
+  contacts: readonly LabContact[]
+  joints: readonly LabJointForce[]
+  mass: number
+  /** Moment of inertia (kg m^2). */
+  inertia: number
+  /** Velocity (m/s) and angular velocity (rad/s). */
+  velocity: Vec2
+  angularVelocity: number
+  gravity: { x: number; y: number }
+  /** 'world' when read from the world stepping in the page, 'server' when the room's server sent it. */
+  source: 'world' | 'server'
+}
+
+/** Connection status shown to the user. */
+export type SandboxStatus =
+  | { state: 'connecting' }
+  | { state: 'connected' }
+  | { state: 'offline' }
+  | { state: 'error'; message: string; retrying: boolean; retryAt?: number }
+
+/** A running sandbox, online or offline. */
+export interface Sandbox {
+  /** Where the physics runs: a server room, this page, or a recorded log played in this page. */
+  readonly mode: 'online' | 'offline' | 'replay'
+  /** Advance to this animation frame (ms, performance.now()); cheap when nothing changed. */
+  update(nowMs: number): void
+  /** Bodies to draw this frame (the array and objects are reused between frames). */
+  bodies(): readonly ViewBody[]
+  joints(): readonly ViewJoint[]
+  /** Other players' cursors (not this player's own). */
+  cursors(): readonly ViewCursor[]
+  /** Touching contacts for the debug layer, when this mode has them. */
+  contacts(): readonly LabContact[] | null
+  /** Apply or send one command. */
+  send(cmd: Command): void
+  /** This player's colour. */
+  color(): string
+  status(): SandboxStatus
+  stats(): SandboxStats
+  rules(): RoomRules | null
+  scene(): string
+  paused(): boolean
+  gravity(): { x: number; y: number }
+  /** Choose the body the lab shows (0 for none); online, the server then streams its contacts. */
+  inspect(bodyId: number): void
+  /** Free-body data for one body, or null when it does not exist or its data has not arrived. */
+  lab(bodyId: number): LabData | null
+  /**
+   * Problems the server reported about this player's inputs: how many so far, the newest, and
+   * (where a mode keeps them) the last few, oldest first, so two in quick succession both show.
+   */
+  notices(): { count: number; latest: string | null; recent?: readonly string[] }
+  /** Reconnect now instead of waiting for the backoff (no-op offline). */
+  retry(): void
+  /** Close sockets and timers. */
+  dispose(): void
+}

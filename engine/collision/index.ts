@@ -1,0 +1,34 @@
+/*
+ * Collision: shapes and their mass, polygon geometry, the narrowphase manifolds for every pair of
+ * shape kinds, the swept distance for continuous collision, the dynamic AABB tree, the broadphase
+ * and the contacts' pair map. Depends only on the engine's root files (math, constants).
+ */
+export { BroadPhase, IdBuffer, PairBuffer } from './broad-phase.ts'
+export { collideGeometry } from './collide.ts'
+export { Manifold, type ManifoldPoint } from './manifold.ts'
+export { PairMap } from './pair-map.ts'
+export { polygonGeometry, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
+export {
+  box,
+  type CircleShape,
+  circle,
+  computeMass,
+  type MassData,
+  type PolygonShape,
+  polygon,
+  type Shape,
+} from './shapes.ts'
+export {
+  CORE,
+  DISTANCE,
+  EDGE,
+  FRACTION,
+  maxEdgeSeparation,
+  pose,
+  poseAt,
+  sweep,
+  sweptDistance,
+  transformVertices,
+  verticesA,
+  verticesB,
+} from './swept-distance.ts'

@@ -1,0 +1,150 @@
+/*
+ * A rigid body: one shape, its mass properties, and its state.
+ *
+ * The state follows Box2D v3's split between the step's start and the sub-steps: (cx, cy) and the
+ * rotation (c, s) are the centre of mass and orientation at the start of the step; during the
+ * sub-steps the solver accumulates a position delta (dpx, dpy) and a rotation delta (dqc, dqs), and
+ * `finalizeBodies` folds them back in once per step. Contacts and joints measure the current
+ * separation from these deltas, so the narrowphase runs once per step, not once per sub-step.
+ *
+ * All fields are numbers (or fixed references) so every Body has one hidden class in V8.
+ */
+
+import { computeMass, polygonGeometry, type Shape } from '../collision/index.ts'
+import type { Joint } from '../joints/index.ts'
+import type { Contact } from './contact.ts'
+
+/** Body type codes, in the order of BodyType. */
+export const STATIC = 0
+export const KINEMATIC = 1
+export const DYNAMIC = 2
+
+/** A rigid body. Engine-internal; the public API addresses bodies by id. */
+export class Body {
+  readonly id: number
+  type: number
+  readonly shape: Shape
+  /** The shape's vertices and normals laid out for the narrowphase (polygon-geometry.ts). */
+  readonly geometry: Float64Array
+  density: number
+  friction: number
+  restitution: number
+  linearDamping: number
+  angularDamping: number
+  gravityScale: number
+  bullet: boolean
+  enableSleep: boolean
+  fixedRotation: boolean
+
+  // Mass properties
+  mass = 0
+  invMass = 0
+  inertia = 0
+  invInertia = 0
+  /** Centre of mass in the body frame (m). */
+  localCenterX = 0
+  localCenterY = 0
+  /** Largest and smallest distance from the centre of mass to the shape's surface (m). */
+  maxExtent = 0
+  minExtent = 0
+
+  // Transform at the start of the step
+  /** Body origin, world (m). */
+  x = 0
+  y = 0
+  /** Centre of mass, world (m). */
+  cx = 0
+  cy = 0
+  /** Rotation as a unit (cos, sin) pair. */
+  c = 1
+  s = 0
+
+  // Velocity and sub-step deltas
+  vx = 0
+  vy = 0
+  w = 0
+  dpx = 0
+  dpy = 0
+  dqc = 1
+  dqs = 0
+
+  // Sleep
+  awake = true
+  sleepTime = 0
+  /** Union-find parent slot for island building, valid during one step. */
+  islandParent = 0
+  /** Slot in the step's awake array, valid during one step. */
+  solverIndex = -1
+
+  // Continuous collision: centre and rotation at the start of the step
+  c0x = 0
+  c0y = 0
+  q0c = 1
+  q0s = 0
+
+  /** Broadphase proxy id. */
+  proxy = -1
+  /** Contacts this body is part of (any order; used as a set). */
+  readonly contacts: Contact[] = []
+  /** Joints this body is part of (any order; used as a set). */
+  readonly joints: Joint[] = []
+
+  constructor(id: number, type: number, shape: Shape) {
+    this.id = id
+    this.type = type
+    this.shape = shape
+    this.geometry = polygonGeometry(shape)
+    this.density = 1
+    this.friction = 0.6
+    this.restitution = 0
+    this.linearDamping = 0
+    this.angularDamping = 0
+    this.gravityScale = 1
+    this.bullet = false
+    this.enableSleep = true
+    this.fixedRotation = false
+  }
+
+  /** Recomputes the origin from the centre of mass and rotation. */
+  updateOrigin(): void {
+    this.x = this.cx - (this.c * this.localCenterX - this.s * this.localCenterY)
+    this.y = this.cy - (this.s * this.localCenterX + this.c * this.localCenterY)
+  }
+
+  /** Recomputes the centre of mass from the origin and rotation. */
+  updateCenter(): void {
+    this.cx = this.x + (this.c * this.localCenterX - this.s * this.localCenterY)
+    this.cy = this.y + (this.s * this.localCenterX + this.c * this.localCenterY)
+  }
+}
+
+/** Sets mass, inertia, centre of mass and extents from the shape and density. */
+export function updateMassData(body: Body): void {
+  const shape = body.shape
+  const md = computeMass(shape, body.density)
+  body.localCenterX = md.center.x
+  body.localCenterY = md.center.y
+  if (body.type === DYNAMIC) {
+    body.mass = md.mass
+    body.invMass = 1 / md.mass
+    body.inertia = body.fixedRotation ? 0 : md.inertia
+    body.invInertia = body.fixedRotation ? 0 : 1 / md.inertia
+  }
+  if (shape.type === 'circle') {
+    body.maxExtent = shape.radius
+    body.minExtent = shape.radius
+    return
+  }
+  let maxExtent = 0
+  let minExtent = Number.POSITIVE_INFINITY
+  for (let i = 0; i < shape.count; i++) {
+    const v = shape.vertices[i]
+    const dx = v.x - md.center.x
+    const dy = v.y - md.center.y
+    maxExtent = Math.max(maxExtent, Math.sqrt(dx * dx + dy * dy))
+    const n = shape.normals[i]
+    minExtent = Math.min(minExtent, n.x * dx + n.y * dy)
+  }
+  body.maxExtent = maxExtent
+  body.minExtent = minExtent
+}

@@ -1,0 +1,251 @@
+/*
+ * A contact: a pair of bodies whose fat AABBs overlap, its manifold, and the solver data of its
+ * points. A contact lives from the step the broadphase pairs its bodies until their fat AABBs part;
+ * it is "touching" while the narrowphase reports at least one (possibly speculative) point.
+ *
+ * The solver copies touching contacts into flat constraint records each step and stores the
+ * accumulated impulses back (contact-solver.ts). When the manifold is recomputed, a new point
+ * inherits the impulses of the old point with the same feature id (Box2D's b2UpdateContact).
+ */
+
+import { collideGeometry, Manifold, type ManifoldPoint } from '../collision/index.ts'
+import type { Body } from './body.ts'
+import {
+  ANCHOR_AX,
+  ANCHOR_AY,
+  ANCHOR_BX,
+  ANCHOR_BY,
+  type ContactStore,
+  FRICTION,
+  ID,
+  NORMAL_IMPULSE,
+  NORMAL_X,
+  NORMAL_Y,
+  POINT_0,
+  POINT_FIELDS,
+  PX,
+  PY,
+  RESTITUTION,
+  SEPARATION,
+  TANGENT_IMPULSE,
+  TOTAL_NORMAL,
+  TOTAL_TANGENT,
+} from './contact-record.ts'
+
+/** Multiplier that makes the pair key (a * KEY_SCALE + b) unique for body ids below 2^26. */
+export const KEY_SCALE = 67108864
+
+/** The persistent fields of a contact point; a contact has each twice, suffixed 0 and 1. */
+export const CONTACT_POINT_FIELDS = [
+  'id',
+  'anchorAx',
+  'anchorAy',
+  'anchorBx',
+  'anchorBy',
+  'separation',
+  'px',
+  'py',
+  'normalImpulse',
+  'tangentImpulse',
+  'totalNormalImpulse',
+  'totalTangentImpulse',
+] as const
+
+/**
+ * A contact between two bodies, bodyA.id < bodyB.id. Its numbers live in the world's ContactStore
+ * (contact-record.ts) at offset `base`; the hot passes read them there by offset, and the named
+ * properties below (friction, normalX, anchorAx0, ...) read and write the same record for
+ * everything else (saving, read-back, tests).
+ */
+export class Contact {
+  key: number
+  bodyA: Body
+  bodyB: Body
+  touching = false
+  pointCount = 0
+  /** The store holding this contact's record, and the record's offset in store.data. */
+  readonly store: ContactStore
+  readonly base: number
+  declare friction: number
+  declare restitution: number
+  /** World unit normal from A to B. */
+  declare normalX: number
+  declare normalY: number
+  /** Feature ids of the points. */
+  declare id0: number
+  declare id1: number
+  /** Points relative to each body's centre of mass at the step start (m). */
+  declare anchorAx0: number
+  declare anchorAy0: number
+  declare anchorBx0: number
+  declare anchorBy0: number
+  declare anchorAx1: number
+  declare anchorAy1: number
+  declare anchorBx1: number
+  declare anchorBy1: number
+  /** Separations reported by the narrowphase, negative when overlapping (m). */
+  declare separation0: number
+  declare separation1: number
+  /** World points from the narrowphase (m). */
+  declare px0: number
+  declare py0: number
+  declare px1: number
+  declare py1: number
+  /** Accumulated impulses, warm started across steps (N s). */
+  declare normalImpulse0: number
+  declare tangentImpulse0: number
+  declare normalImpulse1: number
+  declare tangentImpulse1: number
+  /** Total impulses applied during the last step, all sub-steps (N s); tangent along (ny, -nx). */
+  declare totalNormalImpulse0: number
+  declare totalTangentImpulse0: number
+  declare totalNormalImpulse1: number
+  declare totalTangentImpulse1: number
+
+  constructor(bodyA: Body, bodyB: Body, store: ContactStore) {
+    this.key = bodyA.id * KEY_SCALE + bodyB.id
+    this.bodyA = bodyA
+    this.bodyB = bodyB
+    this.store = store
+    this.base = store.allocate()
+    const d = store.data
+    d[this.base + FRICTION] = Math.sqrt(bodyA.friction * bodyB.friction)
+    d[this.base + RESTITUTION] = Math.max(bodyA.restitution, bodyB.restitution)
+  }
+
+  /** Reinitializes a pooled contact for a new pair (no allocation). */
+  reset(bodyA: Body, bodyB: Body): this {
+    this.key = bodyA.id * KEY_SCALE + bodyB.id
+    this.bodyA = bodyA
+    this.bodyB = bodyB
+    this.touching = false
+    this.pointCount = 0
+    const d = this.store.data
+    const o = this.base
+    d[o + FRICTION] = Math.sqrt(bodyA.friction * bodyB.friction)
+    d[o + RESTITUTION] = Math.max(bodyA.restitution, bodyB.restitution)
+    d[o + NORMAL_X] = 0
+    d[o + NORMAL_Y] = 0
+    for (let p = o + POINT_0; p < o + POINT_0 + 2 * POINT_FIELDS; p += POINT_FIELDS) {
+      d[p + NORMAL_IMPULSE] = 0
+      d[p + TANGENT_IMPULSE] = 0
+      d[p + TOTAL_NORMAL] = 0
+      d[p + TOTAL_TANGENT] = 0
+    }
+    return this
+  }
+}
+
+/** The named properties of a contact's record and their offsets in it. */
+const RECORD_PROPERTIES: [string, number][] = [
+  ['friction', FRICTION],
+  ['restitution', RESTITUTION],
+  ['normalX', NORMAL_X],
+  ['normalY', NORMAL_Y],
+]
+const POINT_OFFSETS = [ID, ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, SEPARATION, PX, PY]
+const IMPULSE_OFFSETS = [NORMAL_IMPULSE, TANGENT_IMPULSE, TOTAL_NORMAL, TOTAL_TANGENT]
+for (let j = 0; j < 2; j++) {
+  const offsets = [...POINT_OFFSETS, ...IMPULSE_OFFSETS]
+  CONTACT_POINT_FIELDS.forEach((field, k) => {
+    RECORD_PROPERTIES.push([`${field}${j}`, POINT_0 + j * POINT_FIELDS + offsets[k]])
+  })
+}
+for (const [name, offset] of RECORD_PROPERTIES) {
+  Object.defineProperty(Contact.prototype, name, {
+    get(this: Contact): number {
+      return this.store.data[this.base + offset]
+    },
+    set(this: Contact, value: number): void {
+      this.store.data[this.base + offset] = value
+    },
+  })
+}
+
+const scratch = new Manifold()
+// Previous ids and impulses while a manifold is rebuilt: [id0, id1, normal0, normal1, tangent0,
+// tangent1, count]. A typed array, because a module-level `let` holding a double allocates a heap
+// number on every write in V8.
+const old = new Float64Array(7)
+
+/** Impulses the old point with feature id `id` had, into found[0..1]; zero if none. */
+function inherit(id: number): void {
+  found[0] = 0
+  found[1] = 0
+  if (old[6] > 0 && old[0] === id) {
+    found[0] = old[2]
+    found[1] = old[4]
+  } else if (old[6] > 1 && old[1] === id) {
+    found[0] = old[3]
+    found[1] = old[5]
+  }
+}
+const found = new Float64Array(2)
+
+/**
+ * Marks a contact as not touching without running the narrowphase, for bodies whose bounding
+ * circles are already farther apart than the speculative distance (what the narrowphase would say).
+ */
+export function clearContact(c: Contact): void {
+  c.pointCount = 0
+  const d = c.store.data
+  d[c.base + NORMAL_X] = 0
+  d[c.base + NORMAL_Y] = 0
+  c.touching = false
+}
+
+/** Recomputes a contact's manifold at the bodies' current transforms; returns whether it touches. */
+export function updateContact(c: Contact, speculativeDistance: number): boolean {
+  const a = c.bodyA
+  const b = c.bodyB
+  collideGeometry(
+    a.shape,
+    a.geometry,
+    a.x,
+    a.y,
+    a.c,
+    a.s,
+    b.shape,
+    b.geometry,
+    b.x,
+    b.y,
+    b.c,
+    b.s,
+    speculativeDistance,
+    scratch,
+  )
+  const d = c.store.data
+  const o = c.base
+  const p0 = o + POINT_0
+  const p1 = p0 + POINT_FIELDS
+  old[0] = d[p0 + ID]
+  old[1] = d[p1 + ID]
+  old[2] = d[p0 + NORMAL_IMPULSE]
+  old[3] = d[p1 + NORMAL_IMPULSE]
+  old[4] = d[p0 + TANGENT_IMPULSE]
+  old[5] = d[p1 + TANGENT_IMPULSE]
+  old[6] = c.pointCount
+  const count = scratch.pointCount
+  c.pointCount = count
+  d[o + NORMAL_X] = scratch.normalX
+  d[o + NORMAL_Y] = scratch.normalY
+  if (count > 0) writePoint(d, p0, scratch.points[0], a, b)
+  if (count > 1) writePoint(d, p1, scratch.points[1], a, b)
+  c.touching = count > 0
+  return c.touching
+}
+
+/** Writes manifold point `mp` into the point record at `p`, inheriting the old impulses by feature id. */
+function writePoint(d: Float64Array, p: number, mp: ManifoldPoint, a: Body, b: Body): void {
+  d[p + ID] = mp.id
+  d[p + ANCHOR_AX] = mp.x - a.cx
+  d[p + ANCHOR_AY] = mp.y - a.cy
+  d[p + ANCHOR_BX] = mp.x - b.cx
+  d[p + ANCHOR_BY] = mp.y - b.cy
+  d[p + SEPARATION] = mp.separation
+  d[p + PX] = mp.x
+  d[p + PY] = mp.y
+  inherit(mp.id)
+  d[p + NORMAL_IMPULSE] = found[0]
+  d[p + TANGENT_IMPULSE] = found[1]
+}

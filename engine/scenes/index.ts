@@ -1,0 +1,23 @@
+/*
+ * The scenes, built in one place and reused by tests, benchmarks, the server and the client:
+ * blueprints (bodies and joints as plain definitions) and the joint stress scenes.
+ */
+export { CHAIN_LINK_LENGTH, CHAIN_TOP, hangingChainScene, ragdollScene } from './joint-stress-scenes.ts'
+export {
+  buildScene,
+  cardHouseScene,
+  chainBridgeScene,
+  emptyScene,
+  groundDef,
+  heavyOnLightScene,
+  jointsScene,
+  newtonsCradleScene,
+  pileScene,
+  pyramidScene,
+  rampScene,
+  regularPolygon,
+  SCENES,
+  type SceneBlueprint,
+  towerScene,
+  wreckingBallScene,
+} from './scenes.ts'

@@ -1,0 +1,439 @@
+/*
+ * The world's public methods: creating and destroying bodies and joints, reading and changing
+ * their state, and reading contacts and joints back for drawing. Every input is validated at the
+ * boundary and a bad one throws a RangeError that names the value, so a caller (the server applying
+ * a player's command) can never put a NaN, an infinity or a dangling id into the simulation.
+ */
+
+import type { Shape } from '../collision/index.ts'
+import { MAX_ROTATION, STEP_SECONDS } from '../constants.ts'
+import { angle as checkAngle, position as checkPosition, finite, finiteVec, inRange } from '../def-checks.ts'
+import { Body, DYNAMIC, limitBodyVelocity, STATIC, updateMassData } from '../dynamics/index.ts'
+import {
+  buildJoint,
+  JOINT_TYPE_NAMES,
+  type Joint,
+  jointInfo,
+  jointReaction,
+  localPoint,
+  MOUSE,
+} from '../joints/index.ts'
+import { atan2, cos, sin, type Vec2 } from '../math.ts'
+import type {
+  BodyDef,
+  BodyId,
+  BodyType,
+  ContactInfo,
+  JointDef,
+  JointId,
+  JointInfo,
+  JointReaction,
+} from '../types.ts'
+import { WorldStore } from './world-store.ts'
+
+const BODY_TYPES: readonly BodyType[] = ['static', 'kinematic', 'dynamic']
+
+/** Numbers per body written by `writePoses`, at the offsets POSE_ID ... POSE_AWAKE. */
+export const POSE_STRIDE = 6
+/** Offset of the body id in a `writePoses` record. */
+export const POSE_ID = 0
+/** Offset of the body type: POSE_STATIC, 1 kinematic, 2 dynamic. */
+export const POSE_TYPE = 1
+/** Offsets of the body origin's x and y (m). */
+export const POSE_X = 2
+export const POSE_Y = 3
+/** Offset of the angle (rad, as getAngle). */
+export const POSE_ANGLE = 4
+/** Offset of the awake flag (1 or 0). */
+export const POSE_AWAKE = 5
+/** The POSE_TYPE value of a static body. */
+export const POSE_STATIC = 0
+
+function checkShape(shape: Shape): Shape {
+  if (shape === null || typeof shape !== 'object' || (shape.type !== 'circle' && shape.type !== 'polygon')) {
+    throw new RangeError('body shape must be made by circle(), box() or polygon()')
+  }
+  return shape
+}
+
+/** Public methods of a world. */
+export class WorldApi extends WorldStore {
+  /** Steps taken since creation. */
+  get tick(): number {
+    return this.tickCount
+  }
+
+  /** The fastest a body may spin (rad/s): MAX_ROTATION per sub-step, 188.5 rad/s at 4 sub-steps. */
+  get maxAngularSpeed(): number {
+    return MAX_ROTATION * this.stepContext.invH
+  }
+
+  /** Number of bodies. */
+  get bodyCount(): number {
+    return this.bodies.length
+  }
+
+  /** Creates a body; ids are handed out 1, 2, 3... and never reused. Throws on an invalid definition. */
+  createBody(def: BodyDef): BodyId {
+    this.revision++
+    const typeIndex = BODY_TYPES.indexOf(def.type ?? 'dynamic')
+    if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${def.type}`)
+    const body = new Body(this.nextBodyId, typeIndex, checkShape(def.shape))
+    const position = checkPosition('position', def.position ?? { x: 0, y: 0 })
+    const angle = checkAngle('angle', def.angle ?? 0)
+    body.density = inRange('density', def.density ?? 1, 1e-6, 1e6)
+    body.friction = inRange('friction', def.friction ?? 0.6, 0, 100)
+    body.restitution = inRange('restitution', def.restitution ?? 0, 0, 1)
+    body.linearDamping = inRange('linearDamping', def.linearDamping ?? 0, 0, 1e6)
+    body.angularDamping = inRange('angularDamping', def.angularDamping ?? 0, 0, 1e6)
+    body.gravityScale = inRange('gravityScale', def.gravityScale ?? 1, -1e3, 1e3)
+    body.bullet = def.bullet === true
+    body.enableSleep = def.enableSleep !== false
+    body.fixedRotation = def.fixedRotation === true
+    this.nextBodyId++
+    updateMassData(body)
+    body.x = position.x
+    body.y = position.y
+    body.c = cos(angle)
+    body.s = sin(angle)
+    body.updateCenter()
+    if (typeIndex !== STATIC) {
+      const v = finiteVec('linearVelocity', def.linearVelocity ?? { x: 0, y: 0 })
+      body.vx = v.x
+      body.vy = v.y
+      body.w = body.fixedRotation ? 0 : finite('angularVelocity', def.angularVelocity ?? 0)
+      // As setLinearVelocity does: a definition's speeds are clamped to the limits too.
+      limitBodyVelocity(body, this.maxAngularSpeed)
+    }
+    body.awake = typeIndex !== STATIC && def.awake !== false
+    this.bodies.push(body)
+    this.bodyMap.set(body.id, body)
+    this.createProxy(body)
+    return body.id
+  }
+
+  /** Destroys a body, its contacts and its joints, and wakes everything it touched. */
+  destroyBody(id: BodyId): void {
+    this.revision++
+    const body = this.body(id)
+    for (const j of body.joints.slice()) this.destroyJoint(j.id)
+    for (const c of body.contacts.slice()) {
+      const other = c.bodyA === body ? c.bodyB : c.bodyA
+      this.unlinkContact(c)
+      this.contactPool.push(c)
+      this.islands.wake(other)
+      this.broadPhase.touchProxy(other.proxy)
+    }
+    const contacts = this.contactArray
+    let kept = 0
+    for (let i = 0; i < contacts.length; i++) {
+      if (contacts[i].bodyA !== body && contacts[i].bodyB !== body) contacts[kept++] = contacts[i]
+    }
+    contacts.length = kept
+    this.broadPhase.destroyProxy(body.proxy)
+    this.bodies.splice(this.bodies.indexOf(body), 1)
+    this.bodyMap.delete(id)
+  }
+
+  /** Whether a body with this id exists. */
+  hasBody(id: BodyId): boolean {
+    return this.bodyMap.has(id)
+  }
+
+  /** All body ids, ascending. */
+  bodyIds(): BodyId[] {
+    return this.bodies.map((b) => b.id)
+  }
+
+  /**
+   * Every body's pose, in ascending id order, as POSE_STRIDE numbers each into `out` (which must
+   * hold bodyCount * POSE_STRIDE); returns the body count. Allocates nothing, unlike reading
+   * bodyIds() and getAngle() body by body (an array per call and a boxed number per angle), so a
+   * server can build a snapshot frame of every body twenty times a second without garbage.
+   */
+  writePoses(out: Float64Array): number {
+    const bodies = this.bodies
+    const n = bodies.length
+    if (out.length < n * POSE_STRIDE) {
+      throw new RangeError(`writePoses needs room for ${n * POSE_STRIDE} numbers, got ${out.length}`)
+    }
+    for (let i = 0, o = 0; i < n; i++, o += POSE_STRIDE) {
+      const b = bodies[i]
+      out[o + POSE_ID] = b.id
+      out[o + POSE_TYPE] = b.type
+      out[o + POSE_X] = b.x
+      out[o + POSE_Y] = b.y
+      out[o + POSE_ANGLE] = atan2(b.s, b.c)
+      out[o + POSE_AWAKE] = b.awake ? 1 : 0
+    }
+    return n
+  }
+
+  /** Number of awake (non-static) bodies. */
+  awakeBodyCount(): number {
+    let n = 0
+    for (const b of this.bodies) if (b.awake) n++
+    return n
+  }
+
+  getBodyType(id: BodyId): BodyType {
+    return BODY_TYPES[this.body(id).type]
+  }
+
+  /** The body's shape (shared, immutable). */
+  getShape(id: BodyId): Shape {
+    return this.body(id).shape
+  }
+
+  /** World position of the body origin (m). */
+  getPosition(id: BodyId, out: Vec2 = { x: 0, y: 0 }): Vec2 {
+    const b = this.body(id)
+    out.x = b.x
+    out.y = b.y
+    return out
+  }
+
+  /** Rotation angle in [-pi, pi] (rad). */
+  getAngle(id: BodyId): number {
+    const b = this.body(id)
+    return atan2(b.s, b.c)
+  }
+
+  /** Rotation as its (cos, sin) pair, exact (no angle round trip). */
+  getRotation(id: BodyId, out: { c: number; s: number } = { c: 1, s: 0 }): { c: number; s: number } {
+    const b = this.body(id)
+    out.c = b.c
+    out.s = b.s
+    return out
+  }
+
+  /** Velocity of the centre of mass (m/s). */
+  getLinearVelocity(id: BodyId, out: Vec2 = { x: 0, y: 0 }): Vec2 {
+    const b = this.body(id)
+    out.x = b.vx
+    out.y = b.vy
+    return out
+  }
+
+  /** Angular velocity (rad/s). */
+  getAngularVelocity(id: BodyId): number {
+    return this.body(id).w
+  }
+
+  /** Mass (kg); 0 for static and kinematic bodies. */
+  getMass(id: BodyId): number {
+    return this.body(id).mass
+  }
+
+  /** Rotational inertia about the centre of mass (kg m^2). */
+  getInertia(id: BodyId): number {
+    return this.body(id).inertia
+  }
+
+  /** World position of the centre of mass (m). */
+  getWorldCenter(id: BodyId, out: Vec2 = { x: 0, y: 0 }): Vec2 {
+    const b = this.body(id)
+    out.x = b.cx
+    out.y = b.cy
+    return out
+  }
+
+  /** Whether the body is awake (static bodies never are). */
+  isAwake(id: BodyId): boolean {
+    return this.body(id).awake
+  }
+
+  /** A world point in the body's local frame (m). */
+  getLocalPoint(id: BodyId, p: Vec2): Vec2 {
+    return localPoint(this.body(id), p)
+  }
+
+  /** A local point of the body in world space (m). */
+  getWorldPoint(id: BodyId, p: Vec2): Vec2 {
+    const b = this.body(id)
+    return { x: b.x + b.c * p.x - b.s * p.y, y: b.y + b.s * p.x + b.c * p.y }
+  }
+
+  /** Teleports a body (origin in m, angle in rad) and wakes it. */
+  setTransform(id: BodyId, position: Vec2, angle: number): void {
+    this.revision++
+    const b = this.body(id)
+    checkPosition('position', position)
+    checkAngle('angle', angle)
+    b.x = position.x
+    b.y = position.y
+    b.c = cos(angle)
+    b.s = sin(angle)
+    b.updateCenter()
+    this.moveProxy(b, false)
+    this.broadPhase.touchProxy(b.proxy)
+    this.islands.wake(b)
+    if (b.type === STATIC) this.wakeTouching(b)
+  }
+
+  /** Sets the velocity of the centre of mass (m/s) and wakes the body. */
+  setLinearVelocity(id: BodyId, v: Vec2): void {
+    this.revision++
+    const b = this.body(id)
+    finiteVec('linearVelocity', v)
+    if (b.type === STATIC) return
+    b.vx = v.x
+    b.vy = v.y
+    limitBodyVelocity(b, this.maxAngularSpeed)
+    this.islands.wake(b)
+  }
+
+  /** Sets the angular velocity (rad/s) and wakes the body. */
+  setAngularVelocity(id: BodyId, w: number): void {
+    this.revision++
+    const b = this.body(id)
+    finite('angularVelocity', w)
+    if (b.type === STATIC || b.fixedRotation) return
+    b.w = w
+    limitBodyVelocity(b, this.maxAngularSpeed)
+    this.islands.wake(b)
+  }
+
+  /** Wakes a body's island, or puts it to sleep. */
+  setAwake(id: BodyId, awake: boolean): void {
+    this.revision++
+    const b = this.body(id)
+    if (awake) this.islands.wake(b)
+    else this.islands.sleep(b)
+  }
+
+  /**
+   * Applies an impulse (N s) at a world point (m) to a dynamic body and wakes it. The resulting
+   * velocity is clamped to the speed limits (MAX_LINEAR_SPEED, maxAngularSpeed), whatever the impulse.
+   */
+  applyLinearImpulse(id: BodyId, impulse: Vec2, point: Vec2): void {
+    this.revision++
+    const b = this.body(id)
+    finiteVec('impulse', impulse)
+    finiteVec('point', point)
+    if (b.type !== DYNAMIC) return
+    this.islands.wake(b)
+    b.vx += b.invMass * impulse.x
+    b.vy += b.invMass * impulse.y
+    b.w += b.invInertia * ((point.x - b.cx) * impulse.y - (point.y - b.cy) * impulse.x)
+    limitBodyVelocity(b, this.maxAngularSpeed)
+  }
+
+  /** Gravity (m/s^2). */
+  getGravity(): Vec2 {
+    return { x: this.gravityX, y: this.gravityY }
+  }
+
+  /** Sets gravity (m/s^2) and wakes every body so the change takes effect. */
+  setGravity(g: Vec2): void {
+    this.revision++
+    finiteVec('gravity', g)
+    if (g.x === this.gravityX && g.y === this.gravityY) return
+    this.gravityX = g.x
+    this.gravityY = g.y
+    for (const b of this.bodies) this.islands.wake(b)
+  }
+
+  /** Wakes every body touching `b` (used when a static body moves or disappears). */
+  protected wakeTouching(b: Body): void {
+    for (const c of b.contacts) this.islands.wake(c.bodyA === b ? c.bodyB : c.bodyA)
+  }
+
+  /** Touching contacts with the impulses of the last step, in pair order. */
+  contacts(): ContactInfo[] {
+    const out: ContactInfo[] = []
+    for (const c of this.contactArray) {
+      if (!c.touching) continue
+      const points = []
+      for (let j = 0; j < c.pointCount; j++) {
+        points.push({
+          point: { x: j === 0 ? c.px0 : c.px1, y: j === 0 ? c.py0 : c.py1 },
+          separation: j === 0 ? c.separation0 : c.separation1,
+          normalImpulse: j === 0 ? c.totalNormalImpulse0 : c.totalNormalImpulse1,
+          tangentImpulse: j === 0 ? c.totalTangentImpulse0 : c.totalTangentImpulse1,
+        })
+      }
+      out.push({ bodyA: c.bodyA.id, bodyB: c.bodyB.id, normal: { x: c.normalX, y: c.normalY }, points })
+    }
+    return out
+  }
+
+  /** Creates a joint; ids are handed out 1, 2, 3... and never reused. Wakes both bodies. */
+  createJoint(def: JointDef): JointId {
+    this.revision++
+    const g = Math.sqrt(this.gravityX * this.gravityX + this.gravityY * this.gravityY) || 10
+    const joint = buildJoint(def, this.nextJointId, (id) => this.body(id), this.ground, g)
+    this.nextJointId++
+    this.addJoint(joint)
+    return joint.id
+  }
+
+  /** Inserts a joint in id order, links it to its bodies, removes their contact unless they may collide, and wakes them. */
+  protected addJoint(joint: Joint): void {
+    this.revision++
+    this.jointList.push(joint)
+    this.jointMap.set(joint.id, joint)
+    joint.bodyA.joints.push(joint)
+    joint.bodyB.joints.push(joint)
+    this.islands.wake(joint.bodyA)
+    this.islands.wake(joint.bodyB)
+    const lo = Math.min(joint.bodyA.id, joint.bodyB.id)
+    const hi = Math.max(joint.bodyA.id, joint.bodyB.id)
+    const contact = this.contactMap.get(lo, hi)
+    if (contact !== undefined && !joint.collideConnected) {
+      this.unlinkContact(contact)
+      this.contactArray.splice(this.contactArray.indexOf(contact), 1)
+      this.contactPool.push(contact)
+    }
+  }
+
+  /** Destroys a joint and wakes both bodies so nothing hangs in mid-air. */
+  destroyJoint(id: JointId): void {
+    this.revision++
+    const joint = this.joint(id)
+    this.jointList.splice(this.jointList.indexOf(joint), 1)
+    this.jointMap.delete(id)
+    const { bodyA, bodyB } = joint
+    bodyA.joints.splice(bodyA.joints.indexOf(joint), 1)
+    bodyB.joints.splice(bodyB.joints.indexOf(joint), 1)
+    this.islands.wake(bodyA)
+    this.islands.wake(bodyB)
+    // Bodies that may now collide get a contact from the broadphase again.
+    if (bodyA.proxy >= 0) this.broadPhase.touchProxy(bodyA.proxy)
+    if (bodyB.proxy >= 0) this.broadPhase.touchProxy(bodyB.proxy)
+  }
+
+  /** Whether a joint with this id exists. */
+  hasJoint(id: JointId): boolean {
+    return this.jointMap.has(id)
+  }
+
+  /** All joint ids, ascending. */
+  jointIds(): JointId[] {
+    return this.jointList.map((j) => j.id)
+  }
+
+  /** Moves a mouse joint's target (m) and wakes its body. */
+  setJointTarget(id: JointId, target: Vec2): void {
+    this.revision++
+    const joint = this.joint(id)
+    if (joint.type !== MOUSE)
+      throw new RangeError(`joint ${id} is a ${JOINT_TYPE_NAMES[joint.type]} joint, not a mouse joint`)
+    finiteVec('target', target)
+    joint.targetX = target.x
+    joint.targetY = target.y
+    this.islands.wake(joint.bodyB)
+  }
+
+  /** Every joint's anchors and last reaction, for drawing, in id order. */
+  joints(): JointInfo[] {
+    const scale = this.settings.subSteps / STEP_SECONDS
+    return this.jointList.map((j) => jointInfo(j, scale))
+  }
+
+  /** The force (N) and torque (N m) a joint applied to body B over the last step; A gets the opposite. */
+  getJointReaction(id: JointId): JointReaction {
+    // Joint impulses accumulate per sub-step, so force = impulse / h.
+    return jointReaction(this.joint(id), this.settings.subSteps / STEP_SECONDS)
+  }
+}

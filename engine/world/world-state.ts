@@ -1,0 +1,401 @@
+/*
+ * Saving, loading and hashing a world.
+ *
+ * The saved bytes hold everything that influences future steps: settings, id counters, every
+ * body (shape, material, flags, transform, velocity, sleep timer, step-start pose, fat AABB),
+ * every contact with its manifold and accumulated impulses (warm starting), and every joint with
+ * its accumulated impulses. The broadphase tree is rebuilt from the saved fat AABBs: the pairs it
+ * reports are sorted and depend only on the boxes, so its shape does not matter. A world loaded
+ * from these bytes steps bit-identically to the original. The container (header, checksum) is in
+ * save-format.ts.
+ *
+ * The hash is FNV-1a of the payload: it covers exactly the state that a save captures.
+ */
+
+import { box, circle, polygon, type Shape } from '../collision/index.ts'
+import {
+  Body,
+  CONTACT_POINT_FIELDS,
+  Contact,
+  type ContactStore,
+  NORMAL_X,
+  POINT_0,
+  POINT_FIELDS as RECORD_POINT_FIELDS,
+  STATIC,
+  updateMassData,
+} from '../dynamics/index.ts'
+import { Joint } from '../joints/index.ts'
+import type { WorldDef } from '../types.ts'
+import {
+  type ByteReader,
+  type ByteWriter,
+  beginSave,
+  fnv1a,
+  HEADER_BYTES,
+  openSave,
+  sealSave,
+  WorldLoadError,
+} from './save-format.ts'
+import { type ResolvedWorldDef, resolveWorldDef, SETTINGS_NUMBERS, type WorldStore } from './world-store.ts'
+
+/** Numbers of one writer call, written with one ByteWriter.f64s (see the writers below). */
+const staged = new Float64Array(32)
+
+/** Writes a shape. */
+function writeShape(w: ByteWriter, shape: Shape): void {
+  const n = staged
+  if (shape.type === 'circle') {
+    w.u8(0)
+    n[0] = shape.radius
+    w.f64s(n, 0, 1)
+  } else if (shape.box !== null) {
+    w.u8(1)
+    n[0] = shape.box.halfWidth
+    n[1] = shape.box.halfHeight
+    w.f64s(n, 0, 2)
+  } else {
+    w.u8(2)
+    w.u8(shape.count)
+    for (let i = 0; i < shape.count; i++) {
+      n[2 * i] = shape.vertices[i].x
+      n[2 * i + 1] = shape.vertices[i].y
+    }
+    w.f64s(n, 0, 2 * shape.count)
+  }
+}
+
+/** Reads a shape, rebuilding it with the same constructors (so the same validation applies). */
+function readShape(r: ByteReader): Shape {
+  const kind = r.u8('shape kind')
+  try {
+    if (kind === 0) return circle(r.num('circle radius'))
+    if (kind === 1) return box(r.num('box half width'), r.num('box half height'))
+    if (kind === 2) {
+      const n = r.u8('polygon vertex count')
+      const points = []
+      for (let i = 0; i < n; i++) points.push({ x: r.num('polygon vertex'), y: r.num('polygon vertex') })
+      return polygon(points)
+    }
+  } catch (e) {
+    if (e instanceof WorldLoadError) throw e
+    throw new WorldLoadError(`saved world has an invalid shape: ${(e as Error).message}`)
+  }
+  throw new WorldLoadError(`saved world has an unknown shape kind ${kind}`)
+}
+
+/** Body state fields in saved order (after the flags byte). */
+export const BODY_STATE_FIELDS = [
+  'x',
+  'y',
+  'cx',
+  'cy',
+  'c',
+  's',
+  'vx',
+  'vy',
+  'w',
+  'sleepTime',
+  'c0x',
+  'c0y',
+  'q0c',
+  'q0s',
+] as const
+/** Body material fields in saved order (after the shape). */
+export const BODY_MATERIAL_FIELDS = [
+  'density',
+  'friction',
+  'restitution',
+  'linearDamping',
+  'angularDamping',
+  'gravityScale',
+] as const
+/** Contact point fields in saved order, for point 0 and point 1. */
+export const POINT_FIELDS = [
+  CONTACT_POINT_FIELDS.map((f) => `${f}0` as const),
+  CONTACT_POINT_FIELDS.map((f) => `${f}1` as const),
+]
+/** Joint fields in saved order (after the flags byte). */
+export const JOINT_FIELDS = [
+  'localAnchorAx',
+  'localAnchorAy',
+  'localAnchorBx',
+  'localAnchorBy',
+  'referenceAngle',
+  'lowerAngle',
+  'upperAngle',
+  'motorSpeed',
+  'maxMotorTorque',
+  'length',
+  'minLength',
+  'maxLength',
+  'hertz',
+  'dampingRatio',
+  'targetX',
+  'targetY',
+  'maxForce',
+  'linearImpulseX',
+  'linearImpulseY',
+  'impulse',
+  'lowerImpulse',
+  'upperImpulse',
+  'motorImpulse',
+] as const
+
+/*
+ * The writers below name every field (in the order of the lists above) instead of looping over the
+ * lists: a loop reads `b[f]` with a changing key, which V8 cannot specialize, and a save or hash
+ * then costs 3x as much (a room hashes its world every second). The readers loop over the lists;
+ * tests/engine/save-writers.test.ts checks that the writers follow the lists. The numbers are
+ * staged in a Float64Array and written with one f64s call per run: a double passed to a ByteWriter
+ * call that V8 did not inline was a heap number each (about 3 KB per hash of a 100-body pile).
+ */
+
+/** Writes a body's definition and state (fat AABB comes separately). */
+export function writeBody(w: ByteWriter, b: Body): void {
+  const n = staged
+  w.f64(b.id)
+  w.u8(b.type)
+  writeShape(w, b.shape)
+  n[0] = b.density
+  n[1] = b.friction
+  n[2] = b.restitution
+  n[3] = b.linearDamping
+  n[4] = b.angularDamping
+  n[5] = b.gravityScale
+  w.f64s(n, 0, 6)
+  w.u8((b.bullet ? 1 : 0) | (b.enableSleep ? 2 : 0) | (b.fixedRotation ? 4 : 0) | (b.awake ? 8 : 0))
+  n[0] = b.x
+  n[1] = b.y
+  n[2] = b.cx
+  n[3] = b.cy
+  n[4] = b.c
+  n[5] = b.s
+  n[6] = b.vx
+  n[7] = b.vy
+  n[8] = b.w
+  n[9] = b.sleepTime
+  n[10] = b.c0x
+  n[11] = b.c0y
+  n[12] = b.q0c
+  n[13] = b.q0s
+  w.f64s(n, 0, 14)
+}
+
+/** Reads a body written by writeBody (mass properties are recomputed by the caller). */
+function readBody(r: ByteReader): Body {
+  const id = r.num('body id')
+  const type = r.u8('body type')
+  if (type > 2) throw new WorldLoadError(`saved world has body ${id} of unknown type ${type}`)
+  const body = new Body(id, type, readShape(r))
+  for (const f of BODY_MATERIAL_FIELDS) body[f] = r.num(`body ${id} ${f}`)
+  const flags = r.u8('body flags')
+  body.bullet = (flags & 1) !== 0
+  body.enableSleep = (flags & 2) !== 0
+  body.fixedRotation = (flags & 4) !== 0
+  body.awake = (flags & 8) !== 0
+  for (const f of BODY_STATE_FIELDS) body[f] = r.num(`body ${id} ${f}`)
+  return body
+}
+
+/** Writes a contact (bodies by id). */
+export function writeContact(w: ByteWriter, c: Contact): void {
+  // The record holds the normal and each point's fields in save order (contact-record.ts).
+  const d = c.store.data
+  const o = c.base
+  w.f64(c.bodyA.id)
+  w.f64(c.bodyB.id)
+  w.u8(c.touching ? 1 : 0)
+  w.u8(c.pointCount)
+  w.f64s(d, o + NORMAL_X, 2)
+  if (c.pointCount > 0) w.f64s(d, o + POINT_0, RECORD_POINT_FIELDS)
+  if (c.pointCount > 1) w.f64s(d, o + POINT_0 + RECORD_POINT_FIELDS, RECORD_POINT_FIELDS)
+}
+
+/** Reads a contact written by writeContact. */
+function readContact(r: ByteReader, lookup: (id: number) => Body, store: ContactStore): Contact {
+  const a = lookup(r.num('contact body A'))
+  const b = lookup(r.num('contact body B'))
+  if (a.id >= b.id)
+    throw new WorldLoadError(`saved world has a contact with bodies out of order (${a.id}, ${b.id})`)
+  const c = new Contact(a, b, store)
+  c.touching = r.u8('contact touching') === 1
+  c.pointCount = r.u8('contact point count')
+  if (c.pointCount > 2) throw new WorldLoadError(`saved world has a contact with ${c.pointCount} points`)
+  c.normalX = r.num('contact normal')
+  c.normalY = r.num('contact normal')
+  for (let j = 0; j < c.pointCount; j++) {
+    for (const f of POINT_FIELDS[j]) c[f] = r.num(`contact point ${f}`)
+  }
+  return c
+}
+
+/** Writes a joint (bodies by id; the world frame is id 0). */
+export function writeJoint(w: ByteWriter, j: Joint): void {
+  const n = staged
+  w.f64(j.id)
+  w.u8(j.type)
+  w.f64(j.bodyA.id)
+  w.f64(j.bodyB.id)
+  w.u8((j.enableLimit ? 1 : 0) | (j.enableMotor ? 2 : 0) | (j.collideConnected ? 4 : 0))
+  n[0] = j.localAnchorAx
+  n[1] = j.localAnchorAy
+  n[2] = j.localAnchorBx
+  n[3] = j.localAnchorBy
+  n[4] = j.referenceAngle
+  n[5] = j.lowerAngle
+  n[6] = j.upperAngle
+  n[7] = j.motorSpeed
+  n[8] = j.maxMotorTorque
+  n[9] = j.length
+  n[10] = j.minLength
+  n[11] = j.maxLength
+  n[12] = j.hertz
+  n[13] = j.dampingRatio
+  n[14] = j.targetX
+  n[15] = j.targetY
+  n[16] = j.maxForce
+  n[17] = j.linearImpulseX
+  n[18] = j.linearImpulseY
+  n[19] = j.impulse
+  n[20] = j.lowerImpulse
+  n[21] = j.upperImpulse
+  n[22] = j.motorImpulse
+  w.f64s(n, 0, 23)
+}
+
+/** Reads a joint written by writeJoint. */
+function readJoint(r: ByteReader, lookup: (id: number) => Body): Joint {
+  const id = r.num('joint id')
+  const type = r.u8('joint type')
+  if (type > 2) throw new WorldLoadError(`saved world has joint ${id} of unknown type ${type}`)
+  const a = lookup(r.num('joint body A'))
+  const b = lookup(r.num('joint body B'))
+  const j = new Joint(id, type, a, b)
+  const flags = r.u8('joint flags')
+  j.enableLimit = (flags & 1) !== 0
+  j.enableMotor = (flags & 2) !== 0
+  j.collideConnected = (flags & 4) !== 0
+  for (const f of JOINT_FIELDS) j[f] = r.num(`joint ${id} ${f}`)
+  return j
+}
+
+/** Writes the whole world's payload (after the header) into `w`. */
+function writeWorld(w: ByteWriter, world: WorldStore): void {
+  beginSave(w)
+  const s = world.settings
+  w.f64(world.gravityX)
+  w.f64(world.gravityY)
+  w.u32(s.subSteps)
+  w.u8((s.enableSleep ? 1 : 0) | (s.enableContinuous ? 2 : 0))
+  for (const key of SETTINGS_NUMBERS) w.f64(s[key])
+  w.f64(world.tickCount)
+  w.f64(world.nextBodyId)
+  w.f64(world.nextJointId)
+  w.u32(world.bodies.length)
+  for (const b of world.bodies) {
+    writeBody(w, b)
+    world.broadPhase.getFatAABB(b.proxy, fatAABB)
+    w.f64s(fatAABB, 0, 4)
+  }
+  w.u32(world.contactArray.length)
+  for (const c of world.contactArray) writeContact(w, c)
+  w.u32(world.jointList.length)
+  for (const j of world.jointList) writeJoint(w, j)
+}
+const fatAABB = new Float64Array(4)
+
+/** The world's saved bytes: header, checksum and payload. */
+export function saveWorld(w: ByteWriter, world: WorldStore): Uint8Array {
+  writeWorld(w, world)
+  return sealSave(w)
+}
+
+/** A 32-bit unsigned FNV-1a hash of the world's payload (what saveWorld writes). */
+export function hashWorld(w: ByteWriter, world: WorldStore): number {
+  writeWorld(w, world)
+  return fnv1a(w.bytes, HEADER_BYTES, w.length)
+}
+
+/** Rebuilds a world from saved bytes; `make` creates the empty world from its settings. */
+export function loadWorldState<T extends WorldStore>(
+  bytes: Uint8Array,
+  make: (settings: ResolvedWorldDef) => T,
+): T {
+  const r = openSave(bytes)
+  const gravity = { x: r.num('gravity'), y: r.num('gravity') }
+  const subSteps = r.u32('subSteps')
+  const flags = r.u8('world flags')
+  const def: WorldDef = {
+    gravity,
+    subSteps,
+    enableSleep: (flags & 1) !== 0,
+    enableContinuous: (flags & 2) !== 0,
+  }
+  for (const key of SETTINGS_NUMBERS) def[key] = r.num(key)
+  let world: T
+  try {
+    world = make(resolveWorldDef(def))
+  } catch (e) {
+    throw new WorldLoadError(`saved world has invalid settings: ${(e as Error).message}`)
+  }
+  world.tickCount = r.num('tick')
+  world.nextBodyId = r.num('next body id')
+  world.nextJointId = r.num('next joint id')
+  readBodies(r, world)
+  const lookup = (id: number): Body => {
+    const b = id === 0 ? world.ground : world.bodyMap.get(id)
+    if (b === undefined) throw new WorldLoadError(`saved world refers to missing body ${id}`)
+    return b
+  }
+  readContacts(r, world, lookup)
+  readJoints(r, world, lookup)
+  r.finish()
+  return world
+}
+
+function readBodies(r: ByteReader, world: WorldStore): void {
+  const count = r.u32('body count')
+  let lastId = 0
+  for (let i = 0; i < count; i++) {
+    const b = readBody(r)
+    if (!(b.id > lastId) || b.id >= world.nextBodyId || !Number.isInteger(b.id)) {
+      throw new WorldLoadError(`saved world has an invalid or out-of-order body id ${b.id}`)
+    }
+    lastId = b.id
+    updateMassData(b)
+    const box = [r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB')]
+    b.proxy = world.broadPhase.createProxyWithFatAABB(box[0], box[1], box[2], box[3], b.id, b.type === STATIC)
+    // Every proxy is queried at the next step; pairs that already have a contact are skipped.
+    world.broadPhase.touchProxy(b.proxy)
+    world.bodies.push(b)
+    world.bodyMap.set(b.id, b)
+  }
+}
+
+function readContacts(r: ByteReader, world: WorldStore, lookup: (id: number) => Body): void {
+  const contactCount = r.u32('contact count')
+  for (let i = 0; i < contactCount; i++) {
+    const c = readContact(r, lookup, world.contactStore)
+    if (world.contactMap.has(c.bodyA.id, c.bodyB.id))
+      throw new WorldLoadError(`saved world has a duplicate contact ${c.bodyA.id}-${c.bodyB.id}`)
+    if (i > 0 && world.contactArray[i - 1].key > c.key)
+      throw new WorldLoadError('saved world has contacts out of order')
+    world.contactArray.push(c)
+    world.contactMap.set(c.bodyA.id, c.bodyB.id, c)
+    c.bodyA.contacts.push(c)
+    c.bodyB.contacts.push(c)
+  }
+}
+
+function readJoints(r: ByteReader, world: WorldStore, lookup: (id: number) => Body): void {
+  const jointCount = r.u32('joint count')
+  for (let i = 0; i < jointCount; i++) {
+    const j = readJoint(r, lookup)
+    if (world.jointMap.has(j.id) || j.id >= world.nextJointId)
+      throw new WorldLoadError(`saved world has an invalid joint id ${j.id}`)
+    world.jointList.push(j)
+    world.jointMap.set(j.id, j)
+    j.bodyA.joints.push(j)
+    j.bodyB.joints.push(j)
+  }
+}

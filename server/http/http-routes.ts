@@ -1,0 +1,209 @@
+/*
+ * Plain HTTP on the same port as the WebSocket endpoint: the built browser client as static files,
+ * health and readiness probes, Prometheus metrics, the open rooms as JSON for the lobby, and the
+ * replay logs (GET /replays lists them, GET /replays/NAME downloads one). Static paths are resolved
+ * inside the static directory only (no traversal); a replay name must match the log name pattern
+ * exactly, so it can only name a file directly inside the replay directory. With a join token the
+ * replay routes need the join or admin key in the URL, as a join does (http-access.ts
+ * checkReplayAccess); 401 without one, 403 for a wrong one. GET and HEAD only.
+ * A request target that does not parse (`//%`) is answered 400 (http-request-url.ts).
+ */
+import { createReadStream } from 'node:fs'
+import { stat } from 'node:fs/promises'
+import type { IncomingMessage, ServerResponse } from 'node:http'
+import { extname, join, normalize, resolve, sep } from 'node:path'
+import type { Logger } from 'pino'
+import type { ServerMetrics } from '../hosting/index.ts'
+import type { Recordings } from '../replay/index.ts'
+import type { RoomHost } from '../rooms/index.ts'
+import type { RoomSummary } from '../workers/index.ts'
+import type { ReplayRefusal } from './http-access.ts'
+import { parseRequestTarget } from './http-request-url.ts'
+
+const TYPES: Record<string, string> = {
+  '.html': 'text/html; charset=utf-8',
+  '.js': 'text/javascript; charset=utf-8',
+  '.mjs': 'text/javascript; charset=utf-8',
+  '.css': 'text/css; charset=utf-8',
+  '.json': 'application/json',
+  '.map': 'application/json',
+  '.svg': 'image/svg+xml',
+  '.png': 'image/png',
+  '.ico': 'image/x-icon',
+  '.wasm': 'application/wasm',
+  '.cclog': 'application/octet-stream',
+}
+
+/** What the routes need to answer. */
+export interface RouteContext {
+  staticDir: string
+  rooms: RoomHost
+  recordings?: Recordings
+  /** Null when a request for the replay logs may be answered, else its refusal (checkReplayAccess). */
+  replayAccess: (url: URL) => ReplayRefusal | null
+  metrics: ServerMetrics
+  /** The /metrics text when it is more than the registry's (room workers' metrics merged in). */
+  metricsText?: () => Promise<string>
+  log: Logger
+  /** False while shutting down (readiness fails so load balancers stop sending players). */
+  ready: () => boolean
+  /** Null while every tick loop runs; otherwise why /healthz fails (a stalled loop). */
+  health: () => string | null
+}
+
+function send(res: ServerResponse, status: number, type: string, body: string): void {
+  res.writeHead(status, { 'content-type': type, 'cache-control': 'no-store' })
+  res.end(body)
+}
+
+/** The HTTP request handler. */
+export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, res: ServerResponse) => void {
+  const root = resolve(ctx.staticDir)
+  const render = ctx.metricsText ?? (() => ctx.metrics.registry.metrics())
+  // Requests for /metrics that arrive while it is being rendered share that rendering (it costs
+  // about a millisecond of this thread, where the cheap routes cost a few microseconds).
+  let rendering: Promise<string> | null = null
+  const metricsText = (): Promise<string> => {
+    rendering ??= render().finally(() => {
+      rendering = null
+    })
+    return rendering
+  }
+  return (req, res) => {
+    res.on('error', () => {})
+    const url = parseRequestTarget(req.url)
+    if (!url) return send(res, 400, 'text/plain', 'bad request target\n')
+    if (req.method !== 'GET' && req.method !== 'HEAD')
+      return send(res, 405, 'text/plain', 'method not allowed\n')
+    switch (url.pathname) {
+      case '/healthz': {
+        const problem = ctx.health()
+        return problem === null
+          ? send(res, 200, 'text/plain', 'ok\n')
+          : send(res, 503, 'text/plain', `${problem}\n`)
+      }
+      case '/readyz':
+        return ctx.ready()
+          ? send(res, 200, 'text/plain', 'ready\n')
+          : send(res, 503, 'text/plain', 'shutting down\n')
+      case '/metrics':
+        metricsText().then(
+          (text) => send(res, 200, ctx.metrics.registry.contentType, text),
+          () => send(res, 500, 'text/plain', 'metrics failed\n'),
+        )
+        return
+      case '/rooms':
+        return send(res, 200, 'application/json', JSON.stringify(listRooms(ctx.rooms)))
+      case '/replays': {
+        if (!ctx.recordings) return send(res, 404, 'text/plain', 'not found\n')
+        const refusal = ctx.replayAccess(url)
+        if (refusal) return send(res, refusal.status, 'text/plain', `${refusal.text}\n`)
+        ctx.recordings.list().then(
+          (logs) => send(res, 200, 'application/json', JSON.stringify(logs)),
+          () => send(res, 500, 'text/plain', 'listing failed\n'),
+        )
+        return
+      }
+      default:
+        if (url.pathname.startsWith('/replays/') && ctx.recordings) {
+          const refusal = ctx.replayAccess(url)
+          if (refusal) return send(res, refusal.status, 'text/plain', `${refusal.text}\n`)
+          return serveReplay(ctx.recordings, url.pathname.slice('/replays/'.length), req, res, ctx.log)
+        }
+        serveStatic(root, url.pathname, req, res, ctx.log)
+    }
+  }
+}
+
+/** The open rooms for the lobby. */
+export function listRooms(rooms: RoomHost): RoomSummary[] {
+  return rooms.summaries()
+}
+
+/** Send one replay log; 400 for a name that is not a plain file name, 404 for any other non-log. */
+function serveReplay(
+  recordings: Recordings,
+  encoded: string,
+  req: IncomingMessage,
+  res: ServerResponse,
+  log: Logger,
+): void {
+  let name = ''
+  try {
+    name = decodeURIComponent(encoded)
+  } catch {
+    // Left empty: refused below.
+  }
+  if (name === '' || /[/\\\0]/.test(name) || name.includes('..')) {
+    send(res, 400, 'text/plain', 'bad replay name\n')
+    return
+  }
+  const dir = resolve(recordings.dir)
+  const file = join(dir, name)
+  if (!recordings.isLogName(name) || !file.startsWith(dir + sep)) {
+    send(res, 404, 'text/plain', 'no such replay\n')
+    return
+  }
+  serveFile(file, 'application/octet-stream', req, res, log, () =>
+    send(res, 404, 'text/plain', 'no such replay\n'),
+  )
+}
+
+function serveStatic(
+  root: string,
+  pathname: string,
+  req: IncomingMessage,
+  res: ServerResponse,
+  log: Logger,
+): void {
+  let relative: string
+  try {
+    relative = decodeURIComponent(pathname)
+  } catch {
+    send(res, 400, 'text/plain', 'bad path\n')
+    return
+  }
+  if (relative.includes('\0')) {
+    send(res, 400, 'text/plain', 'bad path\n')
+    return
+  }
+  if (relative.endsWith('/')) relative += 'index.html'
+  const file = normalize(join(root, relative))
+  if (file !== root && !file.startsWith(root + sep)) {
+    send(res, 404, 'text/plain', 'not found\n')
+    return
+  }
+  serveFile(file, TYPES[extname(file)] ?? 'application/octet-stream', req, res, log, () =>
+    send(res, 404, 'text/plain', 'not found (is the client built? run npm start)\n'),
+  )
+}
+
+/** Stream a regular file, or call `missing`. */
+function serveFile(
+  file: string,
+  type: string,
+  req: IncomingMessage,
+  res: ServerResponse,
+  log: Logger,
+  missing: () => void,
+): void {
+  stat(file).then(
+    (info) => {
+      if (!info.isFile()) return missing()
+      res.writeHead(200, {
+        'content-type': type,
+        'content-length': info.size,
+        'cache-control': 'no-cache',
+      })
+      if (req.method === 'HEAD' || info.size === 0) return res.end()
+      // A log may grow while it is sent: send the size announced, no more.
+      createReadStream(file, { end: info.size - 1 })
+        .on('error', (error) => {
+          log.warn({ err: error.message, file }, 'static file read failed')
+          res.destroy()
+        })
+        .pipe(res)
+    },
+    () => missing(),
+  )
+}

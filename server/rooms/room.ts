@@ -1,0 +1,416 @@
+/*
+ * A room on the server: the networking around one RoomSimulation (shared/sim/room-simulation.ts, the
+ * deterministic part: world, grabs, user joints, pause, the room tick). Here: players and their
+ * connections (behind PlayerConnection, never a socket), the input queue, events, snapshots and
+ * hash checkpoints. The room manager drives every room from one TickClock at 60 Hz.
+ *
+ * One tick, in order:
+ *   1. apply the inputs queued since the last tick, in arrival order, through the simulation
+ *      (its observers, e.g. a recorder, see every accepted command there); `inspect` is handled
+ *      here, it only chooses what a player is sent
+ *   2. the simulation's tick: step unless paused, advance the room tick, once a second remove
+ *      bodies that left the world
+ *   3. send the tick's events (bodies and joints created or removed, room settings) to everyone,
+ *      encoded once; new bodies carry their pose after this tick's step, and a spawned body the
+ *      spawner's player id and input seq
+ *   4. on snapshot ticks (every 60 / snapshotRate ticks, at an offset that spreads the rooms of a
+ *      manager over the ticks of an interval; room-snapshots.ts): quantize the world once into a
+ *      shared frame, then write each player's delta against its own acknowledged baseline within
+ *      its byte budget (players whose baselines are equal, the usual case, share one encoded
+ *      message), followed by the contacts of the body it inspects, if any; a player whose
+ *      connection has too much buffered is skipped, and closed if it stays behind
+ *   5. every second: a state hash checkpoint, forget departed players past the reconnect window
+ *   6. the lockstep feed (lockstep-feed.ts): the tick's accepted commands, joins and leaves to the
+ *      lockstep and predict players, the checkpoint hash, and saved worlds to those waiting for one
+ *
+ * Lockstep and predict players simulate the room themselves: steps 3-5 (events, room settings,
+ * snapshots, contacts, hash messages) skip them.
+ *
+ * Room ticks grow by one per loop iteration and never reset (a new room starts at a tick below 60
+ * that its manager picks to spread rooms' checkpoints over the clock, room-manager.ts); world.tick
+ * counts steps of the current world (paused ticks do not step, a scene load starts a new world).
+ */
+import type { Logger } from 'pino'
+import { SCENES, type SceneBlueprint, type World } from '../../engine/index.ts'
+import {
+  type Command,
+  encodeMessage,
+  isMovable,
+  type JoinMode,
+  PROTOCOL_VERSION,
+  QuantizedFrame,
+  type RoomRules,
+  RoomSimulation,
+  type ServerMessage,
+  type SimulationListener,
+  TICK_RATE,
+  type WireBody,
+  type WireJoint,
+  WORLD_HALF_EXTENT,
+  worldFromBlueprint,
+} from '../../shared/index.ts'
+import type { ServerConfig } from '../config/index.ts'
+import type { ServerMetrics } from '../hosting/index.ts'
+import { LockstepFeed } from './lockstep-feed.ts'
+import type { PlayerConnection } from './player-connection.ts'
+import { RoomPlayer } from './room-player.ts'
+import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
+import { RoomSnapshots } from './room-snapshots.ts'
+import { fillFrame, fullState, refreshPose, wireBody } from './room-wire.ts'
+
+/** How many ticks' worth of inputs over the budget may wait for later ticks before refusals. */
+export const WAITING_TICKS = 4
+
+/** A queued input: who sent it, its sequence number and the validated command. */
+interface QueuedInput {
+  player: RoomPlayer
+  seq: number
+  cmd: Command
+}
+
+/** One room: a simulation, its players, input queue, events and snapshots. */
+export class Room {
+  readonly sim: RoomSimulation
+  /** Joined players by id. */
+  readonly players = new Map<number, RoomPlayer>()
+  readonly departed = new Map<string, DepartedPlayer>()
+  nextPlayerId = 1
+  /** Room tick at which the last player left (for disposal), or -1 while occupied. */
+  emptySince = 0
+  readonly rules: RoomRules
+  /** The tick stream, syncs and desync reports of lockstep and predict players. */
+  readonly feed: LockstepFeed
+  private queue: QueuedInput[] = []
+  /** The other of the two queue arrays, swapped each tick (no new array per tick). */
+  private spareQueue: QueuedInput[] = []
+  /** The input being applied, so a body it spawns names its player and seq in `events`. */
+  private applying: QueuedInput | null = null
+  private events = {
+    add: [] as WireBody[],
+    remove: [] as number[],
+    jadd: [] as WireJoint[],
+    jremove: [] as number[],
+  }
+  private roomChanged = false
+  private readonly snapshotInterval: number
+  /** Ticks with (tick + phase) % snapshotInterval === 0 send snapshots (see the constructor). */
+  private readonly snapshotPhase: number
+  /** Snapshots and the slow-reader rule (room-snapshots.ts). */
+  private readonly snapshots: RoomSnapshots
+
+  constructor(
+    readonly name: string,
+    readonly config: ServerConfig,
+    readonly metrics: ServerMetrics,
+    readonly log: Logger,
+    /**
+     * Where the room's periodic work falls on its manager's clock (room-manager.ts chooses it so
+     * that rooms opened together do not pile their work onto the same ticks): the room's first
+     * tick number, which fixes the clock ticks of its once-a-second checkpoints (room ticks that
+     * are multiples of 60), and its snapshot phase (it sends on ticks where (tick + phase) is a
+     * multiple of the snapshot interval).
+     */
+    spread: { startTick: number; snapshotPhase: number } = { startTick: 0, snapshotPhase: 0 },
+  ) {
+    this.snapshotInterval = TICK_RATE / config.snapshotRate
+    this.snapshotPhase = spread.snapshotPhase % this.snapshotInterval
+    this.sim = new RoomSimulation({
+      name,
+      scene: Object.hasOwn(SCENES, config.defaultScene) ? config.defaultScene : 'pyramid',
+      maxBodies: config.maxBodies,
+      controls: config.roomControls,
+      listener: this.listener(),
+    })
+    this.sim.tick = spread.startTick
+    this.feed = new LockstepFeed(this.sim, name, metrics, log)
+    this.snapshots = new RoomSnapshots(name, this.sim, this.players, config, metrics, log)
+    this.rules = {
+      tickRate: TICK_RATE,
+      snapshotRate: config.snapshotRate,
+      maxBodies: config.maxBodies,
+      maxClients: config.maxClientsPerRoom,
+      inputsPerTick: config.inputsPerTick,
+      controls: config.roomControls,
+      scenes: Object.keys(SCENES),
+      worldHalfExtent: WORLD_HALF_EXTENT,
+    }
+  }
+
+  /** Largest staleness (ticks) of a body write in the last snapshot round, for the benchmark. */
+  get lastMaxStaleness(): number {
+    return this.snapshots.lastMaxStaleness
+  }
+
+  /** The current world. */
+  get world(): World {
+    return this.sim.world
+  }
+
+  /** The current scene name. */
+  get scene(): string {
+    return this.sim.scene
+  }
+
+  /** The room tick. */
+  get tick(): number {
+    return this.sim.tick
+  }
+
+  /** Grabs per body id. */
+  get grabCounts(): ReadonlyMap<number, number> {
+    return this.sim.grabCounts
+  }
+
+  /** Add a player and send its welcome; returns the player, or a reason when refused. */
+  join(
+    conn: PlayerConnection,
+    name: string,
+    token: string | undefined,
+    mode: JoinMode = 'snapshot',
+  ): RoomPlayer | string {
+    if (this.players.size >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
+    const identity = assignIdentity(this, token)
+    if (identity.replaced) identity.replaced.conn.close(4000, 'replaced by a reconnect with the same token')
+    const player = new RoomPlayer(
+      identity.id,
+      identity.name ?? (name.trim() || `player ${identity.id}`),
+      identity.color ?? playerColor(identity.id),
+      identity.token,
+      this.name,
+      conn,
+    )
+    player.lockstep = mode !== 'snapshot'
+    this.players.set(player.id, player)
+    this.sim.join(player.id, player.name, player.color)
+    // A lockstep player's sync follows at the end of this tick; the welcome's state is for its view.
+    if (player.lockstep) this.feed.add(player.id, conn)
+    this.emptySince = -1
+    const frame = new QuantizedFrame()
+    fillFrame(this.world, frame)
+    player.encoder.reset(frame, this.tick)
+    conn.send({
+      t: 'welcome',
+      v: PROTOCOL_VERSION,
+      id: player.id,
+      token: player.token,
+      room: this.name,
+      rules: this.rules,
+      players: this.roster(),
+      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
+    })
+    this.broadcast({ t: 'players', players: this.roster() })
+    // The newcomer learns every cursor from the next snapshot.
+    for (const p of this.players.values()) p.cursorDirty = true
+    this.log.info({ room: this.name, player: player.id, name: player.name }, 'player joined')
+    return player
+  }
+
+  /** Remove a player: release its grab, keep its identity for the reconnect window. */
+  leave(player: RoomPlayer): void {
+    if (this.players.get(player.id) !== player) return
+    this.sim.leave(player.id)
+    this.feed.remove(player.id)
+    player.joined = false
+    player.inspect = 0
+    this.players.delete(player.id)
+    this.departed.set(player.token, {
+      id: player.id,
+      name: player.name,
+      color: player.color,
+      leftTick: this.tick,
+    })
+    if (this.players.size === 0) this.emptySince = this.tick
+    this.broadcast({ t: 'players', players: this.roster() })
+    this.log.info({ room: this.name, player: player.id }, 'player left')
+  }
+
+  /** The roster for welcome and players messages. */
+  roster(): Array<{ id: number; name: string; color: string }> {
+    return [...this.players.values()].map((p) => ({ id: p.id, name: p.name, color: p.color }))
+  }
+
+  /**
+   * Queue an input for the next tick; returns an error reason when the budget is spent. A move
+   * replaces the same player's move already queued (only the latest cursor position matters), so
+   * fast mice never use up the budget. Inputs over a tick's budget wait, in order, for the next
+   * ticks (up to WAITING_TICKS ticks' worth), so a burst after a network or server hiccup loses
+   * nothing; only beyond that is an input refused.
+   */
+  queueInput(player: RoomPlayer, seq: number, cmd: Command): string | null {
+    const budget = this.config.inputsPerTick
+    const waiting = player.waiting
+    if (cmd.k === 'move') {
+      const last = waiting[waiting.length - 1]
+      if (last?.cmd.k === 'move') {
+        last.seq = seq
+        last.cmd = cmd
+        return null
+      }
+      if (waiting.length === 0 && player.queuedMove >= 0) {
+        const queued = this.queue[player.queuedMove]
+        queued.seq = seq
+        queued.cmd = cmd
+        return null
+      }
+    }
+    if (waiting.length === 0 && player.inputsThisTick < budget) {
+      this.enqueue(player, seq, cmd)
+      return null
+    }
+    if (waiting.length >= budget * WAITING_TICKS) {
+      return `input budget exceeded: at most ${budget} inputs per tick, ${budget * WAITING_TICKS} more waiting`
+    }
+    waiting.push({ seq, cmd })
+    return null
+  }
+
+  private enqueue(player: RoomPlayer, seq: number, cmd: Command): void {
+    player.inputsThisTick++
+    if (cmd.k === 'move') player.queuedMove = this.queue.length
+    this.queue.push({ player, seq, cmd })
+  }
+
+  /** Run one tick (see the file comment). */
+  runTick(): void {
+    const queue = this.queue
+    this.queue = this.spareQueue
+    for (let i = 0; i < queue.length; i++) {
+      const input = queue[i]
+      if (this.players.get(input.player.id) !== input.player) continue
+      this.applying = input
+      const error = this.apply(input.player, input.cmd)
+      this.applying = null
+      if (error) input.player.conn.sendError('refused', error, input.seq)
+    }
+    queue.length = 0
+    this.spareQueue = queue
+    for (const p of this.players.values()) {
+      p.inputsThisTick = 0
+      p.queuedMove = -1
+      // Waiting inputs go first into the next tick's budget, ahead of anything sent later.
+      const take = Math.min(p.waiting.length, this.config.inputsPerTick)
+      if (take === 0) continue
+      for (let i = 0; i < take; i++) this.enqueue(p, p.waiting[i].seq, p.waiting[i].cmd)
+      p.waiting.splice(0, take)
+    }
+    this.sim.runTick()
+    this.flushEvents()
+    if ((this.tick + this.snapshotPhase) % this.snapshotInterval === 0) this.snapshots.send()
+    const hash = this.tick % TICK_RATE === 0 ? this.world.hash() : undefined
+    if (hash !== undefined) this.everySecond(hash)
+    this.feed.endTick(hash)
+  }
+
+  /** Replace the world with a scene blueprint (benchmarks use sizes SCENES does not list). */
+  loadBlueprint(name: string, blueprint: SceneBlueprint): void {
+    const built = worldFromBlueprint(blueprint)
+    this.sim.loadWorld(name, built.world, built.joints)
+  }
+
+  /** Encode once, send to every player. */
+  broadcast(message: ServerMessage): void {
+    if (this.players.size === 0) return
+    const bytes = encodeMessage(message)
+    for (const p of this.players.values()) p.conn.sendBytes(bytes)
+  }
+
+  /** Encode once, send to every snapshot-mode player (lockstep players simulate these themselves). */
+  private broadcastSnapshotMode(message: ServerMessage): void {
+    let bytes: Uint8Array | null = null
+    for (const p of this.players.values()) {
+      if (p.lockstep) continue
+      bytes ??= encodeMessage(message)
+      p.conn.sendBytes(bytes)
+    }
+  }
+
+  /** Close every player with a reason. */
+  closeAll(code: number, reason: string): void {
+    for (const p of this.players.values()) p.conn.close(code, reason)
+  }
+
+  private apply(player: RoomPlayer, cmd: Command): string | null {
+    if (cmd.k !== 'inspect') return this.sim.apply(player.id, cmd)
+    // Inspecting only chooses what this player is sent: the world does not change, nothing is recorded.
+    if (cmd.body !== 0 && !isMovable(this.world, cmd.body))
+      return `body ${cmd.body} does not exist or is static`
+    player.inspect = cmd.body
+    return null
+  }
+
+  /** The simulation's side effects, as this tick's events. */
+  private listener(): SimulationListener {
+    return {
+      bodyAdded: (id) => {
+        const body = wireBody(this.sim.world, id)
+        const input = this.applying
+        if (input?.cmd.k === 'spawn') {
+          body.player = input.player.id
+          body.seq = input.seq
+        }
+        this.events.add.push(body)
+      },
+      bodyRemoved: (id) => {
+        for (const p of this.players.values()) {
+          if (p.inspect === id) p.inspect = 0
+          p.encoder.removeBody(id)
+        }
+        this.events.remove.push(id)
+      },
+      jointAdded: (joint) => this.events.jadd.push(joint),
+      jointRemoved: (id) => this.events.jremove.push(id),
+      roomChanged: () => {
+        this.roomChanged = true
+      },
+      cursorChanged: (id) => {
+        const p = this.players.get(id)
+        if (p) p.cursorDirty = true
+      },
+      worldReplaced: () => this.sendNewWorld(),
+    }
+  }
+
+  /** After a scene load: drop the old world's events, send everyone the new full state. */
+  private sendNewWorld(): void {
+    this.events = { add: [], remove: [], jadd: [], jremove: [] }
+    const frame = new QuantizedFrame()
+    fillFrame(this.world, frame)
+    const bytes = encodeMessage({
+      t: 'state',
+      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
+    })
+    for (const p of this.players.values()) {
+      p.inspect = 0
+      p.encoder.reset(frame, this.tick)
+      if (!p.lockstep) p.conn.sendBytes(bytes)
+    }
+    this.log.info({ room: this.name, scene: this.scene }, 'scene loaded')
+  }
+
+  private flushEvents(): void {
+    const e = this.events
+    if (e.add.length + e.remove.length + e.jadd.length + e.jremove.length > 0) {
+      // New bodies are shown as they are at this tick, after its step (as a snapshot of it would).
+      for (const body of e.add) refreshPose(this.world, body)
+      this.broadcastSnapshotMode({ t: 'events', tick: this.tick, ...e })
+      this.events = { add: [], remove: [], jadd: [], jremove: [] }
+    }
+    if (this.roomChanged) {
+      const g = this.world.getGravity()
+      this.broadcastSnapshotMode({
+        t: 'room',
+        tick: this.tick,
+        paused: this.sim.paused,
+        gravity: [g.x, g.y],
+        scene: this.scene,
+      })
+      this.roomChanged = false
+    }
+  }
+
+  private everySecond(hash: number): void {
+    this.broadcastSnapshotMode({ t: 'hash', tick: this.tick, step: this.world.tick, hash })
+    const window = this.config.reconnectSeconds * TICK_RATE
+    for (const [token, d] of this.departed) if (this.tick - d.leftTick > window) this.departed.delete(token)
+  }
+}

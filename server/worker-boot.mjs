@@ -1,7 +1,0 @@
-// Starts a room worker from TypeScript source (tests, tsx): registers tsx's loader in the worker
-// thread, then imports the entry (server/room-worker.ts). The build ships dist/room-worker.js instead.
-import { workerData } from 'node:worker_threads'
-import { register } from 'tsx/esm/api'
-
-register()
-await import(workerData.entry)

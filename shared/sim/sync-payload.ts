@@ -1,0 +1,130 @@
+/*
+ * The payload of a lockstep `sync`: everything a client needs to continue a room's simulation
+ * bit for bit from a tick. The engine's saved world (world.save(): bodies, contacts with their
+ * warm-start impulses, joints, sleep timers, id counters) plus the room state that RoomSimulation
+ * keeps around it: the room tick, scene name, pause and single-step flags, the scene-load rate
+ * limit, each player's grab (mouse joint and body) and cursor, and the user joints. Grab counts
+ * are not sent: they are the number of players grabbing each body.
+ *
+ * One MessagePack map (PROTOCOL.md, `sync`), deflated by the server when that pays. Restoring
+ * never throws: a payload that does not decode, or a world that does not load, comes back as a
+ * reason and the client asks again.
+ */
+import { loadWorld } from '../../engine/index.ts'
+import { decodeValue, encodeValue, type WireJoint } from '../protocol/index.ts'
+import { RoomSimulation, type SimulationOptions } from './room-simulation.ts'
+
+/** The decoded payload. */
+export interface SyncPayload {
+  /** Room tick the state is at (ticks completed). */
+  tick: number
+  scene: string
+  paused: boolean
+  step: boolean
+  /** Room tick of the last scene load or reset, or null for never. */
+  lastLoad: number | null
+  /** Flat [player id, grab joint or 0, grabbed body or 0, cursor x, cursor y, ...] in join order. */
+  players: number[]
+  joints: WireJoint[]
+  /** world.save() bytes. */
+  world: Uint8Array
+}
+
+/** The payload of a room simulation as MessagePack bytes (not yet compressed). */
+export function encodeSyncPayload(sim: RoomSimulation): Uint8Array {
+  const players: number[] = []
+  for (const [id, p] of sim.players) {
+    players.push(id, p.grab?.joint ?? 0, p.grab?.body ?? 0, p.cursorX, p.cursorY)
+  }
+  const payload: SyncPayload = {
+    tick: sim.tick,
+    scene: sim.scene,
+    paused: sim.paused,
+    step: sim.stepRequested,
+    lastLoad: Number.isFinite(sim.lastLoadTick) ? sim.lastLoadTick : null,
+    players,
+    joints: [...sim.userJoints.values()],
+    world: sim.world.save(),
+  }
+  return encodeValue(payload)
+}
+
+/** A restored simulation, or why the payload was refused. */
+export type RestoreResult = { ok: true; sim: RoomSimulation } | { ok: false; reason: string }
+
+/** Rules a restored simulation needs besides the payload (from the welcome's RoomRules). */
+export type RestoreOptions = Omit<SimulationOptions, 'scene'>
+
+const isInt = (v: unknown): v is number => Number.isSafeInteger(v)
+const isNum = (v: unknown): v is number => typeof v === 'number' && Number.isFinite(v)
+
+/** Rebuild a RoomSimulation from payload bytes (decompressed); never throws. */
+export function restoreSyncPayload(bytes: Uint8Array, options: RestoreOptions): RestoreResult {
+  const decoded = decodeValue(bytes)
+  if (!decoded.ok) return { ok: false, reason: `sync payload: ${decoded.reason}` }
+  const p = decoded.value as Partial<SyncPayload> | null
+  if (typeof p !== 'object' || p === null) return { ok: false, reason: 'sync payload must be a map' }
+  if (
+    !isInt(p.tick) ||
+    typeof p.scene !== 'string' ||
+    typeof p.paused !== 'boolean' ||
+    typeof p.step !== 'boolean'
+  )
+    return { ok: false, reason: 'sync payload lacks tick, scene, paused or step' }
+  if (!(p.world instanceof Uint8Array)) return { ok: false, reason: 'sync payload world must be binary' }
+  if (!Array.isArray(p.players) || p.players.length % 5 !== 0 || !p.players.every(isNum))
+    return { ok: false, reason: 'sync payload players must be a flat list of 5 numbers each' }
+  if (!Array.isArray(p.joints)) return { ok: false, reason: 'sync payload joints must be a list' }
+  if (p.lastLoad !== null && !isInt(p.lastLoad))
+    return { ok: false, reason: 'sync payload lastLoad must be an integer or nil' }
+  let sim: RoomSimulation
+  try {
+    sim = new RoomSimulation({ ...options, scene: 'empty' })
+    sim.world = loadWorld(p.world)
+  } catch (error) {
+    return { ok: false, reason: `sync payload world: ${(error as Error).message}` }
+  }
+  sim.tick = p.tick
+  sim.scene = p.scene
+  sim.paused = p.paused
+  sim.stepRequested = p.step
+  sim.lastLoadTick = p.lastLoad ?? Number.NEGATIVE_INFINITY
+  for (let i = 0; i < p.players.length; i += 5) {
+    const [id, joint, body, cursorX, cursorY] = p.players.slice(i, i + 5)
+    sim.players.set(id, { grab: joint === 0 ? null : { joint, body }, cursorX, cursorY })
+    if (joint !== 0) sim.grabCounts.set(body, (sim.grabCounts.get(body) ?? 0) + 1)
+  }
+  for (const j of p.joints) {
+    if (typeof j !== 'object' || j === null || !isInt((j as WireJoint).id))
+      return { ok: false, reason: 'sync payload joint must be a map with an integer id' }
+    sim.userJoints.set(j.id, j)
+  }
+  return { ok: true, sim }
+}
+
+/** Inflate zlib (RFC 1950) bytes with the platform's DecompressionStream (browsers and Node 18+). */
+export async function inflate(bytes: Uint8Array): Promise<Uint8Array> {
+  const stream = new Blob([bytes as Uint8Array<ArrayBuffer>])
+    .stream()
+    .pipeThrough(new DecompressionStream('deflate'))
+  return new Uint8Array(await new Response(stream).arrayBuffer())
+}
+
+/**
+ * An independent copy of a simulation (the world through save/load, the room state copied), for
+ * a predicting client's present state; it steps bit-identically to the original.
+ */
+export function cloneSimulation(sim: RoomSimulation, options: RestoreOptions): RoomSimulation {
+  const copy = new RoomSimulation({ ...options, scene: 'empty' })
+  copy.world = loadWorld(sim.world.save())
+  copy.tick = sim.tick
+  copy.scene = sim.scene
+  copy.paused = sim.paused
+  copy.stepRequested = sim.stepRequested
+  copy.lastLoadTick = sim.lastLoadTick
+  for (const [id, p] of sim.players)
+    copy.players.set(id, { grab: p.grab && { ...p.grab }, cursorX: p.cursorX, cursorY: p.cursorY })
+  for (const [id, j] of sim.userJoints) copy.userJoints.set(id, j)
+  for (const [id, n] of sim.grabCounts) copy.grabCounts.set(id, n)
+  return copy
+}
