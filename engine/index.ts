@@ -13,6 +13,7 @@ export {
   SPECULATIVE_DISTANCE,
   STEP_SECONDS,
 } from './constants.ts'
+export { DECOMPOSE_MIN_WIDTH, decompose, MAX_OUTLINE_POINTS } from './decompose.ts'
 export { computeHull, HULL_COLLINEAR_DISTANCE, HULL_WELD_DISTANCE, MAX_HULL_INPUT } from './hull.ts'
 export { CHAIN_LINK_LENGTH, CHAIN_TOP, hangingChainScene, ragdollScene } from './joint-stress-scenes.ts'
 export { atan2, cos, PI, sin, TRIG_LIMIT, TWO_PI, type Vec2, wrapAngle } from './math.ts'
