@@ -18,6 +18,22 @@ export { computeHull, HULL_COLLINEAR_DISTANCE, HULL_WELD_DISTANCE, MAX_HULL_INPU
 export { CHAIN_LINK_LENGTH, CHAIN_TOP, hangingChainScene, ragdollScene } from './joint-stress-scenes.ts'
 export { atan2, cos, PI, sin, TRIG_LIMIT, TWO_PI, type Vec2, wrapAngle } from './math.ts'
 export { Prng } from './prng.ts'
+export {
+  type CapsuleGeometry,
+  type CastOutput,
+  type ChainSegmentGeometry,
+  type CircleGeometry,
+  checkRayInput,
+  makeCastOutput,
+  type PolygonGeometry,
+  type RayCastInput,
+  rayCastCapsule,
+  rayCastChainSegment,
+  rayCastCircle,
+  rayCastPolygon,
+  rayCastSegment,
+  type SegmentGeometry,
+} from './ray-cast.ts'
 export { SAVE_FORMAT_VERSION, WorldLoadError } from './save-format.ts'
 export {
   buildScene,
