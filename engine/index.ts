@@ -54,6 +54,26 @@ export {
   wreckingBallScene,
 } from './scenes.ts'
 export {
+  CAST_MAX_ITERATIONS,
+  CAST_TOLERANCE,
+  checkShapeCastInput,
+  type ShapeCastPairInput,
+  shapeCast,
+} from './shape-cast.ts'
+export {
+  capsuleProxy,
+  circleProxy,
+  type DistanceOutput,
+  IDENTITY,
+  makeDistanceOutput,
+  makeShapeProxy,
+  polygonProxy,
+  type ShapeProxy,
+  segmentProxy,
+  shapeDistance,
+  type Transform,
+} from './shape-distance.ts'
+export {
   box,
   type CircleShape,
   circle,
