@@ -84,6 +84,7 @@ export {
   type Shape,
 } from './shapes.ts'
 export { FixedStepper } from './stepper.ts'
+export { TreeRayCast } from './tree-ray-cast.ts'
 export type {
   BodyDef,
   BodyId,
