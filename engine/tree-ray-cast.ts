@@ -18,6 +18,7 @@
  * The tree's AABB query (all leaves overlapping a box) is DynamicTree.queryLeaves.
  */
 import { type DynamicTree, NULL_NODE } from './dynamic-tree.ts'
+import type { Vec2 } from './math.ts'
 import type { RayCastInput } from './ray-cast.ts'
 
 const P1X = 0
@@ -30,6 +31,9 @@ const MIN_X = 6
 const MIN_Y = 7
 const MAX_X = 8
 const MAX_Y = 9
+const EXT_X = 10
+const EXT_Y = 11
+const NO_EXTENSION: Vec2 = { x: 0, y: 0 }
 
 /** A reusable cursor for ray casts through a DynamicTree. */
 export class TreeRayCast {
@@ -41,10 +45,15 @@ export class TreeRayCast {
   private stack = new Int32Array(64)
   private top = 0
   // Origin, translation, unit perpendicular and the clipped ray's box.
-  private readonly ray = new Float64Array(10)
+  private readonly ray = new Float64Array(12)
 
-  /** Starts a walk of `input`'s ray (origin, translation, maxFraction as in ray-cast.ts) through `tree`. */
-  begin(tree: DynamicTree, input: RayCastInput): void {
+  /**
+   * Starts a walk of `input`'s ray (origin, translation, maxFraction as in ray-cast.ts) through
+   * `tree`. With `extension` (half extents, m), every node box is grown by it: the walk of a box
+   * of those half extents centred on the origin sweeping along the ray (Box2D's
+   * b2DynamicTree_ShapeCast, for shape casts).
+   */
+  begin(tree: DynamicTree, input: RayCastInput, extension: Vec2 = NO_EXTENSION): void {
     const f = input.maxFraction
     const o = input.origin
     const d = input.translation
@@ -56,6 +65,18 @@ export class TreeRayCast {
     if (!(f >= 0 && f < Number.POSITIVE_INFINITY)) {
       throw new RangeError(`tree ray cast maxFraction must be a finite number >= 0, got ${f}`)
     }
+    if (
+      !(
+        extension.x >= 0 &&
+        extension.y >= 0 &&
+        extension.x < Number.POSITIVE_INFINITY &&
+        extension.y < Number.POSITIVE_INFINITY
+      )
+    ) {
+      throw new RangeError(
+        `tree ray cast extension must be finite and >= 0, got ${JSON.stringify(extension)}`,
+      )
+    }
     this.tree = tree
     const ray = this.ray
     ray[P1X] = o.x
@@ -66,6 +87,8 @@ export class TreeRayCast {
     // v = cross(1, r): perpendicular to the unit direction (zero for a zero-length ray).
     ray[VX] = length > 0 ? -d.y / length : 0
     ray[VY] = length > 0 ? d.x / length : 0
+    ray[EXT_X] = extension.x
+    ray[EXT_Y] = extension.y
     this.maxFraction = f
     this.setBox()
     this.top = 0
@@ -99,10 +122,10 @@ export class TreeRayCast {
       const node = this.stack[--this.top]
       this.nodeVisits++
       const o = 4 * node
-      const minX = b[o]
-      const minY = b[o + 1]
-      const maxX = b[o + 2]
-      const maxY = b[o + 3]
+      const minX = b[o] - ray[EXT_X]
+      const minY = b[o + 1] - ray[EXT_Y]
+      const maxX = b[o + 2] + ray[EXT_X]
+      const maxY = b[o + 3] + ray[EXT_Y]
       if (minX > ray[MAX_X] || minY > ray[MAX_Y] || ray[MIN_X] > maxX || ray[MIN_Y] > maxY) continue
       // Separating axis perpendicular to the ray: |dot(v, p1 - c)| > dot(|v|, h).
       const cx = 0.5 * (minX + maxX)

@@ -147,6 +147,37 @@ describe('TreeRayCast against brute force over a 1,000-AABB tree', () => {
     expect(clippedVisits).toBeLessThan(fullVisits)
   })
 
+  it('with an extension: exactly the leaves a swept box of those half extents touches (Minkowski-inflated slab test, 300 sweeps)', () => {
+    const rng = new Prng(5)
+    const cursor = new TreeRayCast()
+    let total = 0
+    for (let k = 0; k < 300; k++) {
+      const input = randomRay(rng, k)
+      const h = { x: rng.range(0, 2), y: rng.range(0, 2) }
+      const expected = [...boxes.entries()]
+        .filter(
+          ([, b]) =>
+            slab(input, {
+              minX: b.minX - h.x,
+              minY: b.minY - h.y,
+              maxX: b.maxX + h.x,
+              maxY: b.maxY + h.y,
+            }) !== null,
+        )
+        .map(([leaf]) => leaf)
+        .sort((a, b) => a - b)
+      const got: number[] = []
+      cursor.begin(tree, input, h)
+      for (let leaf = cursor.next(); leaf !== NULL_NODE; leaf = cursor.next()) got.push(leaf)
+      expect([...got].sort((a, b) => a - b)).toEqual(expected)
+      total += expected.length
+    }
+    expect(total).toBeGreaterThan(1000)
+    expect(() => cursor.begin(tree, randomRay(rng, 1), { x: -1, y: 0 })).toThrow(
+      /extension must be finite and >= 0/,
+    )
+  })
+
   it('gives the same leaves in the same order twice, and nothing for an empty tree', () => {
     const rng = new Prng(3)
     const a = new TreeRayCast()
