@@ -101,4 +101,19 @@ export type {
 } from './types.ts'
 export { createWorld, loadWorld, World } from './world.ts'
 export { POSE_STRIDE } from './world-api.ts'
+export {
+  type AABB,
+  castGeometry,
+  DEFAULT_QUERY_FILTER,
+  geometryBox,
+  makeRayHit,
+  proxyOf,
+  type QueryFilter,
+  type QueryGeometry,
+  type QueryWorld,
+  type RayHit,
+  RayHitList,
+  shouldQueryShape,
+  WorldQueries,
+} from './world-queries.ts'
 export { DEFAULT_WORLD_DEF, resolveWorldDef } from './world-store.ts'

@@ -4,6 +4,8 @@
  * closest-hit ray cast through a 1,000-leaf DynamicTree with TreeRayCast), run with reused inputs
  * and outputs as a game's per-tick code would.
  */
+
+import { IdBuffer } from '../../engine/broad-phase.ts'
 import { DynamicTree, NULL_NODE } from '../../engine/dynamic-tree.ts'
 import { Prng } from '../../engine/prng.ts'
 import {
@@ -17,6 +19,7 @@ import {
   rayCastSegment,
 } from '../../engine/ray-cast.ts'
 import { type ShapeCastPairInput, shapeCast } from '../../engine/shape-cast.ts'
+import type { Transform } from '../../engine/shape-distance.ts'
 import {
   capsuleProxy,
   circleProxy,
@@ -25,6 +28,67 @@ import {
   polygonProxy,
 } from '../../engine/shape-distance.ts'
 import { TreeRayCast } from '../../engine/tree-ray-cast.ts'
+import {
+  DEFAULT_QUERY_FILTER,
+  makeRayHit,
+  type QueryGeometry,
+  type QueryWorld,
+  RayHitList,
+  WorldQueries,
+} from '../../engine/world-queries.ts'
+
+/** A QueryWorld of 400 shapes (circles, boxes, capsules) on 400 bodies, one leaf per shape. */
+class GridWorld implements QueryWorld {
+  readonly tree = new DynamicTree()
+  private readonly shapeOfLeaf: Int32Array = new Int32Array(2048)
+  private readonly geometry: QueryGeometry[] = []
+  private readonly transforms: Transform[] = []
+  private readonly filter = { categoryBits: 1, maskBits: 0xffffffff }
+
+  constructor() {
+    for (let i = 0; i < 400; i++) {
+      const x = (i % 20) * 3 - 30
+      const y = Math.floor(i / 20) * 3 - 30
+      const a = 0.1 * i
+      this.transforms.push({ x, y, c: Math.cos(a), s: Math.sin(a) })
+      const kind = i % 3
+      const g: QueryGeometry =
+        kind === 0
+          ? { type: 'circle', center: { x: 0.1, y: 0 }, radius: 0.6 }
+          : kind === 1
+            ? { type: 'polygon', ...box(0.7, 0.4, 0) }
+            : { type: 'capsule', center1: { x: -0.5, y: 0 }, center2: { x: 0.5, y: 0.2 }, radius: 0.3 }
+      this.geometry.push(g)
+      const leaf = this.tree.createLeaf(x - 1.2, y - 1.2, x + 1.2, y + 1.2, i, 0)
+      this.shapeOfLeaf[leaf] = i
+    }
+  }
+  leafShapeCount(): number {
+    return 1
+  }
+  leafShape(leaf: number): number {
+    return this.shapeOfLeaf[leaf]
+  }
+  shapeGeometry(shape: number): QueryGeometry {
+    return this.geometry[shape]
+  }
+  shapeBody(shape: number): number {
+    return shape
+  }
+  shapeFilter(): { categoryBits: number; maskBits: number } {
+    return this.filter
+  }
+  isSensor(): boolean {
+    return false
+  }
+  bodyTransform(body: number, out: Transform): void {
+    const t = this.transforms[body]
+    out.x = t.x
+    out.y = t.y
+    out.c = t.c
+    out.s = t.s
+  }
+}
 
 const box = (hx: number, hy: number, radius: number): PolygonGeometry => ({
   vertices: [
@@ -62,6 +126,48 @@ export class QueryScene {
   private readonly hit = { fraction: 0 }
   private k = 0
   hits = 0
+  private readonly world = new GridWorld()
+  private readonly queries = new WorldQueries()
+  private readonly rayHit = makeRayHit()
+  private readonly rayHits = new RayHitList()
+  private readonly ids = new IdBuffer()
+  private readonly aabb = { minX: 0, minY: 0, maxX: 0, maxY: 0 }
+  private readonly point = { x: 0, y: 0 }
+  private readonly probe = circleProxy({ center: { x: 0, y: 0 }, radius: 0.5 }, makeShapeProxy())
+  private readonly probeXf: Transform = { x: 0, y: 0, c: 1, s: 0 }
+  private readonly sweep = { x: 0, y: 0 }
+
+  /** One block of world queries over a 400-shape world. */
+  worldUnit(): void {
+    const k = this.k++ % 64
+    const input = this.input
+    input.origin.x = -35 + 0.25 * k
+    input.origin.y = -34 + 0.5 * k
+    input.translation.x = 70
+    input.translation.y = 40 - 1.1 * k
+    input.maxFraction = 1
+    const world = this.world
+    const q = this.queries
+    if (q.castRayClosest(world, input, DEFAULT_QUERY_FILTER, this.rayHit) !== null) this.hits++
+    this.hits += q.castRay(world, input, DEFAULT_QUERY_FILTER, this.rayHits)
+    this.aabb.minX = -30 + 0.5 * k
+    this.aabb.minY = -28 + 0.25 * k
+    this.aabb.maxX = this.aabb.minX + 6.5
+    this.aabb.maxY = this.aabb.minY + 4.5
+    this.hits += q.overlapAABB(world, this.aabb, DEFAULT_QUERY_FILTER, this.ids)
+    this.point.x = -30 + 0.75 * k
+    this.point.y = -29.9 + 0.5 * k
+    this.hits += q.overlapPoint(world, this.point, DEFAULT_QUERY_FILTER, this.ids)
+    this.probeXf.x = this.point.x + 0.25
+    this.probeXf.y = this.point.y - 0.5
+    this.hits += q.overlapShape(world, this.probe, this.probeXf, DEFAULT_QUERY_FILTER, this.ids)
+    this.probeXf.x = -34
+    this.probeXf.y = -30.5 + 0.75 * k
+    this.sweep.x = 60
+    this.sweep.y = 3 - 0.1 * k
+    if (q.castShape(world, this.probe, this.probeXf, this.sweep, DEFAULT_QUERY_FILTER, this.rayHit) !== null)
+      this.hits++
+  }
 
   constructor() {
     const a = polygonProxy(this.sharp, makeShapeProxy())

@@ -35,4 +35,27 @@ const scene = new QueryScene()
     expect(result.gcCount, JSON.stringify(result.allocators)).toBe(0)
     expect(result.heapGrowth / result.units, JSON.stringify(result.allocators)).toBeLessThan(BOUND)
   })
+
+  it('the world queries (closest and all-hits rays, shape cast, AABB, point and shape overlaps) allocate nothing once warm', async () => {
+    const result = await measureAllocation({
+      resolveDir: dirname(fileURLToPath(import.meta.url)),
+      setup: `
+import { QueryScene } from './query-allocation-scene.ts'
+const scene = new QueryScene()
+`,
+      unit: 'scene.worldUnit()',
+      units: 10000,
+      warmup: 10000,
+      rounds: 3,
+      facts: '{ hits: scene.hits }',
+      reportAbove: BOUND,
+    })
+    console.log(
+      `world query allocation: ${result.gcCount} collections, heap growth ${result.heapGrowth} bytes over ${result.units} blocks, ${result.facts.hits} hits` +
+        (result.allocators.length ? `; allocating: ${JSON.stringify(result.allocators)}` : ''),
+    )
+    expect(result.facts.hits).toBeGreaterThan(40000)
+    expect(result.gcCount, JSON.stringify(result.allocators)).toBe(0)
+    expect(result.heapGrowth / result.units, JSON.stringify(result.allocators)).toBeLessThan(BOUND)
+  })
 })
