@@ -3,11 +3,40 @@
  * shape kinds, the swept distance for continuous collision, the dynamic AABB tree, the broadphase
  * and the contacts' pair map. Depends only on the engine's root files (math, constants).
  */
-export { BroadPhase, IdBuffer, PairBuffer } from './broad-phase.ts'
+export { BroadPhase, IdBuffer, PairBuffer, sortKeys } from './broad-phase.ts'
 export { collideGeometry } from './collide.ts'
+export { type DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 export { Manifold, type ManifoldPoint } from './manifold.ts'
 export { PairMap } from './pair-map.ts'
 export { polygonGeometry, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
+export {
+  type CapsuleGeometry,
+  type CastOutput,
+  type ChainSegmentGeometry,
+  type CircleGeometry,
+  checkRayInput,
+  makeCastOutput,
+  type PolygonGeometry,
+  type RayCastInput,
+  rayCastCapsule,
+  rayCastChainSegment,
+  rayCastCircle,
+  rayCastPolygon,
+  rayCastSegment,
+  type SegmentGeometry,
+} from './ray-cast.ts'
+export { checkShapeCastInput, type ShapeCastPairInput, shapeCast } from './shape-cast.ts'
+export {
+  capsuleProxy,
+  circleProxy,
+  makeDistanceOutput,
+  makeShapeProxy,
+  polygonProxy,
+  type ShapeProxy,
+  segmentProxy,
+  shapeDistance,
+  type Transform,
+} from './shape-distance.ts'
 export {
   box,
   type CircleShape,
@@ -32,3 +61,4 @@ export {
   verticesA,
   verticesB,
 } from './swept-distance.ts'
+export { TreeRayCast } from './tree-ray-cast.ts'

@@ -14,8 +14,7 @@ import type { Duplex } from 'node:stream'
 import { CLOSE_CODES } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
 import type { LogLimiter, ServerMetrics } from '../hosting/index.ts'
-import type { Access, MessageBudget } from '../http/index.ts'
-import { addressKey } from '../http/index.ts'
+import { type Access, addressKey, type MessageBudget } from '../http/index.ts'
 import type { ClientSession } from './client-session.ts'
 
 /** The transport's view of one connection: its session, socket, access and message budget. */

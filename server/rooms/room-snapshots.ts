@@ -18,8 +18,7 @@ import {
   type SnapshotEncoder,
   TICK_RATE,
 } from '../../shared/index.ts'
-import type { ServerConfig } from '../config/index.ts'
-import { hardBufferLimit } from '../config/index.ts'
+import { hardBufferLimit, type ServerConfig } from '../config/index.ts'
 import type { ServerMetrics } from '../hosting/index.ts'
 import { DROP_CONNECTION } from './player-connection.ts'
 import type { RoomPlayer } from './room-player.ts'
