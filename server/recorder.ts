@@ -36,7 +36,7 @@ import {
 } from '../shared/replay-log.ts'
 import type { RoomSimulation, SimulationObserver } from '../shared/room-simulation.ts'
 import { KeyframePolicy } from './keyframe-policy.ts'
-import { type LogFile, logFileName, type OpenLog, openLogFile, pruneLogs } from './replay-files.ts'
+import { type LogFile, logFileName, type OpenLog, openLogFile } from './replay-files.ts'
 
 const deflateAsync = promisify(deflate)
 
@@ -51,7 +51,11 @@ export interface RecorderOptions {
   /** Keyframe bytes allowed per hour of a log (0 or absent: no limit), see keyframe-policy.ts. */
   keyframeBudget?: number
   maxBytes: number
-  keep: number
+  /**
+   * Called with a new log's name once its file exists (the server's one pruner takes it from
+   * there: replay-files.ts LogPruner); a recorder never prunes the directory itself.
+   */
+  created?: (name: string) => void
   /** Deflate saved worlds (header, keyframes, world loads) and write delta keyframes. */
   compress: boolean
   log: Logger
@@ -228,7 +232,7 @@ export class RoomRecorder implements SimulationObserver {
             this.options.openNames.add(name)
             this.name = name
           }
-          pruneLogs(dir, this.options.keep, this.options.openNames).catch(() => {})
+          this.options.created?.(name)
           return file
         } catch (error) {
           if ((error as NodeJS.ErrnoException).code !== 'EEXIST' || counter >= 50) throw error

@@ -13,7 +13,15 @@ import type { ServerMetrics } from './metrics.ts'
 import { RoomRecorder } from './recorder.ts'
 import { type RecoveredRoom, recoverLog, truncateToCheckpoint } from './recovery.ts'
 import type { OpenLog } from './replay-files.ts'
-import { isLogName, type LogSummary, listLogNames, listLogs, roomOfLog, summarize } from './replay-files.ts'
+import {
+  isLogName,
+  LogPruner,
+  type LogSummary,
+  listLogNames,
+  listLogs,
+  roomOfLog,
+  summarize,
+} from './replay-files.ts'
 import type { Room } from './room.ts'
 import type { RoomManager } from './room-manager.ts'
 
@@ -39,6 +47,13 @@ export class Recordings {
   openLog: OpenLog | undefined
   /** Called when a room was rebuilt from its log (room, log, tick and hash of the checkpoint). */
   onRecovered: ((room: string, log: string, tick: number, hash: number) => void) | null = null
+  /**
+   * The process's one pruner of the replay directory (--replay-keep). With room workers only the
+   * main thread's prunes: it knows every worker's open logs (each reports the logs it creates).
+   */
+  readonly pruner: LogPruner
+  /** Called when one of these recorders has created a new log: here, prune; a room worker reports it instead. */
+  onLogCreated: (name: string) => void = () => this.pruner.request()
 
   constructor(
     private readonly config: ServerConfig,
@@ -46,6 +61,15 @@ export class Recordings {
     private readonly log: Logger,
   ) {
     this.enabled = config.record
+    this.pruner = new LogPruner(config.replayDir, config.replayKeep, this.openNames, (error) =>
+      log.error({ dir: config.replayDir, err: error.message }, 'pruning the replay directory failed'),
+    )
+  }
+
+  /** A log was created (here or, reported by its worker, on a room worker): record it as open and prune. */
+  logCreated(name: string): void {
+    this.openNames.add(name)
+    this.pruner.request()
   }
 
   /** The replay directory. */
@@ -159,7 +183,7 @@ export class Recordings {
       keyframeTicks: this.config.keyframeTicks,
       keyframeBudget: this.config.keyframeBudget * 1_000_000,
       maxBytes: this.config.replayMaxBytes,
-      keep: this.config.replayKeep,
+      created: (name: string) => this.onLogCreated(name),
       compress: true,
       log: this.log,
       failures: this.metrics.recorderFailures,

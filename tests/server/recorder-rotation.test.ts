@@ -26,7 +26,6 @@ describe('log rotation', () => {
       fsync: 'none',
       keyframeTicks: 600,
       maxBytes: 4096,
-      keep: 10,
       compress: true,
       log: pino({ level: 'silent' }),
       failures: new Counter({ name: 'test_rotation_failures', help: 'test', registers: [] }),
