@@ -6,9 +6,9 @@
  * turns recording off with one log line and a metric; rooms run either way.
  */
 import { mkdir } from 'node:fs/promises'
-import { hostname } from 'node:os'
 import type { Logger } from 'pino'
 import type { ServerConfig } from './config.ts'
+import { writerAlive } from './log-writer.ts'
 import type { ServerMetrics } from './metrics.ts'
 import { RoomRecorder } from './recorder.ts'
 import { type RecoveredRoom, recoverLog, truncateToCheckpoint } from './recovery.ts'
@@ -24,17 +24,6 @@ import {
 } from './replay-files.ts'
 import type { Room } from './room.ts'
 import type { RoomManager } from './room-manager.ts'
-
-/** Whether the process that wrote a log still runs here (a different live process on this host). */
-function writerAlive(writer: { host: string; pid: number }): boolean {
-  if (writer.host !== hostname() || writer.pid === process.pid) return false
-  try {
-    process.kill(writer.pid, 0)
-    return true
-  } catch (error) {
-    return (error as NodeJS.ErrnoException).code === 'EPERM'
-  }
-}
 
 /** The server's recorders (see the file comment). */
 export class Recordings {
@@ -163,7 +152,7 @@ export class Recordings {
         summary.status === 'empty'
       )
         continue
-      if (summary.writer && writerAlive(summary.writer)) {
+      if (summary.writer && writerAlive(summary.writer, Date.parse(summary.start))) {
         this.log.warn(
           { log: name, writer: summary.writer },
           'not recovering a log another live process writes',
