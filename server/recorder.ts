@@ -10,7 +10,8 @@
  * A hash record every 60 ticks; a keyframe (state + saved world, whole or as a delta against the
  * previous one) at multiples of keyframeTicks as keyframe-policy.ts decides: the tick saves the
  * world, the delta is encoded right after the loop tick and deflated on libuv's pool. A log past
- * maxBytes is closed (reason "rotated") and a new one starts with a header at the current state.
+ * maxBytes (and holding half of it beyond its header) is closed (reason "rotated") and a new one
+ * starts with a header at the current state, written before the old log's close (see rotate()).
  * Any write error stops recording for this room: one log line, concord_recorder_failures_total,
  * and the room keeps running.
  */
@@ -73,6 +74,8 @@ export class RoomRecorder implements SimulationObserver {
   closed = false
   /** Bytes written or queued in the current log. */
   bytes = 0
+  /** Of those, the preamble and header (an estimate until its world is deflated; 0 for a resumed log). */
+  private headerBytes = 0
   private queue: Array<Uint8Array | Promise<Uint8Array>> = []
   /** Small records not yet sealed into a block. */
   private small: BlockableRecord[] = []
@@ -112,6 +115,7 @@ export class RoomRecorder implements SimulationObserver {
   resume(name: string, size: number): void {
     this.name = name
     this.bytes = size
+    this.headerBytes = 0
     this.generation++
     this.base = null
     this.keyframes.reset(this.sim.tick, false, 0)
@@ -143,7 +147,10 @@ export class RoomRecorder implements SimulationObserver {
     if (tick % TICK_RATE === 0) this.pushHash()
     const keyframe = this.keyframes.decide(tick)
     if (keyframe !== 'none') this.pushKeyframe(keyframe)
-    if (this.bytes >= this.options.maxBytes) this.rotate()
+    // A log rotates once past maxBytes and holding half of it beyond its header: a world whose
+    // header alone passes the limit must not rotate at every tick (a new header each time).
+    if (this.bytes >= this.options.maxBytes && this.bytes - this.headerBytes >= this.options.maxBytes / 2)
+      this.rotate()
     else if (this.options.fsync === 'always') this.flush()
   }
 
@@ -255,30 +262,59 @@ export class RoomRecorder implements SimulationObserver {
     const saved = sim.world.save()
     this.base = this.options.compress ? saved : null
     this.keyframes.reset(tick, this.base !== null, saved.length * 0.63)
-    this.pushWorld(saved, (z, world) => ({
-      type: 'header',
-      tick,
-      room: this.room,
-      scene,
-      start: now,
-      maxBodies: sim.maxBodies,
-      controls: sim.controls,
-      state,
-      host: hostname(),
-      pid: process.pid,
-      z,
-      world,
-    }))
+    this.pushWorld(
+      saved,
+      (z, world) => ({
+        type: 'header',
+        tick,
+        room: this.room,
+        scene,
+        start: now,
+        maxBodies: sim.maxBodies,
+        controls: sim.controls,
+        state,
+        host: hostname(),
+        pid: process.pid,
+        z,
+        world,
+      }),
+      undefined,
+      true,
+    )
+    this.headerBytes = this.bytes
     this.dirty = false
   }
 
+  /**
+   * Close this log (reason "rotated") and go on in a new one. In this order, one after the other:
+   * this log's records, the new log's header (at once, not at the next timed flush), then this log's
+   * close record. A crash anywhere in between leaves a log recovery starts from: this one unclosed
+   * (the new one empty or cut before its header is whole, which recovery passes over), or the new
+   * one with its header. Closing first left, after a crash, a closed log and an empty one: the room
+   * was lost.
+   */
   private rotate(): void {
-    this.pushSmall({ type: 'close', tick: this.sim.tick, reason: 'rotated', end: Date.now() })
-    this.closeFile().catch(() => {})
-    this.newFile(Date.now())
-    // The new log's header goes out now, not at the next flush: a crash right after a rotation
-    // leaves a log that recovery can start from, not an empty file after a cleanly closed one.
     this.flush()
+    const file = this.file
+    const name = this.name
+    const close = encodeRecord({ type: 'close', tick: this.sim.tick, reason: 'rotated', end: Date.now() })
+    const sync = this.options.fsync !== 'none'
+    this.newFile(Date.now())
+    this.flush()
+    this.chain = this.chain.then(async () => {
+      try {
+        const handle = await (file as Promise<LogFile>)
+        await handle.write(close)
+        if (sync) await handle.sync()
+        await handle.close()
+      } catch (error) {
+        this.options.log.warn(
+          { room: this.room, log: name, err: (error as Error).message },
+          'cannot close a rotated log',
+        )
+      }
+      this.options.openNames.delete(name)
+    })
   }
 
   private pushHash(): void {
@@ -331,6 +367,7 @@ export class RoomRecorder implements SimulationObserver {
     saved: Uint8Array,
     make: (z: 0 | 1, world: Uint8Array) => ReplayRecord,
     count: (bytes: Uint8Array) => Uint8Array = (bytes) => bytes,
+    header = false,
   ): void {
     if (this.failed) return
     this.sealBlock()
@@ -339,17 +376,18 @@ export class RoomRecorder implements SimulationObserver {
       this.dirty = true
       return
     }
-    this.queueDeflated(saved, saved.length / 4, (world) => count(encodeRecord(make(1, world))))
+    this.queueDeflated(saved, saved.length / 4, (world) => count(encodeRecord(make(1, world))), header)
   }
 
   /**
    * Queue a record whose payload is deflated on libuv's pool; `estimate` counts for rotation and
-   * the memory bound until the real size is known.
+   * the memory bound until the real size is known (in headerBytes too for the log's header).
    */
   private queueDeflated(
     raw: Uint8Array | Promise<Uint8Array>,
     estimate: number,
     make: (zlib: Uint8Array) => Uint8Array,
+    header = false,
   ): void {
     this.grow(estimate)
     const generation = this.generation
@@ -358,7 +396,10 @@ export class RoomRecorder implements SimulationObserver {
         .then((bytes) => deflateAsync(bytes))
         .then((z) => {
           const record = make(new Uint8Array(z.buffer, z.byteOffset, z.length))
-          if (generation === this.generation) this.bytes += record.length - estimate
+          if (generation === this.generation) {
+            this.bytes += record.length - estimate
+            if (header) this.headerBytes += record.length - estimate
+          }
           return record
         }),
     )

@@ -14,6 +14,7 @@ import { RoomRecorder } from './recorder.ts'
 import { type RecoveredRoom, recoverLog, truncateToCheckpoint } from './recovery.ts'
 import type { OpenLog } from './replay-files.ts'
 import {
+  hasHeader,
   isLogName,
   LogPruner,
   type LogSummary,
@@ -138,20 +139,23 @@ export class Recordings {
     return (await this.unclosedLogs()).find((name) => roomOfLog(name) === room) ?? null
   }
 
-  /** The newest log of each room, when it has no clean close. */
+  /**
+   * Per room, its newest log that holds a header, when that log has no clean close. Newer logs cut
+   * before their header is whole (a crash right after a rotation created one) are passed over: a
+   * 0-byte newest log once hid the older, unclosed one, and the room was lost.
+   */
   private async unclosedLogs(): Promise<string[]> {
-    const newest = new Map<string, string>()
-    for (const name of await listLogNames(this.dir)) newest.set(roomOfLog(name), name)
+    const byRoom = new Map<string, string[]>()
+    for (const name of await listLogNames(this.dir)) {
+      const room = roomOfLog(name)
+      byRoom.set(room, [...(byRoom.get(room) ?? []), name])
+    }
     const out: string[] = []
-    for (const name of newest.values()) {
+    for (const names of byRoom.values()) {
+      const name = await this.newestWithHeader(names)
+      if (!name) continue
       const summary = await summarize(this.dir, name, this.openNames).catch(() => null)
-      if (
-        !summary ||
-        summary.status === 'clean' ||
-        summary.status === 'invalid' ||
-        summary.status === 'empty'
-      )
-        continue
+      if (!summary || summary.status === 'clean') continue
       if (summary.writer && writerAlive(summary.writer, Date.parse(summary.start))) {
         this.log.warn(
           { log: name, writer: summary.writer },
@@ -162,6 +166,19 @@ export class Recordings {
       out.push(name)
     }
     return out
+  }
+
+  /**
+   * The newest of one room's logs (given oldest first) that is not empty (cut before its header was
+   * whole), or null. An invalid one is not passed over: what it holds is not known.
+   */
+  private async newestWithHeader(names: readonly string[]): Promise<string | null> {
+    for (let i = names.length - 1; i >= 0; i--) {
+      const summary = await summarize(this.dir, names[i], this.openNames).catch(() => null)
+      if (!summary) return null
+      if (summary.status !== 'empty') return hasHeader(summary) ? names[i] : null
+    }
+    return null
   }
 
   private attach(room: Room): void {

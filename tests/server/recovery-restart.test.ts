@@ -8,14 +8,14 @@
  */
 import { type ChildProcess, spawn } from 'node:child_process'
 import { readFileSync } from 'node:fs'
-import { mkdtemp } from 'node:fs/promises'
+import { mkdtemp, writeFile } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { createInterface } from 'node:readline'
 import { afterAll, describe, expect, it } from 'vitest'
-import { listLogNames } from '../../server/replay-files.ts'
+import { listLogNames, logFileName } from '../../server/replay-files.ts'
 import { waitUntil } from './raw-client.ts'
-import type { LogLine } from './server-process.ts'
+import { type LogLine, type ServerProcess, startServerProcess } from './server-process.ts'
 
 const ROUNDS = 20
 
@@ -27,8 +27,10 @@ interface Unreaped {
 }
 
 const wrappers: ChildProcess[] = []
+const children: ServerProcess[] = []
 afterAll(() => {
   for (const w of wrappers) if (w.exitCode === null && w.signalCode === null) w.kill('SIGKILL')
+  for (const c of children) if (c.process.exitCode === null) c.process.kill('SIGKILL')
 })
 
 function startUnreaped(dir: string): Promise<Unreaped> {
@@ -109,5 +111,39 @@ describe('restart right after SIGKILL', { timeout: 300_000 }, () => {
       'the last server ends',
     )
     server.wrapper.kill('SIGKILL')
+  })
+})
+
+describe('a crash right after a rotation', { timeout: 120_000 }, () => {
+  it('recovers the room from the older, unclosed log when the newest one is empty or cut before its header', async () => {
+    const dir = await mkdtemp(join(tmpdir(), 'concord-rotated-'))
+    const args = [
+      ...['--record', 'true', '--recover', 'true', '--replay-dir', dir, '--workers', '1'],
+      ...['--default-room', 'lobby', '--default-scene', 'tower'],
+    ]
+    const first = await startServerProcess(args)
+    children.push(first)
+    await waitUntil(async () => {
+      const logs = (await (await fetch(`${first.url}/replays`)).json()) as Array<{ ticks: number }>
+      return logs.length === 1 && logs[0].ticks >= 60
+    }, 'a checkpoint in the lobby log')
+    const [log] = await listLogNames(dir)
+    first.process.kill('SIGKILL')
+    await first.exited
+    // What the rotation left when the process died: the next log, created, with nothing (or only
+    // the start of its preamble) written. Both are newer than the lobby's log.
+    const start = Date.parse(new Date().toISOString())
+    await writeFile(join(dir, logFileName('lobby', start + 1000)), new Uint8Array(0))
+    await writeFile(join(dir, logFileName('lobby', start + 2000)), new Uint8Array([0x43, 0x4e]))
+    const second = await startServerProcess(args)
+    children.push(second)
+    await waitUntil(
+      () => second.lines.some((l) => l.msg === 'room recovered from its log' && l.room === 'lobby'),
+      'the lobby recovered',
+    )
+    const line = second.lines.find((l) => l.msg === 'room recovered from its log')!
+    expect(line.log).toBe(log)
+    second.process.kill('SIGTERM')
+    expect((await second.exited).code).toBe(0)
   })
 })
