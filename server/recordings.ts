@@ -14,6 +14,7 @@ import { RoomRecorder } from './recorder.ts'
 import { type RecoveredRoom, recoverLog, truncateToCheckpoint } from './recovery.ts'
 import type { OpenLog } from './replay-files.ts'
 import {
+  givenUp,
   hasHeader,
   isLogName,
   LogPruner,
@@ -156,6 +157,10 @@ export class Recordings {
       if (!name) continue
       const summary = await summarize(this.dir, name, this.openNames).catch(() => null)
       if (!summary || summary.status === 'clean') continue
+      if (await givenUp(this.dir, name)) {
+        this.log.info({ log: name }, 'not recovering a log whose recording failed (given up by its writer)')
+        continue
+      }
       if (summary.writer && writerAlive(summary.writer, Date.parse(summary.start))) {
         this.log.warn(
           { log: name, writer: summary.writer },

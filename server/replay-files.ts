@@ -282,9 +282,9 @@ export const PRUNE_QUIET_MS = 60_000
 /**
  * Delete the oldest logs beyond `keep` (oldest by the start stamp in the name). Never deleted: a
  * log in `open`; an unclosed log written in the last PRUNE_QUIET_MS; a recoverable log (unclosed,
- * with a header, and no newer log of its room has one: crash recovery would reopen it). Taken:
- * cleanly closed logs, and unclosed ones that are quiet and not recoverable (superseded by a newer
- * log of their room, or cut before their header). Logs that cannot be deleted do not count down
+ * with a header, not given up by its writer, and no newer log of its room has one: crash recovery
+ * would reopen it). Taken: cleanly closed logs, and unclosed ones that are quiet and not
+ * recoverable (superseded by a newer log of their room, cut before their header, given up). Logs that cannot be deleted do not count down
  * `keep`, so the directory holds `keep` logs whenever enough can go. Returns the names deleted.
  * Call it from one place per directory (LogPruner): two prunes at once would both delete the
  * same excess and over-prune.
@@ -327,7 +327,7 @@ async function prunable(
   }
   if (summary.status === 'clean') return true
   if (now - mtime < PRUNE_QUIET_MS) return false
-  if (!hasHeader(summary)) return true
+  if (!hasHeader(summary) || (await givenUp(dir, name))) return true
   // Recoverable unless a newer log of its room has a header (recovery takes the newest that does).
   const room = roomOfLog(name)
   for (const later of newer) {
@@ -383,20 +383,51 @@ export class LogPruner {
 
 /** The file operations a recorder uses (tests inject failing ones). */
 export interface LogFile {
+  /**
+   * Append `bytes`. Resolves with `{ bytesWritten }` as Node's FileHandle does: on a filling disk a
+   * write can take only part of them (a short write), and the recorder writes the rest or gives up.
+   * A seam that resolves with anything else has written them all.
+   */
   write(bytes: Uint8Array): Promise<unknown>
   sync(): Promise<void>
   close(): Promise<void>
+  /** Cut the file back to `size` bytes (a record cut by a failed write). */
+  truncate?(size: number): Promise<void>
+  /** Whether the file still has a name: false once it, or its directory, was deleted. */
+  linked?(): Promise<boolean>
+  /** Mark the file given up (read-only): crash recovery does not reopen it. Needs no disk space. */
+  giveUp?(): Promise<void>
+  /** Delete the file (closed first): a new log given up before anything whole was in it. */
+  remove?(): Promise<void>
 }
 
-/** Open a log file: 'create' fails if it exists; 'append' continues one (recovery). */
+/** Open a log file: 'create' fails if it exists; 'append' continues one (recovery). Writes append. */
 export type OpenLog = (path: string, mode: 'create' | 'append') => Promise<LogFile>
 
 /** Node's filesystem. */
 export const openLogFile: OpenLog = async (path, mode) => {
-  const handle = await openFile(path, mode === 'create' ? 'wx' : 'a')
+  // Append mode for both: after a cut-back (truncate) the next write lands at the new end.
+  const handle = await openFile(path, mode === 'create' ? 'ax' : 'a')
   return {
     write: (bytes) => handle.write(bytes),
     sync: () => handle.sync(),
     close: () => handle.close(),
+    truncate: (size) => handle.truncate(size),
+    linked: async () => (await handle.stat()).nlink > 0,
+    giveUp: () => handle.chmod(0o444),
+    remove: () => unlink(path),
+  }
+}
+
+/**
+ * Whether a log was given up by its writer (read-only: its recording failed and no close record
+ * could be written), so that crash recovery does not reopen a room at the tick where its
+ * recording stopped.
+ */
+export async function givenUp(dir: string, name: string): Promise<boolean> {
+  try {
+    return ((await stat(join(dir, name))).mode & 0o222) === 0
+  } catch {
+    return false
   }
 }
