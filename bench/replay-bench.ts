@@ -54,7 +54,6 @@ function recorder(room: string, sim: RoomSimulation, dir: string, v: Variant): R
     keyframeTicks: v.keyframeTicks,
     keyframeBudget: v.budget * 1_000_000,
     maxBytes: 2 ** 40,
-    keep: 10,
     compress: v.compress,
     log: pino({ level: 'silent' }),
     failures: new Counter({ name: `bench_recorder_failures_${counters++}`, help: 'bench', registers: [] }),

@@ -46,7 +46,6 @@ async function record(): Promise<Array<{ keyframeTicks: number; budget: number; 
         keyframeTicks,
         keyframeBudget: budget,
         maxBytes: 1 << 30,
-        keep: 10,
         compress: true,
         log: pino({ level: 'silent' }),
         failures: new Counter({ name: `bench_failures_${i}`, help: 'bench', registers: [] }),

@@ -31,7 +31,11 @@ export interface TimedServer {
  * Start a server in this process for load tests; every loop tick is timed. With `workers` > 0 the
  * rooms run on worker threads and their loops are timed there (WorkerPool.takeLoopStats).
  */
-export async function startTimedServer(workers = 0, roomIdleSeconds = 5): Promise<TimedServer> {
+export async function startTimedServer(
+  workers = 0,
+  roomIdleSeconds = 5,
+  replayKeep = 200,
+): Promise<TimedServer> {
   // Recordings go to a directory of this run's own (the server records by default). In the
   // repository's replays/ they piled up, and the logs a failed run left unfinished were recovered
   // as rooms by the next run's server: at 20 rooms a Nov 24 run ticked such leftovers beside its
@@ -57,6 +61,7 @@ export async function startTimedServer(workers = 0, roomIdleSeconds = 5): Promis
       roomTickBudgetMs: 0,
       workers,
       replayDir,
+      replayKeep,
     },
   )
   const server = await startServer(config, { logger: pino({ level: 'silent' }), processMetrics: false })

@@ -10,8 +10,11 @@
  * reported it, not collected first), loop tick p50/p99 over those 10 s (wall, and CPU of the
  * loop's thread), dropped ticks, rooms, clients, churn joins so far. Growth of RSS and of the
  * heaps over the run is the leak signal.
+ * Recording is on, with --replay-keep K (default 20, so that the churn rooms' logs pass it within
+ * a minute): every second the process's open files (/proc/self/fd) are checked, and an open log
+ * that was deleted (pruned under its writer) is counted and printed; the run fails if there is one.
  */
-import { mkdirSync, writeFileSync } from 'node:fs'
+import { mkdirSync, readdirSync, readlinkSync, writeFileSync } from 'node:fs'
 import { availableParallelism, cpus, loadavg } from 'node:os'
 import { BotClient } from '../bots/index.ts'
 import { Prng } from '../engine/index.ts'
@@ -39,6 +42,11 @@ const WORKERS = workersAt >= 0 ? Number(argv[workersAt + 1]) : Math.min(256, ava
 if (!Number.isInteger(WORKERS) || WORKERS < 0) {
   throw new Error(`--workers takes a whole number of 0 or more, got ${JSON.stringify(argv[workersAt + 1])}`)
 }
+const keepAt = argv.indexOf('--replay-keep')
+const KEEP = keepAt >= 0 ? Number(argv[keepAt + 1]) : 20
+if (!Number.isInteger(KEEP) || KEEP < 1) {
+  throw new Error(`--replay-keep takes a whole number of 1 or more, got ${JSON.stringify(argv[keepAt + 1])}`)
+}
 const ROOMS = 10
 const BOTS_PER_ROOM = 3
 const SAMPLE_MS = 10_000
@@ -46,8 +54,32 @@ const SAMPLE_MS = 10_000
 // Rooms close 5 s after their last client leaves, as by default, so the churn rooms come and go.
 // The piles are loaded once the bots are in: a room opened before them, empty, would close if
 // the bots process took more than 5 s to start, and the bots would then join empty rooms.
-const timed = await startTimedServer(WORKERS)
+const timed = await startTimedServer(WORKERS, 5, KEEP)
 const { server } = timed
+
+/** Open logs deleted under their writer, seen in /proc/self/fd once a second (Linux). */
+const deletedOpenLogs = new Set<string>()
+const watchFds = setInterval(() => {
+  const dir = server.config.replayDir
+  let fds: string[]
+  try {
+    fds = readdirSync('/proc/self/fd')
+  } catch {
+    return
+  }
+  for (const fd of fds) {
+    let target = ''
+    try {
+      target = readlinkSync(`/proc/self/fd/${fd}`)
+    } catch {
+      continue
+    }
+    if (target.startsWith(`${dir}/`) && target.endsWith(' (deleted)') && !deletedOpenLogs.has(target)) {
+      deletedOpenLogs.add(target)
+      console.log(`soak: an open log was deleted under its writer: ${target}`)
+    }
+  }
+}, 1000)
 const take = loopStats(timed)
 const bots = startBots(server.url, 'soak', ROOMS, ROOMS * BOTS_PER_ROOM)
 await until(() => server.host.playerCount >= ROOMS * BOTS_PER_ROOM, 'the bots to join')
@@ -125,6 +157,8 @@ while (performance.now() - started < MINUTES * 60_000) {
 running = false
 await churn
 await stopBots([bots])
+clearInterval(watchFds)
+const logsAtEnd = readdirSync(server.config.replayDir).length
 await server.close()
 
 const first = samples[0]
@@ -149,10 +183,13 @@ const results = {
     cpuMsP99Max: Math.max(...samples.map((s) => s.cpuMsP99)),
     churnJoins: joins,
     churnFailures: failures,
+    replayKeep: KEEP,
+    logsAtEnd,
+    openLogsDeleted: deletedOpenLogs.size,
   },
   samples,
 }
 mkdirSync('bench/results', { recursive: true })
 writeFileSync('bench/results/soak.json', `${JSON.stringify(results, null, 2)}\n`)
 console.log(`saved bench/results/soak.json: ${JSON.stringify(results.summary)}`)
-process.exit(0)
+process.exit(deletedOpenLogs.size > 0 ? 1 : 0)

@@ -1,13 +1,17 @@
 /*
  * The server's command line: `node dist/server.js [--port 8080 ...]` (see --help). Starts the
  * server, and on SIGTERM or SIGINT shuts down gracefully: clients get a close frame with a reason,
- * logs are flushed, and the process exits within 5 s even if something hangs.
+ * logs are flushed, and the process exits within 5 s even if something hangs. A second signal
+ * during the shutdown is logged and ignored; a third exits at once (code 130).
  */
 import { helpText, loadConfig, type ServerConfig } from './config/index.ts'
 import { ListenError, startServer } from './server.ts'
 
 /** Hard deadline for shutdown after the drain period (ms). */
 const SHUTDOWN_DEADLINE_MS = 4500
+
+/** Exit code after a third signal cut a shutdown short (128 + SIGINT, as a shell reports Ctrl-C). */
+const FORCED_EXIT_CODE = 130
 
 async function main(): Promise<void> {
   const argv = process.argv.slice(2)
@@ -30,8 +34,30 @@ async function main(): Promise<void> {
       () => process.exit(1),
     )
   }
-  process.once('SIGTERM', () => shutdown('SIGTERM'))
-  process.once('SIGINT', () => shutdown('SIGINT'))
+  // A terminal's Ctrl-C reaches `npm start` and Node together and npm passes its signal on: Node
+  // sees two. The second must not end the shutdown the first began (clients would get no close
+  // reason, logs no close record, and the next start would reopen rooms stopped on purpose); a
+  // third ends the process at once, saying so.
+  let signals = 0
+  const onSignal = (signal: NodeJS.Signals): void => {
+    signals++
+    if (signals === 1) shutdown(signal)
+    else if (signals === 2)
+      server.log.warn(
+        { signal },
+        'already shutting down; a third signal ends the process without closing logs',
+      )
+    else {
+      server.log.error(
+        { signal },
+        'third signal during shutdown: exiting now; logs without a clean close are reopened at the next start',
+      )
+      server.log.flush()
+      process.exit(FORCED_EXIT_CODE)
+    }
+  }
+  process.on('SIGTERM', onSignal)
+  process.on('SIGINT', onSignal)
 }
 
 main().catch((error) => {

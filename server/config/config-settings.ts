@@ -60,6 +60,16 @@ export const FSYNC_MODES = ['none', 'interval', 'always']
 
 type Kind = 'int' | 'string' | 'bool'
 
+/**
+ * Smallest --replay-max-bytes (4 MiB): a rotated log starts with a header holding the whole saved
+ * world: 113 KB deflated for the awake 210-box pyramid (about 540 bytes a body), so about 0.8 MB
+ * for a room at the default 1,500 bodies.
+ * Below a header's size every tick rotated (65,536 gave 104 files in 2 s). Bigger worlds (a higher
+ * --max-bodies) are held back by the recorder instead: a log rotates only once it holds half the
+ * limit beyond its header.
+ */
+export const REPLAY_MAX_BYTES_FLOOR = 4 * 1024 * 1024
+
 /** One row of the settings table. */
 export interface Setting {
   key: keyof ServerConfig
@@ -69,6 +79,8 @@ export interface Setting {
   fallback: number | string | boolean
   min?: number
   max?: number
+  /** Why the bounds are what they are, added to the error for a value outside them. */
+  bounds?: string
   /** How --help and the README state a default that depends on the machine (e.g. "one per core"). */
   shown?: string
   help: string
@@ -326,8 +338,10 @@ export const SETTINGS: readonly Setting[] = [
     env: 'REPLAY_MAX_BYTES',
     kind: 'int',
     fallback: 256 * 1024 * 1024,
-    min: 65_536,
-    help: 'size at which a room log is closed and a new one started',
+    min: REPLAY_MAX_BYTES_FLOOR,
+    bounds:
+      'a new log starts with a header holding the whole saved world (about 0.8 MB for a room of 1,500 awake bodies), and a log must hold several times that',
+    help: 'size at which a room log is closed and a new one started (at least 4 MiB)',
   },
   {
     key: 'replayKeep',

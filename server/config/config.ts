@@ -39,7 +39,8 @@ function parseValue(s: Setting, raw: string, source: string): number | string | 
     n < (s.min ?? 0) ||
     n > (s.max ?? Number.MAX_SAFE_INTEGER)
   ) {
-    throw new Error(`${source} must be an integer in [${s.min}, ${s.max}], got "${raw}"`)
+    const range = s.max === undefined ? `of at least ${s.min ?? 0}` : `in [${s.min}, ${s.max}]`
+    throw new Error(`${source} must be an integer ${range}, got "${raw}"${s.bounds ? `: ${s.bounds}` : ''}`)
   }
   return n
 }

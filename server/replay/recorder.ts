@@ -10,10 +10,12 @@
  * A hash record every 60 ticks; a keyframe (state + saved world, whole or as a delta against the
  * previous one) at multiples of keyframeTicks as keyframe-policy.ts decides: the tick saves the
  * world, the delta is encoded right after the loop tick and deflated on libuv's pool. A log past
- * maxBytes is closed (reason "rotated") and a new one starts with a header at the current state.
+ * maxBytes (and holding half of it beyond its header) is closed (reason "rotated") and a new one
+ * starts with a header at the current state, written before the old log's close (see rotate()).
  * Any write error stops recording for this room: one log line, concord_recorder_failures_total,
  * and the room keeps running.
  */
+import { mkdir } from 'node:fs/promises'
 import { hostname } from 'node:os'
 import { join } from 'node:path'
 import { promisify } from 'node:util'
@@ -39,12 +41,48 @@ import {
   TICK_RATE,
 } from '../../shared/index.ts'
 import { KeyframePolicy } from './keyframe-policy.ts'
-import { type LogFile, logFileName, type OpenLog, openLogFile, pruneLogs } from './replay-files.ts'
+import { type LogFile, logFileName, type OpenLog, openLogFile } from './replay-files.ts'
 
 const deflateAsync = promisify(deflate)
 
 /** Memory a recorder may hold unwritten before it gives up (a disk far too slow). */
 const MAX_PENDING_BYTES = 64 * 1024 * 1024
+
+/** How long a failed recorder waits before it tries a new log (ms): a full disk may have room again. */
+export const RETRY_MS = 5000
+
+/** One log file as the recorder writes it. */
+interface LogState {
+  name: string
+  file: Promise<LogFile>
+  /** Bytes of the file known to be on disk as whole records (where a cut-back goes). */
+  written: number
+  /** Room tick of the last record on disk (a close record after a failure is stamped with it). */
+  tick: number
+  /** Created by this recorder: given up with nothing whole in it, it is removed. */
+  created: boolean
+}
+
+/** Write all of `bytes`, the rest again after a short write; an Error says how much landed. */
+async function writeAll(file: LogFile, bytes: Uint8Array): Promise<void> {
+  let done = 0
+  while (done < bytes.length) {
+    let took: number
+    try {
+      const result = await file.write(bytes.subarray(done))
+      const n = (result as { bytesWritten?: unknown } | null)?.bytesWritten
+      took = typeof n === 'number' ? n : bytes.length - done
+    } catch (error) {
+      if (done === 0) throw error
+      throw new Error(`${(error as Error).message} (after a short write: ${done} of ${bytes.length} bytes)`)
+    }
+    if (took <= 0)
+      throw new Error(
+        `the disk took none of ${bytes.length - done} bytes (${done} of ${bytes.length} written)`,
+      )
+    done += took
+  }
+}
 
 /** Recorder settings (from the server config). */
 export interface RecorderOptions {
@@ -54,7 +92,13 @@ export interface RecorderOptions {
   /** Keyframe bytes allowed per hour of a log (0 or absent: no limit), see keyframe-policy.ts. */
   keyframeBudget?: number
   maxBytes: number
-  keep: number
+  /** Wait before a failed recorder tries a new log (ms; default RETRY_MS). */
+  retryMs?: number
+  /**
+   * Called with a new log's name once its file exists (the server's one pruner takes it from
+   * there: replay-files.ts LogPruner); a recorder never prunes the directory itself.
+   */
+  created?: (name: string) => void
   /** Deflate saved worlds (header, keyframes, world loads) and write delta keyframes. */
   compress: boolean
   log: Logger
@@ -72,6 +116,8 @@ export class RoomRecorder implements SimulationObserver {
   closed = false
   /** Bytes written or queued in the current log. */
   bytes = 0
+  /** Of those, the preamble and header (an estimate until its world is deflated; 0 for a resumed log). */
+  private headerBytes = 0
   private queue: Array<Uint8Array | Promise<Uint8Array>> = []
   /** Small records not yet sealed into a block. */
   private small: BlockableRecord[] = []
@@ -81,7 +127,11 @@ export class RoomRecorder implements SimulationObserver {
   /** The saved world of the last header or keyframe of this file (a delta's base), or null. */
   private base: Uint8Array | null = null
   private readonly keyframes: KeyframePolicy
-  private file: Promise<LogFile> | null = null
+  /** The log being written, or null (failed, closed). */
+  private log: LogState | null = null
+  /** Recording failed and has not written since: further failures are not counted again. */
+  private down = false
+  private retryTimer: NodeJS.Timeout | null = null
   private chain: Promise<void> = Promise.resolve()
   /** Records queued since the last hash or keyframe. */
   private dirty = false
@@ -111,12 +161,14 @@ export class RoomRecorder implements SimulationObserver {
   resume(name: string, size: number): void {
     this.name = name
     this.bytes = size
+    this.headerBytes = 0
     this.generation++
     this.base = null
     this.keyframes.reset(this.sim.tick, false, 0)
     this.options.openNames.add(name)
-    this.file = this.openLog(join(this.options.dir, name), 'append')
-    this.file.catch((error) => this.fail(error))
+    const file = this.openLog(join(this.options.dir, name), 'append')
+    this.log = { name, file, written: size, tick: this.sim.tick, created: false }
+    file.catch((error) => this.fail(error))
     this.sim.observers.push(this)
     this.startTimer()
   }
@@ -142,28 +194,34 @@ export class RoomRecorder implements SimulationObserver {
     if (tick % TICK_RATE === 0) this.pushHash()
     const keyframe = this.keyframes.decide(tick)
     if (keyframe !== 'none') this.pushKeyframe(keyframe)
-    if (this.bytes >= this.options.maxBytes) this.rotate()
+    // A log rotates once past maxBytes and holding half of it beyond its header: a world whose
+    // header alone passes the limit must not rotate at every tick (a new header each time).
+    if (this.bytes >= this.options.maxBytes && this.bytes - this.headerBytes >= this.options.maxBytes / 2)
+      this.rotate()
     else if (this.options.fsync === 'always') this.flush()
   }
 
   /** Write everything queued (ending with a checkpoint); resolves when it is written. */
   flush(): Promise<void> {
-    if (this.failed || !this.file) return this.chain
+    const log = this.log
+    if (this.failed || !log) return this.chain
     if (this.dirty) this.pushHash()
     this.sealBlock()
     if (this.queue.length === 0) return this.chain
     const batch = this.queue
-    const file = this.file
+    const tick = this.sim.tick
     this.queue = []
     this.pendingBytes = 0
     const sync = this.options.fsync !== 'none'
     this.chain = this.chain.then(async () => {
       if (this.failed) return
       try {
-        const parts = await Promise.all(batch)
-        const handle = await file
-        await handle.write(Buffer.concat(parts))
-        if (sync) await handle.sync()
+        const bytes = Buffer.concat(await Promise.all(batch))
+        await writeAll(await log.file, bytes)
+        log.written += bytes.length
+        log.tick = tick
+        if (sync) await (await log.file).sync()
+        this.wrote(log)
       } catch (error) {
         this.fail(error)
       }
@@ -171,10 +229,37 @@ export class RoomRecorder implements SimulationObserver {
     return this.chain
   }
 
+  /**
+   * A write landed: after a failure, recording is back (one log line). A log deleted under its
+   * writer (its directory removed, say) takes writes without an error, so once a second the file
+   * is asked whether it still has a name; if not, recording starts over in a new log at once.
+   */
+  private wrote(log: LogState): void {
+    if (this.down) {
+      this.down = false
+      this.options.log.info({ room: this.room, log: log.name }, 'recording resumed in a new log')
+    }
+  }
+
+  /** Whether the log being written still has a name; fails (and starts over at once) if not. */
+  private async checkLinked(): Promise<void> {
+    const log = this.log
+    if (this.failed || !log) return
+    try {
+      const file = await log.file
+      if (!file.linked || (await file.linked())) return
+    } catch {
+      return
+    }
+    if (this.log === log) this.fail(new Error('the log file was deleted (or the replay directory)'), 0)
+  }
+
   /** Append a clean-close record, write everything, close the file and stop observing. */
   async close(reason: string): Promise<void> {
     if (this.closed) return
     this.closed = true
+    if (this.retryTimer) clearTimeout(this.retryTimer)
+    this.retryTimer = null
     this.stopObserving()
     if (!this.failed) this.pushSmall({ type: 'close', tick: this.sim.tick, reason, end: Date.now() })
     await this.closeFile()
@@ -184,13 +269,13 @@ export class RoomRecorder implements SimulationObserver {
   private closeFile(): Promise<void> {
     this.dirty = false
     this.flush()
-    const file = this.file
+    const log = this.log
     const name = this.name
-    this.file = null
-    if (file) {
+    this.log = null
+    if (log) {
       this.chain = this.chain.then(async () => {
         try {
-          await (await file).close()
+          await (await log.file).close()
         } catch {
           // Already failed or closed: nothing more to do.
         }
@@ -203,7 +288,10 @@ export class RoomRecorder implements SimulationObserver {
   }
 
   private startTimer(): void {
-    this.timer = setInterval(() => this.flush(), 1000)
+    this.timer = setInterval(() => {
+      this.flush()
+      this.chain = this.chain.then(() => this.checkLinked())
+    }, 1000)
     this.timer.unref()
   }
 
@@ -215,30 +303,18 @@ export class RoomRecorder implements SimulationObserver {
   }
 
   private newFile(now: number): void {
-    const dir = this.options.dir
     const base = logFileName(this.room, now)
     this.name = base
     this.options.openNames.add(base)
     this.bytes = 0
     this.generation++
-    this.file = (async () => {
-      for (let counter = 0; ; counter++) {
-        const name = counter === 0 ? base : logFileName(this.room, now, counter)
-        try {
-          const file = await this.openLog(join(dir, name), 'create')
-          if (name !== base) {
-            this.options.openNames.delete(base)
-            this.options.openNames.add(name)
-            this.name = name
-          }
-          pruneLogs(dir, this.options.keep, this.options.openNames).catch(() => {})
-          return file
-        } catch (error) {
-          if ((error as NodeJS.ErrnoException).code !== 'EEXIST' || counter >= 50) throw error
-        }
-      }
-    })()
-    this.file.catch((error) => this.fail(error))
+    // The file is opened below; until then `file` is the promise of it.
+    const log = { name: base, written: 0, tick: this.sim.tick, created: true } as LogState
+    log.file = this.createFile(log, now)
+    this.log = log
+    log.file.catch((error) => {
+      if (this.log === log) this.fail(error)
+    })
     this.queueBytes(
       encodePreamble({
         format: REPLAY_FORMAT_VERSION,
@@ -254,30 +330,80 @@ export class RoomRecorder implements SimulationObserver {
     const saved = sim.world.save()
     this.base = this.options.compress ? saved : null
     this.keyframes.reset(tick, this.base !== null, saved.length * 0.63)
-    this.pushWorld(saved, (z, world) => ({
-      type: 'header',
-      tick,
-      room: this.room,
-      scene,
-      start: now,
-      maxBodies: sim.maxBodies,
-      controls: sim.controls,
-      state,
-      host: hostname(),
-      pid: process.pid,
-      z,
-      world,
-    }))
+    this.pushWorld(
+      saved,
+      (z, world) => ({
+        type: 'header',
+        tick,
+        room: this.room,
+        scene,
+        start: now,
+        maxBodies: sim.maxBodies,
+        controls: sim.controls,
+        state,
+        host: hostname(),
+        pid: process.pid,
+        z,
+        world,
+      }),
+      undefined,
+      true,
+    )
+    this.headerBytes = this.bytes
     this.dirty = false
   }
 
+  /** Create a new log file for `log` (a counter in its name when the name is taken). */
+  private async createFile(log: LogState, now: number): Promise<LogFile> {
+    const base = log.name
+    for (let counter = 0; ; counter++) {
+      const name = counter === 0 ? base : logFileName(this.room, now, counter)
+      try {
+        const file = await this.openLog(join(this.options.dir, name), 'create')
+        if (name !== base) {
+          this.options.openNames.delete(base)
+          this.options.openNames.add(name)
+          if (this.log === log) this.name = name
+          log.name = name
+        }
+        this.options.created?.(name)
+        return file
+      } catch (error) {
+        if ((error as NodeJS.ErrnoException).code !== 'EEXIST' || counter >= 50) throw error
+      }
+    }
+  }
+
+  /**
+   * Close this log (reason "rotated") and go on in a new one. In this order, one after the other:
+   * this log's records, the new log's header (at once, not at the next timed flush), then this log's
+   * close record. A crash anywhere in between leaves a log recovery starts from: this one unclosed
+   * (the new one empty or cut before its header is whole, which recovery passes over), or the new
+   * one with its header. Closing first left, after a crash, a closed log and an empty one: the room
+   * was lost.
+   */
   private rotate(): void {
-    this.pushSmall({ type: 'close', tick: this.sim.tick, reason: 'rotated', end: Date.now() })
-    this.closeFile().catch(() => {})
-    this.newFile(Date.now())
-    // The new log's header goes out now, not at the next flush: a crash right after a rotation
-    // leaves a log that recovery can start from, not an empty file after a cleanly closed one.
     this.flush()
+    const old = this.log as LogState
+    const name = this.name
+    const close = encodeRecord({ type: 'close', tick: this.sim.tick, reason: 'rotated', end: Date.now() })
+    const sync = this.options.fsync !== 'none'
+    this.newFile(Date.now())
+    this.flush()
+    this.chain = this.chain.then(async () => {
+      try {
+        const handle = await old.file
+        await writeAll(handle, close)
+        if (sync) await handle.sync()
+        await handle.close()
+      } catch (error) {
+        this.options.log.warn(
+          { room: this.room, log: name, err: (error as Error).message },
+          'cannot close a rotated log',
+        )
+      }
+      this.options.openNames.delete(name)
+    })
   }
 
   private pushHash(): void {
@@ -330,6 +456,7 @@ export class RoomRecorder implements SimulationObserver {
     saved: Uint8Array,
     make: (z: 0 | 1, world: Uint8Array) => ReplayRecord,
     count: (bytes: Uint8Array) => Uint8Array = (bytes) => bytes,
+    header = false,
   ): void {
     if (this.failed) return
     this.sealBlock()
@@ -338,17 +465,18 @@ export class RoomRecorder implements SimulationObserver {
       this.dirty = true
       return
     }
-    this.queueDeflated(saved, saved.length / 4, (world) => count(encodeRecord(make(1, world))))
+    this.queueDeflated(saved, saved.length / 4, (world) => count(encodeRecord(make(1, world))), header)
   }
 
   /**
    * Queue a record whose payload is deflated on libuv's pool; `estimate` counts for rotation and
-   * the memory bound until the real size is known.
+   * the memory bound until the real size is known (in headerBytes too for the log's header).
    */
   private queueDeflated(
     raw: Uint8Array | Promise<Uint8Array>,
     estimate: number,
     make: (zlib: Uint8Array) => Uint8Array,
+    header = false,
   ): void {
     this.grow(estimate)
     const generation = this.generation
@@ -357,7 +485,10 @@ export class RoomRecorder implements SimulationObserver {
         .then((bytes) => deflateAsync(bytes))
         .then((z) => {
           const record = make(new Uint8Array(z.buffer, z.byteOffset, z.length))
-          if (generation === this.generation) this.bytes += record.length - estimate
+          if (generation === this.generation) {
+            this.bytes += record.length - estimate
+            if (header) this.headerBytes += record.length - estimate
+          }
           return record
         }),
     )
@@ -393,21 +524,88 @@ export class RoomRecorder implements SimulationObserver {
       this.fail(new Error(`${this.pendingBytes} bytes waiting for a disk that does not keep up`))
   }
 
-  private fail(error: unknown): void {
+  /**
+   * Recording failed (a write error, a short write the disk would not finish, a deleted log, a
+   * disk too slow): stop observing, count it and say so once per outage, give the log up (giveUp),
+   * and after `retryMs` try again in a new log that starts with a header at the room's state then.
+   */
+  private fail(error: unknown, retryMs = this.options.retryMs ?? RETRY_MS): void {
     if (this.failed) return
     this.failed = true
     this.queue = []
     this.small = []
     this.pendingBytes = 0
     this.stopObserving()
-    this.options.openNames.delete(this.name)
-    this.options.failures.inc()
-    this.options.log.error(
-      { room: this.room, log: this.name, err: (error as Error).message },
-      'recording stopped for this room; the room keeps running',
-    )
-    const file = this.file
-    this.file = null
-    file?.then((f) => f.close()).catch(() => {})
+    const log = this.log
+    this.log = null
+    const details = { room: this.room, log: this.name, err: (error as Error).message }
+    if (!this.down) {
+      this.down = true
+      this.options.failures.inc()
+      this.options.log.error(details, 'recording stopped for this room; the room keeps running')
+    } else this.options.log.warn(details, 'recording is still failing for this room')
+    if (log) this.chain = this.chain.then(() => this.giveUp(log))
+    if (!this.closed) {
+      this.retryTimer = setTimeout(() => this.retry(), retryMs)
+      this.retryTimer.unref()
+    }
+  }
+
+  /**
+   * Leave a failed log so that crash recovery never reopens it at the tick where recording
+   * stopped: cut back to its last whole record, then a close record (reason "recording failed");
+   * when even that cannot be written (the disk is full), mark it given up (read-only, which needs
+   * no space). A log with nothing whole in it that this recorder created is removed.
+   */
+  private async giveUp(log: LogState): Promise<void> {
+    let file: LogFile
+    try {
+      file = await log.file
+    } catch {
+      this.options.openNames.delete(log.name)
+      return
+    }
+    try {
+      if (log.created && log.written === 0) {
+        await file.close()
+        await file.remove?.().catch(() => {})
+        return
+      }
+      await file.truncate?.(log.written)
+      try {
+        await writeAll(
+          file,
+          encodeRecord({ type: 'close', tick: log.tick, reason: 'recording failed', end: Date.now() }),
+        )
+        await file.sync()
+      } catch {
+        await file.truncate?.(log.written)
+        await file.giveUp?.()
+      }
+    } catch (error) {
+      this.options.log.error(
+        { room: this.room, log: log.name, err: (error as Error).message },
+        'cannot close or mark a failed log',
+      )
+    } finally {
+      await file.close().catch(() => {})
+      this.options.openNames.delete(log.name)
+    }
+  }
+
+  /** After a failure: a new log at the room's current state (the directory made again if it is gone). */
+  private retry(): void {
+    this.retryTimer = null
+    if (this.closed) return
+    this.chain = this.chain.then(async () => {
+      if (this.closed) return
+      await mkdir(this.options.dir, { recursive: true }).catch(() => {})
+      this.failed = false
+      this.small = []
+      this.dirty = false
+      this.start()
+      // The new log's header goes out now, not at the next timed flush.
+      this.flush()
+    })
   }
 }

@@ -6,15 +6,18 @@
  * turns recording off with one log line and a metric; rooms run either way.
  */
 import { mkdir } from 'node:fs/promises'
-import { hostname } from 'node:os'
 import type { Logger } from 'pino'
 import type { ServerConfig } from '../config/index.ts'
 import type { ServerMetrics } from '../hosting/index.ts'
 import type { Room, RoomManager } from '../rooms/index.ts'
+import { writerAlive } from './log-writer.ts'
 import { RoomRecorder } from './recorder.ts'
 import { type RecoveredRoom, recoverLog, truncateToCheckpoint } from './recovery.ts'
 import {
+  givenUp,
+  hasHeader,
   isLogName,
+  LogPruner,
   type LogSummary,
   listLogNames,
   listLogs,
@@ -22,17 +25,6 @@ import {
   roomOfLog,
   summarize,
 } from './replay-files.ts'
-
-/** Whether the process that wrote a log still runs here (a different live process on this host). */
-function writerAlive(writer: { host: string; pid: number }): boolean {
-  if (writer.host !== hostname() || writer.pid === process.pid) return false
-  try {
-    process.kill(writer.pid, 0)
-    return true
-  } catch (error) {
-    return (error as NodeJS.ErrnoException).code === 'EPERM'
-  }
-}
 
 /** The server's recorders (see the file comment). */
 export class Recordings {
@@ -45,6 +37,13 @@ export class Recordings {
   openLog: OpenLog | undefined
   /** Called when a room was rebuilt from its log (room, log, tick and hash of the checkpoint). */
   onRecovered: ((room: string, log: string, tick: number, hash: number) => void) | null = null
+  /**
+   * The process's one pruner of the replay directory (--replay-keep). With room workers only the
+   * main thread's prunes: it knows every worker's open logs (each reports the logs it creates).
+   */
+  readonly pruner: LogPruner
+  /** Called when one of these recorders has created a new log: here, prune; a room worker reports it instead. */
+  onLogCreated: (name: string) => void = () => this.pruner.request()
 
   constructor(
     private readonly config: ServerConfig,
@@ -52,6 +51,15 @@ export class Recordings {
     private readonly log: Logger,
   ) {
     this.enabled = config.record
+    this.pruner = new LogPruner(config.replayDir, config.replayKeep, this.openNames, (error) =>
+      log.error({ dir: config.replayDir, err: error.message }, 'pruning the replay directory failed'),
+    )
+  }
+
+  /** A log was created (here or, reported by its worker, on a room worker): record it as open and prune. */
+  logCreated(name: string): void {
+    this.openNames.add(name)
+    this.pruner.request()
   }
 
   /** The replay directory. */
@@ -131,21 +139,28 @@ export class Recordings {
     return (await this.unclosedLogs()).find((name) => roomOfLog(name) === room) ?? null
   }
 
-  /** The newest log of each room, when it has no clean close. */
+  /**
+   * Per room, its newest log that holds a header, when that log has no clean close. Newer logs cut
+   * before their header is whole (a crash right after a rotation created one) are passed over: a
+   * 0-byte newest log once hid the older, unclosed one, and the room was lost.
+   */
   private async unclosedLogs(): Promise<string[]> {
-    const newest = new Map<string, string>()
-    for (const name of await listLogNames(this.dir)) newest.set(roomOfLog(name), name)
+    const byRoom = new Map<string, string[]>()
+    for (const name of await listLogNames(this.dir)) {
+      const room = roomOfLog(name)
+      byRoom.set(room, [...(byRoom.get(room) ?? []), name])
+    }
     const out: string[] = []
-    for (const name of newest.values()) {
+    for (const names of byRoom.values()) {
+      const name = await this.newestWithHeader(names)
+      if (!name) continue
       const summary = await summarize(this.dir, name, this.openNames).catch(() => null)
-      if (
-        !summary ||
-        summary.status === 'clean' ||
-        summary.status === 'invalid' ||
-        summary.status === 'empty'
-      )
+      if (!summary || summary.status === 'clean') continue
+      if (await givenUp(this.dir, name)) {
+        this.log.info({ log: name }, 'not recovering a log whose recording failed (given up by its writer)')
         continue
-      if (summary.writer && writerAlive(summary.writer)) {
+      }
+      if (summary.writer && writerAlive(summary.writer, Date.parse(summary.start))) {
         this.log.warn(
           { log: name, writer: summary.writer },
           'not recovering a log another live process writes',
@@ -157,6 +172,19 @@ export class Recordings {
     return out
   }
 
+  /**
+   * The newest of one room's logs (given oldest first) that is not empty (cut before its header was
+   * whole), or null. An invalid one is not passed over: what it holds is not known.
+   */
+  private async newestWithHeader(names: readonly string[]): Promise<string | null> {
+    for (let i = names.length - 1; i >= 0; i--) {
+      const summary = await summarize(this.dir, names[i], this.openNames).catch(() => null)
+      if (!summary) return null
+      if (summary.status !== 'empty') return hasHeader(summary) ? names[i] : null
+    }
+    return null
+  }
+
   private attach(room: Room): void {
     if (!this.enabled) return
     const options = {
@@ -165,7 +193,7 @@ export class Recordings {
       keyframeTicks: this.config.keyframeTicks,
       keyframeBudget: this.config.keyframeBudget * 1_000_000,
       maxBytes: this.config.replayMaxBytes,
-      keep: this.config.replayKeep,
+      created: (name: string) => this.onLogCreated(name),
       compress: true,
       log: this.log,
       failures: this.metrics.recorderFailures,

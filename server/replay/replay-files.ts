@@ -278,14 +278,35 @@ export async function listLogs(dir: string, open: ReadonlySet<string>): Promise<
   return out
 }
 
-/** Delete the oldest logs beyond `keep`, never one that is open. Returns the names deleted. */
-export async function pruneLogs(dir: string, keep: number, open: ReadonlySet<string>): Promise<string[]> {
+/**
+ * How long an unclosed log must have been left unwritten before pruning may take it: a writer
+ * appends at least once a second, so a log touched more recently may belong to a writer the pruner
+ * does not know of yet (a room worker's new log, another process on this directory).
+ */
+export const PRUNE_QUIET_MS = 60_000
+
+/**
+ * Delete the oldest logs beyond `keep` (oldest by the start stamp in the name). Never deleted: a
+ * log in `open`; an unclosed log written in the last PRUNE_QUIET_MS; a recoverable log (unclosed,
+ * with a header, not given up by its writer, and no newer log of its room has one: crash recovery
+ * would reopen it). Taken: cleanly closed logs, and unclosed ones that are quiet and not
+ * recoverable (superseded by a newer log of their room, cut before their header, given up). Logs that cannot be deleted do not count down
+ * `keep`, so the directory holds `keep` logs whenever enough can go. Returns the names deleted.
+ * Call it from one place per directory (LogPruner): two prunes at once would both delete the
+ * same excess and over-prune.
+ */
+export async function pruneLogs(
+  dir: string,
+  keep: number,
+  open: ReadonlySet<string>,
+  now = Date.now(),
+): Promise<string[]> {
   const names = await listLogNames(dir)
   const deleted: string[] = []
   let excess = names.length - keep
-  for (const name of names) {
+  for (const [i, name] of names.entries()) {
     if (excess <= 0) break
-    if (open.has(name)) continue
+    if (open.has(name) || !(await prunable(dir, name, names.slice(i + 1), open, now))) continue
     await unlink(join(dir, name)).catch(() => {})
     deleted.push(name)
     excess--
@@ -293,22 +314,126 @@ export async function pruneLogs(dir: string, keep: number, open: ReadonlySet<str
   return deleted
 }
 
+/** Whether pruning may delete log `name`; `newer` are the names after it, oldest first. */
+async function prunable(
+  dir: string,
+  name: string,
+  newer: readonly string[],
+  open: ReadonlySet<string>,
+  now: number,
+): Promise<boolean> {
+  const path = join(dir, name)
+  let summary: LogSummary
+  let mtime: number
+  try {
+    mtime = (await stat(path)).mtimeMs
+    summary = await summarize(dir, name, open)
+  } catch {
+    return false
+  }
+  if (summary.status === 'clean') return true
+  if (now - mtime < PRUNE_QUIET_MS) return false
+  if (!hasHeader(summary) || (await givenUp(dir, name))) return true
+  // Recoverable unless a newer log of its room has a header (recovery takes the newest that does).
+  const room = roomOfLog(name)
+  for (const later of newer) {
+    if (roomOfLog(later) !== room) continue
+    const s = await summarize(dir, later, open).catch(() => null)
+    if (s && (s.status === 'recording' || hasHeader(s))) return true
+  }
+  return false
+}
+
+/** Whether a summarized log holds a whole header (something recovery or a replay can start from). */
+export function hasHeader(summary: LogSummary): boolean {
+  return summary.status !== 'empty' && summary.status !== 'invalid'
+}
+
+/**
+ * The one pruner of a replay directory in a server process: requests while a prune runs make one
+ * more run after it, never two at once (two prunes over one listing deleted twice the excess: 15
+ * rooms with --replay-keep 10 left 5 logs). With room workers it runs on the main thread, which
+ * knows every worker's open logs; the workers only report the logs they create.
+ */
+export class LogPruner {
+  private running: Promise<void> | null = null
+  private again = false
+
+  constructor(
+    private readonly dir: string,
+    private readonly keep: number,
+    private readonly open: ReadonlySet<string>,
+    private readonly onError: (error: Error) => void,
+  ) {}
+
+  /** Prune soon (after the prune under way, if any). */
+  request(): void {
+    if (this.running) {
+      this.again = true
+      return
+    }
+    this.running = (async () => {
+      do {
+        this.again = false
+        await pruneLogs(this.dir, this.keep, this.open).catch(this.onError)
+      } while (this.again)
+      this.running = null
+    })()
+  }
+
+  /** Resolves once no prune is running or requested. */
+  async idle(): Promise<void> {
+    while (this.running) await this.running
+  }
+}
+
 /** The file operations a recorder uses (tests inject failing ones). */
 export interface LogFile {
+  /**
+   * Append `bytes`. Resolves with `{ bytesWritten }` as Node's FileHandle does: on a filling disk a
+   * write can take only part of them (a short write), and the recorder writes the rest or gives up.
+   * A seam that resolves with anything else has written them all.
+   */
   write(bytes: Uint8Array): Promise<unknown>
   sync(): Promise<void>
   close(): Promise<void>
+  /** Cut the file back to `size` bytes (a record cut by a failed write). */
+  truncate?(size: number): Promise<void>
+  /** Whether the file still has a name: false once it, or its directory, was deleted. */
+  linked?(): Promise<boolean>
+  /** Mark the file given up (read-only): crash recovery does not reopen it. Needs no disk space. */
+  giveUp?(): Promise<void>
+  /** Delete the file (closed first): a new log given up before anything whole was in it. */
+  remove?(): Promise<void>
 }
 
-/** Open a log file: 'create' fails if it exists; 'append' continues one (recovery). */
+/** Open a log file: 'create' fails if it exists; 'append' continues one (recovery). Writes append. */
 export type OpenLog = (path: string, mode: 'create' | 'append') => Promise<LogFile>
 
 /** Node's filesystem. */
 export const openLogFile: OpenLog = async (path, mode) => {
-  const handle = await openFile(path, mode === 'create' ? 'wx' : 'a')
+  // Append mode for both: after a cut-back (truncate) the next write lands at the new end.
+  const handle = await openFile(path, mode === 'create' ? 'ax' : 'a')
   return {
     write: (bytes) => handle.write(bytes),
     sync: () => handle.sync(),
     close: () => handle.close(),
+    truncate: (size) => handle.truncate(size),
+    linked: async () => (await handle.stat()).nlink > 0,
+    giveUp: () => handle.chmod(0o444),
+    remove: () => unlink(path),
+  }
+}
+
+/**
+ * Whether a log was given up by its writer (read-only: its recording failed and no close record
+ * could be written), so that crash recovery does not reopen a room at the tick where its
+ * recording stopped.
+ */
+export async function givenUp(dir: string, name: string): Promise<boolean> {
+  try {
+    return ((await stat(join(dir, name))).mode & 0o222) === 0
+  } catch {
+    return false
   }
 }

@@ -47,6 +47,8 @@ rooms.onRoomDisposed = (name) => {
   busy.delete(name)
   outbox.push({ k: 'disposed', room: name })
 }
+// The main thread prunes the replay directory: it knows every worker's open logs.
+recordings.onLogCreated = (name) => outbox.push({ k: 'log-created', name })
 recordings.onRecovered = (room, logName, tick, hash) =>
   outbox.push({ k: 'recovered', room, log: logName, tick, hash })
 rooms.onTick = (ticks) => {

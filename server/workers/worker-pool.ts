@@ -359,6 +359,10 @@ export class WorkerPool implements RoomHost {
           'room rebuilt from its log on a worker',
         )
         return
+      case 'log-created':
+        if (!link.openLogs.includes(op.name)) link.openLogs.push(op.name)
+        this.recordings.logCreated(op.name)
+        return
       case 'recover-failed':
         this.reopened(op.room)
         this.log.error(

@@ -68,6 +68,8 @@ export type FromWorkerOp =
   | { k: 'disposed'; room: string }
   | { k: 'recovered'; room: string; log: string; tick: number; hash: number }
   | { k: 'recover-failed'; room: string; reason: string }
+  /** A recorder here created log `name` (the main thread, the one pruner, counts it as open). */
+  | { k: 'log-created'; name: string }
 
 /** One room as /rooms lists it. */
 export interface RoomSummary {

@@ -2,7 +2,7 @@
  * The per-tick queries allocate nothing once warm: ray casts against every shape kind, a shape
  * cast and a closest-hit TreeRayCast through a 1,000-leaf tree (query-allocation-scene.ts), with
  * reused inputs and outputs, measured in a separate quiet process as the engine's step is
- * (tests/measure-allocation.ts): heap growth with no collection in between.
+ * (tests/support/measure-allocation.ts): heap growth with no collection in between.
  */
 import { dirname } from 'node:path'
 import { fileURLToPath } from 'node:url'

@@ -47,7 +47,6 @@ export async function recordWreckingBallLog(ticks: number, keyframeTicks: number
     fsync: 'none',
     keyframeTicks,
     maxBytes: 1 << 30,
-    keep: 10,
     compress: true,
     log: pino({ level: 'silent' }),
     failures: new Counter({ name: 'keyframe_free_failures', help: 'test', registers: [] }),

@@ -64,7 +64,6 @@ beforeAll(async () => {
     fsync: 'none',
     keyframeTicks: KEYFRAME_TICKS,
     maxBytes: 1 << 30,
-    keep: 10,
     compress: true,
     log: pino({ level: 'silent' }),
     failures: new Counter({ name: 'test_failures', help: 'test', registers: [] }),

@@ -142,4 +142,15 @@ describe('a bad --host', () => {
       /^concord: cannot listen on --host 192\.0\.2\.1 --port 0: listen EADDRNOTAVAIL[^\n]*\n$/,
     )
   })
+
+  it('refuses a --replay-max-bytes below 4 MiB, saying why (a log must hold more than its header)', () => {
+    expect(loadConfig(['--replay-max-bytes', String(4 * 1024 * 1024)], {}).replayMaxBytes).toBe(4_194_304)
+    // 65,536 was accepted: below the 113 KB header of an awake pyramid, every tick rotated.
+    expect(() => loadConfig(['--replay-max-bytes', '65536'], {})).toThrow(
+      '--replay-max-bytes must be an integer of at least 4194304, got "65536": a new log starts with a header holding the whole saved world',
+    )
+    expect(() => loadConfig([], { REPLAY_MAX_BYTES: '4194303' })).toThrow(
+      /^REPLAY_MAX_BYTES must be .* at least 4194304/,
+    )
+  })
 })

@@ -23,7 +23,6 @@ function recorded(sim: RoomSimulation, name: string): { recorder: RoomRecorder; 
     fsync: 'none',
     keyframeTicks: 1_000_000,
     maxBytes: 1 << 30,
-    keep: 10,
     compress: true,
     log: pino({ level: 'silent' }),
     failures: new Counter({ name: `test_${name}_failures`, help: 'test', registers: [] }),

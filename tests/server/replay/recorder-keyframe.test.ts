@@ -36,7 +36,6 @@ describe('delta keyframes', () => {
       fsync: 'none',
       keyframeTicks: 60,
       maxBytes: 1 << 30,
-      keep: 10,
       compress: true,
       log: pino({ level: 'silent' }),
       failures: new Counter({ name: 'test_keyframe_failures', help: 'test', registers: [] }),

@@ -34,7 +34,6 @@ beforeAll(async () => {
     keyframeTicks: 60,
     keyframeBudget: 0,
     maxBytes: 1 << 30,
-    keep: 10,
     compress: true,
     log: pino({ level: 'silent' }),
     failures: new Counter({ name: 'test_chain_failures', help: 'test', registers: [] }),

@@ -41,7 +41,6 @@ beforeAll(async () => {
     keyframeTicks: 40,
     keyframeBudget: 0,
     maxBytes: 1 << 30,
-    keep: 10,
     compress: true,
     log: pino({ level: 'silent' }),
     failures: new Counter({ name: 'test_replay_fuzz_failures', help: 'test', registers: [] }),
