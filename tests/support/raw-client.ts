@@ -161,19 +161,6 @@ export function closeOf(frame: ServerFrame): { code: number; reason: Buffer } {
   return { code: frame.payload.readUInt16BE(0), reason: frame.payload.subarray(2) }
 }
 
-/** Poll `check` every 20 ms until it holds; rejects with `what` after `timeoutMs`. */
-export async function waitUntil(
-  check: () => boolean | Promise<boolean>,
-  what: string,
-  timeoutMs = 15_000,
-): Promise<void> {
-  const deadline = Date.now() + timeoutMs
-  while (!(await check())) {
-    if (Date.now() > deadline) throw new Error(`timed out waiting for ${what}`)
-    await new Promise((resolve) => setTimeout(resolve, 20))
-  }
-}
-
 /** A logger that keeps every line it writes (JSON objects), for counting what a server logged. */
 export function capturingLogger(level = 'info'): { logger: Logger; lines: Array<Record<string, unknown>> } {
   const lines: Array<Record<string, unknown>> = []

@@ -13,15 +13,9 @@ import { BotClient } from '../../../bots/bot-client.ts'
 import { loadConfig } from '../../../server/config/config.ts'
 import type { RunningServer } from '../../../server/server.ts'
 import { PROTOCOL_VERSION, type ServerMessage } from '../../../shared/index.ts'
-import {
-  clientFrame,
-  closeOf,
-  rawRequest,
-  rawWebSocket,
-  upgradeRequest,
-  waitUntil,
-} from '../../support/raw-client.ts'
+import { clientFrame, closeOf, rawRequest, rawWebSocket, upgradeRequest } from '../../support/raw-client.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 
 const JOIN = 'join-secret-7f3a'
 const ADMIN = 'admin-secret-91c2'
@@ -89,7 +83,7 @@ describe('join and admin tokens', { timeout: 20_000 }, () => {
         encode({ t: 'join', v: PROTOCOL_VERSION, room: 'private', name: 'sneak', mode: 'snapshot' }),
       ),
     )
-    await waitUntil(() => raw.frames.some((f) => f.opcode === 8), 'a close frame')
+    await until(() => raw.frames.some((f) => f.opcode === 8), 'a close frame')
     const { code, reason } = closeOf(raw.frames.find((f) => f.opcode === 8)!)
     expect(code).toBe(4005)
     expect(reason.toString()).toContain('needs a key')

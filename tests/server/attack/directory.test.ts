@@ -10,9 +10,10 @@
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../../server/server.ts'
 import { encodeMessage, PROTOCOL_VERSION } from '../../../shared/index.ts'
-import { clientFrame, rawWebSocket, waitUntil } from '../../support/raw-client.ts'
+import { clientFrame, rawWebSocket } from '../../support/raw-client.ts'
 import { startRedis, type TestRedis } from '../../support/redis-server.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 
 let redis: TestRedis
 let server: RunningServer
@@ -40,19 +41,19 @@ describe('directory claims from one socket', { timeout: 20_000 }, () => {
   it('joins sent while the first claim is pending claim nothing more', async () => {
     const raw = await rawWebSocket(server.port, '/ws')
     raw.socket.write(Buffer.concat(['many-0', 'many-1', 'many-2', 'many-3'].map(join)))
-    await waitUntil(() => server.host.has('many-0'), 'the first room opened')
+    await until(() => server.host.has('many-0'), 'the first room opened')
     // The three later joins are answered (already joined) only after the first: wait for them.
-    await waitUntil(() => raw.frames.length >= 4, 'an answer to every join')
+    await until(() => raw.frames.length >= 4, 'an answer to every join')
     expect(held()).toEqual(['many-0'])
     raw.socket.destroy()
     await raw.closed
-    await waitUntil(() => held().length === 0, 'the room released once disposed', 8000)
+    await until(() => held().length === 0, 'the room released once disposed', 8000)
   })
 
   it('a claim answered after its socket closed is given back', async () => {
     const raw = await rawWebSocket(server.port, '/ws')
     raw.socket.end(join('gone'))
     await raw.closed
-    await waitUntil(() => held().length === 0 && !server.host.has('gone'), 'the claim given back', 8000)
+    await until(() => held().length === 0 && !server.host.has('gone'), 'the claim given back', 8000)
   })
 })

@@ -17,9 +17,9 @@ import {
   rawRequest,
   rawWebSocket,
   upgradeRequest,
-  waitUntil,
 } from '../../support/raw-client.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 
 const capture = capturingLogger('info')
 let server: RunningServer
@@ -42,7 +42,7 @@ describe('frames that used to crash or freeze the server', { timeout: 30_000 }, 
     const raw = await rawWebSocket(server.port, '/ws?room=cut')
     for (let i = 0; i < 20; i++) raw.socket.write(clientFrame(Uint8Array.of(0xc1)))
     raw.socket.write(clientFrame(LONG_NAME_FRAME))
-    await waitUntil(() => raw.frames.some((f) => f.opcode === 8), 'a close frame')
+    await until(() => raw.frames.some((f) => f.opcode === 8), 'a close frame')
     const { code, reason } = closeOf(raw.frames.find((f) => f.opcode === 8)!)
     expect(code).toBe(1008)
     expect(reason.length).toBeLessThanOrEqual(123)
@@ -87,7 +87,7 @@ describe('frames that used to crash or freeze the server', { timeout: 30_000 }, 
     const linesBefore = capture.lines.length
     const raw = await rawWebSocket(server.port, '/ws?room=blast')
     for (let i = 0; i < 21; i++) raw.socket.write(clientFrame(Uint8Array.of(0xc1)))
-    await waitUntil(() => raw.frames.some((f) => f.opcode === 8), 'the strike-out close frame')
+    await until(() => raw.frames.some((f) => f.opcode === 8), 'the strike-out close frame')
     // Now blast garbage as fast as the socket takes it until the server terminates the socket.
     const garbage = Buffer.concat(Array.from({ length: 2000 }, () => clientFrame(Uint8Array.of(0xc1))))
     let blasted = 0
@@ -106,7 +106,7 @@ describe('frames that used to crash or freeze the server', { timeout: 30_000 }, 
     }
     const blasting = blast()
     // The server keeps answering while the blast goes on.
-    await waitUntil(() => healthy(server.url), '/healthz during the blast')
+    await until(() => healthy(server.url), '/healthz during the blast')
     await raw.closed
     await blasting
     expect(blasted).toBeGreaterThan(0)

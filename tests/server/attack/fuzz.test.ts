@@ -15,8 +15,8 @@ import { Unpackr } from 'msgpackr'
 import { afterAll, beforeAll, expect, it } from 'vitest'
 import WebSocket from 'ws'
 import { PROTOCOL_VERSION } from '../../../shared/index.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { type ServerProcess, startServerProcess } from '../../support/server-process.ts'
+import { until } from '../../support/wait.ts'
 
 const MESSAGES = 30_000
 const SEED = 11
@@ -207,7 +207,7 @@ class FuzzClient {
   async roundTrip(id: number): Promise<void> {
     if (!this.open) return
     this.socket?.send(encode({ t: 'ping', id, time: 0 }))
-    await waitUntil(() => this.pong === id || !this.open, `pong ${id} from room ${this.room}`, 60_000)
+    await until(() => this.pong === id || !this.open, `pong ${id} from room ${this.room}`, 60_000)
   }
 
   private receive(data: Buffer, isBinary: boolean): void {
@@ -279,7 +279,7 @@ it(`${MESSAGES} seeded hostile messages from 8 clients: the server lives, serves
   const fresh = new FuzzClient(server.port, 'lobby', 'snapshot')
   const welcomes = seen.byType.get('welcome') ?? 0
   await fresh.connect()
-  await waitUntil(() => (seen.byType.get('welcome') ?? 0) > welcomes, 'a welcome for a new client')
+  await until(() => (seen.byType.get('welcome') ?? 0) > welcomes, 'a welcome for a new client')
   fresh.socket?.close()
   for (const client of clients) client.socket?.close()
 

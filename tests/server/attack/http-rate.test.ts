@@ -13,14 +13,9 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import { PENALTY_SECONDS, RequestRate } from '../../../server/http/http-request-rate.ts'
 import type { RunningServer } from '../../../server/server.ts'
-import {
-  rawConnect,
-  rawRequest,
-  readUntilClosed,
-  upgradeRequest,
-  waitUntil,
-} from '../../support/raw-client.ts'
+import { rawConnect, rawRequest, readUntilClosed, upgradeRequest } from '../../support/raw-client.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 
 const RATE = 20
 const HEALTHZ = 'GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n'
@@ -115,7 +110,7 @@ describe('an address flooding HTTP requests', { timeout: 40_000 }, () => {
     expect(player.closeCode).toBe(0)
 
     // After the penalty the address is served again.
-    await waitUntil(
+    await until(
       async () => (await rawRequest(server.port, HEALTHZ)).status === 200,
       'the address to be served again',
       (PENALTY_SECONDS + 10) * 1000,

@@ -6,15 +6,9 @@
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import type { RunningServer } from '../../../server/server.ts'
-import {
-  healthy,
-  rawConnect,
-  rawRequest,
-  readUntilClosed,
-  upgradeRequest,
-  waitUntil,
-} from '../../support/raw-client.ts'
+import { healthy, rawConnect, rawRequest, readUntilClosed, upgradeRequest } from '../../support/raw-client.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 
 let server: RunningServer
 
@@ -68,7 +62,7 @@ describe('connections that never complete a request', { timeout: 30_000 }, () =>
       const half = await Promise.all([rawConnect(tight.port), rawConnect(tight.port)])
       for (const s of half) s.write('GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ')
       const answers = [...silent, ...half].map((s) => readUntilClosed(s))
-      await waitUntil(() => tight.guard.count === 4, 'four connections counted')
+      await until(() => tight.guard.count === 4, 'four connections counted')
       // The four unfinished connections fill the cap: a fifth connection, even a WebSocket, is refused.
       const fifth = await rawRequest(tight.port, upgradeRequest('/ws?room=a'))
       expect(fifth.status).toBe(503)
@@ -77,7 +71,7 @@ describe('connections that never complete a request', { timeout: 30_000 }, () =>
       // Each is answered 408 and closed by the server (no client-side timeout involved).
       for (const answer of await Promise.all(answers))
         expect(answer.toString('latin1')).toMatch(/^HTTP\/1\.1 408/)
-      await waitUntil(() => tight.guard.count === 0, 'the connections to be released')
+      await until(() => tight.guard.count === 0, 'the connections to be released')
       const player = await BotClient.connect({ url: tight.url, room: 'a', name: 'after' })
       await player.close()
     } finally {
@@ -103,7 +97,7 @@ describe('the per-address connection cap', { timeout: 20_000 }, () => {
       )
       expect(refused).toContain('reason="max-connections-per-ip"')
       await bots[0].close()
-      await waitUntil(() => capped.guard.countOf('127.0.0.1') === 2, 'the closed connection to be released')
+      await until(() => capped.guard.countOf('127.0.0.1') === 2, 'the closed connection to be released')
       const again = await BotClient.connect({ url: capped.url, room: 'cap', name: 'again' })
       await Promise.all([again.close(), bots[1].close(), bots[2].close()])
     } finally {

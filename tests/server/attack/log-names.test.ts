@@ -15,8 +15,8 @@ import { join } from 'node:path'
 import { afterAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import { PRUNE_QUIET_MS, pruneLogs } from '../../../server/replay/replay-files.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { type ServerProcess, startServerProcess } from '../../support/server-process.ts'
+import { until } from '../../support/wait.ts'
 
 const LOOK_ALIKE = 'lobby-99999999T'
 
@@ -43,7 +43,7 @@ describe('a room named like a log of another room', { timeout: 40_000 }, () => {
     await BotClient.connect({ url: first.url, room: 'lobby', name: 'player' })
     await BotClient.connect({ url: first.url, room: LOOK_ALIKE, name: 'attacker' })
     // Both logs hold a checkpoint after the header.
-    await waitUntil(async () => {
+    await until(async () => {
       const logs = (await (await fetch(`${first.url}/replays`)).json()) as Array<{ ticks: number }>
       return logs.length === 2 && logs.every((l) => l.ticks >= 60)
     }, 'two logs with a checkpoint')

@@ -13,9 +13,9 @@ import {
   rawRequest,
   rawWebSocket,
   upgradeRequest,
-  waitUntil,
 } from '../../support/raw-client.ts'
 import { startServerProcess } from '../../support/server-process.ts'
+import { until } from '../../support/wait.ts'
 
 let child: ChildProcess | null = null
 
@@ -40,10 +40,10 @@ describe('the server process', { timeout: 30_000 }, () => {
     const raw = await rawWebSocket(port, '/ws?room=cut')
     for (let i = 0; i < 20; i++) raw.socket.write(clientFrame(Uint8Array.of(0xc1)))
     raw.socket.write(clientFrame(LONG_NAME_FRAME))
-    await waitUntil(() => raw.frames.some((f) => f.opcode === 8), 'the close frame')
+    await until(() => raw.frames.some((f) => f.opcode === 8), 'the close frame')
     expect(closeOf(raw.frames.find((f) => f.opcode === 8)!).code).toBe(1008)
     await raw.closed
-    await waitUntil(() => healthy(url), '/healthz after the attacks')
+    await until(() => healthy(url), '/healthz after the attacks')
     expect(proc.exitCode).toBe(null)
     proc.kill('SIGTERM')
   })

@@ -12,8 +12,8 @@ import { join } from 'node:path'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { logBytesRead } from '../../../server/replay/replay-files.ts'
 import type { RunningServer } from '../../../server/server.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 
 let server: RunningServer
 let dir: string
@@ -38,7 +38,7 @@ async function listing(): Promise<Array<{ name: string; size: number; status: st
 
 describe('GET /replays while a room records', { timeout: 20_000 }, () => {
   it('reads only the bytes appended to a log since the last listing, not the whole log again', async () => {
-    await waitUntil(
+    await until(
       async () => (await listing()).some((l) => l.status === 'recording' && l.size > 0),
       'a log being recorded, its header written',
     )
@@ -46,7 +46,7 @@ describe('GET /replays while a room records', { timeout: 20_000 }, () => {
     const [first] = await listing()
     const firstRead = logBytesRead.total - before
     // The recorder appends at least once a second.
-    await waitUntil(async () => (await stat(join(dir, first.name))).size > first.size, 'the log to grow')
+    await until(async () => (await stat(join(dir, first.name))).size > first.size, 'the log to grow')
     const again = logBytesRead.total
     const [second] = await listing()
     const secondRead = logBytesRead.total - again

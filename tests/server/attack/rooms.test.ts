@@ -9,8 +9,9 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import type { RunningServer } from '../../../server/server.ts'
 import { encodeMessage, PROTOCOL_VERSION } from '../../../shared/index.ts'
-import { clientFrame, rawWebSocket, waitUntil } from '../../support/raw-client.ts'
+import { clientFrame, rawWebSocket } from '../../support/raw-client.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 
 let server: RunningServer
 
@@ -37,7 +38,7 @@ describe('joins abandoned before the worker answers', { timeout: 20_000 }, () =>
       await raw.closed
     }
     // Empty rooms are disposed after --room-idle-seconds (1 s); then only the default room is open.
-    await waitUntil(async () => (await listedRooms()).join() === 'lobby', 'the churned rooms disposed', 8000)
+    await until(async () => (await listedRooms()).join() === 'lobby', 'the churned rooms disposed', 8000)
     // Two new rooms fit under the limit of 3 (lobby included).
     for (const room of ['after-1', 'after-2']) {
       const bot = await BotClient.connect({ url: server.url, room, name: 'after' })

@@ -6,8 +6,8 @@ import { afterAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import { listLogNames } from '../../../server/replay/replay-files.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { startServerProcess } from '../../support/server-process.ts'
+import { until } from '../../support/wait.ts'
 
 let child: ChildProcess | null = null
 
@@ -50,11 +50,11 @@ describe('signals during a shutdown', { timeout: 60_000 }, () => {
     ])
     child = server.process
     const bot = await BotClient.connect({ url: server.url, room: 'lobby', name: 'a' })
-    await waitUntil(async () => (await listLogNames(dir)).length === 1, 'the lobby log')
+    await until(async () => (await listLogNames(dir)).length === 1, 'the lobby log')
     server.process.kill('SIGINT')
     // Two signals sent at once may reach the process as one (a pending signal is not queued twice):
     // the second goes once the shutdown has begun, as npm's copy does.
-    await waitUntil(() => server.lines.some((l) => l.msg === 'shutting down'), 'the shutdown begun')
+    await until(() => server.lines.some((l) => l.msg === 'shutting down'), 'the shutdown begun')
     server.process.kill('SIGINT')
     const { code, signal } = await server.exited
     expect({ code, signal }).toEqual({ code: 0, signal: null })
@@ -72,7 +72,7 @@ describe('signals during a shutdown', { timeout: 60_000 }, () => {
     const server = await startServerProcess(['--drain-seconds', '5'], { RECORD: 'false' })
     child = server.process
     server.process.kill('SIGTERM')
-    await waitUntil(() => server.lines.some((l) => l.msg === 'shutting down'), 'the shutdown begun')
+    await until(() => server.lines.some((l) => l.msg === 'shutting down'), 'the shutdown begun')
     server.process.kill('SIGTERM')
     server.process.kill('SIGINT')
     const started = Date.now()

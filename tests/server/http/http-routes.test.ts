@@ -2,8 +2,8 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import { meanTickMs } from '../../../client/net/server-stats.ts'
 import type { RunningServer } from '../../../server/server.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 
 let server: RunningServer
 
@@ -30,7 +30,7 @@ describe('HTTP routes', { timeout: 20_000 }, () => {
     expect(rooms.find((r) => r.name === 'lobby')?.players).toBe(0)
     // Rooms on workers report their metrics once a second: wait for the first report.
     let metrics = ''
-    await waitUntil(async () => {
+    await until(async () => {
       metrics = await (await fetch(`${server.url}/metrics`)).text()
       return metrics.includes('concord_room_tick_seconds_bucket')
     }, 'the room metrics')
@@ -70,7 +70,7 @@ describe('HTTP routes', { timeout: 20_000 }, () => {
     const bot = await BotClient.connect({ url: server.url, room: 'brief', name: 'x' })
     const watcher = await BotClient.connect({ url: server.url, room: 'lobby', name: 'w' })
     await bot.close()
-    await waitUntil(() => !server.host.has('brief'), 'disposal')
+    await until(() => !server.host.has('brief'), 'disposal')
     expect(server.host.has('lobby')).toBe(true)
     const listed = (await (await fetch(`${server.url}/rooms`)).json()) as Array<{ name: string }>
     expect(listed.map((r) => r.name)).not.toContain('brief')

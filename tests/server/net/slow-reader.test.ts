@@ -10,9 +10,10 @@
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import type { RunningServer } from '../../../server/server.ts'
-import { capturingLogger, waitUntil } from '../../support/raw-client.ts'
+import { capturingLogger } from '../../support/raw-client.ts'
 import { readSlowly } from '../../support/slow-socket.ts'
 import { inProcessRooms, startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 
 const capture = capturingLogger('info')
 let server: RunningServer
@@ -64,7 +65,7 @@ describe('a client that reads, but slowly', { timeout: 90_000 }, () => {
     // read through its backlog.
     const room = server.rooms.get('slow')!
     try {
-      await waitUntil(() => !room.players.has(slow.mirror.clientId), 'the slow reader to be closed', 60_000)
+      await until(() => !room.players.has(slow.mirror.clientId), 'the slow reader to be closed', 60_000)
     } finally {
       reader.stop()
       slow.ws.terminate()

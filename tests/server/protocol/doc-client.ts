@@ -5,7 +5,7 @@
  */
 import { decode, encode } from '@msgpack/msgpack'
 import WebSocket from 'ws'
-import { waitUntil } from '../../support/raw-client.ts'
+import { until } from '../../support/wait.ts'
 
 /** A decoded server message: a map with a string `t`. */
 export type Decoded = Record<string, unknown> & { t: string }
@@ -74,13 +74,13 @@ export class DocClient {
 
   /** Wait until some received message passes `check`; returns it. */
   async waitFor(check: (m: Decoded) => boolean, what: string, timeoutMs = 15_000): Promise<Decoded> {
-    await waitUntil(() => this.messages.some(check), what, timeoutMs)
+    await until(() => this.messages.some(check), what, timeoutMs)
     return this.messages.find(check)!
   }
 
   /** Wait until the server closes the socket; returns the close code and reason. */
   async closed(timeoutMs = 15_000): Promise<{ code: number; reason: string }> {
-    await waitUntil(() => this.close !== null, 'the close', timeoutMs)
+    await until(() => this.close !== null, 'the close', timeoutMs)
     return this.close!
   }
 

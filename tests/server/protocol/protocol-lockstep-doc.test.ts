@@ -15,8 +15,8 @@ import { decode } from '@msgpack/msgpack'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import type { RunningServer } from '../../../server/server.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 import { type Decoded, DocClient } from './doc-client.ts'
 import { documentedEntryKinds, documentedFields } from './doc-tables.ts'
 
@@ -99,10 +99,7 @@ describe('PROTOCOL.md, Lockstep and predict', { timeout: 90_000 }, () => {
     actor.command({ k: 'reset' })
     const third = await BotClient.connect({ url: server.url, room, name: 'third' })
     await third.close()
-    await waitUntil(
-      () => kindsSeen(ls).has(13) && kindsSeen(ls).has(1),
-      'the reset and the leave in the stream',
-    )
+    await until(() => kindsSeen(ls).has(13) && kindsSeen(ls).has(1), 'the reset and the leave in the stream')
     // The room's tick from the stream itself: the reset's entry, and the last tick covered so far.
     const resetAt = Math.max(
       ...entries(ls)
@@ -111,16 +108,13 @@ describe('PROTOCOL.md, Lockstep and predict', { timeout: 90_000 }, () => {
     )
     const covered = (): number =>
       Math.max(0, ...ls.all('ticks').map((m) => (m.tick as number) + (m.n as number) - 1))
-    await waitUntil(() => covered() > resetAt + 12, 'the scene-load limit')
+    await until(() => covered() > resetAt + 12, 'the scene-load limit')
     actor.command({ k: 'scene', name: 'tower' })
-    await waitUntil(() => kindsSeen(ls).size === 15, 'all 15 entry kinds', 30_000)
+    await until(() => kindsSeen(ls).size === 15, 'all 15 entry kinds', 30_000)
 
     // A paused room: the world does not change, so the next checkpoint's hash is the sync's world's.
     actor.command({ k: 'pause', paused: true })
-    await waitUntil(
-      () => entries(ls).some((x) => x.e[2] === 11 && x.e[3] === true && x.tick > resetAt),
-      'pause',
-    )
+    await until(() => entries(ls).some((x) => x.e[2] === 11 && x.e[3] === true && x.tick > resetAt), 'pause')
     const syncs = ls.all('sync').length
     ls.send({ t: 'resync' })
     const resynced = await ls.waitFor((m) => m.t === 'sync' && ls.all('sync').length > syncs, 'the resync')

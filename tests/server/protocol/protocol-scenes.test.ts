@@ -6,8 +6,8 @@
 import { readFileSync } from 'node:fs'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../../server/server.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { startTestServer } from '../../support/test-server.ts'
+import { until } from '../../support/wait.ts'
 import { type Decoded, DocClient } from './doc-client.ts'
 
 let server: RunningServer
@@ -82,7 +82,7 @@ describe('PROTOCOL.md scenes', { timeout: 60_000 }, () => {
                 (m.t === 'state' && (m.state as { scene: string }).scene === row.name) ||
                 (m.t === 'error' && m.seq === s),
             )
-        await waitUntil(() => reply() !== undefined, `the ${row.name} scene`)
+        await until(() => reply() !== undefined, `the ${row.name} scene`)
         const m = reply()!
         if (m.t === 'state') state = m
         // Loads are limited to one per 10 ticks: retry once the room is past that.

@@ -8,14 +8,14 @@ import { spawn } from 'node:child_process'
 import { hostname } from 'node:os'
 import { describe, expect, it } from 'vitest'
 import { processInfo, writerAlive } from '../../../server/replay/log-writer.ts'
-import { waitUntil } from '../../support/raw-client.ts'
+import { until } from '../../support/wait.ts'
 
 describe('log writer liveness', () => {
   it('a live process is the writer of a log started after it, never of one started before it', async () => {
     const child = spawn('sleep', ['30'], { stdio: 'ignore' })
     const pid = child.pid!
     const exited = new Promise((resolve) => child.once('exit', resolve))
-    await waitUntil(() => processInfo(pid)?.state === 'S', 'the child sleeping')
+    await until(() => processInfo(pid)?.state === 'S', 'the child sleeping')
     const started = processInfo(pid)!.startMs
     // /proc's start time agrees with the wall clock at spawn within its boot-time rounding (1 s).
     expect(Math.abs(started - Date.now())).toBeLessThan(5000)
@@ -27,7 +27,7 @@ describe('log writer liveness', () => {
     expect(writerAlive({ host: hostname(), pid: process.pid }, Date.now())).toBe(false)
     child.kill('SIGKILL')
     await exited
-    await waitUntil(() => processInfo(pid) === null, 'the child reaped')
+    await until(() => processInfo(pid) === null, 'the child reaped')
     expect(writerAlive(writer, Date.now())).toBe(false)
   })
 })

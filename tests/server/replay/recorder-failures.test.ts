@@ -10,7 +10,8 @@ import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import type { LogFile } from '../../../server/replay/replay-files.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
 import { RoomSimulation } from '../../../shared/sim/room-simulation.ts'
-import { capturingLogger, waitUntil } from '../../support/raw-client.ts'
+import { capturingLogger } from '../../support/raw-client.ts'
+import { until } from '../../support/wait.ts'
 
 /** Files in memory on a disk of `space` bytes (shared by all files). */
 function smallDisk(space: number) {
@@ -90,7 +91,7 @@ describe('a recorder on a disk that fills up', () => {
     expect(sim.apply(1, { k: 'scene', name: 'pyramid' })).toBeNull()
     while (sim.tick < 610) sim.runTick()
     await recorder.flush()
-    await waitUntil(() => recorder.failed, 'the recorder fails')
+    await until(() => recorder.failed, 'the recorder fails')
     await recorder.flush()
     const file = disk.files.get(path)!
     const { status, records } = read(file.bytes)
@@ -119,18 +120,18 @@ describe('a recorder on a disk that fills up', () => {
     expect(sim.apply(1, { k: 'scene', name: 'pyramid' })).toBeNull()
     while (sim.tick < 610) sim.runTick()
     await recorder.flush()
-    await waitUntil(() => disk.files.get(path)!.givenUp, 'the log given up')
+    await until(() => disk.files.get(path)!.givenUp, 'the log given up')
     // Cut back to its last whole record: no part of a record stays.
     expect(disk.files.get(path)!.bytes.length).toBe(whole)
     expect(read(disk.files.get(path)!.bytes).status).toMatchObject({ state: 'end', closed: false })
     // Retries while the disk is full create nothing that stays and are not counted again.
-    await waitUntil(
+    await until(
       () => lines.some((l) => l.msg === 'recording is still failing for this room'),
       'a retry fails',
     )
     expect((await failures.get()).values[0].value).toBe(1)
     disk.space = 1 << 20
-    await waitUntil(() => lines.some((l) => l.msg === 'recording resumed in a new log'), 'recording resumed')
+    await until(() => lines.some((l) => l.msg === 'recording resumed in a new log'), 'recording resumed')
     const logs = [...disk.files.entries()].filter(([, f]) => f.bytes.length > 0)
     expect(logs).toHaveLength(2)
     const { records } = read(logs[1][1].bytes)
@@ -149,7 +150,7 @@ describe('a recorder on a disk that fills up', () => {
     const [path] = disk.files.keys()
     disk.files.get(path)!.linked = false
     // The check runs with the once-a-second flush.
-    await waitUntil(() => disk.files.size === 2, 'a new log', 5000)
+    await until(() => disk.files.size === 2, 'a new log', 5000)
     expect((await failures.get()).values[0].value).toBe(1)
     for (let i = 0; i < 30; i++) sim.runTick()
     await recorder.flush()

@@ -13,7 +13,7 @@ import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import type { LogFile } from '../../../server/replay/replay-files.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
 import { RoomSimulation } from '../../../shared/sim/room-simulation.ts'
-import { waitUntil } from '../../support/raw-client.ts'
+import { until } from '../../support/wait.ts'
 
 afterEach(() => {
   vi.useRealTimers()
@@ -47,7 +47,7 @@ describe('log rotation', () => {
       if (i > 5_000) throw new Error('no rotation')
     }
     const second = [...files.values()][1]
-    await waitUntil(() => second.length > 0, 'the new log gets its header')
+    await until(() => second.length > 0, 'the new log gets its header')
     const reader = new ReplayLogReader()
     const records = reader.push(Buffer.concat(second))
     expect(records[0]?.type).toBe('header')

@@ -13,8 +13,8 @@ import { afterAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import { listLogNames } from '../../../server/replay/replay-files.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { type ServerProcess, startServerProcess } from '../../support/server-process.ts'
+import { until } from '../../support/wait.ts'
 
 const children: ServerProcess[] = []
 afterAll(() => {
@@ -39,18 +39,18 @@ describe('a deleted replay directory', { timeout: 60_000 }, () => {
     ])
     children.push(server)
     const bot = await BotClient.connect({ url: server.url, room: 'other', name: 'p' })
-    await waitUntil(async () => (await listLogNames(dir)).length === 2, 'two logs')
+    await until(async () => (await listLogNames(dir)).length === 2, 'two logs')
     await rm(dir, { recursive: true })
-    await waitUntil(async () => (await listLogNames(dir)).length === 2, 'two new logs')
+    await until(async () => (await listLogNames(dir)).length === 2, 'two new logs')
     const rooms = (await listLogNames(dir)).map((n) => n.split('-')[0]).sort()
     expect(rooms).toEqual(['lobby', 'other'])
     // Each new log starts with a header and goes on (a hash record every 60 ticks).
     for (const name of await listLogNames(dir))
-      await waitUntil(async () => {
+      await until(async () => {
         const records = new ReplayLogReader().push(await readFile(join(dir, name)))
         return records[0]?.type === 'header' && records.some((r) => r.type === 'hash')
       }, `${name}: a header and a checkpoint`)
-    await waitUntil(async () => (await failures(server)) === 2, 'two failures counted')
+    await until(async () => (await failures(server)) === 2, 'two failures counted')
     const open: string[] = []
     for (const fd of await readdir(`/proc/${server.process.pid}/fd`))
       open.push(await readlink(`/proc/${server.process.pid}/fd/${fd}`).catch(() => ''))

@@ -23,8 +23,8 @@ import { afterAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import { listLogNames } from '../../../server/replay/replay-files.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { type ServerProcess, startServerProcess } from '../../support/server-process.ts'
+import { until } from '../../support/wait.ts'
 
 const children: ServerProcess[] = []
 const mounts: string[] = []
@@ -94,7 +94,7 @@ describe('a disk that fills up', { timeout: 120_000 }, () => {
       children.push(server)
       const bot = await BotClient.connect({ url: server.url, room: 'lobby', name: 'filler' })
       // A checkpoint on disk before the disk fills.
-      await waitUntil(async () => {
+      await until(async () => {
         const [name] = await listLogNames(dir)
         return name !== undefined && (await readLog(join(dir, name))).lastTick >= 120
       }, 'a checkpoint in the lobby log')
@@ -104,7 +104,7 @@ describe('a disk that fills up', { timeout: 120_000 }, () => {
       // 1. The disk fills: the pile's keyframe (about 25 KB) meets 16 KiB of space.
       await fill(dir, 'filler', 16 * 1024)
       bot.command({ k: 'scene', name: 'pile' })
-      await waitUntil(
+      await until(
         () => server.lines.some((l) => l.msg === 'recording stopped for this room; the room keeps running'),
         'the failure logged',
       )
@@ -114,10 +114,10 @@ describe('a disk that fills up', { timeout: 120_000 }, () => {
       expect(stopped.map((l) => [l.room, l.log])).toEqual([['lobby', first]])
       expect(String(stopped[0].err)).toMatch(/ENOSPC/)
       // The worker's metrics reach /metrics with its once-a-second stats.
-      await waitUntil(async () => (await failures(server)) > 0, 'the failure counted')
+      await until(async () => (await failures(server)) > 0, 'the failure counted')
       expect(await failures(server)).toBe(1)
       // Everything before the failure reads back; nothing after it is half a record.
-      await waitUntil(
+      await until(
         async () => (await readLog(join(dir, first))).closeReason !== '',
         'the failed log closed',
       ).catch(() => {})
@@ -130,14 +130,14 @@ describe('a disk that fills up', { timeout: 120_000 }, () => {
       // 2. Space comes back: a new log, starting with a header (a whole keyframe) at the state then.
       const failTick = failed.lastTick
       await unlink(join(dir, 'filler'))
-      await waitUntil(
+      await until(
         () => server.lines.some((l) => l.msg === 'recording resumed in a new log'),
         'recording resumed',
       )
       const logs = await listLogNames(dir)
       expect(logs.length).toBe(2)
       const second = logs[1]
-      await waitUntil(async () => (await readLog(join(dir, second))).lastTick > 0, 'the new log written')
+      await until(async () => (await readLog(join(dir, second))).lastTick > 0, 'the new log written')
       const resumed = await readLog(join(dir, second))
       expect(resumed.headerTick).toBeGreaterThan(failTick)
       expect(resumed.status).toMatchObject({ state: 'end', closed: false })
@@ -145,7 +145,7 @@ describe('a disk that fills up', { timeout: 120_000 }, () => {
       // 3. It fills again; a clean shutdown; the next start reopens nothing of the lobby.
       await fill(dir, 'filler', 16 * 1024)
       bot.command({ k: 'scene', name: 'pyramid' })
-      await waitUntil(
+      await until(
         () =>
           server.lines.some(
             (l) => l.msg === 'recording stopped for this room; the room keeps running' && l.log === second,
@@ -159,7 +159,7 @@ describe('a disk that fills up', { timeout: 120_000 }, () => {
       await unlink(join(dir, 'filler'))
       const next = await startServerProcess(args)
       children.push(next)
-      await waitUntil(async () => (await listLogNames(dir)).length === 3, 'a new lobby log')
+      await until(async () => (await listLogNames(dir)).length === 3, 'a new lobby log')
       expect(next.lines.filter((l) => l.msg === 'room recovered from its log')).toEqual([])
       expect(
         await Promise.all([first, second].map(async (n) => (await readFile(join(dir, n))).length)),

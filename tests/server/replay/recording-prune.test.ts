@@ -13,8 +13,8 @@ import { join } from 'node:path'
 import { afterAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import { listLogNames } from '../../../server/replay/replay-files.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { type ServerProcess, startServerProcess } from '../../support/server-process.ts'
+import { until } from '../../support/wait.ts'
 
 const KEEP = 5
 const ROOMS = 40
@@ -78,7 +78,7 @@ describe('pruning the replay directory', { timeout: 120_000 }, () => {
       )
     }
     // The churn is over once only the lobby is open; then one more room's log prunes the rest.
-    await waitUntil(async () => {
+    await until(async () => {
       const rooms = (await (await fetch(`${server.url}/rooms`)).json()) as Array<{ name: string }>
       return rooms.length === 1
     }, 'the short rooms to close')
@@ -86,7 +86,7 @@ describe('pruning the replay directory', { timeout: 120_000 }, () => {
     // report their open logs once a second): a new room's log prunes again, at most every 1.5 s.
     let extra = 0
     let lastTrigger = 0
-    await waitUntil(
+    await until(
       async () => {
         if ((await listLogNames(dir)).length === KEEP) return true
         if (Date.now() - lastTrigger < 1500) return false

@@ -14,8 +14,8 @@ import { join } from 'node:path'
 import { createInterface } from 'node:readline'
 import { afterAll, describe, expect, it } from 'vitest'
 import { listLogNames, logFileName } from '../../../server/replay/replay-files.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { type LogLine, type ServerProcess, startServerProcess } from '../../support/server-process.ts'
+import { until } from '../../support/wait.ts'
 
 const ROUNDS = 20
 
@@ -76,16 +76,16 @@ describe('restart right after SIGKILL', { timeout: 300_000 }, () => {
     const dir = await mkdtemp(join(tmpdir(), 'concord-restart-'))
     let server = await startUnreaped(dir)
     // The lobby's log holds a checkpoint (fsync always: one per tick) before the first kill.
-    await waitUntil(async () => (await listLogNames(dir)).length === 1, 'the lobby log')
+    await until(async () => (await listLogNames(dir)).length === 1, 'the lobby log')
     const log = (await listLogNames(dir))[0]
     let ticks = -1
     let zombies = 0
     for (let round = 0; round < ROUNDS; round++) {
       process.kill(server.pid, 'SIGKILL')
-      await waitUntil(() => procState(server.pid) === 'Z', `round ${round}: the killed server is a zombie`)
+      await until(() => procState(server.pid) === 'Z', `round ${round}: the killed server is a zombie`)
       zombies++
       const next = await startUnreaped(dir)
-      await waitUntil(() => recovered(next) !== undefined, `round ${round}: the lobby recovered`).catch(
+      await until(() => recovered(next) !== undefined, `round ${round}: the lobby recovered`).catch(
         (error) => {
           throw new Error(
             `${(error as Error).message}: ${JSON.stringify(next.lines.filter((l) => (l.level as number) >= 40))}`,
@@ -106,10 +106,7 @@ describe('restart right after SIGKILL', { timeout: 300_000 }, () => {
     expect(zombies).toBe(ROUNDS)
     expect(await listLogNames(dir)).toEqual([log])
     process.kill(server.pid, 'SIGTERM')
-    await waitUntil(
-      () => procState(server.pid) === 'Z' || procState(server.pid) === '',
-      'the last server ends',
-    )
+    await until(() => procState(server.pid) === 'Z' || procState(server.pid) === '', 'the last server ends')
     server.wrapper.kill('SIGKILL')
   })
 })
@@ -123,7 +120,7 @@ describe('a crash right after a rotation', { timeout: 120_000 }, () => {
     ]
     const first = await startServerProcess(args)
     children.push(first)
-    await waitUntil(async () => {
+    await until(async () => {
       const logs = (await (await fetch(`${first.url}/replays`)).json()) as Array<{ ticks: number }>
       return logs.length === 1 && logs[0].ticks >= 60
     }, 'a checkpoint in the lobby log')
@@ -137,7 +134,7 @@ describe('a crash right after a rotation', { timeout: 120_000 }, () => {
     await writeFile(join(dir, logFileName('lobby', start + 2000)), new Uint8Array([0x43, 0x4e]))
     const second = await startServerProcess(args)
     children.push(second)
-    await waitUntil(
+    await until(
       () => second.lines.some((l) => l.msg === 'room recovered from its log' && l.room === 'lobby'),
       'the lobby recovered',
     )

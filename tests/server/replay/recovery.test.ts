@@ -22,8 +22,8 @@ import { decodeByteDelta } from '../../../shared/replay/byte-delta.ts'
 import type { StoredWorld } from '../../../shared/replay/replay-log.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
 import { ActiveBots } from '../../support/lockstep-bots.ts'
-import { waitUntil } from '../../support/raw-client.ts'
 import { type ServerProcess, startServerProcess } from '../../support/server-process.ts'
+import { until } from '../../support/wait.ts'
 
 const ROOMS = ['r0', 'r1', 'r2', 'r3']
 const KILLS = 5
@@ -112,7 +112,7 @@ describe('crash recovery', { timeout: 180_000 }, () => {
         // Rooms on workers log their recovery from the worker's thread, whose output reaches
         // stdout after the main thread's "listening": wait for the lines (the rooms themselves
         // were rebuilt before the server listened), then compare.
-        await waitUntil(
+        await until(
           () => ROOMS.every((room) => recoveredLines(server).has(room)),
           `round ${round}: every recovery logged`,
         ).catch(() => {})
@@ -143,7 +143,7 @@ describe('crash recovery', { timeout: 180_000 }, () => {
       if (round === 0) {
         // Every room's log has its header on disk before the first kill is timed.
         for (const room of ROOMS)
-          await waitUntil(async () => {
+          await until(async () => {
             const name = await newestLog(dir, room)
             return name !== undefined && (await stat(join(dir, name))).size > 100
           }, `${room}'s first log`)
@@ -204,7 +204,7 @@ describe('crash recovery', { timeout: 180_000 }, () => {
     // as a new room; the closed logs stay as they were.
     const sizes = await Promise.all(ROOMS.map(async (room) => (await stat(join(dir, logs.get(room)!))).size))
     const after = await start(dir, 'interval')
-    await waitUntil(async () => (await newestLog(dir, 'r0')) !== logs.get('r0'), 'a new log for r0')
+    await until(async () => (await newestLog(dir, 'r0')) !== logs.get('r0'), 'a new log for r0')
     expect(recoveredLines(after).size).toBe(0)
     const bot = await BotClient.connect({ url: after.url, room: 'r1', name: 'fresh' })
     expect(bot.mirror.tick).toBeLessThan(120)
