@@ -21,6 +21,7 @@ import {
   type LogSummary,
   listLogNames,
   listLogs,
+  recoveryPick,
   roomOfLog,
   summarize,
 } from './replay-files.ts'
@@ -153,10 +154,10 @@ export class Recordings {
     }
     const out: string[] = []
     for (const names of byRoom.values()) {
-      const name = await this.newestWithHeader(names)
+      const name = await recoveryPick(this.dir, names, this.openNames)
       if (!name) continue
       const summary = await summarize(this.dir, name, this.openNames).catch(() => null)
-      if (!summary || summary.status === 'clean') continue
+      if (!summary || summary.status === 'clean' || !hasHeader(summary)) continue
       if (await givenUp(this.dir, name)) {
         this.log.info({ log: name }, 'not recovering a log whose recording failed (given up by its writer)')
         continue
@@ -171,19 +172,6 @@ export class Recordings {
       out.push(name)
     }
     return out
-  }
-
-  /**
-   * The newest of one room's logs (given oldest first) that is not empty (cut before its header was
-   * whole), or null. An invalid one is not passed over: what it holds is not known.
-   */
-  private async newestWithHeader(names: readonly string[]): Promise<string | null> {
-    for (let i = names.length - 1; i >= 0; i--) {
-      const summary = await summarize(this.dir, names[i], this.openNames).catch(() => null)
-      if (!summary) return null
-      if (summary.status !== 'empty') return hasHeader(summary) ? names[i] : null
-    }
-    return null
   }
 
   private attach(room: Room): void {
