@@ -12,8 +12,12 @@
  * world, the delta is encoded right after the loop tick and deflated on libuv's pool. A log past
  * maxBytes (and holding half of it beyond its header) is closed (reason "rotated") and a new one
  * starts with a header at the current state, written before the old log's close (see rotate()).
- * Any write error stops recording for this room: one log line, concord_recorder_failures_total,
- * and the room keeps running.
+ * A write error, a short write the disk does not finish, or the log deleted under it (checked once
+ * a second) stops recording for this room (one log line and one count of
+ * concord_recorder_failures_total per outage; the room keeps running): the log is cut back to its
+ * last whole record and closed "recording failed", or marked given up when even that does not fit
+ * (fail, giveUp). Every RETRY_MS (at once after a deletion) it tries again in a new log whose
+ * header holds the room's state then.
  */
 import { mkdir } from 'node:fs/promises'
 import { hostname } from 'node:os'
