@@ -12,8 +12,12 @@
  * world, the delta is encoded right after the loop tick and deflated on libuv's pool. A log past
  * maxBytes (and holding half of it beyond its header) is closed (reason "rotated") and a new one
  * starts with a header at the current state, written before the old log's close (see rotate()).
- * Any write error stops recording for this room: one log line, concord_recorder_failures_total,
- * and the room keeps running.
+ * A write error, a short write the disk does not finish, or the log deleted under it (checked once
+ * a second) stops recording for this room (one log line and one count of
+ * concord_recorder_failures_total per outage; the room keeps running): the log is cut back to its
+ * last whole record and closed "recording failed", or marked given up when even that does not fit
+ * (fail, giveUp). Every RETRY_MS (at once after a deletion) it tries again in a new log whose
+ * header holds the room's state then.
  */
 import { mkdir } from 'node:fs/promises'
 import { hostname } from 'node:os'
@@ -61,6 +65,8 @@ interface LogState {
   tick: number
   /** Created by this recorder: given up with nothing whole in it, it is removed. */
   created: boolean
+  /** Given up after a failure: nothing more is written to it. */
+  done: boolean
 }
 
 /** Write all of `bytes`, the rest again after a short write; an Error says how much landed. */
@@ -167,7 +173,7 @@ export class RoomRecorder implements SimulationObserver {
     this.keyframes.reset(this.sim.tick, false, 0)
     this.options.openNames.add(name)
     const file = this.openLog(join(this.options.dir, name), 'append')
-    this.log = { name, file, written: size, tick: this.sim.tick, created: false }
+    this.log = { name, file, written: size, tick: this.sim.tick, created: false, done: false }
     file.catch((error) => this.fail(error))
     this.sim.observers.push(this)
     this.startTimer()
@@ -214,7 +220,7 @@ export class RoomRecorder implements SimulationObserver {
     this.pendingBytes = 0
     const sync = this.options.fsync !== 'none'
     this.chain = this.chain.then(async () => {
-      if (this.failed) return
+      if (this.failed || log.done) return
       try {
         const bytes = Buffer.concat(await Promise.all(batch))
         await writeAll(await log.file, bytes)
@@ -223,17 +229,13 @@ export class RoomRecorder implements SimulationObserver {
         if (sync) await (await log.file).sync()
         this.wrote(log)
       } catch (error) {
-        this.fail(error)
+        this.fail(error, undefined, log)
       }
     })
     return this.chain
   }
 
-  /**
-   * A write landed: after a failure, recording is back (one log line). A log deleted under its
-   * writer (its directory removed, say) takes writes without an error, so once a second the file
-   * is asked whether it still has a name; if not, recording starts over in a new log at once.
-   */
+  /** A write landed: after a failure, recording is back (one log line). */
   private wrote(log: LogState): void {
     if (this.down) {
       this.down = false
@@ -241,7 +243,11 @@ export class RoomRecorder implements SimulationObserver {
     }
   }
 
-  /** Whether the log being written still has a name; fails (and starts over at once) if not. */
+  /**
+   * Whether the log being written still has a name: a log deleted under its writer (its directory
+   * removed, say) takes writes without an error, so once a second the file is asked; if it has no
+   * name, recording fails and starts over in a new log at once.
+   */
   private async checkLinked(): Promise<void> {
     const log = this.log
     if (this.failed || !log) return
@@ -309,7 +315,7 @@ export class RoomRecorder implements SimulationObserver {
     this.bytes = 0
     this.generation++
     // The file is opened below; until then `file` is the promise of it.
-    const log = { name: base, written: 0, tick: this.sim.tick, created: true } as LogState
+    const log = { name: base, written: 0, tick: this.sim.tick, created: true, done: false } as LogState
     log.file = this.createFile(log, now)
     this.log = log
     log.file.catch((error) => {
@@ -391,17 +397,22 @@ export class RoomRecorder implements SimulationObserver {
     this.newFile(Date.now())
     this.flush()
     this.chain = this.chain.then(async () => {
+      // A failed write to it gave it up already (cut back, closed "recording failed").
+      if (old.done) return
+      let handle: LogFile | null = null
       try {
-        const handle = await old.file
+        handle = await old.file
         await writeAll(handle, close)
         if (sync) await handle.sync()
-        await handle.close()
       } catch (error) {
+        // It stays unclosed and cut back to its last record; the new log (a header) supersedes it.
+        await handle?.truncate?.(old.written).catch(() => {})
         this.options.log.warn(
           { room: this.room, log: name, err: (error as Error).message },
           'cannot close a rotated log',
         )
       }
+      await handle?.close().catch(() => {})
       this.options.openNames.delete(name)
     })
   }
@@ -528,23 +539,30 @@ export class RoomRecorder implements SimulationObserver {
    * Recording failed (a write error, a short write the disk would not finish, a deleted log, a
    * disk too slow): stop observing, count it and say so once per outage, give the log up (giveUp),
    * and after `retryMs` try again in a new log that starts with a header at the room's state then.
+   * `failed` is the log a failed write went to when it may not be the current one (a rotation's
+   * old log): it is given up too, and marked at once, so that no later write (a rotation's close
+   * record) lands after the part of a record it holds.
    */
-  private fail(error: unknown, retryMs = this.options.retryMs ?? RETRY_MS): void {
+  private fail(error: unknown, retryMs = this.options.retryMs ?? RETRY_MS, failed?: LogState): void {
+    const current = this.failed ? null : this.log
+    for (const log of new Set([failed, current])) {
+      if (!log || log.done) continue
+      log.done = true
+      this.chain = this.chain.then(() => this.giveUp(log))
+    }
     if (this.failed) return
     this.failed = true
     this.queue = []
     this.small = []
     this.pendingBytes = 0
     this.stopObserving()
-    const log = this.log
     this.log = null
-    const details = { room: this.room, log: this.name, err: (error as Error).message }
+    const details = { room: this.room, log: failed?.name ?? this.name, err: (error as Error).message }
     if (!this.down) {
       this.down = true
       this.options.failures.inc()
       this.options.log.error(details, 'recording stopped for this room; the room keeps running')
     } else this.options.log.warn(details, 'recording is still failing for this room')
-    if (log) this.chain = this.chain.then(() => this.giveUp(log))
     if (!this.closed) {
       this.retryTimer = setTimeout(() => this.retry(), retryMs)
       this.retryTimer.unref()

@@ -2,8 +2,11 @@
  * Recording for a whole server: a RoomRecorder per room while recording is on (--record), closed
  * when the room is disposed and, cleanly, at shutdown; the replay directory's listing for
  * GET /replays; and, at startup with --recover, the rooms whose newest log has no clean close are
- * rebuilt from it and reopened where it ends (recovery.ts). A directory that cannot be created
- * turns recording off with one log line and a metric; rooms run either way.
+ * rebuilt from it and reopened where it ends (recovery.ts): the newest log that is not empty, not
+ * given up by its writer (read-only) and not written by a live process (log-writer.ts). It owns
+ * the process's one pruner of the directory (--replay-keep; with room workers the main thread's).
+ * A directory that cannot be created turns recording off with one log line and a metric; rooms
+ * run either way.
  */
 import { mkdir } from 'node:fs/promises'
 import type { Logger } from 'pino'
@@ -22,6 +25,7 @@ import {
   listLogNames,
   listLogs,
   type OpenLog,
+  recoveryPick,
   roomOfLog,
   summarize,
 } from './replay-files.ts'
@@ -140,7 +144,8 @@ export class Recordings {
   }
 
   /**
-   * Per room, its newest log that holds a header, when that log has no clean close. Newer logs cut
+   * Per room, the log recovery reopens: its newest log that is not empty (recoveryPick), when that
+   * log has a header, no clean close, was not given up and has no live writer. Newer logs cut
    * before their header is whole (a crash right after a rotation created one) are passed over: a
    * 0-byte newest log once hid the older, unclosed one, and the room was lost.
    */
@@ -152,10 +157,10 @@ export class Recordings {
     }
     const out: string[] = []
     for (const names of byRoom.values()) {
-      const name = await this.newestWithHeader(names)
+      const name = await recoveryPick(this.dir, names, this.openNames)
       if (!name) continue
       const summary = await summarize(this.dir, name, this.openNames).catch(() => null)
-      if (!summary || summary.status === 'clean') continue
+      if (!summary || summary.status === 'clean' || !hasHeader(summary)) continue
       if (await givenUp(this.dir, name)) {
         this.log.info({ log: name }, 'not recovering a log whose recording failed (given up by its writer)')
         continue
@@ -170,19 +175,6 @@ export class Recordings {
       out.push(name)
     }
     return out
-  }
-
-  /**
-   * The newest of one room's logs (given oldest first) that is not empty (cut before its header was
-   * whole), or null. An invalid one is not passed over: what it holds is not known.
-   */
-  private async newestWithHeader(names: readonly string[]): Promise<string | null> {
-    for (let i = names.length - 1; i >= 0; i--) {
-      const summary = await summarize(this.dir, names[i], this.openNames).catch(() => null)
-      if (!summary) return null
-      if (summary.status !== 'empty') return hasHeader(summary) ? names[i] : null
-    }
-    return null
   }
 
   private attach(room: Room): void {

@@ -287,10 +287,12 @@ export const PRUNE_QUIET_MS = 60_000
 
 /**
  * Delete the oldest logs beyond `keep` (oldest by the start stamp in the name). Never deleted: a
- * log in `open`; an unclosed log written in the last PRUNE_QUIET_MS; a recoverable log (unclosed,
- * with a header, not given up by its writer, and no newer log of its room has one: crash recovery
- * would reopen it). Taken: cleanly closed logs, and unclosed ones that are quiet and not
- * recoverable (superseded by a newer log of their room, cut before their header, given up). Logs that cannot be deleted do not count down
+ * log in `open`; an unclosed log written in the last PRUNE_QUIET_MS; a recoverable log (the one
+ * crash recovery would reopen: its room's newest log that is not empty, unclosed, with a header,
+ * not given up by its writer); a closed log whose deletion would make an older unclosed log of its
+ * room the recoverable one (the room would come back at a stale state). Taken: other cleanly
+ * closed logs, and unclosed ones that are quiet and not recoverable (superseded by a newer log of
+ * their room, cut before their header, given up). Logs that cannot be deleted do not count down
  * `keep`, so the directory holds `keep` logs whenever enough can go. Returns the names deleted.
  * Call it from one place per directory (LogPruner): two prunes at once would both delete the
  * same excess and over-prune.
@@ -304,9 +306,12 @@ export async function pruneLogs(
   const names = await listLogNames(dir)
   const deleted: string[] = []
   let excess = names.length - keep
-  for (const [i, name] of names.entries()) {
+  for (const name of names) {
     if (excess <= 0) break
-    if (open.has(name) || !(await prunable(dir, name, names.slice(i + 1), open, now))) continue
+    if (open.has(name)) continue
+    const room = roomOfLog(name)
+    const ofRoom = names.filter((n) => roomOfLog(n) === room && !deleted.includes(n))
+    if (!(await prunable(dir, name, ofRoom, open, now))) continue
     await unlink(join(dir, name)).catch(() => {})
     deleted.push(name)
     excess--
@@ -314,34 +319,54 @@ export async function pruneLogs(
   return deleted
 }
 
-/** Whether pruning may delete log `name`; `newer` are the names after it, oldest first. */
+/** Whether pruning may delete log `name`; `ofRoom` are its room's logs still there, oldest first. */
 async function prunable(
   dir: string,
   name: string,
-  newer: readonly string[],
+  ofRoom: readonly string[],
   open: ReadonlySet<string>,
   now: number,
 ): Promise<boolean> {
-  const path = join(dir, name)
   let summary: LogSummary
   let mtime: number
   try {
-    mtime = (await stat(path)).mtimeMs
+    mtime = (await stat(join(dir, name))).mtimeMs
     summary = await summarize(dir, name, open)
   } catch {
     return false
   }
-  if (summary.status === 'clean') return true
-  if (now - mtime < PRUNE_QUIET_MS) return false
-  if (!hasHeader(summary) || (await givenUp(dir, name))) return true
-  // Recoverable unless a newer log of its room has a header (recovery takes the newest that does).
-  const room = roomOfLog(name)
-  for (const later of newer) {
-    if (roomOfLog(later) !== room) continue
-    const s = await summarize(dir, later, open).catch(() => null)
-    if (s && (s.status === 'recording' || hasHeader(s))) return true
+  const picked = (await recoveryPick(dir, ofRoom, open)) === name
+  if (summary.status === 'clean') {
+    // Not the log that hides an older unclosed one from recovery (that room would come back stale).
+    const older = ofRoom.slice(0, ofRoom.indexOf(name))
+    const next = picked ? await recoveryPick(dir, older, open) : null
+    return next === null || !(await recoverable(dir, next, open))
   }
-  return false
+  if (now - mtime < PRUNE_QUIET_MS) return false
+  return !picked || !(await recoverable(dir, name, open))
+}
+
+/**
+ * The log crash recovery considers for a room, given its logs oldest first: the newest that is not
+ * empty (cut before its header was whole), or null. Recordings.unclosedLogs applies the same rule.
+ */
+export async function recoveryPick(
+  dir: string,
+  names: readonly string[],
+  open: ReadonlySet<string> = new Set(),
+): Promise<string | null> {
+  for (let i = names.length - 1; i >= 0; i--) {
+    const summary = await summarize(dir, names[i], open).catch(() => null)
+    if (!summary) return null
+    if (summary.status !== 'empty') return names[i]
+  }
+  return null
+}
+
+/** Whether recovery would reopen log `name` when it picks it: unclosed, with a header, not given up. */
+async function recoverable(dir: string, name: string, open: ReadonlySet<string>): Promise<boolean> {
+  const summary = await summarize(dir, name, open).catch(() => null)
+  return summary !== null && summary.status !== 'clean' && hasHeader(summary) && !(await givenUp(dir, name))
 }
 
 /** Whether a summarized log holds a whole header (something recovery or a replay can start from). */
@@ -364,6 +389,8 @@ export class LogPruner {
     private readonly keep: number,
     private readonly open: ReadonlySet<string>,
     private readonly onError: (error: Error) => void,
+    /** The prune itself (tests count the runs). */
+    private readonly prune: typeof pruneLogs = pruneLogs,
   ) {}
 
   /** Prune soon (after the prune under way, if any). */
@@ -375,7 +402,7 @@ export class LogPruner {
     this.running = (async () => {
       do {
         this.again = false
-        await pruneLogs(this.dir, this.keep, this.open).catch(this.onError)
+        await this.prune(this.dir, this.keep, this.open).catch(this.onError)
       } while (this.again)
       this.running = null
     })()

@@ -158,4 +158,67 @@ describe('a recorder on a disk that fills up', () => {
     expect(read(next.bytes).records[0]).toMatchObject({ type: 'header' })
     await recorder.close('test over')
   })
+
+  it("a failed write at a rotation gives the old log up: its close says 'recording failed', never 'rotated' after half a record", async () => {
+    const files = new Map<string, { bytes: Buffer; breakNext: boolean }>()
+    const openLog = async (path: string): Promise<LogFile> => {
+      const file = { bytes: Buffer.alloc(0), breakNext: false }
+      files.set(path, file)
+      return {
+        write: async (b) => {
+          if (file.breakNext) {
+            // Part of the write lands, then the disk fails.
+            file.breakNext = false
+            file.bytes = Buffer.concat([file.bytes, b.subarray(0, 5)])
+            throw Object.assign(new Error('EIO: i/o error, write'), { code: 'EIO' })
+          }
+          file.bytes = Buffer.concat([file.bytes, b])
+          return { bytesWritten: b.length }
+        },
+        sync: async () => {},
+        close: async () => {},
+        truncate: async (size) => {
+          file.bytes = file.bytes.subarray(0, size)
+        },
+        remove: async () => {
+          files.delete(path)
+        },
+      }
+    }
+    const sim = new RoomSimulation({ name: 'rot', scene: 'tower', maxBodies: 5000, controls: true })
+    const { logger, lines } = capturingLogger('info')
+    const recorder = new RoomRecorder('rot', sim, {
+      dir: '/nonexistent',
+      fsync: 'none',
+      keyframeTicks: 600,
+      maxBytes: 4096,
+      retryMs: 50,
+      compress: true,
+      log: logger,
+      failures: new Counter({ name: 'test_rotation_fail', help: 'test', registers: [] }),
+      openNames: new Set(),
+      openLog,
+    })
+    recorder.start(0)
+    sim.join(1, 'p', '#ffffff')
+    await recorder.flush()
+    const [oldPath] = files.keys()
+    const first = recorder.name
+    files.get(oldPath)!.breakNext = true
+    // Commands until the log rotates (no await: the first write after the header is the rotation's).
+    for (let i = 0; recorder.name === first; i++) {
+      sim.apply(1, { k: 'spawn', shape: { type: 'circle', radius: 0.2 }, x: (i % 40) - 20, y: 30 + (i % 7) })
+      sim.runTick()
+      if (i > 5000) throw new Error('no rotation')
+    }
+    await until(() => lines.some((l) => l.msg === 'recording resumed in a new log'), 'recording resumed')
+    const old = read(files.get(oldPath)!.bytes)
+    expect(old.status).toMatchObject({ state: 'end', closed: true })
+    expect(old.records.at(-1)).toMatchObject({ type: 'close', reason: 'recording failed' })
+    // The log the rotation began (nothing whole in it) is gone; the retry's log starts with a header.
+    const rest = [...files.entries()].filter(([path]) => path !== oldPath)
+    expect(rest).toHaveLength(1)
+    expect(read(rest[0][1].bytes).records[0]).toMatchObject({ type: 'header' })
+    await recorder.close('test over')
+  })
 })

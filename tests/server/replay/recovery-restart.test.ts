@@ -8,12 +8,13 @@
  */
 import { type ChildProcess, spawn } from 'node:child_process'
 import { readFileSync } from 'node:fs'
-import { mkdtemp, writeFile } from 'node:fs/promises'
+import { mkdtemp, readFile, writeFile } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { createInterface } from 'node:readline'
 import { afterAll, describe, expect, it } from 'vitest'
 import { listLogNames, logFileName } from '../../../server/replay/replay-files.ts'
+import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
 import { type LogLine, type ServerProcess, startServerProcess } from '../../support/server-process.ts'
 import { until } from '../../support/wait.ts'
 
@@ -75,8 +76,12 @@ describe('restart right after SIGKILL', { timeout: 300_000 }, () => {
   it(`recovers the room ${ROUNDS} times in a row while the killed server is still a zombie`, async () => {
     const dir = await mkdtemp(join(tmpdir(), 'concord-restart-'))
     let server = await startUnreaped(dir)
-    // The lobby's log holds a checkpoint (fsync always: one per tick) before the first kill.
-    await until(async () => (await listLogNames(dir)).length === 1, 'the lobby log')
+    await until(async () => {
+      const [name] = await listLogNames(dir)
+      if (!name) return false
+      const records = new ReplayLogReader().push(await readFile(join(dir, name)))
+      return records[0]?.type === 'header' && records.some((r) => r.type === 'hash')
+    }, 'the lobby log with its header and a checkpoint')
     const log = (await listLogNames(dir))[0]
     let ticks = -1
     let zombies = 0
