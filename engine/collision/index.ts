@@ -1,7 +1,8 @@
 /*
  * Collision: shapes and their mass, polygon geometry, the narrowphase manifolds for every pair of
  * shape kinds, the swept distance for continuous collision, the dynamic AABB tree, the broadphase
- * and the contacts' pair map. Depends only on the engine's root files (math, constants).
+ * and the contacts' pair map, and the convex hull and concave decomposition that make shapes.
+ * Depends only on the engine's root files (math, constants).
  */
 export { BroadPhase, IdBuffer, PairBuffer, sortKeys } from './broad-phase.ts'
 export { collideGeometry } from './collide.ts'
@@ -9,34 +10,6 @@ export { type DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 export { Manifold, type ManifoldPoint } from './manifold.ts'
 export { PairMap } from './pair-map.ts'
 export { polygonGeometry, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
-export {
-  type CapsuleGeometry,
-  type CastOutput,
-  type ChainSegmentGeometry,
-  type CircleGeometry,
-  checkRayInput,
-  makeCastOutput,
-  type PolygonGeometry,
-  type RayCastInput,
-  rayCastCapsule,
-  rayCastChainSegment,
-  rayCastCircle,
-  rayCastPolygon,
-  rayCastSegment,
-  type SegmentGeometry,
-} from './ray-cast.ts'
-export { checkShapeCastInput, type ShapeCastPairInput, shapeCast } from './shape-cast.ts'
-export {
-  capsuleProxy,
-  circleProxy,
-  makeDistanceOutput,
-  makeShapeProxy,
-  polygonProxy,
-  type ShapeProxy,
-  segmentProxy,
-  shapeDistance,
-  type Transform,
-} from './shape-distance.ts'
 export {
   box,
   type CircleShape,
@@ -61,4 +34,3 @@ export {
   verticesA,
   verticesB,
 } from './swept-distance.ts'
-export { TreeRayCast } from './tree-ray-cast.ts'

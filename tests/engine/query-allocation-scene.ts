@@ -7,6 +7,7 @@
 
 import { IdBuffer } from '../../engine/collision/broad-phase.ts'
 import { DynamicTree, NULL_NODE } from '../../engine/collision/dynamic-tree.ts'
+import { Prng } from '../../engine/prng.ts'
 import {
   makeCastOutput,
   type PolygonGeometry,
@@ -16,8 +17,8 @@ import {
   rayCastCircle,
   rayCastPolygon,
   rayCastSegment,
-} from '../../engine/collision/ray-cast.ts'
-import { type ShapeCastPairInput, shapeCast } from '../../engine/collision/shape-cast.ts'
+} from '../../engine/queries/ray-cast.ts'
+import { type ShapeCastPairInput, shapeCast } from '../../engine/queries/shape-cast.ts'
 import {
   capsuleProxy,
   circleProxy,
@@ -25,9 +26,8 @@ import {
   makeShapeProxy,
   polygonProxy,
   type Transform,
-} from '../../engine/collision/shape-distance.ts'
-import { TreeRayCast } from '../../engine/collision/tree-ray-cast.ts'
-import { Prng } from '../../engine/prng.ts'
+} from '../../engine/queries/shape-distance.ts'
+import { TreeRayCast } from '../../engine/queries/tree-ray-cast.ts'
 import {
   DEFAULT_QUERY_FILTER,
   makeRayHit,
@@ -35,7 +35,7 @@ import {
   type QueryWorld,
   RayHitList,
   WorldQueries,
-} from '../../engine/world/world-queries.ts'
+} from '../../engine/queries/world-queries.ts'
 
 /** A QueryWorld of 400 shapes (circles, boxes, capsules) on 400 bodies, one leaf per shape. */
 class GridWorld implements QueryWorld {

@@ -1,11 +1,13 @@
 /*
- * Ray casts (engine/collision/ray-cast.ts) against answers worked out by hand for every shape kind (fraction,
+ * Ray casts (engine/queries/ray-cast.ts) against answers worked out by hand for every shape kind (fraction,
  * point and normal to 1e-9), including grazing, parallel, too-short, zero-length and
  * starting-inside rays; then against brute force on random rays: the entry fraction found by
  * dense sampling and bisection on an independent point-in-shape test, and the normal as the
  * direction from the nearest core point (or the face the point lies on).
  */
 import { describe, expect, it } from 'vitest'
+import type { Vec2 } from '../../engine/math.ts'
+import { Prng } from '../../engine/prng.ts'
 import {
   type CapsuleGeometry,
   type CastOutput,
@@ -18,9 +20,7 @@ import {
   rayCastCircle,
   rayCastPolygon,
   rayCastSegment,
-} from '../../engine/collision/ray-cast.ts'
-import type { Vec2 } from '../../engine/math.ts'
-import { Prng } from '../../engine/prng.ts'
+} from '../../engine/queries/ray-cast.ts'
 
 const TOL = 1e-9
 const ray = (ox: number, oy: number, tx: number, ty: number, maxFraction = 1): RayCastInput => ({

@@ -1,5 +1,5 @@
 /*
- * GJK distance (engine/collision/shape-distance.ts) and the shape cast (engine/collision/shape-cast.ts) against
+ * GJK distance (engine/queries/shape-distance.ts) and the shape cast (engine/queries/shape-cast.ts) against
  * independent answers: a brute-force distance between convex point sets (edge intersections,
  * containment, then the least point-to-edge distance), closed forms for circle vs circle, box vs
  * box and circle vs segment casts, and for random pairs the first touching fraction found by
@@ -7,8 +7,10 @@
  */
 import { describe, expect, it } from 'vitest'
 import { computeHull } from '../../engine/collision/hull.ts'
-import { type CastOutput, makeCastOutput } from '../../engine/collision/ray-cast.ts'
-import { CAST_TOLERANCE, type ShapeCastPairInput, shapeCast } from '../../engine/collision/shape-cast.ts'
+import type { Vec2 } from '../../engine/math.ts'
+import { Prng } from '../../engine/prng.ts'
+import { type CastOutput, makeCastOutput } from '../../engine/queries/ray-cast.ts'
+import { CAST_TOLERANCE, type ShapeCastPairInput, shapeCast } from '../../engine/queries/shape-cast.ts'
 import {
   capsuleProxy,
   circleProxy,
@@ -19,9 +21,7 @@ import {
   segmentProxy,
   shapeDistance,
   type Transform,
-} from '../../engine/collision/shape-distance.ts'
-import type { Vec2 } from '../../engine/math.ts'
-import { Prng } from '../../engine/prng.ts'
+} from '../../engine/queries/shape-distance.ts'
 
 // ---- brute force geometry on point sets (1 point, 2 points or a CCW convex polygon) ----
 const cross = (o: Vec2, a: Vec2, b: Vec2): number => (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)

@@ -1,5 +1,5 @@
 /*
- * The callback-free tree ray cast (engine/collision/tree-ray-cast.ts) against a brute-force loop over all
+ * The callback-free tree ray cast (engine/queries/tree-ray-cast.ts) against a brute-force loop over all
  * proxies of a random 1,000-AABB DynamicTree: the slab test (Kay-Kajiya) decides which boxes a
  * ray segment touches and where it enters each. Unclipped, the cursor must return exactly the
  * touched leaves; clipped by the closest entry so far, it must find the brute-force closest box.
@@ -7,9 +7,9 @@
  */
 import { describe, expect, it } from 'vitest'
 import { DynamicTree, NULL_NODE } from '../../engine/collision/dynamic-tree.ts'
-import type { RayCastInput } from '../../engine/collision/ray-cast.ts'
-import { TreeRayCast } from '../../engine/collision/tree-ray-cast.ts'
 import { Prng } from '../../engine/prng.ts'
+import type { RayCastInput } from '../../engine/queries/ray-cast.ts'
+import { TreeRayCast } from '../../engine/queries/tree-ray-cast.ts'
 
 interface Box {
   minX: number

@@ -1,5 +1,5 @@
 /*
- * The world queries (engine/world/world-queries.ts) against brute force over a random world of 1,000
+ * The world queries (engine/queries/world-queries.ts) against brute force over a random world of 1,000
  * shapes on 300 bodies (circles, capsules, polygons, rounded polygons, segments, chain segments;
  * random filters; some sensors): every shape is moved into the world frame by the test (so the
  * queries' own frame changes are checked), and each query is answered by a loop over all shapes
@@ -9,8 +9,10 @@
 import { describe, expect, it } from 'vitest'
 import { IdBuffer } from '../../engine/collision/broad-phase.ts'
 import { DynamicTree } from '../../engine/collision/dynamic-tree.ts'
-import { makeCastOutput, type RayCastInput } from '../../engine/collision/ray-cast.ts'
-import { shapeCast } from '../../engine/collision/shape-cast.ts'
+import type { Vec2 } from '../../engine/math.ts'
+import { Prng } from '../../engine/prng.ts'
+import { makeCastOutput, type RayCastInput } from '../../engine/queries/ray-cast.ts'
+import { shapeCast } from '../../engine/queries/shape-cast.ts'
 import {
   circleProxy,
   IDENTITY,
@@ -19,9 +21,7 @@ import {
   type ShapeProxy,
   shapeDistance,
   type Transform,
-} from '../../engine/collision/shape-distance.ts'
-import type { Vec2 } from '../../engine/math.ts'
-import { Prng } from '../../engine/prng.ts'
+} from '../../engine/queries/shape-distance.ts'
 import {
   castGeometry,
   DEFAULT_QUERY_FILTER,
@@ -33,7 +33,7 @@ import {
   RayHitList,
   shouldQueryShape,
   WorldQueries,
-} from '../../engine/world/world-queries.ts'
+} from '../../engine/queries/world-queries.ts'
 
 interface TestShape {
   id: number

@@ -18,8 +18,8 @@
  * The tree's AABB query (all leaves overlapping a box) is DynamicTree.queryLeaves.
  */
 
+import { type DynamicTree, NULL_NODE } from '../collision/index.ts'
 import type { Vec2 } from '../math.ts'
-import { type DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 import type { RayCastInput } from './ray-cast.ts'
 
 const P1X = 0

@@ -16,23 +16,16 @@
  * the tree's shape either. Nothing runs user code. A WorldQueries object holds the scratch; once
  * warm, no query allocates (results go into the caller's RayHit, RayHitList or IdBuffer).
  */
+import { type DynamicTree, type IdBuffer, NULL_NODE, sortKeys } from '../collision/index.ts'
+import type { Vec2 } from '../math.ts'
 import {
   type CapsuleGeometry,
   type CastOutput,
   type ChainSegmentGeometry,
   type CircleGeometry,
-  capsuleProxy,
   checkRayInput,
-  checkShapeCastInput,
-  circleProxy,
-  type DynamicTree,
-  type IdBuffer,
   makeCastOutput,
-  makeDistanceOutput,
-  makeShapeProxy,
-  NULL_NODE,
   type PolygonGeometry,
-  polygonProxy,
   type RayCastInput,
   rayCastCapsule,
   rayCastChainSegment,
@@ -40,16 +33,20 @@ import {
   rayCastPolygon,
   rayCastSegment,
   type SegmentGeometry,
-  type ShapeCastPairInput,
+} from './ray-cast.ts'
+import { checkShapeCastInput, type ShapeCastPairInput, shapeCast } from './shape-cast.ts'
+import {
+  capsuleProxy,
+  circleProxy,
+  makeDistanceOutput,
+  makeShapeProxy,
+  polygonProxy,
   type ShapeProxy,
   segmentProxy,
-  shapeCast,
   shapeDistance,
-  sortKeys,
   type Transform,
-  TreeRayCast,
-} from '../collision/index.ts'
-import type { Vec2 } from '../math.ts'
+} from './shape-distance.ts'
+import { TreeRayCast } from './tree-ray-cast.ts'
 
 /** A shape's geometry in its body's frame, tagged by kind. */
 export type QueryGeometry =
