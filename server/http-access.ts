@@ -3,7 +3,7 @@
  * (--allowed-origins; a browser page from another origin gets 403, a request without an Origin
  * header, which only non-browser clients send, is let through), then the key in the URL
  * (`/ws?room=NAME&key=KEY`). A key that matches neither token is refused (403) wherever it is
- * sent; without a key, a token-only room is refused (401) and a public room admits the
+ * sent, on a server without tokens too; without a key, a token-only room is refused (401) and a public room admits the
  * connection to that room only. The room policy is described in config-security.ts.
  *
  * The replay logs (GET /replays, GET /replays/NAME) hold every command of every room and the
@@ -41,7 +41,9 @@ function keyRole(config: ServerConfig, key: string): 'admin' | 'member' | 'none'
   if (key === '') return 'none'
   if (config.adminToken !== '' && sameSecret(key, config.adminToken)) return 'admin'
   if (config.joinToken !== '' && sameSecret(key, config.joinToken)) return 'member'
-  return config.adminToken !== '' || config.joinToken !== '' ? 'forged' : 'none'
+  // On a server without tokens too: a key there matches nothing, and ignoring it would hide a
+  // missing --join-token from the clients that expected one (PROTOCOL.md, Access).
+  return 'forged'
 }
 
 /** A refused HTTP request for the replay logs: status, a one-line answer, the reason for the log. */
@@ -54,14 +56,18 @@ export interface ReplayRefusal {
 /**
  * Whether the replay routes may answer a request for `url`: null when they may (no join token, or
  * the URL's `key=` is the join or the admin token), else the refusal. A key that matches neither
- * token is refused (403) as it is at the upgrade, even on a server whose replays are public.
+ * token is refused (403) as it is at the upgrade, even on a server whose replays are public (a
+ * server without tokens included).
  */
 export function checkReplayAccess(config: ServerConfig, url: URL): ReplayRefusal | null {
   const role = keyRole(config, url.searchParams.get('key') ?? '')
   if (role === 'forged')
     return {
       status: 403,
-      text: 'the key matches neither the join token nor the admin token',
+      text:
+        config.joinToken === '' && config.adminToken === ''
+          ? 'the key matches no token: this server has none, so send no key'
+          : 'the key matches neither the join token nor the admin token',
       reason: 'bad-key',
     }
   if (config.joinToken === '' || role !== 'none') return null
