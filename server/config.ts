@@ -55,6 +55,7 @@ export interface ServerConfig {
   allowedOrigins: string
   joinToken: string
   adminToken: string
+  metricsToken: string
   publicRooms: string
   roomTickBudgetMs: number
   roomOverrunTicks: number

@@ -12,6 +12,7 @@ import type { IncomingMessage, Server, ServerResponse } from 'node:http'
 import { isIP, type Socket } from 'node:net'
 import type { Duplex } from 'node:stream'
 import type { ServerConfig } from './config.ts'
+import { SECURITY_HEADERS } from './http-headers.ts'
 import { PENALTY_SECONDS, RequestRate } from './http-request-rate.ts'
 import { rawHttpResponse } from './http-request-url.ts'
 import type { LogLimiter } from './log-limiter.ts'
@@ -128,6 +129,7 @@ export class ConnectionGuard {
     this.refuseRequests(req.socket, address, key)
     res.once('finish', () => req.socket.destroy())
     res.writeHead(429, {
+      ...SECURITY_HEADERS,
       'content-type': 'text/plain',
       'cache-control': 'no-store',
       'retry-after': String(PENALTY_SECONDS),

@@ -108,9 +108,10 @@ export class JoinFlow {
       },
       (error: Error) => {
         answered()
+        // The library's words (host, port, command) stay in the log: the client learns what to do.
         this.log.warn({ room: name, err: error.message }, 'room directory unavailable; join refused')
         if (peer.dropped || !session.open) return
-        session.sendError('unavailable', `room directory unavailable: ${error.message}`)
+        session.sendError('unavailable', 'the room directory is unavailable; try again in a few seconds')
         this.actions.drop(peer, CLOSE_CODES.tryAgain, 'room directory unavailable')
       },
     )
@@ -124,6 +125,7 @@ export class JoinFlow {
       name: message.name,
       token: message.token,
       mode: message.mode,
+      controls: peer.access.controls,
       strike: (code, reason, tick, seq) => this.actions.roomStrike(peer, code, reason, tick, seq),
       refused: (error, reason) => {
         session.seat = null

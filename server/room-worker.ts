@@ -136,7 +136,7 @@ function handle(op: ToWorker): void {
         outbox.push({ k: 'refused', conn: op.conn, error, reason: 'too many rooms' })
         return
       }
-      const joined = room.join(conn, op.name, op.token, op.mode)
+      const joined = room.join(conn, op.name, op.token, op.mode, op.controls)
       if (typeof joined === 'string') {
         outbox.push({ k: 'refused', conn: op.conn, error: joined, reason: joined })
         return

@@ -159,12 +159,17 @@ export class Room {
     return this.sim.grabCounts
   }
 
-  /** Add a player and send its welcome; returns the player, or a reason when refused. */
+  /**
+   * Add a player and send its welcome; returns the player, or a reason when refused. `controls`
+   * is false when the player's key does not allow room controls (an admin token it lacks): its
+   * welcome then says `rules.controls` false, as the room will answer its controls.
+   */
   join(
     conn: PlayerConnection,
     name: string,
     token: string | undefined,
     mode: JoinMode = 'snapshot',
+    controls = true,
   ): RoomPlayer | string {
     if (this.players.size >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
     const identity = assignIdentity(this, token)
@@ -192,7 +197,7 @@ export class Room {
       id: player.id,
       token: player.token,
       room: this.name,
-      rules: this.rules,
+      rules: controls || !this.rules.controls ? this.rules : { ...this.rules, controls: false },
       players: this.roster(),
       state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
     })

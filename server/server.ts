@@ -13,8 +13,9 @@ import pino, { type Logger } from 'pino'
 import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
 import { AgonesLink, agonesPresent } from './agones.ts'
 import type { ServerConfig } from './config.ts'
-import { checkReplayAccess } from './http-access.ts'
+import { checkKeyedRoute, checkMetricsAccess } from './http-access.ts'
 import { ConnectionGuard, timeoutCheckInterval, tuneHttpTimeouts } from './http-connections.ts'
+import { SECURITY_HEADERS } from './http-headers.ts'
 import { rawHttpResponse } from './http-request-url.ts'
 import { createRequestHandler } from './http-routes.ts'
 import { createMetrics, type ServerMetrics } from './metrics.ts'
@@ -103,7 +104,8 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     staticDir: config.staticDir,
     rooms: host,
     recordings,
-    replayAccess: (url) => checkReplayAccess(config, url),
+    keyAccess: (url, what) => checkKeyedRoute(config, url, what),
+    metricsAccess: (req) => checkMetricsAccess(config, req),
     metrics,
     metricsText: pool ? () => pool.metricsText() : undefined,
     log,
@@ -118,7 +120,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     } catch (error) {
       // A request must never end the process; the route is a bug to fix, the client gets a 500.
       log.error({ err: error, url: req.url }, 'request handler failed')
-      if (!res.headersSent) res.writeHead(500)
+      if (!res.headersSent) res.writeHead(500, SECURITY_HEADERS)
       res.end()
     }
   })

@@ -107,8 +107,8 @@ export class WorkerPool implements RoomHost {
     link.seats.set(conn, seat)
     link.pendingJoins.set(request.room, (link.pendingJoins.get(request.room) ?? 0) + 1)
     link.unanswered.set(conn, request.room)
-    const { room, name, token, mode } = request
-    link.post({ op: 'join', conn, room, name, token, mode })
+    const { room, name, token, mode, controls } = request
+    link.post({ op: 'join', conn, room, name, token, mode, controls })
     return seat
   }
 

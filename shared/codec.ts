@@ -22,8 +22,16 @@ export type DecodeResult<T> =
   | { ok: true; value: T }
   | { ok: false; code: string; reason: string; seq?: number }
 
-/** Longest decoder message quoted in a `malformed` reason (characters): it may echo the frame. */
-const MAX_DECODER_MESSAGE = 120
+/**
+ * The `malformed` reason for a frame msgpackr could not decode, in the protocol's words: the
+ * decoder's own message names its internals (and may echo the frame), so it is never quoted.
+ */
+function undecodableReason(error: unknown): string {
+  const message = error instanceof Error ? error.message : ''
+  if (message.includes('end of buffer not reached')) return 'bytes left over after the first value'
+  if (/unexpected end/i.test(message)) return 'truncated: the frame ends inside a value'
+  return 'not a standard MessagePack value'
+}
 
 /** Smallest whole number msgpackr writes as an integer (int 32); below it, it writes a float 64. */
 const MIN_INT32 = -0x80000000
@@ -92,8 +100,7 @@ export function decodeValue(bytes: Uint8Array): DecodeResult<unknown> {
   try {
     return { ok: true, value: unpackr.unpack(bytes) }
   } catch (error) {
-    const message = (error as Error).message.slice(0, MAX_DECODER_MESSAGE)
-    return { ok: false, code: 'malformed', reason: `not MessagePack: ${message}` }
+    return { ok: false, code: 'malformed', reason: `not MessagePack: ${undecodableReason(error)}` }
   }
 }
 
