@@ -299,6 +299,14 @@ export const SETTINGS: readonly Setting[] = [
     help: 'at start, reopen rooms whose log has no clean close (after a crash) where the log ends',
   },
   {
+    key: 'requireRecording',
+    flag: '--require-recording',
+    env: 'REQUIRE_RECORDING',
+    kind: 'bool',
+    fallback: false,
+    help: 'with --record, /readyz answers 503 (naming why) while the replay directory cannot be written',
+  },
+  {
     key: 'logLevel',
     flag: '--log-level',
     env: 'LOG_LEVEL',

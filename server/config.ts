@@ -45,6 +45,7 @@ export interface ServerConfig {
   replayMaxBytes: number
   replayKeep: number
   recover: boolean
+  requireRecording: boolean
   logLevel: string
   stallSeconds: number
   drainSeconds: number

@@ -53,8 +53,11 @@ export interface RouteContext {
   /** The /metrics text when it is more than the registry's (room workers' metrics merged in). */
   metricsText?: () => Promise<string>
   log: Logger
-  /** False while shutting down (readiness fails so load balancers stop sending players). */
-  ready: () => boolean
+  /**
+   * Null when ready, else why not: shutting down (so load balancers stop sending players), or a
+   * recording the operator requires (--require-recording) that cannot be written.
+   */
+  notReady: () => string | null
   /** Null while every tick loop runs; otherwise why /healthz fails (a stalled loop). */
   health: () => string | null
 }
@@ -101,10 +104,12 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
           ? send(res, 200, 'text/plain', 'ok\n')
           : send(res, 503, 'text/plain', `${problem}\n`)
       }
-      case '/readyz':
-        return ctx.ready()
+      case '/readyz': {
+        const problem = ctx.notReady()
+        return problem === null
           ? send(res, 200, 'text/plain', 'ready\n')
-          : send(res, 503, 'text/plain', 'shutting down\n')
+          : send(res, 503, 'text/plain', `${problem}\n`)
+      }
       case '/metrics': {
         const refusal = ctx.metricsAccess(req)
         if (refusal) return refuse(res, refusal)

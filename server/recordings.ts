@@ -2,11 +2,15 @@
  * Recording for a whole server: a RoomRecorder per room while recording is on (--record), closed
  * when the room is disposed and, cleanly, at shutdown; the replay directory's listing for
  * GET /replays; and, at startup with --recover, the rooms whose newest log has no clean close are
- * rebuilt from it and reopened where it ends (recovery.ts). A directory that cannot be created
- * turns recording off with one log line and a metric; rooms run either way.
+ * rebuilt from it and reopened where it ends (recovery.ts). A directory that cannot be created or
+ * written turns recording off with one loud log line (error level, naming the directory, the
+ * cause and the consequence) and a metric, and sets `problem`, which /readyz reports with
+ * --require-recording; rooms run either way. Room workers check the directory too, quietly.
  */
-import { mkdir } from 'node:fs/promises'
+import { constants } from 'node:fs'
+import { access, mkdir } from 'node:fs/promises'
 import { hostname } from 'node:os'
+import { resolve } from 'node:path'
 import type { Logger } from 'pino'
 import type { ServerConfig } from './config.ts'
 import type { ServerMetrics } from './metrics.ts'
@@ -37,6 +41,10 @@ export class Recordings {
   private readonly recovered = new Map<string, RecoveredRoom>()
   /** Tests inject failing file operations here. */
   openLog: OpenLog | undefined
+  /** Why recording is configured but impossible (the replay directory cannot be written), else null. */
+  problem: string | null = null
+  /** Log a failed prepare() at debug level only (a room worker: the main thread has said it). */
+  quiet = false
   /** Called when a room was rebuilt from its log (room, log, tick and hash of the checkpoint). */
   onRecovered: ((room: string, log: string, tick: number, hash: number) => void) | null = null
 
@@ -88,19 +96,25 @@ export class Recordings {
     rooms.onRoomClosed = (room) => this.detach(room)
   }
 
-  /** Create the replay directory when recording; false when not recording (off, or it failed). */
+  /**
+   * Create the replay directory when recording and check that this process may write in it (an
+   * existing directory of another user, a read-only mount); false when not recording (off, or it
+   * failed: see the file comment).
+   */
   async prepare(): Promise<boolean> {
     if (!this.enabled) return false
     try {
       await mkdir(this.dir, { recursive: true })
+      await access(this.dir, constants.W_OK | constants.X_OK)
       return true
     } catch (error) {
       this.enabled = false
       this.metrics.recorderFailures.inc()
-      this.log.error(
-        { dir: this.dir, err: (error as Error).message },
-        'cannot create the replay directory; not recording',
-      )
+      const cause = (error as NodeJS.ErrnoException).code ?? (error as Error).message
+      this.problem = `recording is configured but impossible: the replay directory ${resolve(this.dir)} cannot be written (${cause})`
+      const line = `${this.problem}; rooms run unrecorded and crash recovery is off (mount a writable volume there or set --replay-dir)`
+      if (this.quiet) this.log.debug({ dir: this.dir, err: (error as Error).message }, line)
+      else this.log.error({ dir: this.dir, err: (error as Error).message }, line)
       return false
     }
   }

@@ -39,6 +39,7 @@ const conns = new Map<number, WorkerConnection>()
 const busy = new Map<string, number>()
 
 recordings.hook(rooms)
+recordings.quiet = true
 const recordingsReady = recordings.prepare()
 const created = rooms.onRoomCreated
 rooms.onRoomCreated = (room) => {

@@ -109,7 +109,10 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     metrics,
     metricsText: pool ? () => pool.metricsText() : undefined,
     log,
-    ready: () => ready,
+    notReady: () => {
+      if (!ready) return 'shutting down'
+      return config.requireRecording ? recordings.problem : null
+    },
     health: () => health.problem(),
   })
   const http = createServer({ connectionsCheckingInterval: timeoutCheckInterval(config) }, (req, res) => {
@@ -179,6 +182,11 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     AgonesLink.connect(log)
       .then(async (link) => {
         agones = link
+        if (config.requireRecording && recordings.problem) {
+          // As /readyz: a GameServer that must record and cannot is never offered to players.
+          log.error({ problem: recordings.problem }, 'agones: not marking Ready: --require-recording')
+          return
+        }
         if (!closing) await link.markReady()
       })
       .catch((error: Error) =>
