@@ -57,6 +57,16 @@ export const SETTINGS: readonly Setting[] = [
     help: 'rooms open at once',
   },
   {
+    key: 'maxNewRoomsPerIp',
+    flag: '--max-new-rooms-per-ip',
+    env: 'MAX_NEW_ROOMS_PER_IP',
+    kind: 'int',
+    fallback: 30,
+    min: 0,
+    max: 1000000,
+    help: 'rooms one client address (IPv6: per /64) may open per minute, 0 = no limit; beyond, the join gets full (4001)',
+  },
+  {
     key: 'maxClientsPerRoom',
     flag: '--max-clients',
     env: 'MAX_CLIENTS_PER_ROOM',

@@ -19,6 +19,7 @@ export interface ServerConfig {
   port: number
   host: string
   maxRooms: number
+  maxNewRoomsPerIp: number
   maxClientsPerRoom: number
   maxConnections: number
   maxBodies: number

@@ -8,9 +8,9 @@
  * --require-recording; rooms run either way. Room workers check the directory too, quietly.
  */
 import { constants } from 'node:fs'
-import { access, mkdir } from 'node:fs/promises'
+import { access, mkdir, unlink } from 'node:fs/promises'
 import { hostname } from 'node:os'
-import { resolve } from 'node:path'
+import { join, resolve } from 'node:path'
 import type { Logger } from 'pino'
 import type { ServerConfig } from './config.ts'
 import type { ServerMetrics } from './metrics.ts'
@@ -188,6 +188,7 @@ export class Recordings {
       return
     }
     this.recovered.delete(room.name)
+    room.touched = true // a session that was recorded: never closed early, its log never removed
     const sim = recovered.runner.sim
     room.sim.restoreState(sim.saveState(), sim.world)
     room.nextPlayerId = recovered.maxPlayerId + 1
@@ -206,11 +207,28 @@ export class Recordings {
     this.onRecovered?.(room.name, recovered.name, recovered.tick, recovered.hash)
   }
 
+  /**
+   * Close a disposed room's log; the log of a room where no command was ever applied is removed
+   * (Room.touched: it holds a scene and joins, nothing to replay), so junk rooms leave no file for
+   * pruning to weigh against real recordings.
+   */
   private detach(room: Room): void {
     const recorder = this.recorders.get(room.name)
     if (!recorder) return
     this.recorders.delete(room.name)
-    recorder.close('room closed').catch(() => {})
+    const closed = recorder.close('room closed')
+    if (room.touched) {
+      closed.catch(() => {})
+      return
+    }
+    closed
+      .then(() => (recorder.name ? unlink(join(this.dir, recorder.name)) : undefined))
+      .catch((error: Error) =>
+        this.log.warn(
+          { room: room.name, log: recorder.name, err: error.message },
+          'cannot remove the log of an untouched room',
+        ),
+      )
   }
 
   /** Close every log cleanly (shutdown). */

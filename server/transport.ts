@@ -79,7 +79,7 @@ export class Transport {
     })
     this.warnings = new LogLimiter(log)
     this.policy = new PeerPolicy(config, metrics, this.warnings)
-    this.joins = new JoinFlow(config, rooms, metrics, log, this.policy)
+    this.joins = new JoinFlow(config, rooms, metrics, log, this.policy, this.warnings)
     this.heartbeat = setInterval(() => this.sweep(), config.heartbeatMs)
   }
 

@@ -38,6 +38,7 @@ const WORKER_METRICS = new Set([
   'concord_rooms_closed_over_budget_total',
   'concord_recorder_failures_total',
   'concord_rooms_recovered_total',
+  'concord_rooms_untouched_closed_total',
   'concord_worker_bytes_out_total',
 ])
 

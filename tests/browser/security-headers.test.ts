@@ -60,6 +60,12 @@ describe('the client under the Content-Security-Policy', { timeout: 120_000 }, (
     expect(answer?.headers()['content-security-policy']).toContain("script-src 'self'")
     await page.waitForFunction(() => window.concord?.sandbox.status().state === 'connected')
     await page.waitForFunction(() => (window.concord?.sandbox.bodies().length ?? 0) > 0)
+    // A spawn: a room where nothing was done leaves no log, and the replay page below lists this one.
+    const before = await page.evaluate(() => window.concord.sandbox.bodies().length)
+    await page.evaluate(() =>
+      window.concord.sandbox.send({ k: 'spawn', shape: { type: 'circle', radius: 0.5 }, x: 0, y: 4 }),
+    )
+    await page.waitForFunction((n) => window.concord.sandbox.bodies().length > n, before)
     await page.click('#rooms')
     await page.waitForSelector('#lobby-list a')
     expect(await page.textContent('#lobby-list')).toContain('csp')
