@@ -172,7 +172,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     const release = (name: string): void => void shared.release(name).catch(() => {})
     rooms.onRoomDisposed = release
     if (pool) pool.onRoomDisposed = release
-    shared.onLost = (name) => host.close(name, CLOSE_CODES.moved, `room ${name} moved to another server`)
+    shared.onLost = (name, url) => transport.moveRoom(name, url)
     if ((await shared.claim(config.defaultRoom)).holder === 'self') host.open(config.defaultRoom)
   }
   log.info({ port, host: config.host }, 'listening')
