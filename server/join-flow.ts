@@ -71,7 +71,9 @@ export class JoinFlow {
       this.actions.drop(peer, CLOSE_CODES.forbidden, reason)
       return
     }
-    if (!this.rooms.has(name) && !this.openings.allows(addressKey(peer.address))) {
+    // Without a directory a room not open here is opened here. With one, the claim may find it
+    // on another server (`moved`, which opens nothing): here() takes the opening once claimed.
+    if (!this.directory && !this.rooms.has(name) && !this.openings.allows(addressKey(peer.address))) {
       this.refuseOpening(peer, name)
       return
     }

@@ -13,11 +13,14 @@ import { mkdtemp, readdir } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { decode, encode } from '@msgpack/msgpack'
+import { Redis } from 'ioredis'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import WebSocket from 'ws'
 import { defaultConfig } from '../../server/config.ts'
 import type { RunningServer } from '../../server/server.ts'
+import { DocClient } from './doc-client.ts'
 import { capturingLogger, waitUntil } from './raw-client.ts'
+import { startRedis } from './redis-server.ts'
 import { startTestServer } from './test-server.ts'
 
 type Message = Record<string, unknown> & { t: string }
@@ -50,8 +53,9 @@ async function visit(
   room: string,
   localAddress: string,
   then: (ws: WebSocket, first: Message) => Promise<void> = async () => {},
+  at: RunningServer = server,
 ): Promise<{ first: Message; close: { code: number; reason: string } }> {
-  const ws = new WebSocket(`${server.url.replace('http', 'ws')}/ws?room=${room}`, { localAddress })
+  const ws = new WebSocket(`${at.url.replace('http', 'ws')}/ws?room=${room}`, { localAddress })
   const messages: Message[] = []
   let close: { code: number; reason: string } | null = null
   ws.on('message', (data: Buffer) => messages.push(decode(data) as Message))
@@ -64,8 +68,9 @@ async function visit(
     ws.once('error', reject)
   })
   ws.send(encode({ t: 'join', v: 2, room: '', name: 'anon', mode: 'snapshot' }))
-  await waitUntil(() => messages.some((m) => m.t === 'welcome' || m.t === 'error'), `an answer in ${room}`)
-  const first = messages.find((m) => m.t === 'welcome' || m.t === 'error')!
+  const answer = (m: Message): boolean => m.t === 'welcome' || m.t === 'error' || m.t === 'moved'
+  await waitUntil(() => messages.some(answer), `an answer in ${room}`)
+  const first = messages.find(answer)!
   await then(ws, first)
   if (close === null) ws.close()
   await waitUntil(() => close !== null, `the close of ${room}`)
@@ -134,5 +139,33 @@ describe('50 anonymous connections joining fresh room names', { timeout: 60_000 
     const files = await readdir(replayDir)
     expect(files.filter((f) => f.startsWith('real-room-'))).toHaveLength(1)
     expect(files.filter((f) => f.startsWith('lobby-'))).toHaveLength(1)
+  })
+})
+
+describe('the new-room limit with a room directory (--redis)', { timeout: 60_000 }, () => {
+  it('counts only rooms opened here: a join moved to the holder costs nothing, a refused one gives its claim back', async () => {
+    const redis = await startRedis()
+    const probe = new Redis(redis.url)
+    const holder = await startTestServer({ redisUrl: redis.url, maxNewRoomsPerIp: 0 })
+    const limited = await startTestServer({ redisUrl: redis.url, maxNewRoomsPerIp: 2 })
+    try {
+      // A player keeps a room open on the other server.
+      const keeper = await DocClient.joined(holder.url, 'held-elsewhere', 'keeper')
+      const answers = []
+      for (const room of ['mine-1', 'mine-2', 'mine-3'])
+        answers.push((await visit(room, '127.0.0.1', undefined, limited)).first)
+      expect(answers.map((m) => m.t)).toEqual(['welcome', 'welcome', 'error'])
+      expect(answers[2].code).toBe('full')
+      expect(await probe.get('concord:room:mine-3')).toBeNull()
+      // Out of openings, a join for a room another server holds is still led there.
+      const moved = await visit('held-elsewhere', '127.0.0.1', undefined, limited)
+      expect(moved.first.t).toBe('moved')
+      keeper.end()
+    } finally {
+      await limited.close()
+      await holder.close()
+      probe.disconnect()
+      await redis.stop()
+    }
   })
 })
