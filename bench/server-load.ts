@@ -56,6 +56,7 @@ export async function startTimedServer(
       // Every bot connects from 127.0.0.1: no per-address caps.
       maxConnectionsPerIp: 0,
       maxRequestsPerIp: 0,
+      maxNewRoomsPerIp: 0,
       roomIdleSeconds,
       // Measure raw capacity: no room is closed for going over the per-room tick budget.
       roomTickBudgetMs: 0,

@@ -43,14 +43,21 @@ function pageLink(params: Record<string, string>): string {
   return url.toString()
 }
 
-/** Fetch the room list; throws with a readable message when the server cannot be reached. */
+/**
+ * Fetch the room list, with the page's access key (a server with a join token lists its rooms only
+ * to a key holder); throws with a readable message when the server cannot be reached or refuses.
+ */
 export async function fetchRooms(base: string): Promise<RoomInfo[]> {
+  const key = new URL(location.href).searchParams.get('key')
   let response: Response
   try {
-    response = await fetch(`${base}/rooms`, { cache: 'no-store' })
+    response = await fetch(`${base}/rooms${key ? `?key=${encodeURIComponent(key)}` : ''}`, {
+      cache: 'no-store',
+    })
   } catch {
     throw new Error('The server cannot be reached, so there is no room list. Offline mode still works.')
   }
+  if (response.status === 401) throw new Error('This server lists its rooms only to players with its key.')
   if (!response.ok) throw new Error(`The server answered /rooms with HTTP ${response.status}.`)
   const rows = (await response.json()) as unknown
   if (!Array.isArray(rows)) throw new Error('The server sent a room list this client does not understand.')

@@ -22,9 +22,11 @@ import {
 } from './hosting/index.ts'
 import {
   ConnectionGuard,
-  checkReplayAccess,
+  checkKeyedRoute,
+  checkMetricsAccess,
   createRequestHandler,
   rawHttpResponse,
+  SECURITY_HEADERS,
   timeoutCheckInterval,
   tuneHttpTimeouts,
 } from './http/index.ts'
@@ -110,11 +112,15 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     staticDir: config.staticDir,
     rooms: host,
     recordings,
-    replayAccess: (url) => checkReplayAccess(config, url),
+    keyAccess: (url, what) => checkKeyedRoute(config, url, what),
+    metricsAccess: (req) => checkMetricsAccess(config, req),
     metrics,
     metricsText: pool ? () => pool.metricsText() : undefined,
     log,
-    ready: () => ready,
+    notReady: () => {
+      if (!ready) return 'shutting down'
+      return config.requireRecording ? recordings.problem : null
+    },
     health: () => health.problem(),
   })
   const http = createServer({ connectionsCheckingInterval: timeoutCheckInterval(config) }, (req, res) => {
@@ -125,7 +131,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     } catch (error) {
       // A request must never end the process; the route is a bug to fix, the client gets a 500.
       log.error({ err: error, url: req.url }, 'request handler failed')
-      if (!res.headersSent) res.writeHead(500)
+      if (!res.headersSent) res.writeHead(500, SECURITY_HEADERS)
       res.end()
     }
   })
@@ -174,7 +180,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     const release = (name: string): void => void shared.release(name).catch(() => {})
     rooms.onRoomDisposed = release
     if (pool) pool.onRoomDisposed = release
-    shared.onLost = (name) => host.close(name, CLOSE_CODES.moved, `room ${name} moved to another server`)
+    shared.onLost = (name, url) => transport.moveRoom(name, url)
     if ((await shared.claim(config.defaultRoom)).holder === 'self') host.open(config.defaultRoom)
   }
   log.info({ port, host: config.host }, 'listening')
@@ -184,6 +190,11 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     AgonesLink.connect(log)
       .then(async (link) => {
         agones = link
+        if (config.requireRecording && recordings.problem) {
+          // As /readyz: a GameServer that must record and cannot is never offered to players.
+          log.error({ problem: recordings.problem }, 'agones: not marking Ready: --require-recording')
+          return
+        }
         if (!closing) await link.markReady()
       })
       .catch((error: Error) =>

@@ -8,8 +8,9 @@
  * token-only (the WebSocket upgrade must carry `key=<join token>` or `key=<admin token>`) except
  * the rooms listed in --public-rooms. With --admin-token, room controls (scene, reset, pause,
  * step, gravity) are admin-only: only a connection that presented the admin token may use them.
- * The replay logs follow the join token: with it, GET /replays and /replays/NAME need either key
- * (http-access.ts checkReplayAccess), --public-rooms or not.
+ * The room list and the replay logs follow the join token: with it, GET /rooms, /replays and
+ * /replays/NAME need either key (http-access.ts checkKeyedRoute), --public-rooms or not.
+ * --metrics-token puts /metrics behind its own bearer token (checkMetricsAccess).
  */
 import { ROOM_NAME_PATTERN } from '../../shared/index.ts'
 import type { ServerConfig } from './config-settings.ts'
@@ -52,6 +53,7 @@ export function checkSecurityConfig(config: ServerConfig): void {
   }
   checkToken('join token', config.joinToken)
   checkToken('admin token', config.adminToken)
+  checkToken('metrics token', config.metricsToken)
   if (config.joinToken !== '' && config.joinToken === config.adminToken) {
     throw new Error('join token and admin token must differ (the admin token grants room controls)')
   }

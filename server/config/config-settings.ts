@@ -10,6 +10,7 @@ export interface ServerConfig {
   port: number
   host: string
   maxRooms: number
+  maxNewRoomsPerIp: number
   maxClientsPerRoom: number
   maxConnections: number
   maxBodies: number
@@ -36,6 +37,7 @@ export interface ServerConfig {
   replayMaxBytes: number
   replayKeep: number
   recover: boolean
+  requireRecording: boolean
   logLevel: string
   stallSeconds: number
   drainSeconds: number
@@ -46,6 +48,7 @@ export interface ServerConfig {
   allowedOrigins: string
   joinToken: string
   adminToken: string
+  metricsToken: string
   publicRooms: string
   roomTickBudgetMs: number
   roomOverrunTicks: number
@@ -115,6 +118,16 @@ export const SETTINGS: readonly Setting[] = [
     min: 1,
     max: 10000,
     help: 'rooms open at once',
+  },
+  {
+    key: 'maxNewRoomsPerIp',
+    flag: '--max-new-rooms-per-ip',
+    env: 'MAX_NEW_ROOMS_PER_IP',
+    kind: 'int',
+    fallback: 30,
+    min: 0,
+    max: 1000000,
+    help: 'rooms one client address (IPv6: per /64) may open per minute, 0 = no limit; beyond, the join gets full (4001)',
   },
   {
     key: 'maxClientsPerRoom',
@@ -361,6 +374,14 @@ export const SETTINGS: readonly Setting[] = [
     help: 'at start, reopen rooms whose log has no clean close (after a crash) where the log ends',
   },
   {
+    key: 'requireRecording',
+    flag: '--require-recording',
+    env: 'REQUIRE_RECORDING',
+    kind: 'bool',
+    fallback: false,
+    help: 'with --record, /readyz answers 503 (naming why) while the replay directory cannot be written',
+  },
+  {
     key: 'logLevel',
     flag: '--log-level',
     env: 'LOG_LEVEL',
@@ -443,7 +464,7 @@ export const SETTINGS: readonly Setting[] = [
     env: 'JOIN_TOKEN',
     kind: 'string',
     fallback: '',
-    help: 'when set, rooms and replays are token-only: the WebSocket URL and /replays need key=TOKEN (401/403 otherwise)',
+    help: 'when set, rooms and replays are token-only: the WebSocket URL, /rooms and /replays need key=TOKEN (401/403 otherwise)',
   },
   {
     key: 'adminToken',
@@ -452,6 +473,14 @@ export const SETTINGS: readonly Setting[] = [
     kind: 'string',
     fallback: '',
     help: 'when set, room controls need key=ADMIN_TOKEN (which also admits to every room)',
+  },
+  {
+    key: 'metricsToken',
+    flag: '--metrics-token',
+    env: 'METRICS_TOKEN',
+    kind: 'string',
+    fallback: '',
+    help: 'when set, /metrics needs the header Authorization: Bearer METRICS_TOKEN (401/403 otherwise)',
   },
   {
     key: 'publicRooms',

@@ -26,6 +26,8 @@ export interface ServerMetrics {
   recorderFailures: Counter
   roomsRecovered: Counter
   workersFailed: Counter
+  roomsRefused: Counter<'reason'>
+  roomsUntouchedClosed: Counter
 }
 
 /** Create the metrics on a fresh registry; `processMetrics` adds Node's default process metrics. */
@@ -117,6 +119,17 @@ export function createMetrics(processMetrics: boolean): ServerMetrics {
     roomsRecovered: new Counter({
       name: 'concord_rooms_recovered_total',
       help: 'Rooms reopened from their logs after a crash',
+      registers,
+    }),
+    roomsRefused: new Counter({
+      name: 'concord_rooms_refused_total',
+      help: 'Joins refused because they would open a room, by reason (rate: the address opened --max-new-rooms-per-ip this minute)',
+      labelNames: ['reason'],
+      registers,
+    }),
+    roomsUntouchedClosed: new Counter({
+      name: 'concord_rooms_untouched_closed_total',
+      help: 'Rooms closed as soon as they were empty because no command was ever applied in them (their logs removed)',
       registers,
     }),
     workersFailed: new Counter({

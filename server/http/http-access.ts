@@ -3,13 +3,15 @@
  * (--allowed-origins; a browser page from another origin gets 403, a request without an Origin
  * header, which only non-browser clients send, is let through), then the key in the URL
  * (`/ws?room=NAME&key=KEY`). A key that matches neither token is refused (403) wherever it is
- * sent; without a key, a token-only room is refused (401) and a public room admits the
+ * sent, on a server without tokens too; without a key, a token-only room is refused (401) and a public room admits the
  * connection to that room only. The room policy is described in config-security.ts.
  *
  * The replay logs (GET /replays, GET /replays/NAME) hold every command of every room and the
- * players' names, so with a join token they need a key too (`/replays?key=KEY`, the join or the
- * admin token), whichever room they recorded: checkReplayAccess. Before, a token-only server
- * served the recording of its rooms to anyone.
+ * players' names, and the room list (GET /rooms) names every room, token-only ones included, so
+ * with a join token they need a key too (`?key=KEY`, the join or the admin token), whichever
+ * room they name: checkKeyedRoute. Before, a token-only server served the recording of its rooms
+ * (and the names of its private rooms) to anyone. /metrics has its own token (--metrics-token),
+ * sent as `Authorization: Bearer TOKEN` as Prometheus does: checkMetricsAccess.
  */
 import { timingSafeEqual } from 'node:crypto'
 import type { IncomingMessage } from 'node:http'
@@ -40,35 +42,67 @@ function keyRole(config: ServerConfig, key: string): 'admin' | 'member' | 'none'
   if (key === '') return 'none'
   if (config.adminToken !== '' && sameSecret(key, config.adminToken)) return 'admin'
   if (config.joinToken !== '' && sameSecret(key, config.joinToken)) return 'member'
-  return config.adminToken !== '' || config.joinToken !== '' ? 'forged' : 'none'
+  // On a server without tokens too: a key there matches nothing, and ignoring it would hide a
+  // missing --join-token from the clients that expected one (PROTOCOL.md, Access).
+  return 'forged'
 }
 
-/** A refused HTTP request for the replay logs: status, a one-line answer, the reason for the log. */
-export interface ReplayRefusal {
+/** A refused HTTP request for a keyed route: status, a one-line answer, the reason for the log. */
+export interface RouteRefusal {
   status: 401 | 403
   text: string
   reason: string
+  /** Headers the answer needs (WWW-Authenticate for /metrics). */
+  headers?: Record<string, string>
 }
 
 /**
- * Whether the replay routes may answer a request for `url`: null when they may (no join token, or
- * the URL's `key=` is the join or the admin token), else the refusal. A key that matches neither
- * token is refused (403) as it is at the upgrade, even on a server whose replays are public.
+ * Whether a keyed route (the room list or the replay logs, `what`) may answer a request for
+ * `url`: null when it may (no join token, or the URL's `key=` is the join or the admin token),
+ * else the refusal. A key that matches neither token is refused (403) as it is at the upgrade,
+ * even on a server whose routes are public (a server without tokens included).
  */
-export function checkReplayAccess(config: ServerConfig, url: URL): ReplayRefusal | null {
+export function checkKeyedRoute(
+  config: ServerConfig,
+  url: URL,
+  what: 'rooms' | 'replays',
+): RouteRefusal | null {
   const role = keyRole(config, url.searchParams.get('key') ?? '')
   if (role === 'forged')
     return {
       status: 403,
-      text: 'the key matches neither the join token nor the admin token',
+      text:
+        config.joinToken === '' && config.adminToken === ''
+          ? 'the key matches no token: this server has none, so send no key'
+          : 'the key matches neither the join token nor the admin token',
       reason: 'bad-key',
     }
   if (config.joinToken === '' || role !== 'none') return null
   return {
     status: 401,
-    text: 'the replays of this server need its join or admin key: add key=KEY to the URL',
+    text: `the ${what === 'rooms' ? 'room list' : 'replays'} of this server need its join or admin key: add key=KEY to the URL`,
     reason: 'no-key',
   }
+}
+
+/**
+ * Whether /metrics may answer `request`: null without --metrics-token, or when the request carries
+ * `Authorization: Bearer TOKEN`; else 401 (no or another scheme) or 403 (a wrong token).
+ */
+export function checkMetricsAccess(config: ServerConfig, request: IncomingMessage): RouteRefusal | null {
+  if (config.metricsToken === '') return null
+  const header = request.headers.authorization ?? ''
+  const match = /^Bearer +(\S+) *$/i.exec(header)
+  if (!match)
+    return {
+      status: 401,
+      text: 'the metrics of this server need its metrics token: send Authorization: Bearer TOKEN',
+      reason: 'no-key',
+      headers: { 'www-authenticate': 'Bearer realm="metrics"' },
+    }
+  if (!sameSecret(match[1], config.metricsToken))
+    return { status: 403, text: 'the bearer token is not the metrics token', reason: 'bad-key' }
+  return null
 }
 
 /** Decide an upgrade request for `room` (the URL's room, or '' when the join will name it). */

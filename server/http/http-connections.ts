@@ -13,6 +13,7 @@ import { isIP, type Socket } from 'node:net'
 import type { Duplex } from 'node:stream'
 import type { ServerConfig } from '../config/index.ts'
 import type { LogLimiter, ServerMetrics } from '../hosting/index.ts'
+import { SECURITY_HEADERS } from './http-headers.ts'
 import { PENALTY_SECONDS, RequestRate } from './http-request-rate.ts'
 import { rawHttpResponse } from './http-request-url.ts'
 
@@ -127,6 +128,7 @@ export class ConnectionGuard {
     this.refuseRequests(req.socket, address, key)
     res.once('finish', () => req.socket.destroy())
     res.writeHead(429, {
+      ...SECURITY_HEADERS,
       'content-type': 'text/plain',
       'cache-control': 'no-store',
       'retry-after': String(PENALTY_SECONDS),

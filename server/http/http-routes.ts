@@ -4,20 +4,23 @@
  * replay logs (GET /replays lists them, GET /replays/NAME downloads one). Static paths are resolved
  * inside the static directory only (no traversal); a replay name must match the log name pattern
  * exactly, so it can only name a file directly inside the replay directory. With a join token the
- * replay routes need the join or admin key in the URL, as a join does (http-access.ts
- * checkReplayAccess); 401 without one, 403 for a wrong one. GET and HEAD only.
+ * room list and the replay routes need the join or admin key in the URL, as a join does
+ * (http-access.ts checkKeyedRoute); 401 without one, 403 for a wrong one. With a metrics token,
+ * /metrics needs it (`Authorization: Bearer TOKEN`, checkMetricsAccess). Every answer carries the
+ * security headers of http-headers.ts. GET and HEAD only.
  * A request target that does not parse (`//%`) is answered 400 (http-request-url.ts).
  */
 import { createReadStream } from 'node:fs'
 import { stat } from 'node:fs/promises'
 import type { IncomingMessage, ServerResponse } from 'node:http'
-import { extname, join, normalize, resolve, sep } from 'node:path'
+import { basename, extname, join, normalize, resolve, sep } from 'node:path'
 import type { Logger } from 'pino'
 import type { ServerMetrics } from '../hosting/index.ts'
 import type { Recordings } from '../replay/index.ts'
 import type { RoomHost } from '../rooms/index.ts'
 import type { RoomSummary } from '../workers/index.ts'
-import type { ReplayRefusal } from './http-access.ts'
+import type { RouteRefusal } from './http-access.ts'
+import { BENCH_PAGE, BENCH_SECURITY_HEADERS, SECURITY_HEADERS } from './http-headers.ts'
 import { parseRequestTarget } from './http-request-url.ts'
 
 const TYPES: Record<string, string> = {
@@ -39,21 +42,40 @@ export interface RouteContext {
   staticDir: string
   rooms: RoomHost
   recordings?: Recordings
-  /** Null when a request for the replay logs may be answered, else its refusal (checkReplayAccess). */
-  replayAccess: (url: URL) => ReplayRefusal | null
+  /**
+   * Null when a request for a keyed route (`/rooms`, `/replays`, `/replays/NAME`) may be
+   * answered, else its refusal (checkKeyedRoute).
+   */
+  keyAccess: (url: URL, what: 'rooms' | 'replays') => RouteRefusal | null
+  /** Null when a request for /metrics may be answered, else its refusal (checkMetricsAccess). */
+  metricsAccess: (req: IncomingMessage) => RouteRefusal | null
   metrics: ServerMetrics
   /** The /metrics text when it is more than the registry's (room workers' metrics merged in). */
   metricsText?: () => Promise<string>
   log: Logger
-  /** False while shutting down (readiness fails so load balancers stop sending players). */
-  ready: () => boolean
+  /**
+   * Null when ready, else why not: shutting down (so load balancers stop sending players), or a
+   * recording the operator requires (--require-recording) that cannot be written.
+   */
+  notReady: () => string | null
   /** Null while every tick loop runs; otherwise why /healthz fails (a stalled loop). */
   health: () => string | null
 }
 
-function send(res: ServerResponse, status: number, type: string, body: string): void {
-  res.writeHead(status, { 'content-type': type, 'cache-control': 'no-store' })
+function send(
+  res: ServerResponse,
+  status: number,
+  type: string,
+  body: string,
+  extra: Record<string, string> = {},
+): void {
+  res.writeHead(status, { ...SECURITY_HEADERS, 'content-type': type, 'cache-control': 'no-store', ...extra })
   res.end(body)
+}
+
+/** Answer a refused request for a keyed route. */
+function refuse(res: ServerResponse, refusal: RouteRefusal): void {
+  send(res, refusal.status, 'text/plain', `${refusal.text}\n`, refusal.headers)
 }
 
 /** The HTTP request handler. */
@@ -82,22 +104,30 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
           ? send(res, 200, 'text/plain', 'ok\n')
           : send(res, 503, 'text/plain', `${problem}\n`)
       }
-      case '/readyz':
-        return ctx.ready()
+      case '/readyz': {
+        const problem = ctx.notReady()
+        return problem === null
           ? send(res, 200, 'text/plain', 'ready\n')
-          : send(res, 503, 'text/plain', 'shutting down\n')
-      case '/metrics':
+          : send(res, 503, 'text/plain', `${problem}\n`)
+      }
+      case '/metrics': {
+        const refusal = ctx.metricsAccess(req)
+        if (refusal) return refuse(res, refusal)
         metricsText().then(
           (text) => send(res, 200, ctx.metrics.registry.contentType, text),
           () => send(res, 500, 'text/plain', 'metrics failed\n'),
         )
         return
-      case '/rooms':
+      }
+      case '/rooms': {
+        const refusal = ctx.keyAccess(url, 'rooms')
+        if (refusal) return refuse(res, refusal)
         return send(res, 200, 'application/json', JSON.stringify(listRooms(ctx.rooms)))
+      }
       case '/replays': {
         if (!ctx.recordings) return send(res, 404, 'text/plain', 'not found\n')
-        const refusal = ctx.replayAccess(url)
-        if (refusal) return send(res, refusal.status, 'text/plain', `${refusal.text}\n`)
+        const refusal = ctx.keyAccess(url, 'replays')
+        if (refusal) return refuse(res, refusal)
         ctx.recordings.list().then(
           (logs) => send(res, 200, 'application/json', JSON.stringify(logs)),
           () => send(res, 500, 'text/plain', 'listing failed\n'),
@@ -106,8 +136,8 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
       }
       default:
         if (url.pathname.startsWith('/replays/') && ctx.recordings) {
-          const refusal = ctx.replayAccess(url)
-          if (refusal) return send(res, refusal.status, 'text/plain', `${refusal.text}\n`)
+          const refusal = ctx.keyAccess(url, 'replays')
+          if (refusal) return refuse(res, refusal)
           return serveReplay(ctx.recordings, url.pathname.slice('/replays/'.length), req, res, ctx.log)
         }
         serveStatic(root, url.pathname, req, res, ctx.log)
@@ -191,6 +221,7 @@ function serveFile(
     (info) => {
       if (!info.isFile()) return missing()
       res.writeHead(200, {
+        ...(basename(file) === BENCH_PAGE ? BENCH_SECURITY_HEADERS : SECURITY_HEADERS),
         'content-type': type,
         'content-length': info.size,
         'cache-control': 'no-cache',

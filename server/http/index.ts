@@ -3,7 +3,7 @@
  * /metrics, /rooms, /replays), who may upgrade, every TCP connection's limits, per-address request
  * rates and the token bucket they and the message rate share.
  */
-export { type Access, checkAccess, checkReplayAccess } from './http-access.ts'
+export { type Access, checkAccess, checkKeyedRoute, checkMetricsAccess } from './http-access.ts'
 export {
   addressKey,
   ConnectionGuard,
@@ -11,6 +11,7 @@ export {
   timeoutCheckInterval,
   tuneHttpTimeouts,
 } from './http-connections.ts'
+export { SECURITY_HEADERS } from './http-headers.ts'
 export { parseRequestTarget, rawHttpResponse } from './http-request-url.ts'
 export { createRequestHandler } from './http-routes.ts'
 export { MessageBudget } from './message-budget.ts'

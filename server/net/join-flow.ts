@@ -6,13 +6,17 @@
  * (--redis) a room it does not have is claimed first, and the client of a room another server
  * holds gets `moved` with that server's URL and a 4006 close. A join refused for a full server
  * gives its claim back, so a room name is never left claimed by a server that does not hold it.
+ * A join that would open a room draws on its address's room-opening rate (room-creation-rate.ts):
+ * over it, the join gets `full` naming the limit, counted and logged (rate-limited) as refused.
  */
 import type { Logger } from 'pino'
 import { CLOSE_CODES, type ClientMessage } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
-import type { RoomDirectory, ServerMetrics } from '../hosting/index.ts'
+import type { LogLimiter, RoomDirectory, ServerMetrics } from '../hosting/index.ts'
+import { addressKey } from '../http/index.ts'
 import type { RoomHost } from '../rooms/index.ts'
 import type { Peer, PeerPolicy } from './peer-policy.ts'
+import { RoomCreationRate } from './room-creation-rate.ts'
 
 export type JoinMessage = Extract<ClientMessage, { t: 'join' }>
 
@@ -25,6 +29,8 @@ export class JoinFlow {
   directory: RoomDirectory | null = null
   /** Directory claims not yet answered, by room (a claim no room came of is given back). */
   private readonly claiming = new Map<string, number>()
+  /** Rooms each address may still open this minute (--max-new-rooms-per-ip). */
+  private readonly openings: RoomCreationRate
 
   constructor(
     private readonly config: ServerConfig,
@@ -33,7 +39,11 @@ export class JoinFlow {
     private readonly metrics: ServerMetrics,
     private readonly log: Logger,
     private readonly actions: JoinActions,
-  ) {}
+    /** Rate-limited warnings about clients (the transport's). */
+    private readonly warnings: LogLimiter,
+  ) {
+    this.openings = new RoomCreationRate(config.maxNewRoomsPerIp)
+  }
 
   /** A `join` message from `peer`. */
   join(peer: Peer, message: JoinMessage): void {
@@ -58,11 +68,32 @@ export class JoinFlow {
       this.actions.drop(peer, CLOSE_CODES.forbidden, reason)
       return
     }
+    // Without a directory a room not open here is opened here. With one, the claim may find it
+    // on another server (`moved`, which opens nothing): here() takes the opening once claimed.
+    if (!this.directory && !this.rooms.has(name) && !this.openings.allows(addressKey(peer.address))) {
+      this.refuseOpening(peer, name)
+      return
+    }
     if (this.directory && !this.rooms.has(name)) {
       this.throughDirectory(this.directory, peer, message, name)
       return
     }
     this.here(peer, message, name)
+  }
+
+  /** Refuse a join that would open room `name`: its address opened its rooms for this minute. */
+  private refuseOpening(peer: Peer, name: string): void {
+    const key = addressKey(peer.address)
+    const limit = this.config.maxNewRoomsPerIp
+    const reason = `this address opened ${limit} new rooms within a minute (--max-new-rooms-per-ip); join an open room, or open "${name}" in ${this.openings.waitSeconds(key)} s`
+    this.metrics.roomsRefused.inc({ reason: 'rate' })
+    this.warnings.warn(
+      key,
+      { address: peer.address, room: name, limit },
+      'room opening refused: over the per-address rate',
+    )
+    peer.session.sendError('full', reason)
+    this.actions.drop(peer, CLOSE_CODES.full, 'too many new rooms from this address')
   }
 
   /**
@@ -106,9 +137,10 @@ export class JoinFlow {
       },
       (error: Error) => {
         answered()
+        // The library's words (host, port, command) stay in the log: the client learns what to do.
         this.log.warn({ room: name, err: error.message }, 'room directory unavailable; join refused')
         if (peer.dropped || !session.open) return
-        session.sendError('unavailable', `room directory unavailable: ${error.message}`)
+        session.sendError('unavailable', 'the room directory is unavailable; try again in a few seconds')
         this.actions.drop(peer, CLOSE_CODES.tryAgain, 'room directory unavailable')
       },
     )
@@ -116,12 +148,20 @@ export class JoinFlow {
 
   private here(peer: Peer, message: JoinMessage, name: string, afterRefusal?: () => void): void {
     const session = peer.session
+    // Opening a room takes one of the address's openings (checked in join(); a claim may have
+    // taken a moment, so the room may be open by now, and then nothing is taken).
+    if (!this.rooms.has(name) && !this.openings.take(addressKey(peer.address))) {
+      this.refuseOpening(peer, name)
+      afterRefusal?.()
+      return
+    }
     const seat = this.rooms.join({
       conn: session,
       room: name,
       name: message.name,
       token: message.token,
       mode: message.mode,
+      controls: peer.access.controls,
       strike: (code, reason, tick, seq) => this.actions.roomStrike(peer, code, reason, tick, seq),
       refused: (error, reason) => {
         session.seat = null

@@ -69,7 +69,7 @@ export class Transport {
     })
     this.warnings = new LogLimiter(log)
     this.policy = new PeerPolicy(config, metrics, this.warnings)
-    this.joins = new JoinFlow(config, rooms, metrics, log, this.policy)
+    this.joins = new JoinFlow(config, rooms, metrics, log, this.policy, this.warnings)
     this.heartbeat = setInterval(() => this.sweep(), config.heartbeatMs)
   }
 
@@ -298,6 +298,18 @@ export class Transport {
   }
 
   /** Stop accepting; close every socket with a reason; resolves when all are closed (or forced). */
+  /**
+   * Hand room `name` over to the server at `url` (the room directory found an older copy there):
+   * every player of it gets `moved`, then the room closes here with 4006 (PROTOCOL.md: `moved`
+   * always comes first).
+   */
+  moveRoom(name: string, url: string): void {
+    for (const session of this.sessions) {
+      if (session.seat?.room === name && session.open) session.send({ t: 'moved', room: name, url })
+    }
+    this.rooms.close(name, CLOSE_CODES.moved, `room ${name} moved to another server`)
+  }
+
   async closeAll(code: number, reason: string, graceMs: number): Promise<void> {
     this.accepting = false
     if (this.heartbeat) clearInterval(this.heartbeat)

@@ -5,10 +5,14 @@
  * rebuilt from it and reopened where it ends (recovery.ts): the newest log that is not empty, not
  * given up by its writer (read-only) and not written by a live process (log-writer.ts). It owns
  * the process's one pruner of the directory (--replay-keep; with room workers the main thread's).
- * A directory that cannot be created turns recording off with one log line and a metric; rooms
- * run either way.
+ * A directory that cannot be created or written turns recording off with one loud log line (error
+ * level, naming the directory, the cause and the consequence) and a metric, and sets `problem`,
+ * which /readyz reports with --require-recording; rooms run either way. Room workers check the
+ * directory too, quietly.
  */
-import { mkdir } from 'node:fs/promises'
+import { constants } from 'node:fs'
+import { access, mkdir, unlink } from 'node:fs/promises'
+import { join, resolve } from 'node:path'
 import type { Logger } from 'pino'
 import type { ServerConfig } from '../config/index.ts'
 import type { ServerMetrics } from '../hosting/index.ts'
@@ -39,6 +43,10 @@ export class Recordings {
   private readonly recovered = new Map<string, RecoveredRoom>()
   /** Tests inject failing file operations here. */
   openLog: OpenLog | undefined
+  /** Why recording is configured but impossible (the replay directory cannot be written), else null. */
+  problem: string | null = null
+  /** Log a failed prepare() at debug level only (a room worker: the main thread has said it). */
+  quiet = false
   /** Called when a room was rebuilt from its log (room, log, tick and hash of the checkpoint). */
   onRecovered: ((room: string, log: string, tick: number, hash: number) => void) | null = null
   /**
@@ -106,19 +114,25 @@ export class Recordings {
     rooms.onRoomClosed = (room) => this.detach(room)
   }
 
-  /** Create the replay directory when recording; false when not recording (off, or it failed). */
+  /**
+   * Create the replay directory when recording and check that this process may write in it (an
+   * existing directory of another user, a read-only mount); false when not recording (off, or it
+   * failed: see the file comment).
+   */
   async prepare(): Promise<boolean> {
     if (!this.enabled) return false
     try {
       await mkdir(this.dir, { recursive: true })
+      await access(this.dir, constants.W_OK | constants.X_OK)
       return true
     } catch (error) {
       this.enabled = false
       this.metrics.recorderFailures.inc()
-      this.log.error(
-        { dir: this.dir, err: (error as Error).message },
-        'cannot create the replay directory; not recording',
-      )
+      const cause = (error as NodeJS.ErrnoException).code ?? (error as Error).message
+      this.problem = `recording is configured but impossible: the replay directory ${resolve(this.dir)} cannot be written (${cause})`
+      const line = `${this.problem}; rooms run unrecorded and crash recovery is off (mount a writable volume there or set --replay-dir)`
+      if (this.quiet) this.log.debug({ dir: this.dir, err: (error as Error).message }, line)
+      else this.log.error({ dir: this.dir, err: (error as Error).message }, line)
       return false
     }
   }
@@ -200,6 +214,7 @@ export class Recordings {
       return
     }
     this.recovered.delete(room.name)
+    room.touched = true // a session that was recorded: never closed early, its log never removed
     const sim = recovered.runner.sim
     room.sim.restoreState(sim.saveState(), sim.world)
     room.nextPlayerId = recovered.maxPlayerId + 1
@@ -218,11 +233,28 @@ export class Recordings {
     this.onRecovered?.(room.name, recovered.name, recovered.tick, recovered.hash)
   }
 
+  /**
+   * Close a disposed room's log; the log of a room where no command was ever applied is removed
+   * (Room.touched: it holds a scene and joins, nothing to replay), so junk rooms leave no file for
+   * pruning to weigh against real recordings.
+   */
   private detach(room: Room): void {
     const recorder = this.recorders.get(room.name)
     if (!recorder) return
     this.recorders.delete(room.name)
-    recorder.close('room closed').catch(() => {})
+    const closed = recorder.close('room closed')
+    if (room.touched) {
+      closed.catch(() => {})
+      return
+    }
+    closed
+      .then(() => (recorder.name ? unlink(join(this.dir, recorder.name)) : undefined))
+      .catch((error: Error) =>
+        this.log.warn(
+          { room: room.name, log: recorder.name, err: error.message },
+          'cannot remove the log of an untouched room',
+        ),
+      )
   }
 
   /** Close every log cleanly (shutdown). */

@@ -33,6 +33,8 @@ export interface JoinRequest {
   name: string
   token: string | undefined
   mode: JoinMode
+  /** Whether the connection's key allows room controls (http-access.ts); told in `welcome.rules`. */
+  controls: boolean
   /** Strikes the room reports against this client. */
   strike: Strike
   /** The join was refused: `error` for the error message, `reason` for the close. */
@@ -113,7 +115,7 @@ export class LocalRoomHost implements RoomHost {
       request.refused(`the server has reached its limit of ${this.maxRooms} rooms`, 'too many rooms')
       return null
     }
-    const joined = room.join(request.conn, request.name, request.token, request.mode)
+    const joined = room.join(request.conn, request.name, request.token, request.mode, request.controls)
     if (typeof joined === 'string') {
       request.refused(joined, joined)
       return null

@@ -157,11 +157,19 @@ export class RoomManager {
     this.close(room.name, CLOSE_CODES.overloaded, reason)
   }
 
+  /**
+   * Dispose of empty rooms (checked once a second): after --room-idle-seconds, or at once when
+   * players came and went and no command was ever applied (Room.touched; a reconnect to one finds
+   * a fresh room). A room opened without a player keeps the idle rule.
+   */
   private disposeIdle(): void {
     const idleTicks = this.config.roomIdleSeconds * TICK_RATE
     for (const room of this.rooms.values()) {
       if (room.name === this.config.defaultRoom || room.players.size > 0 || room.emptySince < 0) continue
-      if (room.tick - room.emptySince >= idleTicks) this.dispose(room)
+      if (room.visited && !room.touched) {
+        this.metrics.roomsUntouchedClosed.inc()
+        this.dispose(room)
+      } else if (room.tick - room.emptySince >= idleTicks) this.dispose(room)
     }
   }
 

@@ -77,6 +77,16 @@ export class Room {
   nextPlayerId = 1
   /** Room tick at which the last player left (for disposal), or -1 while occupied. */
   emptySince = 0
+  /**
+   * Whether a command was ever applied here (or the room was rebuilt from a log). An untouched
+   * room is closed as soon as it is empty and its log removed: it holds nothing anyone made, and
+   * a client that joins fresh names must not hold places under --max-rooms or push real
+   * recordings out of --replay-keep (room-manager.ts disposeIdle, recordings.ts detach). A room
+   * given a world from outside (a benchmark's blueprint) counts as touched.
+   */
+  touched = false
+  /** Whether a player ever joined (an untouched room is closed early only once it had one). */
+  visited = false
   readonly rules: RoomRules
   /** The tick stream, syncs and desync reports of lockstep and predict players. */
   readonly feed: LockstepFeed
@@ -161,12 +171,17 @@ export class Room {
     return this.sim.grabCounts
   }
 
-  /** Add a player and send its welcome; returns the player, or a reason when refused. */
+  /**
+   * Add a player and send its welcome; returns the player, or a reason when refused. `controls`
+   * is false when the player's key does not allow room controls (an admin token it lacks): its
+   * welcome then says `rules.controls` false, as the room will answer its controls.
+   */
   join(
     conn: PlayerConnection,
     name: string,
     token: string | undefined,
     mode: JoinMode = 'snapshot',
+    controls = true,
   ): RoomPlayer | string {
     if (this.players.size >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
     const identity = assignIdentity(this, token)
@@ -185,6 +200,7 @@ export class Room {
     // A lockstep player's sync follows at the end of this tick; the welcome's state is for its view.
     if (player.lockstep) this.feed.add(player.id, conn)
     this.emptySince = -1
+    this.visited = true
     const frame = new QuantizedFrame()
     fillFrame(this.world, frame)
     player.encoder.reset(frame, this.tick)
@@ -194,7 +210,7 @@ export class Room {
       id: player.id,
       token: player.token,
       room: this.name,
-      rules: this.rules,
+      rules: controls || !this.rules.controls ? this.rules : { ...this.rules, controls: false },
       players: this.roster(),
       state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
     })
@@ -305,6 +321,7 @@ export class Room {
   loadBlueprint(name: string, blueprint: SceneBlueprint): void {
     const built = worldFromBlueprint(blueprint)
     this.sim.loadWorld(name, built.world, built.joints)
+    this.touched = true
   }
 
   /** Encode once, send to every player. */
@@ -330,7 +347,11 @@ export class Room {
   }
 
   private apply(player: RoomPlayer, cmd: Command): string | null {
-    if (cmd.k !== 'inspect') return this.sim.apply(player.id, cmd)
+    if (cmd.k !== 'inspect') {
+      const refused = this.sim.apply(player.id, cmd)
+      if (refused === null) this.touched = true
+      return refused
+    }
     // Inspecting only chooses what this player is sent: the world does not change, nothing is recorded.
     if (cmd.body !== 0 && !isMovable(this.world, cmd.body))
       return `body ${cmd.body} does not exist or is static`

@@ -37,6 +37,7 @@ const conns = new Map<number, WorkerConnection>()
 const busy = new Map<string, number>()
 
 recordings.hook(rooms)
+recordings.quiet = true
 const recordingsReady = recordings.prepare()
 const created = rooms.onRoomCreated
 rooms.onRoomCreated = (room) => {
@@ -136,7 +137,7 @@ function handle(op: ToWorker): void {
         outbox.push({ k: 'refused', conn: op.conn, error, reason: 'too many rooms' })
         return
       }
-      const joined = room.join(conn, op.name, op.token, op.mode)
+      const joined = room.join(conn, op.name, op.token, op.mode, op.controls)
       if (typeof joined === 'string') {
         outbox.push({ k: 'refused', conn: op.conn, error: joined, reason: joined })
         return

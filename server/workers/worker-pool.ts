@@ -37,6 +37,7 @@ const WORKER_METRICS = new Set([
   'concord_rooms_closed_over_budget_total',
   'concord_recorder_failures_total',
   'concord_rooms_recovered_total',
+  'concord_rooms_untouched_closed_total',
   'concord_worker_bytes_out_total',
 ])
 
@@ -106,8 +107,8 @@ export class WorkerPool implements RoomHost {
     link.seats.set(conn, seat)
     link.pendingJoins.set(request.room, (link.pendingJoins.get(request.room) ?? 0) + 1)
     link.unanswered.set(conn, request.room)
-    const { room, name, token, mode } = request
-    link.post({ op: 'join', conn, room, name, token, mode })
+    const { room, name, token, mode, controls } = request
+    link.post({ op: 'join', conn, room, name, token, mode, controls })
     return seat
   }
 

@@ -29,7 +29,16 @@ export type WorkerFault =
 
 /** Main thread to worker, in order. */
 export type ToWorker =
-  | { op: 'join'; conn: number; room: string; name: string; token: string | undefined; mode: JoinMode }
+  | {
+      op: 'join'
+      conn: number
+      room: string
+      name: string
+      token: string | undefined
+      mode: JoinMode
+      /** Whether the connection may use room controls (its key). */
+      controls: boolean
+    }
   | { op: 'msg'; conn: number; message: RoomMessage }
   | { op: 'leave'; conn: number }
   /** Unread bytes per connection: pairs (conn, bytes). */

@@ -81,12 +81,15 @@ function optNum(value: unknown, what: string, limit: number): number | undefined
   return value === undefined || value === null ? undefined : num(value, what, limit)
 }
 
-function optRange(value: unknown, what: string, [min, max]: readonly [number, number]): number | undefined {
-  if (value === undefined || value === null) return undefined
+function range(value: unknown, what: string, [min, max]: readonly [number, number]): number {
   if (typeof value !== 'number' || !Number.isFinite(value) || value < min || value > max) {
     throw new SchemaError(`${what} must be a finite number in [${min}, ${max}]`)
   }
   return positiveZero(value)
+}
+
+function optRange(value: unknown, what: string, limits: readonly [number, number]): number | undefined {
+  return value === undefined || value === null ? undefined : range(value, what, limits)
 }
 
 function str(value: unknown, what: string, maxLength: number): string {
@@ -103,11 +106,7 @@ function bool(value: unknown, what: string): boolean {
 
 function validateShape(value: unknown): WireShape {
   const type = fields(value, 'shape', ['type', 'radius', 'hw', 'hh', 'v'], ['type']).type
-  const extent = (v: unknown, what: string): number => {
-    const n = num(v, what, MAX_SHAPE_EXTENT)
-    if (n < MIN_SHAPE_EXTENT) throw new SchemaError(`${what} must be at least ${MIN_SHAPE_EXTENT} m`)
-    return n
-  }
+  const extent = (v: unknown, what: string): number => range(v, what, [MIN_SHAPE_EXTENT, MAX_SHAPE_EXTENT])
   if (type === 'circle') {
     const f = fields(value, 'circle', ['type', 'radius'], ['radius'])
     return { type, radius: extent(f.radius, 'circle radius') }

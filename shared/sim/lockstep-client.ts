@@ -173,7 +173,9 @@ export class LockstepClient {
       this.stats.syncBytes = bytes.length
       const restored = restoreSyncPayload(bytes, {
         maxBodies: this.rules.maxBodies,
-        controls: this.rules.controls,
+        // The stream holds only commands the room accepted: a room control in it is applied,
+        // whatever this player's own rights (`rules.controls` says only whether its own are).
+        controls: true,
         name: '',
       })
       if (!restored.ok || restored.sim.tick !== message.tick) {

@@ -228,6 +228,7 @@ export class PredictClient extends LockstepClient {
     const before = this.present
     const present = cloneSimulation(confirmed, {
       maxBodies: rules.maxBodies,
+      // This player's own predictions: its room controls are refused when it has no rights.
       controls: rules.controls,
       name: '',
     })

@@ -1,8 +1,9 @@
 /*
  * A small Dockerfile reader for the image tests: joins continuation lines, drops comments and
  * parser directives, and splits the file into stages of (instruction, arguments). It knows only
- * what the image tests replay (FROM, WORKDIR, ENV, COPY, RUN, USER, EXPOSE, HEALTHCHECK, CMD) and
- * throws on anything else, so a new instruction in docker/Dockerfile cannot be silently skipped.
+ * what the image tests replay or check (FROM, WORKDIR, ENV, COPY, RUN, USER, VOLUME, EXPOSE,
+ * HEALTHCHECK, CMD) and throws on anything else, so a new instruction in docker/Dockerfile cannot
+ * be silently skipped.
  */
 import { readFileSync } from 'node:fs'
 
@@ -19,7 +20,18 @@ export interface Stage {
   instructions: Instruction[]
 }
 
-const KNOWN = new Set(['FROM', 'WORKDIR', 'ENV', 'COPY', 'RUN', 'USER', 'EXPOSE', 'HEALTHCHECK', 'CMD'])
+const KNOWN = new Set([
+  'FROM',
+  'WORKDIR',
+  'ENV',
+  'COPY',
+  'RUN',
+  'USER',
+  'VOLUME',
+  'EXPOSE',
+  'HEALTHCHECK',
+  'CMD',
+])
 
 /** Parse a Dockerfile into stages; throws naming an instruction the tests do not know. */
 export function readDockerfile(path: string): Stage[] {

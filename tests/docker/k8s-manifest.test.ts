@@ -38,6 +38,7 @@ describe('the Kubernetes Deployment', () => {
     const config = loadConfig([], Object.fromEntries(manifestEnv()))
     expect(config.maxConnectionsPerIp).toBe(0)
     expect(config.maxRequestsPerIp).toBe(0)
+    expect(config.maxNewRoomsPerIp).toBe(0)
     expect(readFileSync('README.md', 'utf8')).toContain('`MAX_CONNECTIONS_PER_IP=0`, `MAX_REQUESTS_PER_IP=0`')
   })
 })

@@ -183,21 +183,32 @@ export async function openLayerRow(page: Page, attempts = 5): Promise<void> {
   throw new Error(`${attempts} clicks on Debug did not open the layer row`)
 }
 
-/** Wait until a body satisfies a predicate on the page (polled every animation frame). */
+/**
+ * Wait until a body satisfies a predicate (an expression of `b`), read once per animation frame.
+ * The predicate runs here in Node, not in the page: the server's Content-Security-Policy
+ * (server/http/http-headers.ts) forbids the page to compile strings.
+ */
 export async function waitForBody(
   page: Page,
   id: number,
   predicate: string,
   timeout = 15_000,
 ): Promise<void> {
-  await page.waitForFunction(
-    ([bodyId, test]) => {
-      const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === bodyId)
-      return b ? new Function('b', `return ${test}`)(b) : false
-    },
-    [id, predicate] as const,
-    { timeout },
-  )
+  const test = new Function('b', `return ${predicate}`) as (b: unknown) => boolean
+  const deadline = Date.now() + timeout
+  for (;;) {
+    const body = await page.evaluate(
+      (bodyId) =>
+        new Promise((resolve) =>
+          requestAnimationFrame(() =>
+            resolve(window.concord.sandbox.bodies().find((v: { id: number }) => v.id === bodyId) ?? null),
+          ),
+        ),
+      id,
+    )
+    if (body !== null && test(body)) return
+    if (Date.now() > deadline) throw new Error(`body ${id} did not satisfy ${predicate} within ${timeout} ms`)
+  }
 }
 
 /** Select a tool by its toolbar button. */

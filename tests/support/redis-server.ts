@@ -25,10 +25,13 @@ function freePort(): Promise<number> {
   })
 }
 
-/** Start redis-server; resolves once it accepts connections. */
-export async function startRedis(): Promise<TestRedis> {
+/**
+ * Start redis-server; resolves once it accepts connections. `port` restarts one where a stopped
+ * one listened (with none of its data: there is no persistence).
+ */
+export async function startRedis(port?: number): Promise<TestRedis> {
   const dir = mkdtempSync(join(tmpdir(), 'concord-redis-'))
-  const port = await freePort()
+  port ??= await freePort()
   const proc: ChildProcess = spawn(
     'redis-server',
     ['--port', String(port), '--bind', '127.0.0.1', '--dir', dir, '--save', '', '--appendonly', 'no'],

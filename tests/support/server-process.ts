@@ -24,12 +24,14 @@ export interface ServerProcess {
 /**
  * Start the server with `args` (after `--port 0 --log-level info`) and extra environment; resolves
  * once it logs "listening". Rejects if it exits first, or, given `listenTimeoutMs`, kills it and
- * rejects when it has not listened by then (a server that hangs at startup).
+ * rejects when it has not listened by then (a server that hangs at startup). `user` runs it as
+ * another uid and gid (a test running as root standing in for a container's unprivileged user).
  */
 export function startServerProcess(
   args: string[] = [],
   env: Record<string, string> = {},
   listenTimeoutMs?: number,
+  user?: { uid: number; gid: number },
 ): Promise<ServerProcess> {
   const proc = spawn(
     process.execPath,
@@ -37,6 +39,7 @@ export function startServerProcess(
     {
       stdio: ['ignore', 'pipe', 'inherit'],
       env: { ...process.env, ...env },
+      ...user,
     },
   )
   const lines: LogLine[] = []

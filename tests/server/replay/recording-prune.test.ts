@@ -34,6 +34,16 @@ async function openFiles(pid: number, dir: string): Promise<string[]> {
   return out
 }
 
+/**
+ * One applied command, so the room keeps its log: a room where no command was ever applied is
+ * closed at once and its log removed (issue 30 point 8), which would leave nothing to prune.
+ */
+async function spawnOne(bot: BotClient): Promise<void> {
+  const before = bot.mirror.bodies.size
+  bot.command({ k: 'spawn', shape: { type: 'circle', radius: 0.5 }, x: 0, y: 3 })
+  await bot.waitFor(() => bot.mirror.bodies.size > before, 'the spawn applied')
+}
+
 describe('pruning the replay directory', { timeout: 120_000 }, () => {
   it('with two workers and many short rooms, never deletes an open log and keeps exactly --replay-keep', async () => {
     const dir = await mkdtemp(join(tmpdir(), 'concord-prune-'))
@@ -49,7 +59,8 @@ describe('pruning the replay directory', { timeout: 120_000 }, () => {
         '--default-scene',
         'empty',
       ],
-      ...['--max-rooms', '1000'],
+      // Every room here comes from 127.0.0.1: no per-address limit on new rooms.
+      ...['--max-rooms', '1000', '--max-new-rooms-per-ip', '0'],
     ])
     children.push(server)
     const pid = server.process.pid!
@@ -73,6 +84,7 @@ describe('pruning the replay directory', { timeout: 120_000 }, () => {
       await Promise.all(
         [0, 1, 2, 3].map(async (k) => {
           const bot = await BotClient.connect({ url: server.url, room: `short${i + k}`, name: 'p' })
+          await spawnOne(bot)
           await bot.close()
         }),
       )
@@ -92,6 +104,7 @@ describe('pruning the replay directory', { timeout: 120_000 }, () => {
         if (Date.now() - lastTrigger < 1500) return false
         lastTrigger = Date.now()
         const bot = await BotClient.connect({ url: server.url, room: `late${extra++}`, name: 'p' })
+        await spawnOne(bot)
         await bot.close()
         return false
       },
