@@ -5,6 +5,8 @@
  *   limit is not solved at all, so a rope pulls and never pushes, not even speculatively.
  * - Spring: hertz > 0: a soft spring toward `length` (implicit, stable at any stiffness), plus the
  *   min/max limits when minLength < maxLength (the defaults, min = max = length, mean no limits).
+ * - Motor (enableMotor): drives the length's rate of change toward motorSpeed (m/s) with at most
+ *   maxMotorForce (N), on a spring or a rope (a rod's rigid constraint overrides it).
  * Limits are speculative (close at most the remaining gap) and soft once violated, like contacts.
  *
  * The spring is the physics, not an error correction, so it acts in the relax pass as well. Its
@@ -20,7 +22,8 @@
  * user asks for 0. That is the price of being stable at any stiffness.
  */
 import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
-import { clampImpulse, type Joint, type JointStepContext } from './joint.ts'
+import type { Joint } from './joint.ts'
+import { clampImpulse, type JointStepContext } from './joint-math.ts'
 import { Softness } from './softness.ts'
 
 const springSoftness = new Softness()
@@ -81,6 +84,7 @@ export function prepareDistance(joint: Joint, state: Float64Array, ctx: JointSte
     joint.upperImpulse = 0
   }
   if (joint.hertz === 0 && joint.minLength < joint.maxLength) joint.impulse = 0
+  if (!joint.enableMotor) joint.motorImpulse = 0
 }
 
 /** Whether the min/max limits act: only when they span a range (a rod is rigid instead). */
@@ -107,7 +111,9 @@ function applyAxial(joint: Joint, state: Float64Array, impulse: number): void {
 /** Applies the accumulated impulses of a distance joint. */
 export function warmStartDistance(joint: Joint, state: Float64Array): void {
   computeAxis(joint, state)
-  applyAxial(joint, state, joint.impulse + joint.lowerImpulse - joint.upperImpulse)
+  let axial = joint.impulse + joint.lowerImpulse - joint.upperImpulse
+  if (joint.enableMotor) axial += joint.motorImpulse
+  applyAxial(joint, state, axial)
 }
 
 function axialSpeed(joint: Joint, state: Float64Array): number {
@@ -163,6 +169,15 @@ export function solveDistance(
     const cdot = axialSpeed(joint, state)
     const impulse = -massScale * joint.axialMass * (cdot + bias) - impulseScale * joint.impulse
     applyAxial(joint, state, accumulate(joint, impulse))
+  }
+  if (joint.enableMotor) {
+    const old = joint.motorImpulse
+    const cap = Math.min(joint.maxMotorForce * ctx.h, joint.maxImpulse)
+    joint.motorImpulse = clampImpulse(
+      old + joint.axialMass * (joint.motorSpeed - axialSpeed(joint, state)),
+      cap,
+    )
+    applyAxial(joint, state, joint.motorImpulse - old)
   }
   if (limits) {
     if (joint.minLength > 0) solveLimit(joint, state, ctx, useBias, geometry[LENGTH] - joint.minLength, 1)

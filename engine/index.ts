@@ -52,12 +52,18 @@ export type {
   BodyType,
   ContactInfo,
   DistanceJointDef,
+  JointBreakDef,
   JointDef,
+  JointEvents,
   JointId,
   JointInfo,
   JointReaction,
+  MotorJointDef,
   MouseJointDef,
+  PrismaticJointDef,
   RevoluteJointDef,
+  WeldJointDef,
+  WheelJointDef,
   WorldDef,
 } from './types.ts'
 export { createWorld, loadWorld, World } from './world.ts'

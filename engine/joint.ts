@@ -4,7 +4,9 @@
  * warm start, solve with bias, and relax without bias.
  *
  * One Joint class holds the fields of every kind so that all joints share one hidden class; the
- * kind-specific math lives in revolute-joint.ts, distance-joint.ts and mouse-joint.ts. Anchors are
+ * kind-specific math lives in revolute-joint.ts, distance-joint.ts, mouse-joint.ts, weld-joint.ts,
+ * prismatic-joint.ts, wheel-joint.ts and motor-joint.ts, and the helpers they share in
+ * joint-math.ts (which imports no kind, so no run-time import cycle remains). Anchors are
  * stored relative to each body's origin in the body frame (localAnchorA/B); each step they are
  * rotated into world-oriented arms from the centre of mass (anchorA/B), and the sub-step deltas of
  * the bodies update the constraint error without running any geometry again.
@@ -13,21 +15,33 @@ import type { Body } from './body.ts'
 import { stateOffset } from './body-state.ts'
 import { MAX_LINEAR_SPEED, MAX_ROTATION } from './constants.ts'
 import { prepareDistance, solveDistance, warmStartDistance } from './distance-joint.ts'
+import { DISTANCE, type JointStepContext, MOTOR, MOUSE, PRISMATIC, REVOLUTE, WELD } from './joint-math.ts'
 import { prepareJointTree, solveJointTree } from './joint-tree.ts'
-import { atan2 } from './math.ts'
+import { prepareMotor, solveMotor, warmStartMotor } from './motor-joint.ts'
 import { prepareMouse, solveMouse, warmStartMouse } from './mouse-joint.ts'
+import { preparePrismatic, solvePrismatic, warmStartPrismatic } from './prismatic-joint.ts'
 import { prepareRevolute, solveRevolute, warmStartRevolute } from './revolute-joint.ts'
-import type { StepContext } from './step-context.ts'
+import { prepareWeld, solveWeld, warmStartWeld } from './weld-joint.ts'
+import { prepareWheel, solveWheel, warmStartWheel } from './wheel-joint.ts'
 
-/** Joint kind codes. */
-export const REVOLUTE = 0
-export const DISTANCE = 1
-export const MOUSE = 2
-/** Kind names in code order. */
-export const JOINT_TYPE_NAMES = ['revolute', 'distance', 'mouse'] as const
-
-/** Per-step values the joints read (the solver's StepContext). */
-export type JointStepContext = StepContext
+export {
+  accumulateX,
+  accumulateY,
+  clampImpulse,
+  DISTANCE,
+  JOINT_TYPE_NAMES,
+  type JointStepContext,
+  MOTOR,
+  MOUSE,
+  PRISMATIC,
+  REVOLUTE,
+  relativeAngle,
+  solve22,
+  solved2,
+  system22,
+  WELD,
+  WHEEL,
+} from './joint-math.ts'
 
 /** A joint. Engine-internal; the public API addresses joints by id. */
 export class Joint {
@@ -59,10 +73,32 @@ export class Joint {
   maxLength = 0
   hertz = 0
   dampingRatio = 0
-  // Mouse settings
+  // Mouse settings (maxForce is also the motor joint's force cap)
   targetX = 0
   targetY = 0
   maxForce = 0
+  // Weld: angular spring (hertz, dampingRatio are its linear spring; 0 Hz = rigid)
+  angularHertz = 0
+  angularDampingRatio = 0
+  // Prismatic and wheel: the axis in body A's frame (unit), translation limits (m), motor force
+  localAxisAx = 1
+  localAxisAy = 0
+  lowerTranslation = 0
+  upperTranslation = 0
+  maxMotorForce = 0
+  /** Spring on the joint's free coordinate (revolute, prismatic, wheel; a distance spring is hertz > 0). */
+  enableSpring = false
+  /** Where the spring rests: prismatic translation (m) or revolute angle (rad). */
+  springTarget = 0
+  // Motor joint: B's origin in A's frame (m), B's angle relative to A (rad), torque cap, correction
+  linearOffsetX = 0
+  linearOffsetY = 0
+  angularOffset = 0
+  maxTorque = 0
+  correctionFactor = 0
+  /** Reaction force (N) and torque (N m) above which the joint breaks after a step. */
+  breakForce = Number.POSITIVE_INFINITY
+  breakTorque = Number.POSITIVE_INFINITY
 
   // Accumulated impulses (warm started across steps)
   linearImpulseX = 0
@@ -72,6 +108,10 @@ export class Joint {
   lowerImpulse = 0
   upperImpulse = 0
   motorImpulse = 0
+  /** Weld, prismatic, motor joint: angular impulse (N m s). */
+  angularImpulse = 0
+  /** Spring impulse of a revolute (N m s), prismatic or wheel (N s) spring. */
+  springImpulse = 0
 
   // Per-step solver data
   /** Offsets of the bodies' records in the solver state (record 0 for a fixed body). */
@@ -92,6 +132,15 @@ export class Joint {
   springBiasRate = 0
   springMassScale = 1
   springImpulseScale = 0
+  /** Angular softness (weld). */
+  angularBiasRate = 0
+  angularMassScale = 1
+  angularImpulseScale = 0
+  /** Prismatic, wheel: the axis in world orientation at the step start (unit). */
+  axisX = 1
+  axisY = 0
+  /** Wheel: motor mass; motor joint: angular mass (kg m^2). */
+  angularMass = 0
 
   constructor(id: number, type: number, bodyA: Body, bodyB: Body) {
     this.id = id
@@ -141,37 +190,6 @@ function jointImpulseCaps(joint: Joint, ctx: JointStepContext): void {
     joint.maxImpulse * (a.maxExtent + b.maxExtent) + 2 * MAX_ROTATION * ctx.invH * inertia
 }
 
-/** `impulse` within [-cap, cap]; NaN (which no finite input should produce) becomes 0. */
-export function clampImpulse(impulse: number, cap: number): number {
-  if (impulse > cap) return cap
-  if (impulse < -cap) return -cap
-  return Number.isNaN(impulse) ? 0 : impulse
-}
-
-/** Adds `impulse` to the accumulated x impulse within the joint's cap; returns what was added. */
-export function accumulateX(joint: Joint, impulse: number): number {
-  const old = joint.linearImpulseX
-  const sum = old + impulse
-  if (Math.abs(sum) <= joint.maxImpulse) {
-    joint.linearImpulseX = sum
-    return impulse
-  }
-  joint.linearImpulseX = clampImpulse(sum, joint.maxImpulse)
-  return joint.linearImpulseX - old
-}
-
-/** Adds `impulse` to the accumulated y impulse within the joint's cap; returns what was added. */
-export function accumulateY(joint: Joint, impulse: number): number {
-  const old = joint.linearImpulseY
-  const sum = old + impulse
-  if (Math.abs(sum) <= joint.maxImpulse) {
-    joint.linearImpulseY = sum
-    return impulse
-  }
-  joint.linearImpulseY = clampImpulse(sum, joint.maxImpulse)
-  return joint.linearImpulseY - old
-}
-
 /** Prepares every joint for the step (after the solver state is loaded: it records offsets). */
 export function prepareJoints(
   joints: Joint[],
@@ -192,10 +210,17 @@ export function prepareJoints(
       joint.lowerImpulse = 0
       joint.upperImpulse = 0
       joint.motorImpulse = 0
+      joint.angularImpulse = 0
+      joint.springImpulse = 0
     }
-    if (joint.type === REVOLUTE) prepareRevolute(joint)
-    else if (joint.type === DISTANCE) prepareDistance(joint, state, ctx)
-    else prepareMouse(joint, ctx)
+    const type = joint.type
+    if (type === REVOLUTE) prepareRevolute(joint, ctx)
+    else if (type === DISTANCE) prepareDistance(joint, state, ctx)
+    else if (type === MOUSE) prepareMouse(joint, ctx)
+    else if (type === WELD) prepareWeld(joint, ctx)
+    else if (type === PRISMATIC) preparePrismatic(joint, ctx)
+    else if (type === MOTOR) prepareMotor(joint)
+    else prepareWheel(joint, ctx)
   }
   prepareJointTree(joints, count)
 }
@@ -204,9 +229,14 @@ export function prepareJoints(
 export function warmStartJoints(joints: Joint[], count: number, state: Float64Array): void {
   for (let i = 0; i < count; i++) {
     const joint = joints[i]
-    if (joint.type === REVOLUTE) warmStartRevolute(joint, state)
-    else if (joint.type === DISTANCE) warmStartDistance(joint, state)
-    else warmStartMouse(joint, state)
+    const type = joint.type
+    if (type === REVOLUTE) warmStartRevolute(joint, state)
+    else if (type === DISTANCE) warmStartDistance(joint, state)
+    else if (type === MOUSE) warmStartMouse(joint, state)
+    else if (type === WELD) warmStartWeld(joint, state)
+    else if (type === PRISMATIC) warmStartPrismatic(joint, state)
+    else if (type === MOTOR) warmStartMotor(joint, state)
+    else warmStartWheel(joint, state)
   }
 }
 
@@ -223,35 +253,14 @@ export function solveJoints(
 ): void {
   for (let i = 0; i < count; i++) {
     const joint = joints[i]
-    if (joint.type === REVOLUTE) solveRevolute(joint, state, ctx, useBias)
-    else if (joint.type === DISTANCE) solveDistance(joint, state, ctx, useBias)
-    else solveMouse(joint, state, ctx)
+    const type = joint.type
+    if (type === REVOLUTE) solveRevolute(joint, state, ctx, useBias)
+    else if (type === DISTANCE) solveDistance(joint, state, ctx, useBias)
+    else if (type === MOUSE) solveMouse(joint, state, ctx)
+    else if (type === WELD) solveWeld(joint, state, useBias)
+    else if (type === PRISMATIC) solvePrismatic(joint, state, ctx, useBias)
+    else if (type === MOTOR) solveMotor(joint, state, ctx)
+    else solveWheel(joint, state, ctx, useBias)
   }
   solveJointTree(state, ctx, useBias)
 }
-
-/** Relative angle of rotation b with respect to rotation a, in [-pi, pi] (rad). */
-export function relativeAngle(bc: number, bs: number, ac: number, as: number): number {
-  return atan2(bs * ac - bc * as, bc * ac + bs * as)
-}
-
-/**
- * Solves the symmetric 2x2 system [k11 k12; k12 k22] x = (bx, by), given in system22 as
- * [k11, k12, k22, bx, by], into `solved2` (Cramer's rule). Typed arrays both ways: V8 boxes the
- * double arguments of a call it does not inline (the room's mouse joints call this 40 times a step).
- */
-export function solve22(): void {
-  const k11 = system22[0]
-  const k12 = system22[1]
-  const k22 = system22[2]
-  const bx = system22[3]
-  const by = system22[4]
-  let det = k11 * k22 - k12 * k12
-  if (det !== 0) det = 1 / det
-  solved2[0] = det * (k22 * bx - k12 * by)
-  solved2[1] = det * (k11 * by - k12 * bx)
-}
-/** Input of solve22: k11, k12, k22, bx, by. */
-export const system22 = new Float64Array(5)
-/** Output of solve22 (a typed array: a module-level double would allocate on every write in V8). */
-export const solved2 = new Float64Array(2)

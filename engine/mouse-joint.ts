@@ -5,7 +5,8 @@
  * per player); each has its own accumulated impulse and cap. Body A is the world.
  */
 import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
-import { type Joint, type JointStepContext, solve22, solved2, system22 } from './joint.ts'
+import type { Joint } from './joint.ts'
+import { type JointStepContext, solve22, solved2, system22 } from './joint-math.ts'
 import { Softness } from './softness.ts'
 
 const softness = new Softness()

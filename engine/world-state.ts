@@ -20,6 +20,7 @@ import {
   POINT_FIELDS as RECORD_POINT_FIELDS,
 } from './contact-record.ts'
 import { Joint } from './joint.ts'
+import { JOINT_TYPE_NAMES } from './joint-math.ts'
 import {
   type ByteReader,
   type ByteWriter,
@@ -136,6 +137,35 @@ export const JOINT_FIELDS = [
   'upperImpulse',
   'motorImpulse',
 ] as const
+/**
+ * Joint fields of the kinds and settings added in save format 2 (weld, prismatic, wheel, motor
+ * joints; springs on revolute joints, motors on distance joints, break thresholds), in saved order.
+ * A joint writes them (flags bit 3) only when it is a new kind or one of them differs from its
+ * default, so a world of the first three kinds saves, and hashes, exactly as in format 1.
+ */
+export const JOINT_EXTRA_FIELDS = [
+  'angularHertz',
+  'angularDampingRatio',
+  'localAxisAx',
+  'localAxisAy',
+  'lowerTranslation',
+  'upperTranslation',
+  'maxMotorForce',
+  'springTarget',
+  'linearOffsetX',
+  'linearOffsetY',
+  'angularOffset',
+  'maxTorque',
+  'correctionFactor',
+  'breakForce',
+  'breakTorque',
+  'angularImpulse',
+  'springImpulse',
+] as const
+/** The defaults of JOINT_EXTRA_FIELDS (as a new Joint has them). */
+const JOINT_EXTRA_DEFAULTS = [0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, Infinity, Infinity, 0, 0]
+/** Highest joint kind code (joint-math.ts MOTOR). */
+const LAST_JOINT_TYPE = 6
 
 /*
  * The writers below name every field (in the order of the lists above) instead of looping over the
@@ -232,7 +262,14 @@ export function writeJoint(w: ByteWriter, j: Joint): void {
   w.u8(j.type)
   w.f64(j.bodyA.id)
   w.f64(j.bodyB.id)
-  w.u8((j.enableLimit ? 1 : 0) | (j.enableMotor ? 2 : 0) | (j.collideConnected ? 4 : 0))
+  const extra = hasExtraFields(j)
+  w.u8(
+    (j.enableLimit ? 1 : 0) |
+      (j.enableMotor ? 2 : 0) |
+      (j.collideConnected ? 4 : 0) |
+      (extra ? 8 : 0) |
+      (j.enableSpring ? 16 : 0),
+  )
   n[0] = j.localAnchorAx
   n[1] = j.localAnchorAy
   n[2] = j.localAnchorBx
@@ -257,13 +294,24 @@ export function writeJoint(w: ByteWriter, j: Joint): void {
   n[21] = j.upperImpulse
   n[22] = j.motorImpulse
   w.f64s(n, 0, 23)
+  if (!extra) return
+  for (let i = 0; i < JOINT_EXTRA_FIELDS.length; i++) n[i] = j[JOINT_EXTRA_FIELDS[i]]
+  w.f64s(n, 0, JOINT_EXTRA_FIELDS.length)
+}
+
+/** Whether a joint needs the format-2 fields: a new kind, a spring, or any of them not default. */
+function hasExtraFields(j: Joint): boolean {
+  if (j.type > 2 || j.enableSpring) return true
+  for (let i = 0; i < JOINT_EXTRA_FIELDS.length; i++)
+    if (j[JOINT_EXTRA_FIELDS[i]] !== JOINT_EXTRA_DEFAULTS[i]) return true
+  return false
 }
 
 /** Reads a joint written by writeJoint. */
 function readJoint(r: ByteReader, lookup: (id: number) => Body): Joint {
   const id = r.num('joint id')
   const type = r.u8('joint type')
-  if (type > 2) throw new WorldLoadError(`saved world has joint ${id} of unknown type ${type}`)
+  if (type > LAST_JOINT_TYPE) throw new WorldLoadError(`saved world has joint ${id} of unknown type ${type}`)
   const a = lookup(r.num('joint body A'))
   const b = lookup(r.num('joint body B'))
   const j = new Joint(id, type, a, b)
@@ -271,7 +319,19 @@ function readJoint(r: ByteReader, lookup: (id: number) => Body): Joint {
   j.enableLimit = (flags & 1) !== 0
   j.enableMotor = (flags & 2) !== 0
   j.collideConnected = (flags & 4) !== 0
+  j.enableSpring = (flags & 16) !== 0
   for (const f of JOINT_FIELDS) j[f] = r.num(`joint ${id} ${f}`)
+  if ((flags & 8) !== 0) {
+    for (const f of JOINT_EXTRA_FIELDS) {
+      const what = `joint ${id} ${f}`
+      // Break thresholds are +Infinity by default (never); everything else is finite.
+      const v = f === 'breakForce' || f === 'breakTorque' ? r.f64(what) : r.num(what)
+      if (!(v >= 0 || (f !== 'breakForce' && f !== 'breakTorque')))
+        throw new WorldLoadError(`saved world has a negative or NaN ${what}: ${v}`)
+      j[f] = v
+    }
+  } else if (type > 2)
+    throw new WorldLoadError(`saved world has ${JOINT_TYPE_NAMES[type]} joint ${id} without its fields`)
   return j
 }
 

@@ -50,8 +50,9 @@ import {
 import { solveContinuous } from './continuous.ts'
 import { planExtraSweeps } from './extra-sweeps.ts'
 import { type Joint, prepareJoints, solveJoints, warmStartJoints } from './joint.ts'
+import { exceedsBreak } from './joint-defs.ts'
 import { ByteWriter } from './save-format.ts'
-import type { WorldDef } from './types.ts'
+import type { JointEvents, WorldDef } from './types.ts'
 import { WorldApi } from './world-api.ts'
 import { hashWorld, loadWorldState, saveWorld } from './world-state.ts'
 import { resolveWorldDef } from './world-store.ts'
@@ -79,7 +80,30 @@ export class World extends WorldApi {
     this.solveContinuous()
     this.updateBroadPhase()
     this.sleepIslands()
+    this.breakJoints()
     this.tickCount++
+  }
+
+  /** Joints that broke in the last step (ascending ids); they no longer exist. */
+  jointEvents(): JointEvents {
+    return { broken: this.brokenJoints.slice() }
+  }
+
+  /** Ids of the joints the last step broke (reused: cleared every step). */
+  private readonly brokenJoints: number[] = []
+
+  /**
+   * Destroys every active joint whose reaction over this step exceeds its breakForce or
+   * breakTorque (as getJointReaction reads it), in id order, waking its bodies.
+   */
+  private breakJoints(): void {
+    this.brokenJoints.length = 0
+    const scale = this.settings.subSteps / STEP_SECONDS
+    for (let i = 0; i < this.activeJointCount; i++) {
+      const j = this.activeJoints[i]
+      if (exceedsBreak(j, scale)) this.brokenJoints.push(j.id)
+    }
+    for (let i = 0; i < this.brokenJoints.length; i++) this.destroyJoint(this.brokenJoints[i])
   }
 
   /** Everything that influences future steps, as versioned, checksummed bytes. */

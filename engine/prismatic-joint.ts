@@ -1,0 +1,260 @@
+/*
+ * Prismatic (slider) joint (Box2D v3 prismatic_joint.c): B slides along an axis fixed in A and
+ * keeps its angle relative to A. The translation is the anchors' separation along the axis (m,
+ * zero at creation). Solved in Box2D's order: spring (toward `springTarget`, the target
+ * translation; physics, so also in the relax pass), motor (speed along the axis, force capped at
+ * maxMotorForce h per sub-step), lower and upper limits (speculative, soft once violated), then the
+ * 2-row constraint: no motion across the axis and no relative rotation (soft in the biased pass).
+ */
+import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
+import type { Joint } from './joint.ts'
+import { clampImpulse, type JointStepContext, relativeAngle, unwind } from './joint-math.ts'
+import { Softness } from './softness.ts'
+
+const springSoftness = new Softness()
+
+/**
+ * Current geometry from the sub-step deltas (computeFrame): the axis (unit, world), the anchors'
+ * separation d, the arms, and along-axis and across-axis lever terms. A typed array, as in
+ * distance-joint.ts.
+ */
+const frame = new Float64Array(12)
+const AX = 0
+const AY = 1
+const DX = 2
+const DY = 3
+const RAX = 4
+const RAY = 5
+const RBX = 6
+const RBY = 7
+const A1 = 8
+const A2 = 9
+const S1 = 10
+const S2 = 11
+
+/** Fills `frame` for a prismatic or wheel joint at the current sub-step. */
+export function computeFrame(joint: Joint, state: Float64Array): void {
+  const oA = joint.offsetA
+  const oB = joint.offsetB
+  const f = frame
+  const qAc = state[oA + DQC]
+  const qAs = state[oA + DQS]
+  const rAx = qAc * joint.anchorAx - qAs * joint.anchorAy
+  const rAy = qAs * joint.anchorAx + qAc * joint.anchorAy
+  const rBx = state[oB + DQC] * joint.anchorBx - state[oB + DQS] * joint.anchorBy
+  const rBy = state[oB + DQS] * joint.anchorBx + state[oB + DQC] * joint.anchorBy
+  const ax = qAc * joint.axisX - qAs * joint.axisY
+  const ay = qAs * joint.axisX + qAc * joint.axisY
+  const dx = state[oB + DPX] - state[oA + DPX] + joint.deltaCenterX + rBx - rAx
+  const dy = state[oB + DPY] - state[oA + DPY] + joint.deltaCenterY + rBy - rAy
+  f[AX] = ax
+  f[AY] = ay
+  f[DX] = dx
+  f[DY] = dy
+  f[RAX] = rAx
+  f[RAY] = rAy
+  f[RBX] = rBx
+  f[RBY] = rBy
+  // a1 = (d + rA) x axis, a2 = rB x axis; s1, s2 the same with the perpendicular (-ay, ax).
+  f[A1] = (dx + rAx) * ay - (dy + rAy) * ax
+  f[A2] = rBx * ay - rBy * ax
+  f[S1] = (dx + rAx) * ax + (dy + rAy) * ay
+  f[S2] = rBx * ax + rBy * ay
+}
+
+/** The frame the last computeFrame filled (read by wheel-joint.ts). */
+export const jointFrame = frame
+export { A1, A2, AX, AY, DX, DY, S1, S2 }
+
+/** Applies a linear impulse (px, py) and angular impulses lA (on A) and lB (on B). */
+export function applyFrameImpulse(
+  joint: Joint,
+  state: Float64Array,
+  px: number,
+  py: number,
+  lA: number,
+  lB: number,
+): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  const oA = joint.offsetA
+  const oB = joint.offsetB
+  state[oA + VX] -= a.invMass * px
+  state[oA + VY] -= a.invMass * py
+  state[oA + W] -= a.invInertia * lA
+  state[oB + VX] += b.invMass * px
+  state[oB + VY] += b.invMass * py
+  state[oB + W] += b.invInertia * lB
+}
+
+/** Axis (world) at the step start and the axial mass; shared with the wheel joint. */
+export function prepareAxis(joint: Joint): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  joint.axisX = a.c * joint.localAxisAx - a.s * joint.localAxisAy
+  joint.axisY = a.s * joint.localAxisAx + a.c * joint.localAxisAy
+  const dx = joint.deltaCenterX + joint.anchorBx - joint.anchorAx
+  const dy = joint.deltaCenterY + joint.anchorBy - joint.anchorAy
+  const a1 = (dx + joint.anchorAx) * joint.axisY - (dy + joint.anchorAy) * joint.axisX
+  const a2 = joint.anchorBx * joint.axisY - joint.anchorBy * joint.axisX
+  const k = a.invMass + b.invMass + a.invInertia * a1 * a1 + b.invInertia * a2 * a2
+  joint.axialMass = k > 0 ? 1 / k : 0
+}
+
+/** Per-step preparation of a prismatic joint. */
+export function preparePrismatic(joint: Joint, ctx: JointStepContext): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  prepareAxis(joint)
+  joint.deltaAngle = unwind(relativeAngle(b.c, b.s, a.c, a.s) - joint.referenceAngle)
+  springSoftness.set(joint.hertz, joint.dampingRatio, ctx.h)
+  joint.springBiasRate = springSoftness.biasRate
+  joint.springMassScale = springSoftness.massScale
+  joint.springImpulseScale = springSoftness.impulseScale
+  if (!joint.enableSpring) joint.springImpulse = 0
+  if (!joint.enableMotor) joint.motorImpulse = 0
+  if (!joint.enableLimit) {
+    joint.lowerImpulse = 0
+    joint.upperImpulse = 0
+  }
+}
+
+/** Applies the accumulated impulses of a prismatic joint. */
+export function warmStartPrismatic(joint: Joint, state: Float64Array): void {
+  computeFrame(joint, state)
+  const f = frame
+  const axial = joint.motorImpulse + joint.springImpulse + joint.lowerImpulse - joint.upperImpulse
+  const perp = joint.linearImpulseX
+  const l = joint.angularImpulse
+  // P = axial axis + perp perpendicular, perpendicular = (-ay, ax).
+  const px = axial * f[AX] - perp * f[AY]
+  const py = axial * f[AY] + perp * f[AX]
+  applyFrameImpulse(joint, state, px, py, axial * f[A1] + perp * f[S1] + l, axial * f[A2] + perp * f[S2] + l)
+}
+
+/** Relative speed of the anchors along the axis (m/s). */
+export function axialSpeed(joint: Joint, state: Float64Array): number {
+  const oA = joint.offsetA
+  const oB = joint.offsetB
+  const f = frame
+  return (
+    (state[oB + VX] - state[oA + VX]) * f[AX] +
+    (state[oB + VY] - state[oA + VY]) * f[AY] +
+    f[A2] * state[oB + W] -
+    f[A1] * state[oA + W]
+  )
+}
+
+/** Applies an impulse along the axis. */
+export function applyAxialImpulse(joint: Joint, state: Float64Array, impulse: number): void {
+  const f = frame
+  applyFrameImpulse(joint, state, impulse * f[AX], impulse * f[AY], impulse * f[A1], impulse * f[A2])
+}
+
+/** A one-sided translation limit with error C (m, positive = inside); sign +1 lower, -1 upper. */
+export function solveAxialLimit(
+  joint: Joint,
+  state: Float64Array,
+  ctx: JointStepContext,
+  useBias: boolean,
+  C: number,
+  sign: number,
+): void {
+  let bias = 0
+  let massScale = 1
+  let impulseScale = 0
+  if (C > 0) bias = C * ctx.invH
+  else if (useBias) {
+    bias = ctx.jointSoftness.biasRate * C
+    massScale = ctx.jointSoftness.massScale
+    impulseScale = ctx.jointSoftness.impulseScale
+  }
+  const accumulated = sign > 0 ? joint.lowerImpulse : joint.upperImpulse
+  const cdot = sign * axialSpeed(joint, state)
+  const impulse = -joint.axialMass * massScale * (cdot + bias) - impulseScale * accumulated
+  const newImpulse = Math.max(clampImpulse(accumulated + impulse, joint.maxImpulse), 0)
+  if (sign > 0) joint.lowerImpulse = newImpulse
+  else joint.upperImpulse = newImpulse
+  applyAxialImpulse(joint, state, sign * (newImpulse - accumulated))
+}
+
+/** The translation along the axis now (m). */
+function translation(): number {
+  return frame[DX] * frame[AX] + frame[DY] * frame[AY]
+}
+
+/** One iteration of a prismatic joint. */
+export function solvePrismatic(
+  joint: Joint,
+  state: Float64Array,
+  ctx: JointStepContext,
+  useBias: boolean,
+): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  const oA = joint.offsetA
+  const oB = joint.offsetB
+  const f = frame
+  computeFrame(joint, state)
+  if (joint.enableSpring) {
+    const C = translation() - joint.springTarget
+    const cdot = axialSpeed(joint, state)
+    const impulse =
+      -joint.springMassScale * joint.axialMass * (cdot + joint.springBiasRate * C) -
+      joint.springImpulseScale * joint.springImpulse
+    const old = joint.springImpulse
+    joint.springImpulse = clampImpulse(old + impulse, joint.maxImpulse)
+    applyAxialImpulse(joint, state, joint.springImpulse - old)
+  }
+  if (joint.enableMotor) {
+    const cdot = axialSpeed(joint, state)
+    const old = joint.motorImpulse
+    const cap = Math.min(joint.maxMotorForce * ctx.h, joint.maxImpulse)
+    joint.motorImpulse = clampImpulse(old + joint.axialMass * (joint.motorSpeed - cdot), cap)
+    applyAxialImpulse(joint, state, joint.motorImpulse - old)
+  }
+  if (joint.enableLimit) {
+    const t = translation()
+    solveAxialLimit(joint, state, ctx, useBias, t - joint.lowerTranslation, 1)
+    solveAxialLimit(joint, state, ctx, useBias, joint.upperTranslation - t, -1)
+  }
+  // Across the axis and the angle: a 2x2 soft block (Box2D's K = [k11 k12; k12 k22]).
+  const mA = a.invMass
+  const mB = b.invMass
+  const iA = a.invInertia
+  const iB = b.invInertia
+  const px = -f[AY]
+  const py = f[AX]
+  const s1 = f[S1]
+  const s2 = f[S2]
+  const wA = state[oA + W]
+  const wB = state[oB + W]
+  let c1 = (state[oB + VX] - state[oA + VX]) * px + (state[oB + VY] - state[oA + VY]) * py + s2 * wB - s1 * wA
+  let c2 = wB - wA
+  let massScale = 1
+  let impulseScale = 0
+  if (useBias) {
+    const soft = ctx.jointSoftness
+    const angle =
+      relativeAngle(state[oB + DQC], state[oB + DQS], state[oA + DQC], state[oA + DQS]) + joint.deltaAngle
+    c1 += soft.biasRate * (f[DX] * px + f[DY] * py)
+    c2 += soft.biasRate * angle
+    massScale = soft.massScale
+    impulseScale = soft.impulseScale
+  }
+  const k11 = mA + mB + iA * s1 * s1 + iB * s2 * s2
+  const k12 = iA * s1 + iB * s2
+  let k22 = iA + iB
+  if (k22 === 0) k22 = 1 // both rotations fixed: the angular row is moot
+  let det = k11 * k22 - k12 * k12
+  if (det !== 0) det = 1 / det
+  const x1 = det * (k22 * c1 - k12 * c2)
+  const x2 = det * (k11 * c2 - k12 * c1)
+  const old1 = joint.linearImpulseX
+  const old2 = joint.angularImpulse
+  joint.linearImpulseX = clampImpulse(old1 - massScale * x1 - impulseScale * old1, joint.maxImpulse)
+  joint.angularImpulse = clampImpulse(old2 - massScale * x2 - impulseScale * old2, joint.maxAngularImpulse)
+  const i1 = joint.linearImpulseX - old1
+  const i2 = joint.angularImpulse - old2
+  applyFrameImpulse(joint, state, i1 * px, i1 * py, i1 * s1 + i2, i1 * s2 + i2)
+}
