@@ -207,10 +207,20 @@ export function solvePrismatic(
     applyAxialImpulse(joint, state, joint.springImpulse - old)
   }
   if (joint.enableMotor) {
+    // The target speed closes at most the remaining gap to a limit per sub-step (as the revolute
+    // motor's), so no motor force can drive the slider through its stop.
+    let speed = joint.motorSpeed
+    if (joint.enableLimit) {
+      const t = translation()
+      speed = Math.max(
+        Math.min(speed, (joint.upperTranslation - t) * ctx.invH),
+        (joint.lowerTranslation - t) * ctx.invH,
+      )
+    }
     const cdot = axialSpeed(joint, state)
     const old = joint.motorImpulse
     const cap = Math.min(joint.maxMotorForce * ctx.h, joint.maxImpulse)
-    joint.motorImpulse = clampImpulse(old + joint.axialMass * (joint.motorSpeed - cdot), cap)
+    joint.motorImpulse = clampImpulse(old + joint.axialMass * (speed - cdot), cap)
     applyAxialImpulse(joint, state, joint.motorImpulse - old)
   }
   if (joint.enableLimit) {
