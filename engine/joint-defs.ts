@@ -156,6 +156,9 @@ function configureMotor(joint: Joint, def: Extract<JointDef, { type: 'motor' }>)
   joint.maxForce = inRange('maxForce', def.maxForce ?? 1, 0, 1e12)
   joint.maxTorque = inRange('maxTorque', def.maxTorque ?? 1, 0, 1e12)
   joint.correctionFactor = inRange('correctionFactor', def.correctionFactor ?? 0.3, 0, 1)
+  joint.lastOffsetX = joint.linearOffsetX
+  joint.lastOffsetY = joint.linearOffsetY
+  joint.lastAngularOffset = joint.angularOffset
 }
 
 function configureRevolute(joint: Joint, def: Extract<JointDef, { type: 'revolute' }>): void {

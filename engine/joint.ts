@@ -96,6 +96,10 @@ export class Joint {
   angularOffset = 0
   maxTorque = 0
   correctionFactor = 0
+  /** Motor joint: the offsets at the previous step, whose change gives the offset's velocity. */
+  lastOffsetX = 0
+  lastOffsetY = 0
+  lastAngularOffset = 0
   /** Reaction force (N) and torque (N m) above which the joint breaks after a step. */
   breakForce = Number.POSITIVE_INFINITY
   breakTorque = Number.POSITIVE_INFINITY
@@ -141,6 +145,12 @@ export class Joint {
   axisY = 0
   /** Wheel: motor mass; motor joint: angular mass (kg m^2). */
   angularMass = 0
+  /** Motor joint: velocity of the target point (world, m/s) and of the target angle (rad/s) this step. */
+  offsetVelocityX = 0
+  offsetVelocityY = 0
+  offsetAngularVelocity = 0
+  /** Motor joint: sub-steps warm started so far this step. */
+  subStep = 0
 
   constructor(id: number, type: number, bodyA: Body, bodyB: Body) {
     this.id = id
@@ -259,7 +269,7 @@ export function solveJoints(
     else if (type === MOUSE) solveMouse(joint, state, ctx)
     else if (type === WELD) solveWeld(joint, state, useBias)
     else if (type === PRISMATIC) solvePrismatic(joint, state, ctx, useBias)
-    else if (type === MOTOR) solveMotor(joint, state, ctx)
+    else if (type === MOTOR) solveMotor(joint, state, ctx, useBias)
     else solveWheel(joint, state, ctx, useBias)
   }
   solveJointTree(state, ctx, useBias)

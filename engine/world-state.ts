@@ -157,13 +157,16 @@ export const JOINT_EXTRA_FIELDS = [
   'angularOffset',
   'maxTorque',
   'correctionFactor',
+  'lastOffsetX',
+  'lastOffsetY',
+  'lastAngularOffset',
   'breakForce',
   'breakTorque',
   'angularImpulse',
   'springImpulse',
 ] as const
 /** The defaults of JOINT_EXTRA_FIELDS (as a new Joint has them). */
-const JOINT_EXTRA_DEFAULTS = [0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, Infinity, Infinity, 0, 0]
+const JOINT_EXTRA_DEFAULTS = [0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, Infinity, Infinity, 0, 0]
 /** Highest joint kind code (joint-math.ts MOTOR). */
 const LAST_JOINT_TYPE = 6
 
