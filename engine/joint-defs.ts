@@ -37,6 +37,7 @@ export function buildJoint(
     const b = bodyOf(def.body)
     const target = finiteVec('target', def.target)
     const joint = new Joint(id, MOUSE, ground, b)
+    configureBreak(joint, def)
     const local = reach(
       'localAnchor',
       b,
@@ -92,10 +93,16 @@ const KIND_CODES = {
 } as const
 
 function configureBreak(joint: Joint, def: JointDef): void {
-  if (def.breakForce !== undefined)
-    joint.breakForce = inRange('breakForce', def.breakForce, 0, Number.POSITIVE_INFINITY)
-  if (def.breakTorque !== undefined)
-    joint.breakTorque = inRange('breakTorque', def.breakTorque, 0, Number.POSITIVE_INFINITY)
+  joint.breakForce = threshold('breakForce', def.breakForce)
+  joint.breakTorque = threshold('breakTorque', def.breakTorque)
+}
+
+/** A break threshold: a number >= 0, Infinity (never) by default. */
+function threshold(name: string, value: number | undefined): number {
+  if (value === undefined) return Number.POSITIVE_INFINITY
+  if (typeof value !== 'number' || !(value >= 0))
+    throw new RangeError(`${name} must be a number >= 0 (Infinity: never breaks), got ${value}`)
+  return value
 }
 
 function configureWeld(joint: Joint, def: Extract<JointDef, { type: 'weld' }>): void {
