@@ -14,6 +14,7 @@ export {
   STEP_SECONDS,
 } from './constants.ts'
 export { CHAIN_LINK_LENGTH, CHAIN_TOP, hangingChainScene, ragdollScene } from './joint-stress-scenes.ts'
+export { MACHINES_LAYOUT, machinesScene } from './machine-scenes.ts'
 export { atan2, cos, PI, sin, TRIG_LIMIT, TWO_PI, type Vec2, wrapAngle } from './math.ts'
 export { Prng } from './prng.ts'
 export { SAVE_FORMAT_VERSION, WorldLoadError } from './save-format.ts'
