@@ -3,6 +3,8 @@
  * 3x3 solves. They live here, apart from joint.ts (which dispatches to the kinds) so that the kind
  * files import them without a run-time import cycle (joint.ts -> weld-joint.ts -> joint.ts).
  */
+
+import { DQC, DQS } from './body-state.ts'
 import type { Joint } from './joint.ts'
 import { atan2, PI, TWO_PI } from './math.ts'
 import type { StepContext } from './step-context.ts'
@@ -87,6 +89,71 @@ export function accumulateSpring(joint: Joint, impulse: number, cap: number): nu
 /** Relative angle of rotation b with respect to rotation a, in [-pi, pi] (rad). */
 export function relativeAngle(bc: number, bs: number, ac: number, as: number): number {
   return atan2(bs * ac - bc * as, bc * ac + bs * as)
+}
+
+/**
+ * Angles of rotations without a call that allocates: V8 does not inline engine/math.ts's atan2
+ * (the fdlibm kernel, exact to 1 ulp), and a double passed to or returned from a call it does not
+ * inline is a heap allocation; the solver needs a joint's angle per joint per iteration. So the
+ * functions below take objects, read the rotation, and leave the angle in angleOut[0] (rad, in
+ * (-pi, pi]). The kernel uses + - * / sqrt only: two half-angle reductions bring the argument
+ * within tan(pi/8) and a series to the 21st power gives atan there to about 1e-10 rad: plenty for
+ * a constraint's error (the saved state never holds it).
+ */
+export const angleOut = new Float64Array(3)
+
+/** angleOut[0] = the angle of the unit rotation (angleOut[1], angleOut[2]) = (c, s). */
+function angleOfRotation(): void {
+  const c = angleOut[1]
+  const s = angleOut[2]
+  // Half-angle: theta = 2 atan(s / (1 + c)) for c >= 0; for c < 0 turn by pi first.
+  let base = 0
+  let t: number
+  if (c >= 0) t = s / (1 + c)
+  else {
+    base = s >= 0 ? PI : -PI
+    t = -s / (1 - c)
+  }
+  // |t| <= 1; once more: atan t = 2 atan(t / (1 + sqrt(1 + t^2))), |u| <= tan(pi/8).
+  const u = t / (1 + Math.sqrt(1 + t * t))
+  const u2 = u * u
+  const series =
+    u *
+    (1 -
+      u2 *
+        (1 / 3 -
+          u2 *
+            (1 / 5 -
+              u2 *
+                (1 / 7 -
+                  u2 *
+                    (1 / 9 -
+                      u2 *
+                        (1 / 11 -
+                          u2 * (1 / 13 - u2 * (1 / 15 - u2 * (1 / 17 - u2 * (1 / 19 - u2 / 21))))))))))
+  angleOut[0] = base + 4 * series
+}
+
+/** angleOut[0] = the bodies' relative rotation during this step so far (rad): B's sub-step delta less A's. */
+export function relativeDeltaAngle(joint: Joint, state: Float64Array): void {
+  const oA = joint.offsetA
+  const oB = joint.offsetB
+  const ac = state[oA + DQC]
+  const as = state[oA + DQS]
+  const bc = state[oB + DQC]
+  const bs = state[oB + DQS]
+  angleOut[1] = bc * ac + bs * as
+  angleOut[2] = bs * ac - bc * as
+  angleOfRotation()
+}
+
+/** angleOut[0] = angleB - angleA now (rad, (-pi, pi]), from the bodies' rotations. */
+export function bodiesAngle(joint: Joint): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  angleOut[1] = b.c * a.c + b.s * a.s
+  angleOut[2] = b.s * a.c - b.c * a.s
+  angleOfRotation()
 }
 
 /** Unwinds an angle into [-pi, pi]. */

@@ -50,11 +50,12 @@ import {
   accumulateAngular,
   accumulateX,
   accumulateY,
+  angleOut,
   inverse3,
   invert33,
   type JointStepContext,
   REVOLUTE,
-  relativeAngle,
+  relativeDeltaAngle,
   sym3,
   WELD,
 } from './joint-math.ts'
@@ -266,8 +267,8 @@ export function solveJointTree(state: Float64Array, ctx: JointStepContext, useBi
     if (t.weld[k] === 1) {
       let rw = wB - wA
       if (useBias) {
-        const C =
-          relativeAngle(state[oB + DQC], state[oB + DQS], state[oA + DQC], state[oA + DQS]) + j.deltaAngle
+        relativeDeltaAngle(j, state)
+        const C = angleOut[0] + j.deltaAngle
         rw += biasRate * C
       }
       jd[o + JB + 2] = rw

@@ -16,7 +16,16 @@
 import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
 import { STEP_SECONDS } from './constants.ts'
 import type { Joint } from './joint.ts'
-import { type JointStepContext, relativeAngle, solve22, solved2, system22, unwind } from './joint-math.ts'
+import {
+  angleOut,
+  bodiesAngle,
+  type JointStepContext,
+  relativeDeltaAngle,
+  solve22,
+  solved2,
+  system22,
+  unwind,
+} from './joint-math.ts'
 
 /** Per-step preparation of a motor joint: arms to the offset point and B's centre. */
 export function prepareMotor(joint: Joint): void {
@@ -31,7 +40,8 @@ export function prepareMotor(joint: Joint): void {
   joint.anchorAy = a.s * lx + a.c * ly
   joint.anchorBx = 0
   joint.anchorBy = 0
-  joint.deltaAngle = unwind(relativeAngle(b.c, b.s, a.c, a.s) - joint.lastAngularOffset)
+  bodiesAngle(joint)
+  joint.deltaAngle = unwind(angleOut[0] - joint.lastAngularOffset)
   joint.subStep = 0
   const k = a.invInertia + b.invInertia
   joint.angularMass = k > 0 ? 1 / k : 0
@@ -83,10 +93,8 @@ export function solveMotor(joint: Joint, state: Float64Array, ctx: JointStepCont
   const rate = joint.correctionFactor * ctx.invH
   const elapsed = (useBias ? joint.subStep - 1 : joint.subStep) * ctx.h
   {
-    const C =
-      relativeAngle(state[oB + DQC], state[oB + DQS], state[oA + DQC], state[oA + DQS]) +
-      joint.deltaAngle -
-      joint.offsetAngularVelocity * elapsed
+    relativeDeltaAngle(joint, state)
+    const C = angleOut[0] + joint.deltaAngle - joint.offsetAngularVelocity * elapsed
     const cdot = state[oB + W] - state[oA + W] - joint.offsetAngularVelocity
     let bias = rate * C
     const brake = Math.sqrt(2 * joint.maxTorque * (iA + iB) * Math.abs(C))

@@ -8,7 +8,14 @@
  */
 import { DPX, DPY, DQC, DQS, VX, VY, W } from './body-state.ts'
 import type { Joint } from './joint.ts'
-import { clampImpulse, type JointStepContext, relativeAngle, unwind } from './joint-math.ts'
+import {
+  angleOut,
+  bodiesAngle,
+  clampImpulse,
+  type JointStepContext,
+  relativeDeltaAngle,
+  unwind,
+} from './joint-math.ts'
 import { Softness } from './softness.ts'
 
 const springSoftness = new Softness()
@@ -18,7 +25,7 @@ const springSoftness = new Softness()
  * separation d, the arms, and along-axis and across-axis lever terms. A typed array, as in
  * distance-joint.ts.
  */
-const frame = new Float64Array(12)
+const frame = new Float64Array(18)
 const AX = 0
 const AY = 1
 const DX = 2
@@ -31,6 +38,13 @@ const A1 = 8
 const A2 = 9
 const S1 = 10
 const S2 = 11
+/** Results and arguments passed through the typed array (V8 boxes doubles across calls it does not inline). */
+const SPEED = 12
+const PX = 13
+const PY = 14
+const LA = 15
+const LB = 16
+const LIMIT_C = 17
 
 /** Fills `frame` for a prismatic or wheel joint at the current sub-step. */
 export function computeFrame(joint: Joint, state: Float64Array): void {
@@ -64,27 +78,22 @@ export function computeFrame(joint: Joint, state: Float64Array): void {
 
 /** The frame the last computeFrame filled (read by wheel-joint.ts). */
 export const jointFrame = frame
-export { A1, A2, AX, AY, DX, DY, S1, S2 }
+export { A1, A2, AX, AY, DX, DY, LA, LB, LIMIT_C, PX, PY, S1, S2, SPEED }
 
-/** Applies a linear impulse (px, py) and angular impulses lA (on A) and lB (on B). */
-export function applyFrameImpulse(
-  joint: Joint,
-  state: Float64Array,
-  px: number,
-  py: number,
-  lA: number,
-  lB: number,
-): void {
+/** Applies the linear impulse frame[PX, PY] and angular impulses frame[LA] (on A), frame[LB] (on B). */
+export function applyFrameImpulse(joint: Joint, state: Float64Array): void {
   const a = joint.bodyA
   const b = joint.bodyB
   const oA = joint.offsetA
   const oB = joint.offsetB
+  const px = frame[PX]
+  const py = frame[PY]
   state[oA + VX] -= a.invMass * px
   state[oA + VY] -= a.invMass * py
-  state[oA + W] -= a.invInertia * lA
+  state[oA + W] -= a.invInertia * frame[LA]
   state[oB + VX] += b.invMass * px
   state[oB + VY] += b.invMass * py
-  state[oB + W] += b.invInertia * lB
+  state[oB + W] += b.invInertia * frame[LB]
 }
 
 /** Axis (world) at the step start and the axial mass; shared with the wheel joint. */
@@ -103,10 +112,9 @@ export function prepareAxis(joint: Joint): void {
 
 /** Per-step preparation of a prismatic joint. */
 export function preparePrismatic(joint: Joint, ctx: JointStepContext): void {
-  const a = joint.bodyA
-  const b = joint.bodyB
   prepareAxis(joint)
-  joint.deltaAngle = unwind(relativeAngle(b.c, b.s, a.c, a.s) - joint.referenceAngle)
+  bodiesAngle(joint)
+  joint.deltaAngle = unwind(angleOut[0] - joint.referenceAngle)
   springSoftness.set(joint.hertz, joint.dampingRatio, ctx.h)
   joint.springBiasRate = springSoftness.biasRate
   joint.springMassScale = springSoftness.massScale
@@ -129,37 +137,45 @@ export function warmStartPrismatic(joint: Joint, state: Float64Array): void {
   // P = axial axis + perp perpendicular, perpendicular = (-ay, ax).
   const px = axial * f[AX] - perp * f[AY]
   const py = axial * f[AY] + perp * f[AX]
-  applyFrameImpulse(joint, state, px, py, axial * f[A1] + perp * f[S1] + l, axial * f[A2] + perp * f[S2] + l)
+  f[PX] = px
+  f[PY] = py
+  f[LA] = axial * f[A1] + perp * f[S1] + l
+  f[LB] = axial * f[A2] + perp * f[S2] + l
+  applyFrameImpulse(joint, state)
 }
 
-/** Relative speed of the anchors along the axis (m/s). */
-export function axialSpeed(joint: Joint, state: Float64Array): number {
+/** Relative speed of the anchors along the axis (m/s), into frame[SPEED]. */
+export function axialSpeed(joint: Joint, state: Float64Array): void {
   const oA = joint.offsetA
   const oB = joint.offsetB
   const f = frame
-  return (
+  f[SPEED] =
     (state[oB + VX] - state[oA + VX]) * f[AX] +
     (state[oB + VY] - state[oA + VY]) * f[AY] +
     f[A2] * state[oB + W] -
     f[A1] * state[oA + W]
-  )
 }
 
-/** Applies an impulse along the axis. */
-export function applyAxialImpulse(joint: Joint, state: Float64Array, impulse: number): void {
+/** Applies an impulse along the axis, given in frame[PX] (m: N s). */
+export function applyAxialImpulse(joint: Joint, state: Float64Array): void {
   const f = frame
-  applyFrameImpulse(joint, state, impulse * f[AX], impulse * f[AY], impulse * f[A1], impulse * f[A2])
+  const impulse = f[PX]
+  f[PY] = impulse * f[AY]
+  f[LA] = impulse * f[A1]
+  f[LB] = impulse * f[A2]
+  f[PX] = impulse * f[AX]
+  applyFrameImpulse(joint, state)
 }
 
-/** A one-sided translation limit with error C (m, positive = inside); sign +1 lower, -1 upper. */
+/** A one-sided translation limit with error frame[LIMIT_C] (m, positive = inside); sign +1 lower, -1 upper. */
 export function solveAxialLimit(
   joint: Joint,
   state: Float64Array,
   ctx: JointStepContext,
   useBias: boolean,
-  C: number,
   sign: number,
 ): void {
+  const C = frame[LIMIT_C]
   let bias = 0
   let massScale = 1
   let impulseScale = 0
@@ -170,17 +186,14 @@ export function solveAxialLimit(
     impulseScale = ctx.jointSoftness.impulseScale
   }
   const accumulated = sign > 0 ? joint.lowerImpulse : joint.upperImpulse
-  const cdot = sign * axialSpeed(joint, state)
+  axialSpeed(joint, state)
+  const cdot = sign * frame[SPEED]
   const impulse = -joint.axialMass * massScale * (cdot + bias) - impulseScale * accumulated
   const newImpulse = Math.max(clampImpulse(accumulated + impulse, joint.maxImpulse), 0)
   if (sign > 0) joint.lowerImpulse = newImpulse
   else joint.upperImpulse = newImpulse
-  applyAxialImpulse(joint, state, sign * (newImpulse - accumulated))
-}
-
-/** The translation along the axis now (m). */
-function translation(): number {
-  return frame[DX] * frame[AX] + frame[DY] * frame[AY]
+  frame[PX] = sign * (newImpulse - accumulated)
+  applyAxialImpulse(joint, state)
 }
 
 /** One iteration of a prismatic joint. */
@@ -196,37 +209,42 @@ export function solvePrismatic(
   const oB = joint.offsetB
   const f = frame
   computeFrame(joint, state)
+  const translation = f[DX] * f[AX] + f[DY] * f[AY]
   if (joint.enableSpring) {
-    const C = translation() - joint.springTarget
-    const cdot = axialSpeed(joint, state)
+    const C = translation - joint.springTarget
+    axialSpeed(joint, state)
+    const cdot = f[SPEED]
     const impulse =
       -joint.springMassScale * joint.axialMass * (cdot + joint.springBiasRate * C) -
       joint.springImpulseScale * joint.springImpulse
     const old = joint.springImpulse
     joint.springImpulse = clampImpulse(old + impulse, joint.maxImpulse)
-    applyAxialImpulse(joint, state, joint.springImpulse - old)
+    f[PX] = joint.springImpulse - old
+    applyAxialImpulse(joint, state)
   }
   if (joint.enableMotor) {
     // The target speed closes at most the remaining gap to a limit per sub-step (as the revolute
     // motor's), so no motor force can drive the slider through its stop.
     let speed = joint.motorSpeed
     if (joint.enableLimit) {
-      const t = translation()
+      const t = translation
       speed = Math.max(
         Math.min(speed, (joint.upperTranslation - t) * ctx.invH),
         (joint.lowerTranslation - t) * ctx.invH,
       )
     }
-    const cdot = axialSpeed(joint, state)
+    axialSpeed(joint, state)
     const old = joint.motorImpulse
     const cap = Math.min(joint.maxMotorForce * ctx.h, joint.maxImpulse)
-    joint.motorImpulse = clampImpulse(old + joint.axialMass * (speed - cdot), cap)
-    applyAxialImpulse(joint, state, joint.motorImpulse - old)
+    joint.motorImpulse = clampImpulse(old + joint.axialMass * (speed - f[SPEED]), cap)
+    f[PX] = joint.motorImpulse - old
+    applyAxialImpulse(joint, state)
   }
   if (joint.enableLimit) {
-    const t = translation()
-    solveAxialLimit(joint, state, ctx, useBias, t - joint.lowerTranslation, 1)
-    solveAxialLimit(joint, state, ctx, useBias, joint.upperTranslation - t, -1)
+    f[LIMIT_C] = translation - joint.lowerTranslation
+    solveAxialLimit(joint, state, ctx, useBias, 1)
+    f[LIMIT_C] = joint.upperTranslation - translation
+    solveAxialLimit(joint, state, ctx, useBias, -1)
   }
   // Across the axis and the angle: a 2x2 soft block (Box2D's K = [k11 k12; k12 k22]).
   const mA = a.invMass
@@ -245,8 +263,8 @@ export function solvePrismatic(
   let impulseScale = 0
   if (useBias) {
     const soft = ctx.jointSoftness
-    const angle =
-      relativeAngle(state[oB + DQC], state[oB + DQS], state[oA + DQC], state[oA + DQS]) + joint.deltaAngle
+    relativeDeltaAngle(joint, state)
+    const angle = angleOut[0] + joint.deltaAngle
     c1 += soft.biasRate * (f[DX] * px + f[DY] * py)
     c2 += soft.biasRate * angle
     massScale = soft.massScale
@@ -266,5 +284,9 @@ export function solvePrismatic(
   joint.angularImpulse = clampImpulse(old2 - massScale * x2 - impulseScale * old2, joint.maxAngularImpulse)
   const i1 = joint.linearImpulseX - old1
   const i2 = joint.angularImpulse - old2
-  applyFrameImpulse(joint, state, i1 * px, i1 * py, i1 * s1 + i2, i1 * s2 + i2)
+  f[PX] = i1 * px
+  f[PY] = i1 * py
+  f[LA] = i1 * s1 + i2
+  f[LB] = i1 * s2 + i2
+  applyFrameImpulse(joint, state)
 }

@@ -11,9 +11,11 @@ import type { Joint } from './joint.ts'
 import {
   accumulateX,
   accumulateY,
+  angleOut,
   clampImpulse,
   type JointStepContext,
   relativeAngle,
+  relativeDeltaAngle,
   solve22,
   solved2,
   system22,
@@ -153,7 +155,9 @@ export function solveRevolute(
 
   if (joint.enableSpring && !fixedRotation) {
     // Soft rotational spring toward the target angle; physics, so it acts in the relax pass too.
-    const C = jointAngle(joint, state) - joint.springTarget
+    // The joint angle from the step-start angle and this step's rotation (inline: no atan2 call).
+    relativeDeltaAngle(joint, state)
+    const C = unwind(joint.deltaAngle + angleOut[0]) - joint.springTarget
     const cdot = state[oB + W] - state[oA + W]
     let impulse =
       -joint.springMassScale * joint.axialMass * (cdot + joint.springBiasRate * C) -

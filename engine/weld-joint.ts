@@ -15,8 +15,10 @@ import {
   accumulateAngular,
   accumulateX,
   accumulateY,
+  angleOut,
+  bodiesAngle,
   type JointStepContext,
-  relativeAngle,
+  relativeDeltaAngle,
   solve22,
   solved2,
   system22,
@@ -32,7 +34,8 @@ export function prepareWeld(joint: Joint, ctx: JointStepContext): void {
   const b = joint.bodyB
   const k = a.invInertia + b.invInertia
   joint.axialMass = k > 0 ? 1 / k : 0
-  joint.deltaAngle = unwind(relativeAngle(b.c, b.s, a.c, a.s) - joint.referenceAngle)
+  bodiesAngle(joint)
+  joint.deltaAngle = unwind(angleOut[0] - joint.referenceAngle)
   const linear = joint.hertz === 0 ? ctx.jointSoftness : softness.set(joint.hertz, joint.dampingRatio, ctx.h)
   joint.springBiasRate = linear.biasRate
   joint.springMassScale = linear.massScale
@@ -88,8 +91,8 @@ export function solveWeld(joint: Joint, state: Float64Array, useBias: boolean): 
     let massScale = 1
     let impulseScale = 0
     if (useBias || joint.angularHertz > 0) {
-      const C =
-        relativeAngle(state[oB + DQC], state[oB + DQS], state[oA + DQC], state[oA + DQS]) + joint.deltaAngle
+      relativeDeltaAngle(joint, state)
+      const C = angleOut[0] + joint.deltaAngle
       bias = joint.angularBiasRate * C
       massScale = joint.angularMassScale
       impulseScale = joint.angularImpulseScale

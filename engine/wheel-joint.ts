@@ -13,6 +13,8 @@ import { VX, VY, W } from './body-state.ts'
 import type { Joint } from './joint.ts'
 import { clampImpulse, type JointStepContext } from './joint-math.ts'
 import {
+  A1,
+  A2,
   AX,
   AY,
   applyAxialImpulse,
@@ -22,9 +24,15 @@ import {
   DX,
   DY,
   jointFrame,
+  LA,
+  LB,
+  LIMIT_C,
+  PX,
+  PY,
   prepareAxis,
   S1,
   S2,
+  SPEED,
   solveAxialLimit,
 } from './prismatic-joint.ts'
 import { Softness } from './softness.ts'
@@ -57,7 +65,11 @@ export function warmStartWheel(joint: Joint, state: Float64Array): void {
   const px = axial * f[AX] - perp * f[AY]
   const py = axial * f[AY] + perp * f[AX]
   const m = joint.motorImpulse
-  applyFrameImpulse(joint, state, px, py, axial * f[8] + perp * f[S1] + m, axial * f[9] + perp * f[S2] + m)
+  f[PX] = px
+  f[PY] = py
+  f[LA] = axial * f[A1] + perp * f[S1] + m
+  f[LB] = axial * f[A2] + perp * f[S2] + m
+  applyFrameImpulse(joint, state)
 }
 
 /** One iteration of a wheel joint: motor, spring, limits, then the point on the line. */
@@ -79,17 +91,20 @@ export function solveWheel(joint: Joint, state: Float64Array, ctx: JointStepCont
     state[oB + W] += b.invInertia * impulse
   }
   if (joint.enableSpring) {
-    const cdot = axialSpeed(joint, state)
+    axialSpeed(joint, state)
     const impulse =
-      -joint.springMassScale * joint.axialMass * (cdot + joint.springBiasRate * translation) -
+      -joint.springMassScale * joint.axialMass * (f[SPEED] + joint.springBiasRate * translation) -
       joint.springImpulseScale * joint.springImpulse
     const old = joint.springImpulse
     joint.springImpulse = clampImpulse(old + impulse, joint.maxImpulse)
-    applyAxialImpulse(joint, state, joint.springImpulse - old)
+    f[PX] = joint.springImpulse - old
+    applyAxialImpulse(joint, state)
   }
   if (joint.enableLimit) {
-    solveAxialLimit(joint, state, ctx, useBias, translation - joint.lowerTranslation, 1)
-    solveAxialLimit(joint, state, ctx, useBias, joint.upperTranslation - translation, -1)
+    f[LIMIT_C] = translation - joint.lowerTranslation
+    solveAxialLimit(joint, state, ctx, useBias, 1)
+    f[LIMIT_C] = joint.upperTranslation - translation
+    solveAxialLimit(joint, state, ctx, useBias, -1)
   }
   // Point on the line: across the axis only.
   const px = -f[AY]
@@ -118,5 +133,9 @@ export function solveWheel(joint: Joint, state: Float64Array, ctx: JointStepCont
     joint.maxImpulse,
   )
   const i = joint.linearImpulseX - old
-  applyFrameImpulse(joint, state, i * px, i * py, i * s1, i * s2)
+  f[PX] = i * px
+  f[PY] = i * py
+  f[LA] = i * s1
+  f[LB] = i * s2
+  applyFrameImpulse(joint, state)
 }

@@ -165,8 +165,6 @@ export const JOINT_EXTRA_FIELDS = [
   'angularImpulse',
   'springImpulse',
 ] as const
-/** The defaults of JOINT_EXTRA_FIELDS (as a new Joint has them). */
-const JOINT_EXTRA_DEFAULTS = [0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, Infinity, Infinity, 0, 0]
 /** Highest joint kind code (joint-math.ts MOTOR). */
 const LAST_JOINT_TYPE = 6
 
@@ -298,16 +296,56 @@ export function writeJoint(w: ByteWriter, j: Joint): void {
   n[22] = j.motorImpulse
   w.f64s(n, 0, 23)
   if (!extra) return
-  for (let i = 0; i < JOINT_EXTRA_FIELDS.length; i++) n[i] = j[JOINT_EXTRA_FIELDS[i]]
+  // Explicit reads in JOINT_EXTRA_FIELDS order: a keyed read (j[name]) boxes each double.
+  n[0] = j.angularHertz
+  n[1] = j.angularDampingRatio
+  n[2] = j.localAxisAx
+  n[3] = j.localAxisAy
+  n[4] = j.lowerTranslation
+  n[5] = j.upperTranslation
+  n[6] = j.maxMotorForce
+  n[7] = j.springTarget
+  n[8] = j.linearOffsetX
+  n[9] = j.linearOffsetY
+  n[10] = j.angularOffset
+  n[11] = j.maxTorque
+  n[12] = j.correctionFactor
+  n[13] = j.lastOffsetX
+  n[14] = j.lastOffsetY
+  n[15] = j.lastAngularOffset
+  n[16] = j.breakForce
+  n[17] = j.breakTorque
+  n[18] = j.angularImpulse
+  n[19] = j.springImpulse
   w.f64s(n, 0, JOINT_EXTRA_FIELDS.length)
 }
 
-/** Whether a joint needs the format-2 fields: a new kind, a spring, or any of them not default. */
+/** Whether a joint needs the format-2 fields: a new kind, a spring, or any of them not at its default. */
 function hasExtraFields(j: Joint): boolean {
-  if (j.type > 2 || j.enableSpring) return true
-  for (let i = 0; i < JOINT_EXTRA_FIELDS.length; i++)
-    if (j[JOINT_EXTRA_FIELDS[i]] !== JOINT_EXTRA_DEFAULTS[i]) return true
-  return false
+  return (
+    j.type > 2 ||
+    j.enableSpring ||
+    j.angularHertz !== 0 ||
+    j.angularDampingRatio !== 0 ||
+    j.localAxisAx !== 1 ||
+    j.localAxisAy !== 0 ||
+    j.lowerTranslation !== 0 ||
+    j.upperTranslation !== 0 ||
+    j.maxMotorForce !== 0 ||
+    j.springTarget !== 0 ||
+    j.linearOffsetX !== 0 ||
+    j.linearOffsetY !== 0 ||
+    j.angularOffset !== 0 ||
+    j.maxTorque !== 0 ||
+    j.correctionFactor !== 0 ||
+    j.lastOffsetX !== 0 ||
+    j.lastOffsetY !== 0 ||
+    j.lastAngularOffset !== 0 ||
+    j.breakForce !== Number.POSITIVE_INFINITY ||
+    j.breakTorque !== Number.POSITIVE_INFINITY ||
+    j.angularImpulse !== 0 ||
+    j.springImpulse !== 0
+  )
 }
 
 /** Reads a joint written by writeJoint. */
