@@ -18,14 +18,15 @@ import {
   createWorld,
   FixedStepper,
   loadWorld,
-  machinesScene,
   SAVE_FORMAT_VERSION,
   towerScene,
   type World,
   WorldLoadError,
 } from '../../engine/index.ts'
 import {
+  buildMachines,
   buildMixedScene,
+  driveMachines,
   GOLDEN_HASH,
   GOLDEN_STEPS,
   hex,
@@ -229,19 +230,10 @@ describe('save and load of every joint kind (the machines scene)', () => {
    */
   function machines(): World {
     const world = createWorld()
-    buildScene(world, machinesScene())
+    buildMachines(world)
     return world
   }
-  function drive(world: World): void {
-    const t = world.tick
-    const joints = world.joints()
-    const of = (type: string): number[] => joints.filter((j) => j.type === type).map((j) => j.id)
-    if (t % 90 === 0) for (const j of of('wheel')) world.setJointMotorSpeed(j, t % 180 === 0 ? -6 : -3)
-    if (t % 7 === 0)
-      for (const j of of('motor')) world.setJointTarget(j, { x: 45 + 0.01 * t, y: 3 }, 0.001 * t)
-    if (t === 200) for (const j of of('prismatic')) world.setJointTarget(j, 0.2)
-    if (t === 250) for (const j of of('revolute')) world.setJointTarget(j, -0.2)
-  }
+  const drive = driveMachines
 
   it('two runs are bit-identical, the bridge breaks the same, and saves at 30, 44, 45, 150 and 400 continue bit for bit', () => {
     const a = machines()
