@@ -304,13 +304,14 @@ export function solveJointTree(state: Float64Array, ctx: JointStepContext, useBi
     let ex = bd[ob + RHS]
     let ey = bd[ob + RHS + 1]
     let ew = bd[ob + RHS + 2]
-    if (k >= 0 && t.weld[k] === 1) backSubstituteWeld(t, k)
     if (k >= 0) {
       // z_k = Dk^-1 (b_k - s_q G_q y_q); y_s = Dinv_s (rhs_s - s_s G_s^T z_k).
       const o = JOINT_STRIDE * k
+      const weld = t.weld[k] === 1
       let zx: number
       let zy: number
-      if (t.weld[k] === 1) {
+      if (weld) {
+        backSubstituteWeld(t, k)
         zx = jd[o + JZ]
         zy = jd[o + JZ + 1]
       } else {
@@ -336,7 +337,7 @@ export function solveJointTree(state: Float64Array, ctx: JointStepContext, useBi
       ex -= ss * zx
       ey -= ss * zy
       ew -= ss * (-cy * zx + cx * zy)
-      if (t.weld[k] === 1) ew -= ss * jd[o + JZ + 2]
+      if (weld) ew -= ss * jd[o + JZ + 2]
     }
     const d = DINV + ob
     bd[ob + Y] = bd[d] * ex + bd[d + 1] * ey + bd[d + 2] * ew
