@@ -20,6 +20,7 @@
  *   solveContinuous      time of impact for fast bodies and bullets
  *   updateBroadPhase     move the fat AABBs of awake bodies
  *   sleepIslands         islands that rested long enough go to sleep
+ *   breakJoints          joints whose reaction exceeds a break threshold are destroyed
  *
  * The bodies' solver state lives in one array with named offsets (body-state.ts) that the contact
  * and joint stages read and write by a body's solver index.
