@@ -5,8 +5,8 @@
  * per player); each has its own accumulated impulse and cap. Body A is the world.
  */
 import { DPX, DPY, DQC, DQS, Softness, VX, VY, W } from '../dynamics/index.ts'
-import type { Joint, JointStepContext } from './joint.ts'
-import { solve22, solved2, system22 } from './joint-math.ts'
+import type { Joint } from './joint.ts'
+import { type JointStepContext, solve22, solved2, system22 } from './joint-math.ts'
 
 const softness = new Softness()
 
