@@ -24,8 +24,8 @@ import {
   solve22,
   solved2,
   system22,
-  unwind,
 } from './joint-math.ts'
+import { PI, TWO_PI } from './math.ts'
 
 /** Per-step preparation of a motor joint: arms to the offset point and B's centre. */
 export function prepareMotor(joint: Joint): void {
@@ -41,7 +41,11 @@ export function prepareMotor(joint: Joint): void {
   joint.anchorBx = 0
   joint.anchorBy = 0
   bodiesAngle(joint)
-  joint.deltaAngle = unwind(angleOut[0] - joint.lastAngularOffset)
+  // unwind, written out: no double argument or result (see joint-math.ts setSpringSoftness).
+  let deltaAngle = angleOut[0] - joint.lastAngularOffset
+  if (deltaAngle < -PI) deltaAngle += TWO_PI
+  else if (deltaAngle > PI) deltaAngle -= TWO_PI
+  joint.deltaAngle = deltaAngle
   joint.subStep = 0
   const k = a.invInertia + b.invInertia
   joint.angularMass = k > 0 ? 1 / k : 0

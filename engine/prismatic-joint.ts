@@ -14,8 +14,8 @@ import {
   type JointStepContext,
   relativeDeltaAngle,
   setSpringSoftness,
-  unwind,
 } from './joint-math.ts'
+import { PI, TWO_PI } from './math.ts'
 import { Softness } from './softness.ts'
 
 const springSoftness = new Softness()
@@ -114,7 +114,11 @@ export function prepareAxis(joint: Joint): void {
 export function preparePrismatic(joint: Joint, ctx: JointStepContext): void {
   prepareAxis(joint)
   bodiesAngle(joint)
-  joint.deltaAngle = unwind(angleOut[0] - joint.referenceAngle)
+  // unwind, written out: no double argument or result (see joint-math.ts setSpringSoftness).
+  let deltaAngle = angleOut[0] - joint.referenceAngle
+  if (deltaAngle < -PI) deltaAngle += TWO_PI
+  else if (deltaAngle > PI) deltaAngle -= TWO_PI
+  joint.deltaAngle = deltaAngle
   setSpringSoftness(springSoftness, joint, ctx)
   joint.springBiasRate = springSoftness.biasRate
   joint.springMassScale = springSoftness.massScale

@@ -21,8 +21,8 @@ import {
   solve22,
   solved2,
   system22,
-  unwind,
 } from './joint-math.ts'
+import { PI, TWO_PI } from './math.ts'
 import { Softness } from './softness.ts'
 
 const softness = new Softness()
@@ -34,7 +34,11 @@ export function prepareWeld(joint: Joint, ctx: JointStepContext): void {
   const k = a.invInertia + b.invInertia
   joint.axialMass = k > 0 ? 1 / k : 0
   bodiesAngle(joint)
-  joint.deltaAngle = unwind(angleOut[0] - joint.referenceAngle)
+  // unwind, written out: no double argument or result (see joint-math.ts setSpringSoftness).
+  let deltaAngle = angleOut[0] - joint.referenceAngle
+  if (deltaAngle < -PI) deltaAngle += TWO_PI
+  else if (deltaAngle > PI) deltaAngle -= TWO_PI
+  joint.deltaAngle = deltaAngle
   let linear = ctx.jointSoftness
   if (joint.hertz !== 0) {
     setSpringSoftness(softness, joint, ctx)
