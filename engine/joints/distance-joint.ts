@@ -23,7 +23,7 @@
  */
 import { DPX, DPY, DQC, DQS, Softness, VX, VY, W } from '../dynamics/index.ts'
 import type { Joint } from './joint.ts'
-import { clampImpulse, type JointStepContext } from './joint-math.ts'
+import { clampImpulse, type JointStepContext, setSpringSoftness } from './joint-math.ts'
 
 const springSoftness = new Softness()
 
@@ -79,7 +79,7 @@ export function prepareDistance(joint: Joint, state: Float64Array, ctx: JointSte
   const crB = g[RB_X] * g[AXIS_Y] - g[RB_Y] * g[AXIS_X]
   const k = a.invMass + b.invMass + a.invInertia * crA * crA + b.invInertia * crB * crB
   joint.axialMass = k > 0 ? 1 / k : 0
-  springSoftness.set(joint.hertz, joint.dampingRatio, ctx.h)
+  setSpringSoftness(springSoftness, joint, ctx)
   joint.springBiasRate = springSoftness.biasRate
   joint.springMassScale = springSoftness.massScale
   joint.springImpulseScale = springSoftness.impulseScale

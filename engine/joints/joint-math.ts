@@ -4,7 +4,7 @@
  * files import them without a run-time import cycle (joint.ts -> weld-joint.ts -> joint.ts).
  */
 
-import { DQC, DQS, type StepContext } from '../dynamics/index.ts'
+import { DQC, DQS, type Softness, type StepContext, softnessInput } from '../dynamics/index.ts'
 import { atan2, PI, TWO_PI } from '../math.ts'
 import type { Joint } from './joint.ts'
 
@@ -83,6 +83,27 @@ export function accumulateSpring(joint: Joint, impulse: number, cap: number): nu
   }
   joint.springImpulse = clampImpulse(sum, cap)
   return joint.springImpulse - old
+}
+
+/**
+ * soft = the softness of the joint's spring (hertz, dampingRatio) at the sub-step ctx.h. Objects
+ * in, no doubles: a call V8 does not inline boxes each double argument, and prepareJoints, into
+ * which the kinds' prepare functions are inlined, can run out of its inlining budget before
+ * Softness.set (the machines scene, 2026-11-28).
+ */
+export function setSpringSoftness(soft: Softness, joint: Joint, ctx: JointStepContext): void {
+  softnessInput[0] = joint.hertz
+  softnessInput[1] = joint.dampingRatio
+  softnessInput[2] = ctx.h
+  soft.setFromInput()
+}
+
+/** soft = the softness of a weld's angular spring (angularHertz, angularDampingRatio) at ctx.h. */
+export function setAngularSoftness(soft: Softness, joint: Joint, ctx: JointStepContext): void {
+  softnessInput[0] = joint.angularHertz
+  softnessInput[1] = joint.angularDampingRatio
+  softnessInput[2] = ctx.h
+  soft.setFromInput()
 }
 
 /** Relative angle of rotation b with respect to rotation a, in [-pi, pi] (rad). */

@@ -16,6 +16,7 @@
 
 import { STEP_SECONDS } from '../constants.ts'
 import { DPX, DPY, DQC, DQS, VX, VY, W } from '../dynamics/index.ts'
+import { PI, TWO_PI } from '../math.ts'
 import type { Joint } from './joint.ts'
 import {
   angleOut,
@@ -25,7 +26,6 @@ import {
   solve22,
   solved2,
   system22,
-  unwind,
 } from './joint-math.ts'
 
 /** Per-step preparation of a motor joint: arms to the offset point and B's centre. */
@@ -42,7 +42,11 @@ export function prepareMotor(joint: Joint): void {
   joint.anchorBx = 0
   joint.anchorBy = 0
   bodiesAngle(joint)
-  joint.deltaAngle = unwind(angleOut[0] - joint.lastAngularOffset)
+  // unwind, written out: no double argument or result (see joint-math.ts setSpringSoftness).
+  let deltaAngle = angleOut[0] - joint.lastAngularOffset
+  if (deltaAngle < -PI) deltaAngle += TWO_PI
+  else if (deltaAngle > PI) deltaAngle -= TWO_PI
+  joint.deltaAngle = deltaAngle
   joint.subStep = 0
   const k = a.invInertia + b.invInertia
   joint.angularMass = k > 0 ? 1 / k : 0

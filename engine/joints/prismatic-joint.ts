@@ -7,14 +7,14 @@
  * 2-row constraint: no motion across the axis and no relative rotation (soft in the biased pass).
  */
 import { DPX, DPY, DQC, DQS, Softness, VX, VY, W } from '../dynamics/index.ts'
+import { PI, TWO_PI } from '../math.ts'
 import type { Joint } from './joint.ts'
 import {
   angleOut,
   bodiesAngle,
-  clampImpulse,
   type JointStepContext,
   relativeDeltaAngle,
-  unwind,
+  setSpringSoftness,
 } from './joint-math.ts'
 
 const springSoftness = new Softness()
@@ -113,8 +113,12 @@ export function prepareAxis(joint: Joint): void {
 export function preparePrismatic(joint: Joint, ctx: JointStepContext): void {
   prepareAxis(joint)
   bodiesAngle(joint)
-  joint.deltaAngle = unwind(angleOut[0] - joint.referenceAngle)
-  springSoftness.set(joint.hertz, joint.dampingRatio, ctx.h)
+  // unwind, written out: no double argument or result (see joint-math.ts setSpringSoftness).
+  let deltaAngle = angleOut[0] - joint.referenceAngle
+  if (deltaAngle < -PI) deltaAngle += TWO_PI
+  else if (deltaAngle > PI) deltaAngle -= TWO_PI
+  joint.deltaAngle = deltaAngle
+  setSpringSoftness(springSoftness, joint, ctx)
   joint.springBiasRate = springSoftness.biasRate
   joint.springMassScale = springSoftness.massScale
   joint.springImpulseScale = springSoftness.impulseScale
@@ -188,7 +192,12 @@ export function solveAxialLimit(
   axialSpeed(joint, state)
   const cdot = sign * frame[SPEED]
   const impulse = -joint.axialMass * massScale * (cdot + bias) - impulseScale * accumulated
-  const newImpulse = Math.max(clampImpulse(accumulated + impulse, joint.maxImpulse), 0)
+  const cap = joint.maxImpulse
+  let sum = accumulated + impulse
+  if (sum > cap) sum = cap
+  else if (sum < -cap) sum = -cap
+  else if (Number.isNaN(sum)) sum = 0
+  const newImpulse = Math.max(sum, 0)
   if (sign > 0) joint.lowerImpulse = newImpulse
   else joint.upperImpulse = newImpulse
   frame[PX] = sign * (newImpulse - accumulated)
@@ -217,8 +226,13 @@ export function solvePrismatic(
       -joint.springMassScale * joint.axialMass * (cdot + joint.springBiasRate * C) -
       joint.springImpulseScale * joint.springImpulse
     const old = joint.springImpulse
-    joint.springImpulse = clampImpulse(old + impulse, joint.maxImpulse)
-    f[PX] = joint.springImpulse - old
+    const cap = joint.maxImpulse
+    let sum = old + impulse
+    if (sum > cap) sum = cap
+    else if (sum < -cap) sum = -cap
+    else if (Number.isNaN(sum)) sum = 0
+    joint.springImpulse = sum
+    f[PX] = sum - old
     applyAxialImpulse(joint, state)
   }
   if (joint.enableMotor) {
@@ -235,8 +249,12 @@ export function solvePrismatic(
     axialSpeed(joint, state)
     const old = joint.motorImpulse
     const cap = Math.min(joint.maxMotorForce * ctx.h, joint.maxImpulse)
-    joint.motorImpulse = clampImpulse(old + joint.axialMass * (speed - f[SPEED]), cap)
-    f[PX] = joint.motorImpulse - old
+    let sum = old + joint.axialMass * (speed - f[SPEED])
+    if (sum > cap) sum = cap
+    else if (sum < -cap) sum = -cap
+    else if (Number.isNaN(sum)) sum = 0
+    joint.motorImpulse = sum
+    f[PX] = sum - old
     applyAxialImpulse(joint, state)
   }
   if (joint.enableLimit) {
@@ -279,10 +297,20 @@ export function solvePrismatic(
   const x2 = det * (k11 * c2 - k12 * c1)
   const old1 = joint.linearImpulseX
   const old2 = joint.angularImpulse
-  joint.linearImpulseX = clampImpulse(old1 - massScale * x1 - impulseScale * old1, joint.maxImpulse)
-  joint.angularImpulse = clampImpulse(old2 - massScale * x2 - impulseScale * old2, joint.maxAngularImpulse)
-  const i1 = joint.linearImpulseX - old1
-  const i2 = joint.angularImpulse - old2
+  const cap1 = joint.maxImpulse
+  let sum1 = old1 - massScale * x1 - impulseScale * old1
+  if (sum1 > cap1) sum1 = cap1
+  else if (sum1 < -cap1) sum1 = -cap1
+  else if (Number.isNaN(sum1)) sum1 = 0
+  const cap2 = joint.maxAngularImpulse
+  let sum2 = old2 - massScale * x2 - impulseScale * old2
+  if (sum2 > cap2) sum2 = cap2
+  else if (sum2 < -cap2) sum2 = -cap2
+  else if (Number.isNaN(sum2)) sum2 = 0
+  joint.linearImpulseX = sum1
+  joint.angularImpulse = sum2
+  const i1 = sum1 - old1
+  const i2 = sum2 - old2
   f[PX] = i1 * px
   f[PY] = i1 * py
   f[LA] = i1 * s1 + i2

@@ -16,6 +16,7 @@ import {
   type JointStepContext,
   relativeAngle,
   relativeDeltaAngle,
+  setSpringSoftness,
   solve22,
   solved2,
   system22,
@@ -33,7 +34,7 @@ export function prepareRevolute(joint: Joint, ctx: JointStepContext): void {
   joint.deltaAngle = unwind(relativeAngle(b.c, b.s, a.c, a.s) - joint.referenceAngle)
   if (!joint.enableMotor) joint.motorImpulse = 0
   if (joint.enableSpring) {
-    springSoftness.set(joint.hertz, joint.dampingRatio, ctx.h)
+    setSpringSoftness(springSoftness, joint, ctx)
     joint.springBiasRate = springSoftness.biasRate
     joint.springMassScale = springSoftness.massScale
     joint.springImpulseScale = springSoftness.impulseScale

@@ -10,19 +10,18 @@
  * 1 m boxes after 10 s).
  */
 import { DPX, DPY, DQC, DQS, Softness, VX, VY, W } from '../dynamics/index.ts'
+import { PI, TWO_PI } from '../math.ts'
 import type { Joint } from './joint.ts'
 import {
-  accumulateAngular,
-  accumulateX,
-  accumulateY,
   angleOut,
   bodiesAngle,
   type JointStepContext,
   relativeDeltaAngle,
+  setAngularSoftness,
+  setSpringSoftness,
   solve22,
   solved2,
   system22,
-  unwind,
 } from './joint-math.ts'
 
 const softness = new Softness()
@@ -34,15 +33,24 @@ export function prepareWeld(joint: Joint, ctx: JointStepContext): void {
   const k = a.invInertia + b.invInertia
   joint.axialMass = k > 0 ? 1 / k : 0
   bodiesAngle(joint)
-  joint.deltaAngle = unwind(angleOut[0] - joint.referenceAngle)
-  const linear = joint.hertz === 0 ? ctx.jointSoftness : softness.set(joint.hertz, joint.dampingRatio, ctx.h)
+  // unwind, written out: no double argument or result (see joint-math.ts setSpringSoftness).
+  let deltaAngle = angleOut[0] - joint.referenceAngle
+  if (deltaAngle < -PI) deltaAngle += TWO_PI
+  else if (deltaAngle > PI) deltaAngle -= TWO_PI
+  joint.deltaAngle = deltaAngle
+  let linear = ctx.jointSoftness
+  if (joint.hertz !== 0) {
+    setSpringSoftness(softness, joint, ctx)
+    linear = softness
+  }
   joint.springBiasRate = linear.biasRate
   joint.springMassScale = linear.massScale
   joint.springImpulseScale = linear.impulseScale
-  const angular =
-    joint.angularHertz === 0
-      ? ctx.jointSoftness
-      : softness.set(joint.angularHertz, joint.angularDampingRatio, ctx.h)
+  let angular = ctx.jointSoftness
+  if (joint.angularHertz !== 0) {
+    setAngularSoftness(softness, joint, ctx)
+    angular = softness
+  }
   joint.angularBiasRate = angular.biasRate
   joint.angularMassScale = angular.massScale
   joint.angularImpulseScale = angular.impulseScale
@@ -97,10 +105,19 @@ export function solveWeld(joint: Joint, state: Float64Array, useBias: boolean): 
       impulseScale = joint.angularImpulseScale
     }
     const cdot = state[oB + W] - state[oA + W]
-    const impulse = accumulateAngular(
-      joint,
-      -massScale * joint.axialMass * (cdot + bias) - impulseScale * joint.angularImpulse,
-    )
+    // joint-math.ts accumulateAngular, written out: a call V8 does not inline boxes its double
+    // argument and result (a heap number each; the README's allocation notes).
+    let impulse = -massScale * joint.axialMass * (cdot + bias) - impulseScale * joint.angularImpulse
+    const old = joint.angularImpulse
+    const cap = joint.maxAngularImpulse
+    let sum = old + impulse
+    if (!(Math.abs(sum) <= cap)) {
+      if (sum > cap) sum = cap
+      else if (sum < -cap) sum = -cap
+      else if (Number.isNaN(sum)) sum = 0
+      impulse = sum - old
+    }
+    joint.angularImpulse = sum
     state[oA + W] -= iA * impulse
     state[oB + W] += iB * impulse
   }
@@ -128,8 +145,28 @@ export function solveWeld(joint: Joint, state: Float64Array, useBias: boolean): 
   system22[3] = state[oB + VX] - wB * rBy - (state[oA + VX] - wA * rAy) + biasX
   system22[4] = state[oB + VY] + wB * rBx - (state[oA + VY] + wA * rAx) + biasY
   solve22()
-  const ix = accumulateX(joint, -massScale * solved2[0] - impulseScale * joint.linearImpulseX)
-  const iy = accumulateY(joint, -massScale * solved2[1] - impulseScale * joint.linearImpulseY)
+  // joint-math.ts accumulateX and accumulateY, written out (as the angle's above).
+  const cap = joint.maxImpulse
+  let ix = -massScale * solved2[0] - impulseScale * joint.linearImpulseX
+  const oldX = joint.linearImpulseX
+  let sumX = oldX + ix
+  if (!(Math.abs(sumX) <= cap)) {
+    if (sumX > cap) sumX = cap
+    else if (sumX < -cap) sumX = -cap
+    else if (Number.isNaN(sumX)) sumX = 0
+    ix = sumX - oldX
+  }
+  joint.linearImpulseX = sumX
+  let iy = -massScale * solved2[1] - impulseScale * joint.linearImpulseY
+  const oldY = joint.linearImpulseY
+  let sumY = oldY + iy
+  if (!(Math.abs(sumY) <= cap)) {
+    if (sumY > cap) sumY = cap
+    else if (sumY < -cap) sumY = -cap
+    else if (Number.isNaN(sumY)) sumY = 0
+    iy = sumY - oldY
+  }
+  joint.linearImpulseY = sumY
   state[oA + VX] -= mA * ix
   state[oA + VY] -= mA * iy
   state[oA + W] -= iA * (rAx * iy - rAy * ix)

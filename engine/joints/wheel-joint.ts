@@ -11,7 +11,7 @@
  */
 import { Softness, VX, VY, W } from '../dynamics/index.ts'
 import type { Joint } from './joint.ts'
-import { clampImpulse, type JointStepContext } from './joint-math.ts'
+import { type JointStepContext, setSpringSoftness } from './joint-math.ts'
 import {
   A1,
   A2,
@@ -43,7 +43,7 @@ export function prepareWheel(joint: Joint, ctx: JointStepContext): void {
   prepareAxis(joint)
   const k = joint.bodyA.invInertia + joint.bodyB.invInertia
   joint.angularMass = k > 0 ? 1 / k : 0
-  springSoftness.set(joint.hertz, joint.dampingRatio, ctx.h)
+  setSpringSoftness(springSoftness, joint, ctx)
   joint.springBiasRate = springSoftness.biasRate
   joint.springMassScale = springSoftness.massScale
   joint.springImpulseScale = springSoftness.impulseScale
@@ -84,8 +84,12 @@ export function solveWheel(joint: Joint, state: Float64Array, ctx: JointStepCont
     const cdot = state[oB + W] - state[oA + W] - joint.motorSpeed
     const old = joint.motorImpulse
     const cap = Math.min(joint.maxMotorTorque * ctx.h, joint.maxAngularImpulse)
-    joint.motorImpulse = clampImpulse(old - joint.angularMass * cdot, cap)
-    const impulse = joint.motorImpulse - old
+    let sum = old - joint.angularMass * cdot
+    if (sum > cap) sum = cap
+    else if (sum < -cap) sum = -cap
+    else if (Number.isNaN(sum)) sum = 0
+    joint.motorImpulse = sum
+    const impulse = sum - old
     state[oA + W] -= a.invInertia * impulse
     state[oB + W] += b.invInertia * impulse
   }
@@ -95,8 +99,13 @@ export function solveWheel(joint: Joint, state: Float64Array, ctx: JointStepCont
       -joint.springMassScale * joint.axialMass * (f[SPEED] + joint.springBiasRate * translation) -
       joint.springImpulseScale * joint.springImpulse
     const old = joint.springImpulse
-    joint.springImpulse = clampImpulse(old + impulse, joint.maxImpulse)
-    f[PX] = joint.springImpulse - old
+    const cap = joint.maxImpulse
+    let sum = old + impulse
+    if (sum > cap) sum = cap
+    else if (sum < -cap) sum = -cap
+    else if (Number.isNaN(sum)) sum = 0
+    joint.springImpulse = sum
+    f[PX] = sum - old
     applyAxialImpulse(joint, state)
   }
   if (joint.enableLimit) {
@@ -127,11 +136,13 @@ export function solveWheel(joint: Joint, state: Float64Array, ctx: JointStepCont
   const k = a.invMass + b.invMass + a.invInertia * s1 * s1 + b.invInertia * s2 * s2
   const perpMass = k > 0 ? 1 / k : 0
   const old = joint.linearImpulseX
-  joint.linearImpulseX = clampImpulse(
-    old - massScale * perpMass * (cdot + bias) - impulseScale * old,
-    joint.maxImpulse,
-  )
-  const i = joint.linearImpulseX - old
+  const cap = joint.maxImpulse
+  let sum = old - massScale * perpMass * (cdot + bias) - impulseScale * old
+  if (sum > cap) sum = cap
+  else if (sum < -cap) sum = -cap
+  else if (Number.isNaN(sum)) sum = 0
+  joint.linearImpulseX = sum
+  const i = sum - old
   f[PX] = i * px
   f[PY] = i * py
   f[LA] = i * s1
