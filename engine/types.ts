@@ -74,8 +74,16 @@ export interface BodyDef {
   fixedRotation?: boolean
 }
 
+/** Settings every joint definition has. */
+export interface JointBreakDef {
+  /** Reaction force (N) above which the joint breaks after a step; usually Infinity (never). */
+  breakForce?: number
+  /** Reaction torque (N m) above which the joint breaks after a step; usually Infinity (never). */
+  breakTorque?: number
+}
+
 /** Revolute (pin) joint: bodies share a world anchor point and rotate about it. */
-export interface RevoluteJointDef {
+export interface RevoluteJointDef extends JointBreakDef {
   type: 'revolute'
   /** First body, or null for the fixed world frame. */
   bodyA: BodyId | null
@@ -93,10 +101,17 @@ export interface RevoluteJointDef {
   motorSpeed?: number
   /** Largest torque the motor applies (N m). */
   maxMotorTorque?: number
+  /** A rotational spring toward targetAngle, usually false. */
+  enableSpring?: boolean
+  /** Spring stiffness (Hz) against the joint's angular mass, and damping ratio (usually 0.7). */
+  hertz?: number
+  dampingRatio?: number
+  /** Angle the spring pulls toward (rad, relative to creation), usually 0. */
+  targetAngle?: number
 }
 
 /** Distance joint: a rod, a rope (minLength 0), or a soft spring (hertz > 0). */
-export interface DistanceJointDef {
+export interface DistanceJointDef extends JointBreakDef {
   type: 'distance'
   bodyA: BodyId | null
   bodyB: BodyId
@@ -114,10 +129,16 @@ export interface DistanceJointDef {
   hertz?: number
   /** Spring damping ratio, usually 0.7 when hertz > 0. */
   dampingRatio?: number
+  /** A motor along the axis (on a spring or a rope), usually false. */
+  enableMotor?: boolean
+  /** Target rate of change of the length (m/s). */
+  motorSpeed?: number
+  /** Largest force the motor applies (N). */
+  maxMotorForce?: number
 }
 
 /** Mouse (grab) joint: pulls a point on a body toward a moving target with a capped force. */
-export interface MouseJointDef {
+export interface MouseJointDef extends JointBreakDef {
   type: 'mouse'
   body: BodyId
   /** World target (m). */
@@ -132,8 +153,111 @@ export interface MouseJointDef {
   dampingRatio?: number
 }
 
+/** Weld joint: B is glued to A at the anchor (rigid at 0 Hz, a spring otherwise). */
+export interface WeldJointDef extends JointBreakDef {
+  type: 'weld'
+  bodyA: BodyId | null
+  bodyB: BodyId
+  /** World anchor at creation (m). */
+  anchor: Vec2
+  /** Usually false. */
+  collideConnected?: boolean
+  /** Stiffness of the point (linear) and angle (angular) constraints (Hz), usually 0 = rigid. */
+  linearHertz?: number
+  angularHertz?: number
+  /** Damping ratios of the two springs, usually 1. */
+  linearDampingRatio?: number
+  angularDampingRatio?: number
+}
+
+/** Prismatic (slider) joint: B slides along an axis fixed in A and keeps its angle to A. */
+export interface PrismaticJointDef extends JointBreakDef {
+  type: 'prismatic'
+  bodyA: BodyId | null
+  bodyB: BodyId
+  /** World anchor at creation (m): translation 0 is where the bodies are now. */
+  anchor: Vec2
+  /** World direction of the axis at creation (any length but zero); fixed in A's frame. */
+  axis: Vec2
+  /** Usually false. */
+  collideConnected?: boolean
+  enableLimit?: boolean
+  /** Limits on the translation along the axis (m), lower <= 0 <= upper usually. */
+  lower?: number
+  upper?: number
+  enableMotor?: boolean
+  /** Target speed along the axis (m/s). */
+  motorSpeed?: number
+  /** Largest motor force (N). */
+  maxMotorForce?: number
+  /** A spring along the axis toward targetTranslation, usually false. */
+  enableSpring?: boolean
+  /** Spring stiffness (Hz, against the joint's axial mass), damping ratio (usually 0.7). */
+  hertz?: number
+  dampingRatio?: number
+  /** Translation the spring pulls toward (m), usually 0. */
+  targetTranslation?: number
+}
+
+/** Wheel joint: B slides on a sprung axis fixed in A (suspension) and spins freely (motor). */
+export interface WheelJointDef extends JointBreakDef {
+  type: 'wheel'
+  bodyA: BodyId | null
+  bodyB: BodyId
+  /** World anchor at creation (m), usually the wheel's centre. */
+  anchor: Vec2
+  /** World direction of the suspension axis at creation, usually up (0, 1). */
+  axis: Vec2
+  /** Usually false. */
+  collideConnected?: boolean
+  /** Suspension spring, usually true, 1 Hz, damping ratio 0.7 (stiffness against the axial mass). */
+  enableSpring?: boolean
+  hertz?: number
+  dampingRatio?: number
+  enableLimit?: boolean
+  /** Limits on the suspension travel (m). */
+  lower?: number
+  upper?: number
+  enableMotor?: boolean
+  /** Target spin of B relative to A (rad/s). */
+  motorSpeed?: number
+  /** Largest motor torque (N m). */
+  maxMotorTorque?: number
+}
+
+/** Motor joint: drives B toward an offset pose relative to A with a capped force and torque. */
+export interface MotorJointDef extends JointBreakDef {
+  type: 'motor'
+  bodyA: BodyId | null
+  bodyB: BodyId
+  /** Target position of B's centre of mass in A's frame (m); defaults to where it is now. */
+  linearOffset?: Vec2
+  /** Target angle of B relative to A (rad); defaults to the current one. */
+  angularOffset?: number
+  /** Largest force (N), usually 1; and torque (N m), usually 1. */
+  maxForce?: number
+  maxTorque?: number
+  /** Fraction of the error closed per sub-step (0..1), usually 0.3. */
+  correctionFactor?: number
+  /** Usually false. */
+  collideConnected?: boolean
+}
+
 /** Every joint definition. */
-export type JointDef = RevoluteJointDef | DistanceJointDef | MouseJointDef
+export type JointDef =
+  | RevoluteJointDef
+  | DistanceJointDef
+  | MouseJointDef
+  | WeldJointDef
+  | PrismaticJointDef
+  | WheelJointDef
+  | MotorJointDef
+
+/** What a joint was doing during the last step: which joints broke. */
+export interface JointEvents {
+  /** Joints that broke in the last step (reaction above breakForce or breakTorque), ascending ids. */
+  broken: JointId[]
+}
 
 /** A touching contact, for drawing and for the free-body diagram. */
 export interface ContactInfo {
@@ -168,6 +292,15 @@ export interface JointInfo {
   force: Vec2
   /** Reaction torque on body B in the last step, besides the force's moment (N m); body A gets -torque. */
   torque: number
+  /** Prismatic, wheel: the axis now (world, unit). */
+  axis?: Vec2
+  /** Limits when enabled: translation (m) for prismatic and wheel, angle (rad) for revolute. */
+  lower?: number
+  upper?: number
+  /** Prismatic, wheel: translation along the axis (m); distance: the length (m). */
+  translation?: number
+  /** Revolute, weld, prismatic, wheel, motor: angleB - angleA relative to the reference (rad). */
+  angle?: number
 }
 
 /** The force and torque a joint applied over the last step (mean over its sub-steps). */

@@ -34,5 +34,5 @@ export {
 export { ContinuousSolver } from './continuous.ts'
 export { planExtraSweeps } from './extra-sweeps.ts'
 export { IslandBuilder } from './island.ts'
-export { Softness } from './softness.ts'
+export { Softness, softnessInput } from './softness.ts'
 export { StepContext } from './step-context.ts'

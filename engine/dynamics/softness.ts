@@ -14,6 +14,21 @@ export class Softness {
 
   /** Sets the coefficients for stiffness `hertz` (Hz), damping ratio `zeta` and step `h` (s). */
   set(hertz: number, zeta: number, h: number): this {
+    softnessInput[0] = hertz
+    softnessInput[1] = zeta
+    softnessInput[2] = h
+    return this.setFromInput()
+  }
+
+  /**
+   * `set` with its arguments in softnessInput (hertz, zeta, h): V8 boxes each double argument of a
+   * call it does not inline (a heap number each), and the joints' prepare functions, inlined into
+   * prepareJoints, can run out of its inlining budget (joint-math.ts setSpringSoftness).
+   */
+  setFromInput(): this {
+    const hertz = softnessInput[0]
+    const zeta = softnessInput[1]
+    const h = softnessInput[2]
     if (hertz === 0) {
       this.biasRate = 0
       this.massScale = 1
@@ -30,3 +45,6 @@ export class Softness {
     return this
   }
 }
+
+/** Input of Softness.setFromInput: stiffness (Hz), damping ratio, step (s). */
+export const softnessInput = new Float64Array(3)

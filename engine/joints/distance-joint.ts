@@ -5,6 +5,8 @@
  *   limit is not solved at all, so a rope pulls and never pushes, not even speculatively.
  * - Spring: hertz > 0: a soft spring toward `length` (implicit, stable at any stiffness), plus the
  *   min/max limits when minLength < maxLength (the defaults, min = max = length, mean no limits).
+ * - Motor (enableMotor): drives the length's rate of change toward motorSpeed (m/s) with at most
+ *   maxMotorForce (N), on a spring or a rope (a rod's rigid constraint overrides it).
  * Limits are speculative (close at most the remaining gap) and soft once violated, like contacts.
  *
  * The spring is the physics, not an error correction, so it acts in the relax pass as well. Its
@@ -20,14 +22,14 @@
  * user asks for 0. That is the price of being stable at any stiffness.
  */
 import { DPX, DPY, DQC, DQS, Softness, VX, VY, W } from '../dynamics/index.ts'
-import type { Joint, JointStepContext } from './joint.ts'
-import { clampImpulse } from './joint-math.ts'
+import type { Joint } from './joint.ts'
+import { clampImpulse, type JointStepContext, setSpringSoftness } from './joint-math.ts'
 
 const springSoftness = new Softness()
 
 // Current axis, length and arms from the sub-step deltas, set by computeAxis (a typed array: a
 // module-level double would allocate a heap number on every write in V8).
-const geometry = new Float64Array(7)
+const geometry = new Float64Array(10)
 const AXIS_X = 0
 const AXIS_Y = 1
 const LENGTH = 2
@@ -35,6 +37,11 @@ const RA_X = 3
 const RA_Y = 4
 const RB_X = 5
 const RB_Y = 6
+// Values passed through the array instead of as call arguments or results (V8 boxes a double
+// crossing a call it does not inline: a heap allocation per call).
+const SPEED = 7
+const IMPULSE = 8
+const LIMIT_C = 9
 
 function computeAxis(joint: Joint, state: Float64Array): void {
   const oA = joint.offsetA
@@ -72,7 +79,7 @@ export function prepareDistance(joint: Joint, state: Float64Array, ctx: JointSte
   const crB = g[RB_X] * g[AXIS_Y] - g[RB_Y] * g[AXIS_X]
   const k = a.invMass + b.invMass + a.invInertia * crA * crA + b.invInertia * crB * crB
   joint.axialMass = k > 0 ? 1 / k : 0
-  springSoftness.set(joint.hertz, joint.dampingRatio, ctx.h)
+  setSpringSoftness(springSoftness, joint, ctx)
   joint.springBiasRate = springSoftness.biasRate
   joint.springMassScale = springSoftness.massScale
   joint.springImpulseScale = springSoftness.impulseScale
@@ -81,6 +88,7 @@ export function prepareDistance(joint: Joint, state: Float64Array, ctx: JointSte
     joint.upperImpulse = 0
   }
   if (joint.hertz === 0 && joint.minLength < joint.maxLength) joint.impulse = 0
+  if (!joint.enableMotor) joint.motorImpulse = 0
 }
 
 /** Whether the min/max limits act: only when they span a range (a rod is rigid instead). */
@@ -88,12 +96,14 @@ function hasLimits(joint: Joint): boolean {
   return joint.minLength < joint.maxLength
 }
 
-function applyAxial(joint: Joint, state: Float64Array, impulse: number): void {
+/** Applies the axial impulse geometry[IMPULSE]. */
+function applyAxial(joint: Joint, state: Float64Array): void {
   const a = joint.bodyA
   const b = joint.bodyB
   const oA = joint.offsetA
   const oB = joint.offsetB
   const g = geometry
+  const impulse = g[IMPULSE]
   const px = impulse * g[AXIS_X]
   const py = impulse * g[AXIS_Y]
   state[oA + VX] -= a.invMass * px
@@ -107,10 +117,14 @@ function applyAxial(joint: Joint, state: Float64Array, impulse: number): void {
 /** Applies the accumulated impulses of a distance joint. */
 export function warmStartDistance(joint: Joint, state: Float64Array): void {
   computeAxis(joint, state)
-  applyAxial(joint, state, joint.impulse + joint.lowerImpulse - joint.upperImpulse)
+  let axial = joint.impulse + joint.lowerImpulse - joint.upperImpulse
+  if (joint.enableMotor) axial += joint.motorImpulse
+  geometry[IMPULSE] = axial
+  applyAxial(joint, state)
 }
 
-function axialSpeed(joint: Joint, state: Float64Array): number {
+/** The anchors' relative speed along the axis (m/s), into geometry[SPEED]. */
+function axialSpeed(joint: Joint, state: Float64Array): void {
   const oA = joint.offsetA
   const oB = joint.offsetB
   const g = geometry
@@ -118,19 +132,20 @@ function axialSpeed(joint: Joint, state: Float64Array): number {
   const wB = state[oB + W]
   const vx = state[oB + VX] - wB * g[RB_Y] - (state[oA + VX] - wA * g[RA_Y])
   const vy = state[oB + VY] + wB * g[RB_X] - (state[oA + VY] + wA * g[RA_X])
-  return vx * g[AXIS_X] + vy * g[AXIS_Y]
+  g[SPEED] = vx * g[AXIS_X] + vy * g[AXIS_Y]
 }
 
-/** Adds `impulse` to the rigid/spring impulse within the joint's cap; returns what was added. */
-function accumulate(joint: Joint, impulse: number): number {
+/** Adds geometry[IMPULSE] to the rigid/spring impulse within the joint's cap; leaves what was added there. */
+function accumulate(joint: Joint): void {
+  const impulse = geometry[IMPULSE]
   const old = joint.impulse
   const sum = old + impulse
   if (Math.abs(sum) <= joint.maxImpulse) {
     joint.impulse = sum
-    return impulse
+    return
   }
   joint.impulse = clampImpulse(sum, joint.maxImpulse)
-  return joint.impulse - old
+  geometry[IMPULSE] = joint.impulse - old
 }
 
 /** One iteration of a distance joint. */
@@ -146,10 +161,12 @@ export function solveDistance(
     // Soft spring toward the rest length (always biased: the spring is the physics, not correction).
     const C = geometry[LENGTH] - joint.length
     const bias = joint.springBiasRate * C
-    const cdot = axialSpeed(joint, state)
-    const impulse =
+    axialSpeed(joint, state)
+    const cdot = geometry[SPEED]
+    geometry[IMPULSE] =
       -joint.springMassScale * joint.axialMass * (cdot + bias) - joint.springImpulseScale * joint.impulse
-    applyAxial(joint, state, accumulate(joint, impulse))
+    accumulate(joint)
+    applyAxial(joint, state)
   } else if (!limits) {
     const C = geometry[LENGTH] - joint.length
     let bias = 0
@@ -160,25 +177,42 @@ export function solveDistance(
       massScale = ctx.jointSoftness.massScale
       impulseScale = ctx.jointSoftness.impulseScale
     }
-    const cdot = axialSpeed(joint, state)
-    const impulse = -massScale * joint.axialMass * (cdot + bias) - impulseScale * joint.impulse
-    applyAxial(joint, state, accumulate(joint, impulse))
+    axialSpeed(joint, state)
+    const cdot = geometry[SPEED]
+    geometry[IMPULSE] = -massScale * joint.axialMass * (cdot + bias) - impulseScale * joint.impulse
+    accumulate(joint)
+    applyAxial(joint, state)
+  }
+  if (joint.enableMotor) {
+    const old = joint.motorImpulse
+    const cap = Math.min(joint.maxMotorForce * ctx.h, joint.maxImpulse)
+    axialSpeed(joint, state)
+    joint.motorImpulse = clampImpulse(old + joint.axialMass * (joint.motorSpeed - geometry[SPEED]), cap)
+    geometry[IMPULSE] = joint.motorImpulse - old
+    applyAxial(joint, state)
   }
   if (limits) {
-    if (joint.minLength > 0) solveLimit(joint, state, ctx, useBias, geometry[LENGTH] - joint.minLength, 1)
-    solveLimit(joint, state, ctx, useBias, joint.maxLength - geometry[LENGTH], -1)
+    if (joint.minLength > 0) {
+      geometry[LIMIT_C] = geometry[LENGTH] - joint.minLength
+      solveLimit(joint, state, ctx, useBias, 1)
+    }
+    geometry[LIMIT_C] = joint.maxLength - geometry[LENGTH]
+    solveLimit(joint, state, ctx, useBias, -1)
   }
 }
 
-/** A one-sided length limit; sign +1 keeps length >= min (pushes), -1 keeps length <= max (pulls). */
+/**
+ * A one-sided length limit with error geometry[LIMIT_C] (m, positive = inside); sign +1 keeps
+ * length >= min (pushes), -1 keeps length <= max (pulls).
+ */
 function solveLimit(
   joint: Joint,
   state: Float64Array,
   ctx: JointStepContext,
   useBias: boolean,
-  C: number,
   sign: number,
 ): void {
+  const C = geometry[LIMIT_C]
   let bias = 0
   let massScale = 1
   let impulseScale = 0
@@ -189,11 +223,13 @@ function solveLimit(
     impulseScale = ctx.jointSoftness.impulseScale
   }
   const accumulated = sign > 0 ? joint.lowerImpulse : joint.upperImpulse
-  const cdot = sign * axialSpeed(joint, state)
+  axialSpeed(joint, state)
+  const cdot = sign * geometry[SPEED]
   let impulse = -massScale * joint.axialMass * (cdot + bias) - impulseScale * accumulated
   const newImpulse = Math.max(clampImpulse(accumulated + impulse, joint.maxImpulse), 0)
   impulse = newImpulse - accumulated
   if (sign > 0) joint.lowerImpulse = newImpulse
   else joint.upperImpulse = newImpulse
-  applyAxial(joint, state, sign * impulse)
+  geometry[IMPULSE] = sign * impulse
+  applyAxial(joint, state)
 }

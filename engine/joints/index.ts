@@ -5,6 +5,15 @@
  */
 
 export { Joint, prepareJoints, solveJoints, warmStartJoints } from './joint.ts'
-export { buildJoint, jointInfo, jointReaction, localPoint } from './joint-defs.ts'
-export { JOINT_TYPE_NAMES, MOUSE } from './joint-math.ts'
+export {
+  buildJoint,
+  exceedsBreak,
+  jointAngle,
+  jointInfo,
+  jointReaction,
+  jointSpeed,
+  jointTranslation,
+  localPoint,
+} from './joint-defs.ts'
+export { DISTANCE, JOINT_TYPE_NAMES, MOTOR, MOUSE, PRISMATIC, REVOLUTE, WHEEL } from './joint-math.ts'
 export { JointTree, prepareJointTree, solveJointTree } from './joint-tree.ts'

@@ -4,12 +4,23 @@
  * reaches the solver. Anchors are given in world space at creation and stored in each body's frame.
  */
 
-import { finite, finiteVec, inRange } from '../def-checks.ts'
+import { angle, finite, finiteVec, inRange } from '../def-checks.ts'
 import type { Body } from '../dynamics/index.ts'
 import { atan2, type Vec2 } from '../math.ts'
 import type { BodyId, JointDef, JointInfo, JointReaction } from '../types.ts'
 import { Joint } from './joint.ts'
-import { DISTANCE, JOINT_TYPE_NAMES, MOUSE, REVOLUTE } from './joint-math.ts'
+import {
+  DISTANCE,
+  JOINT_TYPE_NAMES,
+  MOTOR,
+  MOUSE,
+  PRISMATIC,
+  REVOLUTE,
+  relativeAngle,
+  unwind,
+  WELD,
+  WHEEL,
+} from './joint-math.ts'
 
 /**
  * Builds joint `id` from a definition. `bodyOf` resolves (or rejects) body ids, `ground` is the
@@ -27,6 +38,7 @@ export function buildJoint(
     const b = bodyOf(def.body)
     const target = finiteVec('target', def.target)
     const joint = new Joint(id, MOUSE, ground, b)
+    configureBreak(joint, def)
     const local = reach(
       'localAnchor',
       b,
@@ -44,34 +56,131 @@ export function buildJoint(
   const a = def.bodyA === null ? ground : bodyOf(def.bodyA)
   const b = bodyOf(def.bodyB)
   if (a === b) throw new RangeError(`a joint needs two different bodies, got ${b.id} twice`)
-  const anchorA = finiteVec('anchor', def.type === 'revolute' ? def.anchor : def.anchorA)
-  const anchorB = def.type === 'revolute' ? anchorA : finiteVec('anchorB', def.anchorB)
-  const joint = new Joint(id, def.type === 'revolute' ? REVOLUTE : DISTANCE, a, b)
-  // A pin usually lies inside both bodies, so they must not collide; a rope, rod or spring keeps
-  // its bodies apart only along its axis, so they collide like any two bodies.
+  const joint = new Joint(id, KIND_CODES[def.type], a, b)
+  configureBreak(joint, def)
+  if (def.type === 'motor') {
+    configureMotor(joint, def)
+    return joint
+  }
+  const anchorA = finiteVec('anchor', def.type === 'distance' ? def.anchorA : def.anchor)
+  const anchorB = def.type === 'distance' ? finiteVec('anchorB', def.anchorB) : anchorA
+  // A pin, weld or slider usually lies inside both bodies, so they must not collide; a rope, rod
+  // or spring keeps its bodies apart only along its axis, so they collide like any two bodies.
   joint.collideConnected = flag('collideConnected', def.collideConnected, def.type === 'distance')
-  const la = reach(def.type === 'revolute' ? 'anchor' : 'anchorA', a, localPoint(a, anchorA))
-  const lb = reach(def.type === 'revolute' ? 'anchor' : 'anchorB', b, localPoint(b, anchorB))
+  const nameA = def.type === 'distance' ? 'anchorA' : 'anchor'
+  const la = reach(nameA, a, localPoint(a, anchorA))
+  const lb = reach(def.type === 'distance' ? 'anchorB' : 'anchor', b, localPoint(b, anchorB))
   joint.localAnchorAx = la.x
   joint.localAnchorAy = la.y
   joint.localAnchorBx = lb.x
   joint.localAnchorBy = lb.y
+  // angleB - angleA now; a distance joint has none (its saved field stays 0).
+  if (def.type !== 'distance') joint.referenceAngle = atan2(b.s * a.c - b.c * a.s, b.c * a.c + b.s * a.s)
   if (def.type === 'revolute') configureRevolute(joint, def)
-  else configureDistance(joint, def, anchorA, anchorB)
+  else if (def.type === 'distance') configureDistance(joint, def, anchorA, anchorB)
+  else if (def.type === 'weld') configureWeld(joint, def)
+  else configureSlider(joint, def)
   return joint
 }
 
+const KIND_CODES = {
+  revolute: REVOLUTE,
+  distance: DISTANCE,
+  mouse: MOUSE,
+  weld: WELD,
+  prismatic: PRISMATIC,
+  wheel: WHEEL,
+  motor: MOTOR,
+} as const
+
+function configureBreak(joint: Joint, def: JointDef): void {
+  joint.breakForce = threshold('breakForce', def.breakForce)
+  joint.breakTorque = threshold('breakTorque', def.breakTorque)
+}
+
+/** A break threshold: a number >= 0, Infinity (never) by default. */
+function threshold(name: string, value: number | undefined): number {
+  if (value === undefined) return Number.POSITIVE_INFINITY
+  if (typeof value !== 'number' || !(value >= 0))
+    throw new RangeError(`${name} must be a number >= 0 (Infinity: never breaks), got ${value}`)
+  return value
+}
+
+function configureWeld(joint: Joint, def: Extract<JointDef, { type: 'weld' }>): void {
+  joint.hertz = inRange('linearHertz', def.linearHertz ?? 0, 0, 1e6)
+  joint.angularHertz = inRange('angularHertz', def.angularHertz ?? 0, 0, 1e6)
+  joint.dampingRatio = inRange('linearDampingRatio', def.linearDampingRatio ?? 1, 0, 1e6)
+  joint.angularDampingRatio = inRange('angularDampingRatio', def.angularDampingRatio ?? 1, 0, 1e6)
+}
+
+/** Prismatic and wheel joints: the axis, limits, motor and spring. */
+function configureSlider(joint: Joint, def: Extract<JointDef, { type: 'prismatic' | 'wheel' }>): void {
+  const axis = finiteVec('axis', def.axis)
+  const length = Math.sqrt(axis.x * axis.x + axis.y * axis.y)
+  if (!(length > 1e-9) || !Number.isFinite(length))
+    throw new RangeError(`axis must be a non-zero direction, got (${axis.x}, ${axis.y})`)
+  const ux = axis.x / length
+  const uy = axis.y / length
+  const a = joint.bodyA
+  joint.localAxisAx = a.c * ux + a.s * uy
+  joint.localAxisAy = -a.s * ux + a.c * uy
+  joint.enableLimit = flag('enableLimit', def.enableLimit, false)
+  joint.lowerTranslation = inRange('lower', def.lower ?? 0, -MAX_JOINT_REACH, MAX_JOINT_REACH)
+  joint.upperTranslation = inRange('upper', def.upper ?? 0, joint.lowerTranslation, MAX_JOINT_REACH)
+  joint.enableMotor = flag('enableMotor', def.enableMotor, false)
+  joint.motorSpeed = finite('motorSpeed', def.motorSpeed ?? 0)
+  const wheel = def.type === 'wheel'
+  joint.enableSpring = flag('enableSpring', def.enableSpring, wheel)
+  joint.hertz = inRange('hertz', def.hertz ?? (wheel ? 1 : 0), 0, 1e6)
+  joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? 0.7, 0, 1e6)
+  if (def.type === 'wheel') joint.maxMotorTorque = inRange('maxMotorTorque', def.maxMotorTorque ?? 0, 0, 1e12)
+  else {
+    joint.maxMotorForce = inRange('maxMotorForce', def.maxMotorForce ?? 0, 0, 1e12)
+    joint.springTarget = inRange(
+      'targetTranslation',
+      def.targetTranslation ?? 0,
+      -MAX_JOINT_REACH,
+      MAX_JOINT_REACH,
+    )
+  }
+}
+
+function configureMotor(joint: Joint, def: Extract<JointDef, { type: 'motor' }>): void {
+  const a = joint.bodyA
+  const b = joint.bodyB
+  joint.collideConnected = flag('collideConnected', def.collideConnected, false)
+  // Default offsets: the pose B has relative to A now (centre of mass in A's frame, from A's origin).
+  const here = localPoint(a, { x: b.cx, y: b.cy })
+  const offset = def.linearOffset === undefined ? here : finiteVec('linearOffset', def.linearOffset)
+  const local = reach('linearOffset', a, offset)
+  joint.linearOffsetX = local.x
+  joint.linearOffsetY = local.y
+  joint.localAnchorAx = local.x
+  joint.localAnchorAy = local.y
+  joint.localAnchorBx = b.localCenterX
+  joint.localAnchorBy = b.localCenterY
+  const current = atan2(b.s * a.c - b.c * a.s, b.c * a.c + b.s * a.s)
+  joint.angularOffset = def.angularOffset === undefined ? current : angle('angularOffset', def.angularOffset)
+  joint.maxForce = inRange('maxForce', def.maxForce ?? 1, 0, 1e12)
+  joint.maxTorque = inRange('maxTorque', def.maxTorque ?? 1, 0, 1e12)
+  joint.correctionFactor = inRange('correctionFactor', def.correctionFactor ?? 0.3, 0, 1)
+  joint.lastOffsetX = joint.linearOffsetX
+  joint.lastOffsetY = joint.linearOffsetY
+  joint.lastAngularOffset = joint.angularOffset
+}
+
 function configureRevolute(joint: Joint, def: Extract<JointDef, { type: 'revolute' }>): void {
-  joint.referenceAngle = atan2(
-    joint.bodyB.s * joint.bodyA.c - joint.bodyB.c * joint.bodyA.s,
-    joint.bodyB.c * joint.bodyA.c + joint.bodyB.s * joint.bodyA.s,
-  )
   joint.enableLimit = def.enableLimit === true
   joint.lowerAngle = inRange('lowerAngle', def.lowerAngle ?? 0, -Math.PI, Math.PI)
   joint.upperAngle = inRange('upperAngle', def.upperAngle ?? 0, joint.lowerAngle, Math.PI)
   joint.enableMotor = def.enableMotor === true
   joint.motorSpeed = finite('motorSpeed', def.motorSpeed ?? 0)
   joint.maxMotorTorque = inRange('maxMotorTorque', def.maxMotorTorque ?? 0, 0, 1e12)
+  joint.enableSpring = flag('enableSpring', def.enableSpring, false)
+  joint.hertz = inRange('hertz', def.hertz ?? 0, 0, 1e6)
+  // 0.7 with a spring; 0 without (the saved field keeps its format-1 value for plain pins).
+  joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? (joint.enableSpring ? 0.7 : 0), 0, 1e6)
+  joint.springTarget = inRange('targetAngle', def.targetAngle ?? 0, -Math.PI, Math.PI)
 }
 
 function configureDistance(
@@ -96,6 +205,9 @@ function configureDistance(
   joint.maxLength = inRange('maxLength', def.maxLength ?? joint.length, joint.length, MAX_JOINT_REACH)
   joint.hertz = inRange('hertz', def.hertz ?? 0, 0, 1e6)
   joint.dampingRatio = inRange('dampingRatio', def.dampingRatio ?? (joint.hertz > 0 ? 0.7 : 0), 0, 1e6)
+  joint.enableMotor = flag('enableMotor', def.enableMotor, false)
+  joint.motorSpeed = finite('motorSpeed', def.motorSpeed ?? 0)
+  joint.maxMotorForce = inRange('maxMotorForce', def.maxMotorForce ?? 0, 0, 1e12)
 }
 
 /** Shortest distance joint (m). */
@@ -135,29 +247,127 @@ function worldPoint(b: Body, lx: number, ly: number): Vec2 {
   return { x: b.x + b.c * lx - b.s * ly, y: b.y + b.s * lx + b.c * ly }
 }
 
+/** Output of reactionInto: force x, y (N) on B at its anchor, torque (N m) on B. */
+export const reactionOut = new Float64Array(3)
+
 /**
- * A joint's reaction over the last step: the force on body B at its anchor (N) and the pure torque
- * on B (N m); body A gets the opposite. `impulseToForce` is sub-steps per second: the impulses are
- * accumulated per sub-step, so impulse / h is the mean force of the last sub-step.
+ * A joint's reaction over the last step into `reactionOut`, without allocating (the step's break
+ * check and getJointReaction both read it): the force on body B at its anchor (N) and the pure
+ * torque on B (N m); body A gets the opposite. `impulseToForce` is sub-steps per second: the
+ * impulses are accumulated per sub-step, so impulse / h is the mean force of the last sub-step.
  */
-export function jointReaction(j: Joint, impulseToForce: number): JointReaction {
+export function reactionInto(j: Joint, impulseToForce: number): void {
   let fx = j.linearImpulseX
   let fy = j.linearImpulseY
-  if (j.type === DISTANCE) {
-    const anchorA = worldPoint(j.bodyA, j.localAnchorAx, j.localAnchorAy)
-    const anchorB = worldPoint(j.bodyB, j.localAnchorBx, j.localAnchorBy)
-    const dx = anchorB.x - anchorA.x
-    const dy = anchorB.y - anchorA.y
+  let torque = 0
+  const type = j.type
+  if (type === DISTANCE) {
+    const a = j.bodyA
+    const b = j.bodyB
+    const dx =
+      b.x +
+      b.c * j.localAnchorBx -
+      b.s * j.localAnchorBy -
+      (a.x + a.c * j.localAnchorAx - a.s * j.localAnchorAy)
+    const dy =
+      b.y +
+      b.s * j.localAnchorBx +
+      b.c * j.localAnchorBy -
+      (a.y + a.s * j.localAnchorAx + a.c * j.localAnchorAy)
     const len = Math.sqrt(dx * dx + dy * dy)
     // The solver pushes along +x when the anchors coincide (distance-joint.ts computeAxis).
     const ux = len > 1e-12 ? dx / len : 1
     const uy = len > 1e-12 ? dy / len : 0
-    const axial = j.impulse + j.lowerImpulse - j.upperImpulse
+    let axial = j.impulse + j.lowerImpulse - j.upperImpulse
+    if (j.enableMotor) axial += j.motorImpulse
     fx = axial * ux
     fy = axial * uy
+  } else if (type === REVOLUTE) {
+    torque = j.motorImpulse + j.lowerImpulse - j.upperImpulse
+    if (j.enableSpring) torque += j.springImpulse
+  } else if (type === WELD || type === MOTOR) {
+    torque = j.angularImpulse
+  } else if (type === PRISMATIC || type === WHEEL) {
+    const a = j.bodyA
+    const ax = a.c * j.localAxisAx - a.s * j.localAxisAy
+    const ay = a.s * j.localAxisAx + a.c * j.localAxisAy
+    let axial = j.springImpulse + j.lowerImpulse - j.upperImpulse
+    if (type === PRISMATIC) axial += j.motorImpulse
+    const perp = j.linearImpulseX
+    fx = axial * ax - perp * ay
+    fy = axial * ay + perp * ax
+    torque = type === PRISMATIC ? j.angularImpulse : j.motorImpulse
   }
-  const torque = j.type === REVOLUTE ? j.motorImpulse + j.lowerImpulse - j.upperImpulse : 0
-  return { force: { x: fx * impulseToForce, y: fy * impulseToForce }, torque: torque * impulseToForce }
+  reactionOut[0] = fx * impulseToForce
+  reactionOut[1] = fy * impulseToForce
+  reactionOut[2] = torque * impulseToForce
+}
+
+/** A joint's reaction over the last step (see reactionInto). */
+export function jointReaction(j: Joint, impulseToForce: number): JointReaction {
+  reactionInto(j, impulseToForce)
+  return { force: { x: reactionOut[0], y: reactionOut[1] }, torque: reactionOut[2] }
+}
+
+/** Whether the joint's last reaction exceeds its breakForce or breakTorque. */
+export function exceedsBreak(j: Joint, impulseToForce: number): boolean {
+  if (j.breakForce === Number.POSITIVE_INFINITY && j.breakTorque === Number.POSITIVE_INFINITY) return false
+  reactionInto(j, impulseToForce)
+  const fx = reactionOut[0]
+  const fy = reactionOut[1]
+  return Math.sqrt(fx * fx + fy * fy) > j.breakForce || Math.abs(reactionOut[2]) > j.breakTorque
+}
+
+/** The world axis of a prismatic or wheel joint now (unit). */
+function worldAxis(j: Joint): Vec2 {
+  const a = j.bodyA
+  return { x: a.c * j.localAxisAx - a.s * j.localAxisAy, y: a.s * j.localAxisAx + a.c * j.localAxisAy }
+}
+
+/** Prismatic, wheel: translation along the axis (m); distance: the anchors' distance (m). */
+export function jointTranslation(j: Joint): number {
+  const pA = worldPoint(j.bodyA, j.localAnchorAx, j.localAnchorAy)
+  const pB = worldPoint(j.bodyB, j.localAnchorBx, j.localAnchorBy)
+  const dx = pB.x - pA.x
+  const dy = pB.y - pA.y
+  if (j.type === DISTANCE) return Math.sqrt(dx * dx + dy * dy)
+  const axis = worldAxis(j)
+  return dx * axis.x + dy * axis.y
+}
+
+/** angleB - angleA less the joint's reference angle, in [-pi, pi] (rad). */
+export function jointAngle(j: Joint): number {
+  const a = j.bodyA
+  const b = j.bodyB
+  return unwind(relativeAngle(b.c, b.s, a.c, a.s) - j.referenceAngle)
+}
+
+/**
+ * The rate of the coordinate a joint's motor drives: revolute and wheel wB - wA (rad/s); prismatic
+ * d(translation)/dt (m/s); distance d(length)/dt (m/s).
+ */
+export function jointSpeed(j: Joint): number {
+  const a = j.bodyA
+  const b = j.bodyB
+  if (j.type === REVOLUTE || j.type === WHEEL) return b.w - a.w
+  const pA = worldPoint(a, j.localAnchorAx, j.localAnchorAy)
+  const pB = worldPoint(b, j.localAnchorBx, j.localAnchorBy)
+  // Velocities of the anchor points (centre velocity + w x arm from the centre of mass).
+  const vAx = a.vx - a.w * (pA.y - a.cy)
+  const vAy = a.vy + a.w * (pA.x - a.cx)
+  const vBx = b.vx - b.w * (pB.y - b.cy)
+  const vBy = b.vy + b.w * (pB.x - b.cx)
+  const dx = pB.x - pA.x
+  const dy = pB.y - pA.y
+  const rvx = vBx - vAx
+  const rvy = vBy - vAy
+  if (j.type === DISTANCE) {
+    const len = Math.sqrt(dx * dx + dy * dy)
+    return len > 1e-12 ? (dx * rvx + dy * rvy) / len : 0
+  }
+  // Prismatic: d/dt (d . axis) = rv . axis + d . (wA x axis).
+  const axis = worldAxis(j)
+  return rvx * axis.x + rvy * axis.y + a.w * (dx * -axis.y + dy * axis.x)
 }
 
 /** A joint's read-back; `impulseToForce` is sub-steps per second (see jointReaction). */
@@ -166,7 +376,7 @@ export function jointInfo(j: Joint, impulseToForce: number): JointInfo {
   const anchorA =
     j.type === MOUSE ? { x: j.targetX, y: j.targetY } : worldPoint(j.bodyA, j.localAnchorAx, j.localAnchorAy)
   const { force, torque } = jointReaction(j, impulseToForce)
-  return {
+  const info: JointInfo = {
     id: j.id,
     type: JOINT_TYPE_NAMES[j.type],
     bodyA: j.bodyA.id === 0 ? null : j.bodyA.id,
@@ -177,4 +387,19 @@ export function jointInfo(j: Joint, impulseToForce: number): JointInfo {
     force,
     torque,
   }
+  const type = j.type
+  if (type === PRISMATIC || type === WHEEL) {
+    info.axis = worldAxis(j)
+    info.translation = jointTranslation(j)
+    if (j.enableLimit) {
+      info.lower = j.lowerTranslation
+      info.upper = j.upperTranslation
+    }
+  } else if (type === DISTANCE) info.translation = jointTranslation(j)
+  else if (type === REVOLUTE && j.enableLimit) {
+    info.lower = j.lowerAngle
+    info.upper = j.upperAngle
+  }
+  if (type !== DISTANCE && type !== MOUSE) info.angle = jointAngle(j)
+  return info
 }

@@ -1,6 +1,9 @@
 /*
- * A direct solver for the point constraints of revolute joints that form a tree (Baraff 1996,
- * "Linear-Time Dynamics using Lagrange Multipliers").
+ * A direct solver for the point constraints of revolute joints and the rigid (0 Hz) weld joints
+ * that form a tree (Baraff 1996, "Linear-Time Dynamics using Lagrange Multipliers"). A pin is a
+ * 2-row block (the anchors' relative velocity); a weld adds a third row, the relative angular
+ * velocity wB - wA, so its block is 3x3 with G = [1 0 -ry; 0 1 rx; 0 0 1]. A weld's angle error
+ * gets the same load-scaled softness as its point error.
  *
  * Why: Gauss-Seidel (one joint at a time) converges slowly when masses differ a lot. A chain of
  * light links holding a heavy box passes the box's weight up the chain a little per iteration, so
@@ -41,15 +44,27 @@
  * warm. Arithmetic is + - * / only.
  */
 import { type Body, DPX, DPY, DQC, DQS, VX, VY, W } from '../dynamics/index.ts'
-import type { Joint, JointStepContext } from './joint.ts'
-import { accumulateX, accumulateY, REVOLUTE } from './joint-math.ts'
+import type { Joint } from './joint.ts'
+import {
+  accumulateAngular,
+  accumulateX,
+  accumulateY,
+  angleOut,
+  inverse3,
+  invert33,
+  type JointStepContext,
+  REVOLUTE,
+  relativeDeltaAngle,
+  sym3,
+  WELD,
+} from './joint-math.ts'
 
 /** Body slot of a joint end: solverIndex + 1 for a body the solver moves, 0 for a fixed body. */
 function slotOf(b: Body): number {
   return b.solverIndex >= 0 && (b.invMass > 0 || b.invInertia > 0) ? b.solverIndex + 1 : 0
 }
 
-/** The tree (rebuilt each step) and the solver's scratch; each world owns one (World.jointTree). */
+/** The tree (rebuilt each step) and the solver's scratch. */
 export class JointTree {
   /** Joints solved directly, in tree order; their count. */
   joints: Joint[] = []
@@ -60,8 +75,13 @@ export class JointTree {
   /** Per tree joint: arms of the child and parent ends (m), and signs (+1 body B, -1 body A). */
   arms: Float64Array = new Float64Array(16 * 4)
   childSign: Float64Array = new Float64Array(16)
-  /** Per tree joint: right-hand side b (2), then its pivot inverse (3: xx, xy, yy), then z (2). */
-  jointData: Float64Array = new Float64Array(16 * 7)
+  /**
+   * Per tree joint: right-hand side b (3), its pivot inverse (6: xx, xy, xw, yy, yw, ww; a pin uses
+   * xx, xy, yy), then z (3). Rows 3 are a weld's angular row.
+   */
+  jointData: Float64Array = new Float64Array(16 * 12)
+  /** Per tree joint: 1 for a weld (3 rows), 0 for a pin (2 rows). */
+  weld: Int32Array = new Int32Array(16)
   /** Body slots in breadth-first order from their roots (parents before children); count. */
   order: Int32Array = new Int32Array(16)
   orderCount = 0
@@ -84,7 +104,11 @@ const BODY_STRIDE = 21
 const RHS = 6
 const DINV = 9
 const Y = 18
-const JOINT_STRIDE = 7
+const JOINT_STRIDE = 12
+/** Offsets in a joint's data: right-hand side, pivot inverse, impulse. */
+const JB = 0
+const JD = 3
+const JZ = 9
 
 function grow32(a: Int32Array, n: number): Int32Array {
   return a.length >= n ? a : new Int32Array(Math.max(n, 2 * a.length))
@@ -134,7 +158,7 @@ export function prepareJointTree(t: JointTree, joints: Joint[], count: number): 
   let n = 0
   for (let i = 0; i < count; i++) {
     const j = joints[i]
-    if (j.type !== REVOLUTE) continue
+    if (j.type !== REVOLUTE && !(j.type === WELD && j.hertz === 0 && j.angularHertz === 0)) continue
     const sa = slotOf(j.bodyA)
     const sb = slotOf(j.bodyB)
     const ra = find(parent, sa)
@@ -164,7 +188,11 @@ export function prepareJointTree(t: JointTree, joints: Joint[], count: number): 
     t.adjacency[cursor[slotOf(j.bodyB)]++] = k
   }
   if (t.joints.length < n) t.joints.length = n
-  for (let k = 0; k < n; k++) t.joints[k] = joints[t.candidates[k]]
+  t.weld = grow32(t.weld, n)
+  for (let k = 0; k < n; k++) {
+    t.joints[k] = joints[t.candidates[k]]
+    t.weld[k] = t.joints[k].type === WELD ? 1 : 0
+  }
   t.parentSlot = grow32(t.parentSlot, n)
   t.childSlot = grow32(t.childSlot, n)
   t.childSign = grow64(t.childSign, n)
@@ -234,8 +262,17 @@ export function solveJointTree(
       ry += biasRate * (state[oB + DPY] - state[oA + DPY] + (rBy - rAy) + j.deltaCenterY)
     }
     const o = JOINT_STRIDE * k
-    jd[o] = rx
-    jd[o + 1] = ry
+    jd[o + JB] = rx
+    jd[o + JB + 1] = ry
+    if (t.weld[k] === 1) {
+      let rw = wB - wA
+      if (useBias) {
+        relativeDeltaAngle(j, state)
+        const C = angleOut[0] + j.deltaAngle
+        rw += biasRate * C
+      }
+      jd[o + JB + 2] = rw
+    }
     const childIsB = t.childSign[k] > 0
     arms[4 * k] = childIsB ? rBx : rAx
     arms[4 * k + 1] = childIsB ? rBy : rAy
@@ -250,8 +287,13 @@ export function solveJointTree(
     invertBodyPivot(t.bodies[s], bd, ob)
     const k = t.parentJoint[s]
     if (k < 0) continue
-    eliminateBody(t, k, ob)
     const q = t.parentSlot[k]
+    if (t.weld[k] === 1) {
+      eliminateBodyWeld(t, k, ob)
+      if (q > 0) eliminateJointWeld(t, k, q * BODY_STRIDE)
+      continue
+    }
+    eliminateBody(t, k, ob)
     if (q > 0) eliminateJoint(t, k, q * BODY_STRIDE)
   }
   // 3. Back-substitute from the roots.
@@ -265,27 +307,37 @@ export function solveJointTree(
     if (k >= 0) {
       // z_k = Dk^-1 (b_k - s_q G_q y_q); y_s = Dinv_s (rhs_s - s_s G_s^T z_k).
       const o = JOINT_STRIDE * k
-      let bx = jd[o]
-      let by = jd[o + 1]
-      const q = t.parentSlot[k]
-      if (q > 0) {
-        const oq = q * BODY_STRIDE
-        const sq = -t.childSign[k]
-        const gx = arms[4 * k + 2]
-        const gy = arms[4 * k + 3]
-        bx -= sq * (bd[oq + Y] - gy * bd[oq + Y + 2])
-        by -= sq * (bd[oq + Y + 1] + gx * bd[oq + Y + 2])
+      const weld = t.weld[k] === 1
+      let zx: number
+      let zy: number
+      if (weld) {
+        backSubstituteWeld(t, k)
+        zx = jd[o + JZ]
+        zy = jd[o + JZ + 1]
+      } else {
+        let bx = jd[o + JB]
+        let by = jd[o + JB + 1]
+        const q = t.parentSlot[k]
+        if (q > 0) {
+          const oq = q * BODY_STRIDE
+          const sq = -t.childSign[k]
+          const gx = arms[4 * k + 2]
+          const gy = arms[4 * k + 3]
+          bx -= sq * (bd[oq + Y] - gy * bd[oq + Y + 2])
+          by -= sq * (bd[oq + Y + 1] + gx * bd[oq + Y + 2])
+        }
+        zx = jd[o + JD] * bx + jd[o + JD + 1] * by
+        zy = jd[o + JD + 1] * bx + jd[o + JD + 3] * by
+        jd[o + JZ] = zx
+        jd[o + JZ + 1] = zy
       }
-      const zx = jd[o + 2] * bx + jd[o + 3] * by
-      const zy = jd[o + 3] * bx + jd[o + 4] * by
-      jd[o + 5] = zx
-      jd[o + 6] = zy
       const ss = t.childSign[k]
       const cx = arms[4 * k]
       const cy = arms[4 * k + 1]
       ex -= ss * zx
       ey -= ss * zy
       ew -= ss * (-cy * zx + cx * zy)
+      if (weld) ew -= ss * jd[o + JZ + 2]
     }
     const d = DINV + ob
     bd[ob + Y] = bd[d] * ex + bd[d + 1] * ey + bd[d + 2] * ew
@@ -297,8 +349,9 @@ export function solveJointTree(
     const j = t.joints[k]
     const o = JOINT_STRIDE * k
     // Within the joint's cap (joint.ts): a singular or overflowing system adds nothing.
-    const ix = accumulateX(j, jd[o + 5])
-    const iy = accumulateY(j, jd[o + 6])
+    const ix = accumulateX(j, jd[o + JZ])
+    const iy = accumulateY(j, jd[o + JZ + 1])
+    const iw = t.weld[k] === 1 ? accumulateAngular(j, jd[o + JZ + 2]) : 0
     const a = j.bodyA
     const b = j.bodyB
     const oA = j.offsetA
@@ -310,10 +363,17 @@ export function solveJointTree(
     const rBy = childIsB ? arms[4 * k + 1] : arms[4 * k + 3]
     state[oA + VX] -= a.invMass * ix
     state[oA + VY] -= a.invMass * iy
-    state[oA + W] -= a.invInertia * (rAx * iy - rAy * ix)
-    state[oB + VX] += b.invMass * ix
-    state[oB + VY] += b.invMass * iy
-    state[oB + W] += b.invInertia * (rBx * iy - rBy * ix)
+    if (iw === 0) {
+      state[oA + W] -= a.invInertia * (rAx * iy - rAy * ix)
+      state[oB + VX] += b.invMass * ix
+      state[oB + VY] += b.invMass * iy
+      state[oB + W] += b.invInertia * (rBx * iy - rBy * ix)
+    } else {
+      state[oA + W] -= a.invInertia * (rAx * iy - rAy * ix + iw)
+      state[oB + VX] += b.invMass * ix
+      state[oB + VY] += b.invMass * iy
+      state[oB + W] += b.invInertia * (rBx * iy - rBy * ix + iw)
+    }
   }
 }
 
@@ -374,20 +434,20 @@ function eliminateBody(t: JointTree, k: number, ob: number): void {
   let kyy = p11 + rx * p12
   if (g > 0) {
     const j = t.joints[k]
-    jd[o] += g * (kxx * j.linearImpulseX + kxy * j.linearImpulseY)
-    jd[o + 1] += g * (kxy * j.linearImpulseX + kyy * j.linearImpulseY)
+    jd[o + JB] += g * (kxx * j.linearImpulseX + kxy * j.linearImpulseY)
+    jd[o + JB + 1] += g * (kxy * j.linearImpulseX + kyy * j.linearImpulseY)
     kxx *= 1 + g
     kxy *= 1 + g
     kyy *= 1 + g
   }
   let det = kxx * kyy - kxy * kxy
   det = det !== 0 ? 1 / det : 0
-  jd[o + 2] = -det * kyy
-  jd[o + 3] = det * kxy
-  jd[o + 4] = -det * kxx
+  jd[o + JD] = -det * kyy
+  jd[o + JD + 1] = det * kxy
+  jd[o + JD + 3] = -det * kxx
   const s = t.childSign[k]
-  jd[o] -= s * (p00 * bd[ob + RHS] + p01 * bd[ob + RHS + 1] + p02 * bd[ob + RHS + 2])
-  jd[o + 1] -= s * (p10 * bd[ob + RHS] + p11 * bd[ob + RHS + 1] + p12 * bd[ob + RHS + 2])
+  jd[o + JB] -= s * (p00 * bd[ob + RHS] + p01 * bd[ob + RHS + 1] + p02 * bd[ob + RHS + 2])
+  jd[o + JB + 1] -= s * (p10 * bd[ob + RHS] + p11 * bd[ob + RHS + 1] + p12 * bd[ob + RHS + 2])
 }
 
 /** Folds joint k into its parent body (data at `oq`): W -= G^T D^-1 G, rhs -= s G^T D^-1 b. */
@@ -398,9 +458,9 @@ function eliminateJoint(t: JointTree, k: number, oq: number): void {
   const gx = t.arms[4 * k + 2]
   const gy = t.arms[4 * k + 3]
   // E = -D^-1 (positive definite).
-  const exx = -jd[o + 2]
-  const exy = -jd[o + 3]
-  const eyy = -jd[o + 4]
+  const exx = -jd[o + JD]
+  const exy = -jd[o + JD + 1]
+  const eyy = -jd[o + JD + 3]
   // G^T E G with G = [1 0 -gy; 0 1 gx]: columns (1,0), (0,1), (-gy, gx).
   const ew0 = -gy * exx + gx * exy
   const ew1 = -gy * exy + gx * eyy
@@ -412,9 +472,132 @@ function eliminateJoint(t: JointTree, k: number, oq: number): void {
   bd[oq + 5] += -gy * ew0 + gx * ew1
   // rhs -= s G^T (D^-1 b) = s G^T (E b)  (D^-1 = -E).
   const s = -t.childSign[k]
-  const ux = exx * jd[o] + exy * jd[o + 1]
-  const uy = exy * jd[o] + eyy * jd[o + 1]
+  const ux = exx * jd[o + JB] + exy * jd[o + JB + 1]
+  const uy = exy * jd[o + JB] + eyy * jd[o + JB + 1]
   bd[oq + RHS] += s * ux
   bd[oq + RHS + 1] += s * uy
   bd[oq + RHS + 2] += s * (-gy * ux + gx * uy)
+}
+
+/**
+ * A weld's pivot after eliminating its child body (3 rows: G = [1 0 -ry; 0 1 rx; 0 0 1]):
+ * D = -(1 + gamma) G Dinv G^T, stored inverted (xx xy xw yy yw ww), b -= s G Dinv rhs, and the
+ * compliance term gamma K P added to b as for a pin.
+ */
+function eliminateBodyWeld(t: JointTree, k: number, ob: number): void {
+  const bd = t.bodyData
+  const jd = t.jointData
+  const rx = t.arms[4 * k]
+  const ry = t.arms[4 * k + 1]
+  const d = ob + DINV
+  // P = G Dinv (3x3).
+  const p00 = bd[d] - ry * bd[d + 6]
+  const p01 = bd[d + 1] - ry * bd[d + 7]
+  const p02 = bd[d + 2] - ry * bd[d + 8]
+  const p10 = bd[d + 3] + rx * bd[d + 6]
+  const p11 = bd[d + 4] + rx * bd[d + 7]
+  const p12 = bd[d + 5] + rx * bd[d + 8]
+  const p20 = bd[d + 6]
+  const p21 = bd[d + 7]
+  const p22 = bd[d + 8]
+  // K = P G^T, symmetrised.
+  let kxx = p00 - ry * p02
+  let kxy = 0.5 * (p01 + rx * p02 + p10 - ry * p12)
+  let kxw = 0.5 * (p02 + p20 - ry * p22)
+  let kyy = p11 + rx * p12
+  let kyw = 0.5 * (p12 + p21 + rx * p22)
+  let kww = p22
+  const o = JOINT_STRIDE * k
+  const g = t.gamma
+  if (g > 0) {
+    const j = t.joints[k]
+    const px = j.linearImpulseX
+    const py = j.linearImpulseY
+    const pw = j.angularImpulse
+    jd[o + JB] += g * (kxx * px + kxy * py + kxw * pw)
+    jd[o + JB + 1] += g * (kxy * px + kyy * py + kyw * pw)
+    jd[o + JB + 2] += g * (kxw * px + kyw * py + kww * pw)
+    const f = 1 + g
+    kxx *= f
+    kxy *= f
+    kxw *= f
+    kyy *= f
+    kyw *= f
+    kww *= f
+  }
+  sym3[0] = kxx
+  sym3[1] = kxy
+  sym3[2] = kxw
+  sym3[3] = kyy
+  sym3[4] = kyw
+  sym3[5] = kww
+  invert33()
+  for (let i = 0; i < 6; i++) jd[o + JD + i] = -inverse3[i]
+  const s = t.childSign[k]
+  const r0 = bd[ob + RHS]
+  const r1 = bd[ob + RHS + 1]
+  const r2 = bd[ob + RHS + 2]
+  jd[o + JB] -= s * (p00 * r0 + p01 * r1 + p02 * r2)
+  jd[o + JB + 1] -= s * (p10 * r0 + p11 * r1 + p12 * r2)
+  jd[o + JB + 2] -= s * (p20 * r0 + p21 * r1 + p22 * r2)
+}
+
+/** Folds weld k into its parent body (data at `oq`): W -= G^T D^-1 G, rhs -= s G^T D^-1 b (3 rows). */
+function eliminateJointWeld(t: JointTree, k: number, oq: number): void {
+  const bd = t.bodyData
+  const jd = t.jointData
+  const o = JOINT_STRIDE * k
+  const gx = t.arms[4 * k + 2]
+  const gy = t.arms[4 * k + 3]
+  // E = -D^-1 (positive definite).
+  const exx = -jd[o + JD]
+  const exy = -jd[o + JD + 1]
+  const exw = -jd[o + JD + 2]
+  const eyy = -jd[o + JD + 3]
+  const eyw = -jd[o + JD + 4]
+  const eww = -jd[o + JD + 5]
+  // u = E G's third column (-gy, gx, 1).
+  const u0 = -gy * exx + gx * exy + exw
+  const u1 = -gy * exy + gx * eyy + eyw
+  const u2 = -gy * exw + gx * eyw + eww
+  bd[oq] += exx
+  bd[oq + 1] += exy
+  bd[oq + 2] += u0
+  bd[oq + 3] += eyy
+  bd[oq + 4] += u1
+  bd[oq + 5] += -gy * u0 + gx * u1 + u2
+  const s = -t.childSign[k]
+  const b0 = jd[o + JB]
+  const b1 = jd[o + JB + 1]
+  const b2 = jd[o + JB + 2]
+  const v0 = exx * b0 + exy * b1 + exw * b2
+  const v1 = exy * b0 + eyy * b1 + eyw * b2
+  const v2 = exw * b0 + eyw * b1 + eww * b2
+  bd[oq + RHS] += s * v0
+  bd[oq + RHS + 1] += s * v1
+  bd[oq + RHS + 2] += s * (-gy * v0 + gx * v1 + v2)
+}
+
+/** A weld's impulse z = D^-1 (b - s_q G_q y_q), all three rows, into its data. */
+function backSubstituteWeld(t: JointTree, k: number): void {
+  const bd = t.bodyData
+  const jd = t.jointData
+  const o = JOINT_STRIDE * k
+  let b0 = jd[o + JB]
+  let b1 = jd[o + JB + 1]
+  let b2 = jd[o + JB + 2]
+  const q = t.parentSlot[k]
+  if (q > 0) {
+    const oq = q * BODY_STRIDE
+    const sq = -t.childSign[k]
+    const gx = t.arms[4 * k + 2]
+    const gy = t.arms[4 * k + 3]
+    b0 -= sq * (bd[oq + Y] - gy * bd[oq + Y + 2])
+    b1 -= sq * (bd[oq + Y + 1] + gx * bd[oq + Y + 2])
+    b2 -= sq * bd[oq + Y + 2]
+  }
+  const d = o + JD
+  jd[o + JZ] = jd[d] * b0 + jd[d + 1] * b1 + jd[d + 2] * b2
+  jd[o + JZ + 1] = jd[d + 1] * b0 + jd[d + 3] * b1 + jd[d + 4] * b2
+  jd[o + JZ + 2] = jd[d + 2] * b0 + jd[d + 4] * b1 + jd[d + 5] * b2
 }

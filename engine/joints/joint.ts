@@ -4,21 +4,43 @@
  * warm start, solve with bias, and relax without bias.
  *
  * One Joint class holds the fields of every kind so that all joints share one hidden class; the
- * kind-specific math lives in revolute-joint.ts, distance-joint.ts and mouse-joint.ts. Anchors are
+ * kind-specific math lives in revolute-joint.ts, distance-joint.ts, mouse-joint.ts, weld-joint.ts,
+ * prismatic-joint.ts, wheel-joint.ts and motor-joint.ts, and the helpers they share in
+ * joint-math.ts (which imports no kind, so no run-time import cycle remains). Anchors are
  * stored relative to each body's origin in the body frame (localAnchorA/B); each step they are
  * rotated into world-oriented arms from the centre of mass (anchorA/B), and the sub-step deltas of
  * the bodies update the constraint error without running any geometry again.
  */
 
 import { MAX_LINEAR_SPEED, MAX_ROTATION } from '../constants.ts'
-import { type Body, type StepContext, stateOffset } from '../dynamics/index.ts'
+import { type Body, stateOffset } from '../dynamics/index.ts'
 import { prepareDistance, solveDistance, warmStartDistance } from './distance-joint.ts'
-import { DISTANCE, REVOLUTE } from './joint-math.ts'
+import { DISTANCE, type JointStepContext, MOTOR, MOUSE, PRISMATIC, REVOLUTE, WELD } from './joint-math.ts'
+import { prepareMotor, solveMotor, warmStartMotor } from './motor-joint.ts'
 import { prepareMouse, solveMouse, warmStartMouse } from './mouse-joint.ts'
+import { preparePrismatic, solvePrismatic, warmStartPrismatic } from './prismatic-joint.ts'
 import { prepareRevolute, solveRevolute, warmStartRevolute } from './revolute-joint.ts'
+import { prepareWeld, solveWeld, warmStartWeld } from './weld-joint.ts'
+import { prepareWheel, solveWheel, warmStartWheel } from './wheel-joint.ts'
 
-/** Per-step values the joints read (the solver's StepContext). */
-export type JointStepContext = StepContext
+export {
+  accumulateX,
+  accumulateY,
+  clampImpulse,
+  DISTANCE,
+  JOINT_TYPE_NAMES,
+  type JointStepContext,
+  MOTOR,
+  MOUSE,
+  PRISMATIC,
+  REVOLUTE,
+  relativeAngle,
+  solve22,
+  solved2,
+  system22,
+  WELD,
+  WHEEL,
+} from './joint-math.ts'
 
 /** A joint. Engine-internal; the public API addresses joints by id. */
 export class Joint {
@@ -50,10 +72,36 @@ export class Joint {
   maxLength = 0
   hertz = 0
   dampingRatio = 0
-  // Mouse settings
+  // Mouse settings (maxForce is also the motor joint's force cap)
   targetX = 0
   targetY = 0
   maxForce = 0
+  // Weld: angular spring (hertz, dampingRatio are its linear spring; 0 Hz = rigid)
+  angularHertz = 0
+  angularDampingRatio = 0
+  // Prismatic and wheel: the axis in body A's frame (unit), translation limits (m), motor force
+  localAxisAx = 1
+  localAxisAy = 0
+  lowerTranslation = 0
+  upperTranslation = 0
+  maxMotorForce = 0
+  /** Spring on the joint's free coordinate (revolute, prismatic, wheel; a distance spring is hertz > 0). */
+  enableSpring = false
+  /** Where the spring rests: prismatic translation (m) or revolute angle (rad). */
+  springTarget = 0
+  // Motor joint: B's origin in A's frame (m), B's angle relative to A (rad), torque cap, correction
+  linearOffsetX = 0
+  linearOffsetY = 0
+  angularOffset = 0
+  maxTorque = 0
+  correctionFactor = 0
+  /** Motor joint: the offsets at the previous step, whose change gives the offset's velocity. */
+  lastOffsetX = 0
+  lastOffsetY = 0
+  lastAngularOffset = 0
+  /** Reaction force (N) and torque (N m) above which the joint breaks after a step. */
+  breakForce = Number.POSITIVE_INFINITY
+  breakTorque = Number.POSITIVE_INFINITY
 
   // Accumulated impulses (warm started across steps)
   linearImpulseX = 0
@@ -63,6 +111,10 @@ export class Joint {
   lowerImpulse = 0
   upperImpulse = 0
   motorImpulse = 0
+  /** Weld, prismatic, motor joint: angular impulse (N m s). */
+  angularImpulse = 0
+  /** Spring impulse of a revolute (N m s), prismatic or wheel (N s) spring. */
+  springImpulse = 0
 
   // Per-step solver data
   /** Offsets of the bodies' records in the solver state (record 0 for a fixed body). */
@@ -83,6 +135,21 @@ export class Joint {
   springBiasRate = 0
   springMassScale = 1
   springImpulseScale = 0
+  /** Angular softness (weld). */
+  angularBiasRate = 0
+  angularMassScale = 1
+  angularImpulseScale = 0
+  /** Prismatic, wheel: the axis in world orientation at the step start (unit). */
+  axisX = 1
+  axisY = 0
+  /** Wheel: motor mass; motor joint: angular mass (kg m^2). */
+  angularMass = 0
+  /** Motor joint: velocity of the target point (world, m/s) and of the target angle (rad/s) this step. */
+  offsetVelocityX = 0
+  offsetVelocityY = 0
+  offsetAngularVelocity = 0
+  /** Motor joint: sub-steps warm started so far this step. */
+  subStep = 0
 
   constructor(id: number, type: number, bodyA: Body, bodyB: Body) {
     this.id = id
@@ -152,10 +219,17 @@ export function prepareJoints(
       joint.lowerImpulse = 0
       joint.upperImpulse = 0
       joint.motorImpulse = 0
+      joint.angularImpulse = 0
+      joint.springImpulse = 0
     }
-    if (joint.type === REVOLUTE) prepareRevolute(joint)
-    else if (joint.type === DISTANCE) prepareDistance(joint, state, ctx)
-    else prepareMouse(joint, ctx)
+    const type = joint.type
+    if (type === REVOLUTE) prepareRevolute(joint, ctx)
+    else if (type === DISTANCE) prepareDistance(joint, state, ctx)
+    else if (type === MOUSE) prepareMouse(joint, ctx)
+    else if (type === WELD) prepareWeld(joint, ctx)
+    else if (type === PRISMATIC) preparePrismatic(joint, ctx)
+    else if (type === MOTOR) prepareMotor(joint)
+    else prepareWheel(joint, ctx)
   }
 }
 
@@ -163,15 +237,20 @@ export function prepareJoints(
 export function warmStartJoints(joints: Joint[], count: number, state: Float64Array): void {
   for (let i = 0; i < count; i++) {
     const joint = joints[i]
-    if (joint.type === REVOLUTE) warmStartRevolute(joint, state)
-    else if (joint.type === DISTANCE) warmStartDistance(joint, state)
-    else warmStartMouse(joint, state)
+    const type = joint.type
+    if (type === REVOLUTE) warmStartRevolute(joint, state)
+    else if (type === DISTANCE) warmStartDistance(joint, state)
+    else if (type === MOUSE) warmStartMouse(joint, state)
+    else if (type === WELD) warmStartWeld(joint, state)
+    else if (type === PRISMATIC) warmStartPrismatic(joint, state)
+    else if (type === MOTOR) warmStartMotor(joint, state)
+    else warmStartWheel(joint, state)
   }
 }
 
 /**
  * One iteration over the joints; `useBias` corrects position error, false is the relax pass.
- * Gauss-Seidel in id order; the pins of the joint tree are then solved at once (joint-tree.ts).
+ * Gauss-Seidel in id order, then the pins of the joint tree all at once (joint-tree.ts).
  */
 export function solveJoints(
   joints: Joint[],
@@ -182,8 +261,13 @@ export function solveJoints(
 ): void {
   for (let i = 0; i < count; i++) {
     const joint = joints[i]
-    if (joint.type === REVOLUTE) solveRevolute(joint, state, ctx, useBias)
-    else if (joint.type === DISTANCE) solveDistance(joint, state, ctx, useBias)
-    else solveMouse(joint, state, ctx)
+    const type = joint.type
+    if (type === REVOLUTE) solveRevolute(joint, state, ctx, useBias)
+    else if (type === DISTANCE) solveDistance(joint, state, ctx, useBias)
+    else if (type === MOUSE) solveMouse(joint, state, ctx)
+    else if (type === WELD) solveWeld(joint, state, useBias)
+    else if (type === PRISMATIC) solvePrismatic(joint, state, ctx, useBias)
+    else if (type === MOTOR) solveMotor(joint, state, ctx, useBias)
+    else solveWheel(joint, state, ctx, useBias)
   }
 }

@@ -5,14 +5,14 @@
  * per player); each has its own accumulated impulse and cap. Body A is the world.
  */
 import { DPX, DPY, DQC, DQS, Softness, VX, VY, W } from '../dynamics/index.ts'
-import type { Joint, JointStepContext } from './joint.ts'
-import { solve22, solved2, system22 } from './joint-math.ts'
+import type { Joint } from './joint.ts'
+import { type JointStepContext, setSpringSoftness, solve22, solved2, system22 } from './joint-math.ts'
 
 const softness = new Softness()
 
 /** Per-step preparation of a mouse joint. */
 export function prepareMouse(joint: Joint, ctx: JointStepContext): void {
-  softness.set(joint.hertz, joint.dampingRatio, ctx.h)
+  setSpringSoftness(softness, joint, ctx)
   joint.springBiasRate = softness.biasRate
   joint.springMassScale = softness.massScale
   joint.springImpulseScale = softness.impulseScale

@@ -1,39 +1,44 @@
 /*
- * Revolute (pin) joint: the anchors of A and B coincide; optional angle limits and a motor
- * (Box2D v3 revolute_joint.c). The point constraint is a soft 2x2 block; the limits are speculative
+ * Revolute (pin) joint: the anchors of A and B coincide; an optional rotational spring toward
+ * `springTarget` (targetAngle), angle limits and a motor (Box2D v3 revolute_joint.c). The point constraint is a soft 2x2 block; the limits are speculative
  * (they let the joint close exactly the remaining gap) and soft once violated; the motor's
  * accumulated impulse is clamped to maxMotorTorque * h so its torque never exceeds the cap, and its
  * target speed is clamped by the limits so that no motor torque can push the joint through them.
  */
 
-import { DPX, DPY, DQC, DQS, VX, VY, W } from '../dynamics/index.ts'
-import { PI, TWO_PI } from '../math.ts'
-import type { Joint, JointStepContext } from './joint.ts'
+import { DPX, DPY, DQC, DQS, Softness, VX, VY, W } from '../dynamics/index.ts'
+import type { Joint } from './joint.ts'
 import {
   accumulateX,
   accumulateY,
+  angleOut,
   clampImpulse,
+  type JointStepContext,
   relativeAngle,
+  relativeDeltaAngle,
+  setSpringSoftness,
   solve22,
   solved2,
   system22,
+  unwind,
 } from './joint-math.ts'
 
-/** Unwinds an angle into [-pi, pi]. */
-function unwind(angle: number): number {
-  if (angle < -PI) return angle + TWO_PI
-  if (angle > PI) return angle - TWO_PI
-  return angle
-}
+const springSoftness = new Softness()
 
 /** Per-step preparation of a revolute joint. */
-export function prepareRevolute(joint: Joint): void {
+export function prepareRevolute(joint: Joint, ctx: JointStepContext): void {
   const a = joint.bodyA
   const b = joint.bodyB
   const k = a.invInertia + b.invInertia
   joint.axialMass = k > 0 ? 1 / k : 0
   joint.deltaAngle = unwind(relativeAngle(b.c, b.s, a.c, a.s) - joint.referenceAngle)
   if (!joint.enableMotor) joint.motorImpulse = 0
+  if (joint.enableSpring) {
+    setSpringSoftness(springSoftness, joint, ctx)
+    joint.springBiasRate = springSoftness.biasRate
+    joint.springMassScale = springSoftness.massScale
+    joint.springImpulseScale = springSoftness.impulseScale
+  } else joint.springImpulse = 0
   if (!joint.enableLimit) {
     joint.lowerImpulse = 0
     joint.upperImpulse = 0
@@ -52,7 +57,8 @@ export function warmStartRevolute(joint: Joint, state: Float64Array): void {
   const rBy = state[oB + DQS] * joint.anchorBx + state[oB + DQC] * joint.anchorBy
   const px = joint.linearImpulseX
   const py = joint.linearImpulseY
-  const axial = joint.motorImpulse + joint.lowerImpulse - joint.upperImpulse
+  // The spring impulse is +0 when the spring is off, so adding it changes nothing then.
+  const axial = joint.motorImpulse + joint.lowerImpulse - joint.upperImpulse + joint.springImpulse
   state[oA + VX] -= a.invMass * px
   state[oA + VY] -= a.invMass * py
   state[oA + W] -= a.invInertia * (rAx * py - rAy * px + axial)
@@ -147,6 +153,21 @@ export function solveRevolute(
   const iB = b.invInertia
   const fixedRotation = iA + iB === 0
 
+  if (joint.enableSpring && !fixedRotation) {
+    // Soft rotational spring toward the target angle; physics, so it acts in the relax pass too.
+    // The joint angle from the step-start angle and this step's rotation (inline: no atan2 call).
+    relativeDeltaAngle(joint, state)
+    const C = unwind(joint.deltaAngle + angleOut[0]) - joint.springTarget
+    const cdot = state[oB + W] - state[oA + W]
+    let impulse =
+      -joint.springMassScale * joint.axialMass * (cdot + joint.springBiasRate * C) -
+      joint.springImpulseScale * joint.springImpulse
+    const old = joint.springImpulse
+    joint.springImpulse = clampImpulse(old + impulse, joint.maxAngularImpulse)
+    impulse = joint.springImpulse - old
+    state[oA + W] -= iA * impulse
+    state[oB + W] += iB * impulse
+  }
   if (joint.enableMotor && !fixedRotation) {
     const cdot = state[oB + W] - state[oA + W] - motorTarget(joint, state, ctx)
     let impulse = -joint.axialMass * cdot

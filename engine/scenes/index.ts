@@ -3,6 +3,7 @@
  * blueprints (bodies and joints as plain definitions) and the joint stress scenes.
  */
 export { CHAIN_LINK_LENGTH, CHAIN_TOP, hangingChainScene, ragdollScene } from './joint-stress-scenes.ts'
+export { MACHINES_LAYOUT, machinesScene } from './machine-scenes.ts'
 export {
   buildScene,
   cardHouseScene,

@@ -7,7 +7,7 @@
  * bytes throw a WorldLoadError naming what is wrong; nothing half-built is returned.
  */
 /** Bumped whenever the payload layout changes. */
-export const SAVE_FORMAT_VERSION = 1
+export const SAVE_FORMAT_VERSION = 2
 const MAGIC = 0x57434e43 // "CNCW" little-endian
 /** Bytes before the payload. */
 export const HEADER_BYTES = 16

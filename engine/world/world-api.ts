@@ -11,12 +11,20 @@ import { angle as checkAngle, position as checkPosition, finite, finiteVec, inRa
 import { Body, DYNAMIC, limitBodyVelocity, STATIC, updateMassData } from '../dynamics/index.ts'
 import {
   buildJoint,
+  DISTANCE,
   JOINT_TYPE_NAMES,
   type Joint,
+  jointAngle,
   jointInfo,
   jointReaction,
+  jointSpeed,
+  jointTranslation,
   localPoint,
+  MOTOR,
   MOUSE,
+  PRISMATIC,
+  REVOLUTE,
+  WHEEL,
 } from '../joints/index.ts'
 import { atan2, cos, sin, type Vec2 } from '../math.ts'
 import type {
@@ -413,16 +421,82 @@ export class WorldApi extends WorldStore {
     return this.jointList.map((j) => j.id)
   }
 
-  /** Moves a mouse joint's target (m) and wakes its body. */
-  setJointTarget(id: JointId, target: Vec2): void {
+  /**
+   * Moves what a joint pulls toward, and wakes its bodies: a mouse joint's target (a world point,
+   * m); a motor joint's linear offset (a point in A's frame, m) and optionally its angular offset
+   * (rad); a prismatic joint's spring target translation (m); a revolute joint's spring target
+   * angle (rad, within [-pi, pi]).
+   */
+  setJointTarget(id: JointId, target: Vec2 | number, angularOffset?: number): void {
     this.revision++
     const joint = this.joint(id)
-    if (joint.type !== MOUSE)
-      throw new RangeError(`joint ${id} is a ${JOINT_TYPE_NAMES[joint.type]} joint, not a mouse joint`)
-    finiteVec('target', target)
-    joint.targetX = target.x
-    joint.targetY = target.y
+    const type = joint.type
+    if (type === MOUSE || type === MOTOR) {
+      if (typeof target !== 'object' || target === null)
+        throw new RangeError(
+          `a ${JOINT_TYPE_NAMES[type]} joint's target must be a point {x, y}, got ${String(target)}`,
+        )
+      finiteVec('target', target)
+      if (type === MOUSE) {
+        joint.targetX = target.x
+        joint.targetY = target.y
+        this.islands.wake(joint.bodyB)
+        return
+      }
+      if (Math.abs(target.x) > 1e6 || Math.abs(target.y) > 1e6)
+        throw new RangeError(`target must lie within 1000000 m of body A, got (${target.x}, ${target.y})`)
+      joint.linearOffsetX = target.x
+      joint.linearOffsetY = target.y
+      joint.localAnchorAx = target.x
+      joint.localAnchorAy = target.y
+      if (angularOffset !== undefined) joint.angularOffset = checkAngle('angularOffset', angularOffset)
+    } else if (type === PRISMATIC) {
+      joint.springTarget = inRange('targetTranslation', target as number, -1e6, 1e6)
+    } else if (type === REVOLUTE) {
+      joint.springTarget = inRange('targetAngle', target as number, -Math.PI, Math.PI)
+    } else {
+      throw new RangeError(`joint ${id} is a ${JOINT_TYPE_NAMES[type]} joint, which has no target`)
+    }
+    this.islands.wake(joint.bodyA)
     this.islands.wake(joint.bodyB)
+  }
+
+  /** Sets the motor speed of a revolute or wheel (rad/s), prismatic or distance (m/s) joint, and wakes its bodies. */
+  setJointMotorSpeed(id: JointId, speed: number): void {
+    this.revision++
+    const joint = this.joint(id)
+    const type = joint.type
+    if (type !== REVOLUTE && type !== WHEEL && type !== PRISMATIC && type !== DISTANCE)
+      throw new RangeError(`joint ${id} is a ${JOINT_TYPE_NAMES[type]} joint, which has no motor`)
+    joint.motorSpeed = finite('motorSpeed', speed)
+    this.islands.wake(joint.bodyA)
+    this.islands.wake(joint.bodyB)
+  }
+
+  /** Prismatic, wheel: translation along the axis (m, 0 at creation); distance: the length (m). */
+  getJointTranslation(id: JointId): number {
+    const joint = this.joint(id)
+    const type = joint.type
+    if (type !== PRISMATIC && type !== WHEEL && type !== DISTANCE)
+      throw new RangeError(`joint ${id} is a ${JOINT_TYPE_NAMES[type]} joint, which has no translation`)
+    return jointTranslation(joint)
+  }
+
+  /** Revolute, wheel: wB - wA (rad/s); prismatic, distance: rate of the translation or length (m/s). */
+  getJointSpeed(id: JointId): number {
+    const joint = this.joint(id)
+    const type = joint.type
+    if (type !== REVOLUTE && type !== WHEEL && type !== PRISMATIC && type !== DISTANCE)
+      throw new RangeError(`joint ${id} is a ${JOINT_TYPE_NAMES[type]} joint, which has no speed`)
+    return jointSpeed(joint)
+  }
+
+  /** angleB - angleA relative to creation (rad, [-pi, pi]); a motor joint's is absolute. Not distance or mouse. */
+  getJointAngle(id: JointId): number {
+    const joint = this.joint(id)
+    if (joint.type === DISTANCE || joint.type === MOUSE)
+      throw new RangeError(`joint ${id} is a ${JOINT_TYPE_NAMES[joint.type]} joint, which has no angle`)
+    return jointAngle(joint)
   }
 
   /** Every joint's anchors and last reaction, for drawing, in id order. */

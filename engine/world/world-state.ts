@@ -24,7 +24,7 @@ import {
   STATIC,
   updateMassData,
 } from '../dynamics/index.ts'
-import { Joint } from '../joints/index.ts'
+import { JOINT_TYPE_NAMES, Joint } from '../joints/index.ts'
 import type { WorldDef } from '../types.ts'
 import {
   type ByteReader,
@@ -140,6 +140,36 @@ export const JOINT_FIELDS = [
   'upperImpulse',
   'motorImpulse',
 ] as const
+/**
+ * Joint fields of the kinds and settings added in save format 2 (weld, prismatic, wheel, motor
+ * joints; springs on revolute joints, motors on distance joints, break thresholds), in saved order.
+ * A joint writes them (flags bit 3) only when it is a new kind or one of them differs from its
+ * default, so a world of the first three kinds saves, and hashes, exactly as in format 1.
+ */
+export const JOINT_EXTRA_FIELDS = [
+  'angularHertz',
+  'angularDampingRatio',
+  'localAxisAx',
+  'localAxisAy',
+  'lowerTranslation',
+  'upperTranslation',
+  'maxMotorForce',
+  'springTarget',
+  'linearOffsetX',
+  'linearOffsetY',
+  'angularOffset',
+  'maxTorque',
+  'correctionFactor',
+  'lastOffsetX',
+  'lastOffsetY',
+  'lastAngularOffset',
+  'breakForce',
+  'breakTorque',
+  'angularImpulse',
+  'springImpulse',
+] as const
+/** Highest joint kind code (joint-math.ts MOTOR). */
+const LAST_JOINT_TYPE = 6
 
 /*
  * The writers below name every field (in the order of the lists above) instead of looping over the
@@ -236,7 +266,14 @@ export function writeJoint(w: ByteWriter, j: Joint): void {
   w.u8(j.type)
   w.f64(j.bodyA.id)
   w.f64(j.bodyB.id)
-  w.u8((j.enableLimit ? 1 : 0) | (j.enableMotor ? 2 : 0) | (j.collideConnected ? 4 : 0))
+  const extra = hasExtraFields(j)
+  w.u8(
+    (j.enableLimit ? 1 : 0) |
+      (j.enableMotor ? 2 : 0) |
+      (j.collideConnected ? 4 : 0) |
+      (extra ? 8 : 0) |
+      (j.enableSpring ? 16 : 0),
+  )
   n[0] = j.localAnchorAx
   n[1] = j.localAnchorAy
   n[2] = j.localAnchorBx
@@ -261,13 +298,64 @@ export function writeJoint(w: ByteWriter, j: Joint): void {
   n[21] = j.upperImpulse
   n[22] = j.motorImpulse
   w.f64s(n, 0, 23)
+  if (!extra) return
+  // Explicit reads in JOINT_EXTRA_FIELDS order: a keyed read (j[name]) boxes each double.
+  n[0] = j.angularHertz
+  n[1] = j.angularDampingRatio
+  n[2] = j.localAxisAx
+  n[3] = j.localAxisAy
+  n[4] = j.lowerTranslation
+  n[5] = j.upperTranslation
+  n[6] = j.maxMotorForce
+  n[7] = j.springTarget
+  n[8] = j.linearOffsetX
+  n[9] = j.linearOffsetY
+  n[10] = j.angularOffset
+  n[11] = j.maxTorque
+  n[12] = j.correctionFactor
+  n[13] = j.lastOffsetX
+  n[14] = j.lastOffsetY
+  n[15] = j.lastAngularOffset
+  n[16] = j.breakForce
+  n[17] = j.breakTorque
+  n[18] = j.angularImpulse
+  n[19] = j.springImpulse
+  w.f64s(n, 0, JOINT_EXTRA_FIELDS.length)
+}
+
+/** Whether a joint needs the format-2 fields: a new kind, a spring, or any of them not at its default. */
+function hasExtraFields(j: Joint): boolean {
+  return (
+    j.type > 2 ||
+    j.enableSpring ||
+    j.angularHertz !== 0 ||
+    j.angularDampingRatio !== 0 ||
+    j.localAxisAx !== 1 ||
+    j.localAxisAy !== 0 ||
+    j.lowerTranslation !== 0 ||
+    j.upperTranslation !== 0 ||
+    j.maxMotorForce !== 0 ||
+    j.springTarget !== 0 ||
+    j.linearOffsetX !== 0 ||
+    j.linearOffsetY !== 0 ||
+    j.angularOffset !== 0 ||
+    j.maxTorque !== 0 ||
+    j.correctionFactor !== 0 ||
+    j.lastOffsetX !== 0 ||
+    j.lastOffsetY !== 0 ||
+    j.lastAngularOffset !== 0 ||
+    j.breakForce !== Number.POSITIVE_INFINITY ||
+    j.breakTorque !== Number.POSITIVE_INFINITY ||
+    j.angularImpulse !== 0 ||
+    j.springImpulse !== 0
+  )
 }
 
 /** Reads a joint written by writeJoint. */
 function readJoint(r: ByteReader, lookup: (id: number) => Body): Joint {
   const id = r.num('joint id')
   const type = r.u8('joint type')
-  if (type > 2) throw new WorldLoadError(`saved world has joint ${id} of unknown type ${type}`)
+  if (type > LAST_JOINT_TYPE) throw new WorldLoadError(`saved world has joint ${id} of unknown type ${type}`)
   const a = lookup(r.num('joint body A'))
   const b = lookup(r.num('joint body B'))
   const j = new Joint(id, type, a, b)
@@ -275,7 +363,19 @@ function readJoint(r: ByteReader, lookup: (id: number) => Body): Joint {
   j.enableLimit = (flags & 1) !== 0
   j.enableMotor = (flags & 2) !== 0
   j.collideConnected = (flags & 4) !== 0
+  j.enableSpring = (flags & 16) !== 0
   for (const f of JOINT_FIELDS) j[f] = r.num(`joint ${id} ${f}`)
+  if ((flags & 8) !== 0) {
+    for (const f of JOINT_EXTRA_FIELDS) {
+      const what = `joint ${id} ${f}`
+      // Break thresholds are +Infinity by default (never); everything else is finite.
+      const v = f === 'breakForce' || f === 'breakTorque' ? r.f64(what) : r.num(what)
+      if (!(v >= 0 || (f !== 'breakForce' && f !== 'breakTorque')))
+        throw new WorldLoadError(`saved world has a negative or NaN ${what}: ${v}`)
+      j[f] = v
+    }
+  } else if (type > 2)
+    throw new WorldLoadError(`saved world has ${JOINT_TYPE_NAMES[type]} joint ${id} without its fields`)
   return j
 }
 

@@ -7,7 +7,7 @@
  *   collide              narrowphase for every contact with an awake body; wake what gets touched
  *   buildSolverSets      awake bodies, active contacts and joints, all in id order
  *   prepareJoints        joint constraint data for the step
- *   prepareJointTree     Concord's own: the revolute joints that form a tree, for the direct solver
+ *   prepareJointTree     Concord's own: the pins and rigid welds that form a tree, for the direct solver
  *   prepareContacts      flat contact constraint records
  *   planExtraSweeps      Concord's own: extra solver sweeps for pinched bodies and tall columns
  *   sub-steps:
@@ -23,6 +23,7 @@
  *   solveContinuous      time of impact for fast bodies and bullets
  *   updateBroadPhase     move the fat AABBs of awake bodies
  *   sleepIslands         islands that rested long enough go to sleep
+ *   breakJoints          joints whose reaction exceeds a break threshold are destroyed
  *
  * The bodies' solver state lives in one array with named offsets (body-state.ts) that the contact
  * and joint stages read and write by a body's solver index. Every stage's working state (the joint
@@ -58,6 +59,7 @@ import {
   warmStartContacts,
 } from '../dynamics/index.ts'
 import {
+  exceedsBreak,
   type Joint,
   JointTree,
   prepareJoints,
@@ -66,7 +68,7 @@ import {
   solveJointTree,
   warmStartJoints,
 } from '../joints/index.ts'
-import type { WorldDef } from '../types.ts'
+import type { JointEvents, WorldDef } from '../types.ts'
 import { ByteWriter } from './save-format.ts'
 import { WorldApi } from './world-api.ts'
 import { hashWorld, loadWorldState, saveWorld } from './world-state.ts'
@@ -97,7 +99,30 @@ export class World extends WorldApi {
     this.solveContinuous()
     this.updateBroadPhase()
     this.sleepIslands()
+    this.breakJoints()
     this.tickCount++
+  }
+
+  /** Joints that broke in the last step (ascending ids); they no longer exist. */
+  jointEvents(): JointEvents {
+    return { broken: this.brokenJoints.slice() }
+  }
+
+  /** Ids of the joints the last step broke (reused: cleared every step). */
+  private readonly brokenJoints: number[] = []
+
+  /**
+   * Destroys every active joint whose reaction over this step exceeds its breakForce or
+   * breakTorque (as getJointReaction reads it), in id order, waking its bodies.
+   */
+  private breakJoints(): void {
+    this.brokenJoints.length = 0
+    const scale = this.settings.subSteps / STEP_SECONDS
+    for (let i = 0; i < this.activeJointCount; i++) {
+      const j = this.activeJoints[i]
+      if (exceedsBreak(j, scale)) this.brokenJoints.push(j.id)
+    }
+    for (let i = 0; i < this.brokenJoints.length; i++) this.destroyJoint(this.brokenJoints[i])
   }
 
   /** Everything that influences future steps, as versioned, checksummed bytes. */
@@ -128,7 +153,7 @@ export class World extends WorldApi {
   /** Solver state of the awake bodies (body-state.ts; record 0 static) and the contact constraints. */
   private state: Float64Array = new Float64Array(64 * STATE_STRIDE)
   private readonly constraints = new ContactConstraints()
-  /** The direct solver's tree of revolute joints, rebuilt every step (joint-tree.ts). */
+  /** The direct solver's tree of pins and rigid welds, rebuilt every step (joint-tree.ts). */
   private readonly jointTree = new JointTree()
   /** The continuous stage's search state (continuous.ts). */
   private readonly continuous = new ContinuousSolver()
@@ -271,7 +296,7 @@ export class World extends WorldApi {
     prepareJoints(this.activeJoints, this.activeJointCount, this.state, this.stepContext)
   }
 
-  /** Chooses this step's tree among the active revolute joints; the others stay Gauss-Seidel. */
+  /** Chooses this step's tree among the active pins and rigid welds; the others stay Gauss-Seidel. */
   private prepareJointTree(): void {
     prepareJointTree(this.jointTree, this.activeJoints, this.activeJointCount)
   }

@@ -103,7 +103,8 @@ export function buildSceneJoints(world: World, scene: SceneBlueprint): WireJoint
   const defs = scene.joints ?? []
   for (let i = 0; i < defs.length; i++) {
     const def = defs[i]
-    if (def.type === 'mouse') continue
+    // The wire carries pins and distance joints (the other kinds are not on the wire yet).
+    if (def.type !== 'revolute' && def.type !== 'distance') continue
     const body = (index: number): number => ids[index]
     const resolved: WireJointDef =
       def.type === 'revolute'

@@ -13,7 +13,7 @@ import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { GOLDEN_HASH, hex } from '../engine/determinism-fixtures.ts'
 import { launchBrowser } from '../support/chromium.ts'
-import { type EngineCheck, runGolden, trigReport } from './engine-page.ts'
+import { type EngineCheck, runGolden, runMachines, trigReport } from './engine-page.ts'
 
 let browser: Browser
 let page: Page
@@ -68,6 +68,13 @@ describe('the engine in headless Chromium', () => {
     expect(hex(pageHashes[pageHashes.length - 1]), `set GOLDEN_HASH if the engine changed on purpose`).toBe(
       hex(GOLDEN_HASH),
     )
+  })
+
+  it('computes the same machines-scene hashes as Node (every joint kind, springs, motors, a break)', async () => {
+    const pageHashes = await inPage((check) => check.runMachines())
+    const nodeHashes = runMachines()
+    console.log(`machines: page ${pageHashes.map(hex).join(' ')}; node ${nodeHashes.map(hex).join(' ')}`)
+    expect(pageHashes.map(hex)).toEqual(nodeHashes.map(hex))
   })
 
   it("gives the engine's sin, cos and atan2 the same bits as Node on 4,000 inputs; reports where Math differs", async () => {

@@ -6,8 +6,10 @@
 import { atan2, cos, createWorld, sin } from '../../engine/index.ts'
 import {
   atan2Results,
+  buildMachines,
   buildMixedScene,
   digest,
+  driveMachines,
   GOLDEN_STEPS,
   runMixedScene,
   trigInputs,
@@ -22,6 +24,19 @@ export function runGolden(): number[] {
   for (let tick = 100; tick <= GOLDEN_STEPS; tick += 100) {
     runMixedScene(world, handles, tick)
     hashes.push(world.hash())
+  }
+  return hashes
+}
+
+/** The machines scene's hash (every joint kind, springs, motors, a break) every 100 steps up to 600. */
+export function runMachines(): number[] {
+  const world = createWorld()
+  buildMachines(world)
+  const hashes: number[] = []
+  for (let i = 1; i <= 600; i++) {
+    driveMachines(world)
+    world.step()
+    if (i % 100 === 0) hashes.push(world.hash())
   }
   return hashes
 }
@@ -43,7 +58,12 @@ export function trigReport() {
 /** The handle the test calls through page.evaluate. */
 export interface EngineCheck {
   runGolden: typeof runGolden
+  runMachines: typeof runMachines
   trigReport: typeof trigReport
 }
 
-;(globalThis as unknown as { concordEngineCheck: EngineCheck }).concordEngineCheck = { runGolden, trigReport }
+;(globalThis as unknown as { concordEngineCheck: EngineCheck }).concordEngineCheck = {
+  runGolden,
+  runMachines,
+  trigReport,
+}

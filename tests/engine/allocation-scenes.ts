@@ -13,6 +13,11 @@
  *   pile (the oldest spawned one destroyed past 12) and they grab five new bodies: those commands
  *   allocate (bodies, joints, id lists), so they run outside the measured rounds, while the steps
  *   after them (a new body's first contacts, a grab's first pull) are measured.
+ * - machines: machinesScene (every joint kind: wheel, prismatic, weld, distance with a motor,
+ *   revolute with a spring, motor joint; the bridge's breakable pins break in the warm-up), driven
+ *   as a game would: the car's and the crane's motors reverse every 5 s (setJointMotorSpeed), the
+ *   motor joint's offset goes round a circle (setJointTarget with a reused point), the piston's and
+ *   the counterweight's targets move, and the world is hashed once a second.
  */
 import {
   type BodyId,
@@ -21,6 +26,7 @@ import {
   circle,
   createWorld,
   type JointId,
+  machinesScene,
   Prng,
   pileScene,
   polygon,
@@ -88,6 +94,42 @@ class RoomSchedule {
   }
 }
 
+/** The machines scene's driver (see the file comment): allocation-free once built. */
+class MachineSchedule {
+  private readonly wheels: JointId[]
+  private readonly rope: JointId
+  private readonly platform: JointId
+  private readonly piston: JointId
+  private readonly springs: JointId[]
+  private readonly offset: Vec2 = { x: 0, y: 0 }
+
+  constructor(private readonly world: World) {
+    const joints = world.joints()
+    const of = (type: string): JointId[] => joints.filter((j) => j.type === type).map((j) => j.id)
+    this.wheels = of('wheel')
+    this.rope = of('distance')[0]
+    this.platform = of('motor')[0]
+    this.piston = of('prismatic')[0]
+    this.springs = of('revolute').slice(0, 1)
+  }
+
+  drive(tick: number): void {
+    const world = this.world
+    if (tick % 300 === 0) {
+      const forward = (tick / 300) % 2 === 0
+      for (let i = 0; i < this.wheels.length; i++) world.setJointMotorSpeed(this.wheels[i], forward ? -6 : 6)
+      world.setJointMotorSpeed(this.rope, forward ? -0.2 : 0.2)
+      world.setJointTarget(this.piston, forward ? 1.5 : 0.2)
+      for (let i = 0; i < this.springs.length; i++)
+        world.setJointTarget(this.springs[i], forward ? 0.3 : -0.3)
+    }
+    const a = ((tick % 240) / 240) * 2 * Math.PI
+    this.offset.x = 45 + 2 * Math.cos(a)
+    this.offset.y = 3 + Math.sin(a)
+    world.setJointTarget(this.platform, this.offset)
+  }
+}
+
 /** Steps between the room's regrabs in the warm-up (the measured rounds regrab once, first). */
 const REGRAB_STEPS = 600
 
@@ -95,11 +137,15 @@ const REGRAB_STEPS = 600
 export class AllocationScene {
   readonly world: World
   private readonly schedule: RoomSchedule | null
+  private readonly machines: MachineSchedule | null = null
   private tick = 0
 
-  constructor(readonly name: 'pile' | 'room') {
-    this.world = createWorld(name === 'pile' ? { enableSleep: false } : {})
-    if (name === 'pile') {
+  constructor(readonly name: 'pile' | 'room' | 'machines') {
+    this.world = createWorld(name === 'room' ? {} : { enableSleep: false })
+    if (name === 'machines') {
+      buildScene(this.world, machinesScene())
+      this.machines = new MachineSchedule(this.world)
+    } else if (name === 'pile') {
       buildScene(this.world, pileScene(300))
       for (const [x, height] of [
         [40, 20],
@@ -121,8 +167,9 @@ export class AllocationScene {
   /** One step: in the room, the players' drags, the step, and once a second a hash. */
   step(): void {
     this.schedule?.drag(this.tick)
+    this.machines?.drive(this.tick)
     this.world.step()
-    if (this.schedule !== null && this.tick % 60 === 0) this.world.hash()
+    if ((this.schedule !== null || this.machines !== null) && this.tick % 60 === 0) this.world.hash()
     this.tick++
   }
 

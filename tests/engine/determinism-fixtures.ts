@@ -13,7 +13,16 @@
  *
  * Nothing here may use Node APIs: the browser test bundles this file with esbuild.
  */
-import { box, buildScene, circle, pileScene, polygon, sin, type World } from '../../engine/index.ts'
+import {
+  box,
+  buildScene,
+  circle,
+  machinesScene,
+  pileScene,
+  polygon,
+  sin,
+  type World,
+} from '../../engine/index.ts'
 
 /** Steps of the golden run (10 s). */
 export const GOLDEN_STEPS = 600
@@ -143,6 +152,25 @@ export function runMixedScene(world: World, h: MixedHandles, tick: number): void
     driveMixedScene(world, h)
     world.step()
   }
+}
+
+/** Builds the machines scene (every joint kind, engine/scenes/machine-scenes.ts) in an empty world. */
+export function buildMachines(world: World): void {
+  buildScene(world, machinesScene())
+}
+
+/**
+ * Before each step of the machines scene: the setter calls a game would make, by tick (motor
+ * speeds, a motor joint's moving offset and angle, a slider's and a sprung pin's targets).
+ */
+export function driveMachines(world: World): void {
+  const t = world.tick
+  const joints = world.joints()
+  const of = (type: string): number[] => joints.filter((j) => j.type === type).map((j) => j.id)
+  if (t % 90 === 0) for (const j of of('wheel')) world.setJointMotorSpeed(j, t % 180 === 0 ? -6 : -3)
+  if (t % 7 === 0) for (const j of of('motor')) world.setJointTarget(j, { x: 45 + 0.01 * t, y: 3 }, 0.001 * t)
+  if (t === 200) for (const j of of('prismatic')) world.setJointTarget(j, 0.2)
+  if (t === 250) for (const j of of('revolute')) world.setJointTarget(j, -0.2)
 }
 
 /** Hex form of a 32-bit hash, for messages. */

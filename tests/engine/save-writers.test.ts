@@ -14,6 +14,7 @@ import { ByteWriter } from '../../engine/world/save-format.ts'
 import {
   BODY_MATERIAL_FIELDS,
   BODY_STATE_FIELDS,
+  JOINT_EXTRA_FIELDS,
   JOINT_FIELDS,
   POINT_FIELDS,
   writeBody,
@@ -103,5 +104,36 @@ describe('save writers follow the field lists', () => {
       for (const f of JOINT_FIELDS) w.f64(j[f])
     })
     expect(fast).toEqual(oracle)
+  })
+
+  it('writeJoint writes the format-2 fields (flag bit 3) in list order for a new kind', () => {
+    const [a, b] = makeBodies()
+    const j = new Joint(12, 4, a, b)
+    const next = distinct(j, JOINT_FIELDS, 300)
+    distinct(j, JOINT_EXTRA_FIELDS, next)
+    j.enableSpring = true
+    const fast = bytesOf((w) => writeJoint(w, j))
+    const oracle = bytesOf((w) => {
+      w.f64(12)
+      w.u8(4)
+      w.f64(a.id)
+      w.f64(b.id)
+      w.u8(8 | 16)
+      for (const f of JOINT_FIELDS) w.f64(j[f])
+      for (const f of JOINT_EXTRA_FIELDS) w.f64(j[f])
+    })
+    expect(fast).toEqual(oracle)
+  })
+
+  it('writeJoint leaves the format-2 fields out while every one is at its default (a format-1 joint)', () => {
+    const [a, b] = makeBodies()
+    const plain = new Joint(13, 0, a, b)
+    const size = bytesOf((w) => writeJoint(w, plain)).length
+    expect(size).toBe(8 + 1 + 8 + 8 + 1 + 8 * JOINT_FIELDS.length)
+    for (const f of JOINT_EXTRA_FIELDS) {
+      const j = new Joint(13, 0, a, b)
+      ;(j as unknown as Record<string, number>)[f] = 0.25
+      expect(bytesOf((w) => writeJoint(w, j)).length, f).toBe(size + 8 * JOINT_EXTRA_FIELDS.length)
+    }
   })
 })
