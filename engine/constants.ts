@@ -45,7 +45,7 @@ export const PINCHED_EXTRA_ITERATIONS = 3
 /**
  * Bodies in a chain (each touching only the one below and the one above, on a static body) from which
  * the chain's contacts are solved as a column (contact-columns.ts): 12. A column of 1 m boxes on 45 Hz
- * contacts is past its buckling load at 20 boxes and at 0.28 of it at 12 (engine/README.md "Robustness").
+ * contacts is past its buckling load at 20 boxes and at 0.28 of it at 12 (tests/engine/README.md "Robustness").
  */
 export const COLUMN_MIN_BODIES = 12
 /** Columns up to this many bodies are solved at twice contactHertz; taller ones stiffer (contact-columns.ts): 20. */

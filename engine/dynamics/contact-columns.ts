@@ -5,7 +5,7 @@
  * Why they are special: a soft contact point sags F K / omega^2 under its load F (K its inverse
  * effective mass), so a face contact is a rotational spring, and the weight above pushes a column of
  * such springs over (P-delta). For 1 m boxes at 45 Hz a column is past its buckling load at 20 boxes
- * (the springs would have to be 1.34 times stiffer, engine/README.md "Robustness"): it leans and
+ * (the springs would have to be 1.34 times stiffer, tests/engine/README.md "Robustness"): it leans and
  * falls however well the solver converges. Pyramids and piles are braced by their neighbours and
  * have no such mode. So the contacts of a column of at least COLUMN_MIN_BODIES bodies are solved at
  * the static-contact stiffness (twice contactHertz) with the extra sweeps that make a stiffer

@@ -242,7 +242,7 @@ describe('tall stacks', () => {
     // 1 m boxes at x = 0, 0.05, 0, ... (friction 0.6, as towerScene): every interface's load is
     // centred on its 0.95 m overlap, so rigid boxes stand forever. On soft contacts a face contact is
     // a rotational spring and the weight above pushes the column over: at 45 Hz the springs would
-    // have to be 1.34 times stiffer (engine/README.md "Robustness"; before contact-columns.ts the
+    // have to be 1.34 times stiffer (tests/engine/README.md "Robustness"; before contact-columns.ts the
     // tower was 0.24 m off at 10 s and down at about 17 s). "Stands still": every box within 2 cm of
     // its start x at every step of the 10 s (a falling column keeps going, a fallen box moves by
     // metres), and over the last 2 s every box slower than 0.01 m/s, a fifth of the sleep threshold.
