@@ -86,6 +86,14 @@ describe('50 anonymous connections joining fresh room names', { timeout: 60_000 
     expect([defaults.maxRooms, defaults.roomIdleSeconds, defaults.maxNewRoomsPerIp]).toEqual([50, 60, 30])
     // A real room from another address first: a command applied, then its player leaves.
     const real = await visit('real-room', '127.0.0.2', async (ws) => {
+      // Leave only once the spawn is applied (the room's next tick; its events message adds the
+      // body): a player who leaves first takes the queued command with it and the room stays
+      // untouched (seen under load).
+      let applied = false
+      ws.on('message', (data: Buffer) => {
+        const m = decode(data) as Message
+        if (m.t === 'events' && Array.isArray(m.add) && m.add.length > 0) applied = true
+      })
       ws.send(
         encode({
           t: 'input',
@@ -94,7 +102,7 @@ describe('50 anonymous connections joining fresh room names', { timeout: 60_000 
         }),
       )
       await until(() => server.recordings.openNames.size >= 2, 'the real room recorded')
-      // The spawn is applied at the room's next tick; the events message says so.
+      await until(() => applied, 'the spawn applied')
     })
     expect(real.first.t).toBe('welcome')
 
