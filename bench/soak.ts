@@ -3,7 +3,8 @@
  * 10 minutes; --minutes M to change it), printed and saved to bench/results/soak.json.
  * Steady load: 10 rooms, each a pile of 100 never-sleeping bodies, with 3 bots dragging things
  * (a child process running bots/bots.ts). Churn: every 250 ms a client joins one of the rooms
- * or one of 20 short-lived rooms, stays 1-3 s, and leaves, so rooms open and close too.
+ * or one of 20 short-lived rooms (where it drops a ball, so that the room's log is kept when it
+ * closes), stays 1-3 s, and leaves, so rooms open and close too.
  * The rooms run as `npm start` runs them: on one worker thread per core (--workers N to change
  * it; 0 puts every room on the main thread).
  * Every 10 s: RSS, the main thread's heap (after a full GC) and each worker's heap (as it last
@@ -15,7 +16,7 @@
  * Recording is on, with --replay-keep K (default 20, so that the churn rooms' logs pass it within
  * a minute): every second the server process's open files (/proc/PID/fd) are checked, and an open
  * log that was deleted (pruned under its writer) is counted and printed.
- * At the end the churn stops, every open room is noted with its tick (GET /rooms), the server
+ * At the end the churn stops and its rooms close, every open room is noted with its tick (GET /rooms), the server
  * process is SIGKILLed while the bots play, and a second server (server/main.ts, --recover true)
  * starts on the same replay directory: every noted room must come back ("room recovered from its
  * log") at a tick at most 2 s before its noted one. The summary's `kill` holds the rooms open,
@@ -91,7 +92,13 @@ const serverPid = child.pid as number
 
 /** Open logs deleted under their writer, seen in /proc/<server pid>/fd once a second (Linux). */
 const deletedOpenLogs = new Set<string>()
+/** The most files the replay directory held at one check, and every log name seen there. */
+let logsMax = 0
+const logsSeen = new Set<string>()
 const checkFds = (): void => {
+  const logs = readdirSync(replayDir)
+  logsMax = Math.max(logsMax, logs.length)
+  for (const name of logs) logsSeen.add(name)
   let fds: string[]
   try {
     fds = readdirSync(`/proc/${serverPid}/fd`)
@@ -148,6 +155,10 @@ const churn = (async () => {
       BotClient.connect({ url: serverUrl, room, name: `churn ${joins}` }).then(
         async (bot) => {
           joins++
+          // A command in a churn room, so that its log stays when it closes (the log of a room
+          // where no command was applied is removed) and the logs pass --replay-keep.
+          if (room.startsWith('churn-'))
+            bot.command({ k: 'spawn', shape: { type: 'circle', radius: 0.3 }, x: (joins % 10) - 5, y: 8 })
           await wait(stay)
           await bot.close()
         },
@@ -204,22 +215,18 @@ while (performance.now() - started < MINUTES * 60_000) {
 running = false
 await churn
 
-// The kill. The churn is over (its rooms, never touched by a command, close as their last client
-// leaves); the bots still play. Once the open rooms stay the same for a second, they are noted
-// with their ticks (GET /rooms), and the server process is SIGKILLed at once.
+// The kill. The churn is over and its rooms close 5 s after their last client left; once none is
+// open (the bots still play in theirs), the open rooms are noted with their ticks (GET /rooms) and
+// the server process is SIGKILLed at once. (Killing mid-churn would race a room's idle close
+// between the listing and the kill.)
 type Listed = { name: string; tick: number }
 const listRooms = async (): Promise<Listed[]> =>
   ((await (await fetch(`${serverUrl}/rooms`)).json()) as Listed[]).sort((a, b) =>
     a.name.localeCompare(b.name),
   )
-const namesOf = (rooms: Listed[]): string => rooms.map((r) => r.name).join(',')
-let before = await listRooms()
-for (let settled = 0; settled < 30; settled++) {
-  await wait(1000)
-  const now = await listRooms()
-  const same = namesOf(now) === namesOf(before)
-  before = now
-  if (same) break
+for (let waited = 0; waited < 60; waited++) {
+  if (!(await listRooms()).some((r) => r.name.startsWith('churn-'))) break
+  await wait(500)
 }
 checkFds()
 const openAtKill = await listRooms()
@@ -327,6 +334,8 @@ const results = {
     churnFailures: failures,
     replayKeep: KEEP,
     logsAtEnd,
+    logsMax,
+    logsSeen: logsSeen.size,
     openLogsDeleted: deletedOpenLogs.size,
     kill,
   },
