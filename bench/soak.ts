@@ -92,14 +92,20 @@ const serverPid = child.pid as number
 
 /** Open logs deleted under their writer, seen in /proc/<server pid>/fd once a second (Linux). */
 const deletedOpenLogs = new Set<string>()
-/** The most files the replay directory held at one check, and every log name seen there. */
+/**
+ * The most files the replay directory held at one check, every log name seen there, and the most
+ * file descriptors into the replay directory the server process held at one check (so a run shows
+ * that the fd check saw its open logs).
+ */
 let logsMax = 0
+let openLogFdsMax = 0
 const logsSeen = new Set<string>()
 const checkFds = (): void => {
   const logs = readdirSync(replayDir)
   logsMax = Math.max(logsMax, logs.length)
   for (const name of logs) logsSeen.add(name)
   let fds: string[]
+  let open = 0
   try {
     fds = readdirSync(`/proc/${serverPid}/fd`)
   } catch {
@@ -112,11 +118,13 @@ const checkFds = (): void => {
     } catch {
       continue
     }
+    if (target.startsWith(`${replayDir}/`)) open++
     if (target.startsWith(`${replayDir}/`) && target.endsWith(' (deleted)') && !deletedOpenLogs.has(target)) {
       deletedOpenLogs.add(target)
       console.log(`soak: an open log was deleted under its writer: ${target}`)
     }
   }
+  openLogFdsMax = Math.max(openLogFdsMax, open)
 }
 const watchFds = setInterval(checkFds, 1000)
 // The piles are loaded once the bots are in: a room opened before them, empty, would close if
@@ -336,6 +344,7 @@ const results = {
     logsAtEnd,
     logsMax,
     logsSeen: logsSeen.size,
+    openLogFdsMax,
     openLogsDeleted: deletedOpenLogs.size,
     kill,
   },
