@@ -30,18 +30,24 @@ export interface TimedServer {
 /**
  * Start a server in this process for load tests; every loop tick is timed. With `workers` > 0 the
  * rooms run on worker threads and their loops are timed there (WorkerPool.takeLoopStats).
+ * Recordings go to `replayDir` when given (its owner removes it), else to a directory of this
+ * run's own, removed when the process exits.
  */
 export async function startTimedServer(
   workers = 0,
   roomIdleSeconds = 5,
   replayKeep = 200,
+  replayDir?: string,
 ): Promise<TimedServer> {
   // Recordings go to a directory of this run's own (the server records by default). In the
   // repository's replays/ they piled up, and the logs a failed run left unfinished were recovered
   // as rooms by the next run's server: at 20 rooms a Nov 24 run ticked such leftovers beside its
   // own and averaged 74 bodies per room instead of 113.
-  const replayDir = mkdtempSync(join(tmpdir(), 'concord-bench-replays-'))
-  process.on('exit', () => rmSync(replayDir, { recursive: true, force: true }))
+  if (replayDir === undefined) {
+    const own = mkdtempSync(join(tmpdir(), 'concord-bench-replays-'))
+    process.on('exit', () => rmSync(own, { recursive: true, force: true }))
+    replayDir = own
+  }
   const config = loadConfig(
     [],
     {},
