@@ -5,7 +5,7 @@
  * during the shutdown is logged and ignored; a third exits at once (code 130).
  */
 import { helpText, loadConfig, type ServerConfig } from './config/index.ts'
-import { ListenError, startServer } from './server.ts'
+import { ListenError, type RunningServer, startServer } from './server.ts'
 
 /** Hard deadline for shutdown after the drain period (ms). */
 const SHUTDOWN_DEADLINE_MS = 4500
@@ -26,10 +26,18 @@ async function main(): Promise<void> {
     process.stderr.write(`concord: ${(error as Error).message}\n`)
     process.exit(2)
   }
-  const server = await startServer(config)
+  // The signal handlers come first: a SIGTERM between the 'listening' line (logged inside
+  // startServer) and the end of startup used to get Node's default action and end the process
+  // with no shutdown at all. A signal during startup is kept and acted on once the server exists.
+  let server: RunningServer | undefined
+  let early: NodeJS.Signals | undefined
+  process.on('SIGTERM', (signal) => (server ? onSignal(signal) : (early ??= signal)))
+  process.on('SIGINT', (signal) => (server ? onSignal(signal) : (early ??= signal)))
+  const running = await startServer(config)
+  server = running
   const shutdown = (signal: string): void => {
     setTimeout(() => process.exit(1), config.drainSeconds * 1000 + SHUTDOWN_DEADLINE_MS).unref()
-    server.close(`server shutting down (${signal})`).then(
+    running.close(`server shutting down (${signal})`).then(
       () => process.exit(0),
       () => process.exit(1),
     )
@@ -43,21 +51,20 @@ async function main(): Promise<void> {
     signals++
     if (signals === 1) shutdown(signal)
     else if (signals === 2)
-      server.log.warn(
+      running.log.warn(
         { signal },
         'already shutting down; a third signal ends the process without closing logs',
       )
     else {
-      server.log.error(
+      running.log.error(
         { signal },
         'third signal during shutdown: exiting now; logs without a clean close are reopened at the next start',
       )
-      server.log.flush()
+      running.log.flush()
       process.exit(FORCED_EXIT_CODE)
     }
   }
-  process.on('SIGTERM', onSignal)
-  process.on('SIGINT', onSignal)
+  if (early) onSignal(early)
 }
 
 main().catch((error) => {
