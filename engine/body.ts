@@ -130,21 +130,41 @@ export function updateMassData(body: Body): void {
     body.inertia = body.fixedRotation ? 0 : md.inertia
     body.invInertia = body.fixedRotation ? 0 : 1 / md.inertia
   }
+  body.maxExtent = shapeMaxExtent(shape, md.center.x, md.center.y)
+  body.minExtent = shapeMinExtent(shape, md.center.x, md.center.y)
+}
+
+/** Farthest reach of a shape's surface from a point (cx, cy) of the body frame (m). */
+export function shapeMaxExtent(shape: Shape, cx: number, cy: number): number {
   if (shape.type === 'circle') {
-    body.maxExtent = shape.radius
-    body.minExtent = shape.radius
-    return
+    const dx = shape.centroid.x - cx
+    const dy = shape.centroid.y - cy
+    if (dx === 0 && dy === 0) return shape.radius
+    return Math.sqrt(dx * dx + dy * dy) + shape.radius
   }
   let maxExtent = 0
+  for (let i = 0; i < shape.count; i++) {
+    const v = shape.vertices[i]
+    const dx = v.x - cx
+    const dy = v.y - cy
+    maxExtent = Math.max(maxExtent, Math.sqrt(dx * dx + dy * dy))
+  }
+  return shape.radius > 0 ? maxExtent + shape.radius : maxExtent
+}
+
+/**
+ * The smallest distance from a polygon's centre (cx, cy) (its centre of mass) to its surface (m):
+ * how far it can move before it could pass through something (continuous collision; Box2D's
+ * b2ComputeShapeExtent). A circle's is its radius, a capsule's its radius, a segment's 0.
+ */
+export function shapeMinExtent(shape: Shape, cx: number, cy: number): number {
+  if (shape.type === 'circle') return shape.radius
+  if (shape.count === 2) return shape.radius
   let minExtent = Number.POSITIVE_INFINITY
   for (let i = 0; i < shape.count; i++) {
     const v = shape.vertices[i]
-    const dx = v.x - md.center.x
-    const dy = v.y - md.center.y
-    maxExtent = Math.max(maxExtent, Math.sqrt(dx * dx + dy * dy))
     const n = shape.normals[i]
-    minExtent = Math.min(minExtent, n.x * dx + n.y * dy)
+    minExtent = Math.min(minExtent, n.x * (v.x - cx) + n.y * (v.y - cy))
   }
-  body.maxExtent = maxExtent
-  body.minExtent = minExtent
+  return shape.radius > 0 ? minExtent + shape.radius : minExtent
 }

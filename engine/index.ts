@@ -37,13 +37,19 @@ export {
 } from './scenes.ts'
 export {
   box,
+  type CapsuleShape,
   type CircleShape,
+  capsule,
   circle,
+  combineMass,
   computeMass,
   type MassData,
+  type PolygonalShape,
   type PolygonShape,
   polygon,
+  type SegmentShape,
   type Shape,
+  segment,
 } from './shapes.ts'
 export { FixedStepper } from './stepper.ts'
 export type {

@@ -57,8 +57,14 @@ export function poseAt(b: Body): void {
 /** Writes `shape`'s world vertices at `pose` into `out` (a circle: its centre); returns how many. */
 export function transformVertices(shape: Shape, out: Float64Array): number {
   if (shape.type === 'circle') {
+    const lx = shape.centroid.x
+    const ly = shape.centroid.y
     out[0] = pose[0]
     out[1] = pose[1]
+    if (lx !== 0 || ly !== 0) {
+      out[0] += pose[2] * lx - pose[3] * ly
+      out[1] += pose[3] * lx + pose[2] * ly
+    }
     return 1
   }
   for (let i = 0; i < shape.count; i++) {
@@ -140,11 +146,11 @@ export function sweptDistance(a: Body, b: Body): void {
     ra = core
   } else {
     na = transformVertices(a.shape, verticesA)
-    ra = a.shape.type === 'circle' ? a.shape.radius : 0
+    ra = a.shape.radius
   }
   poseAt(b)
   const nb = transformVertices(b.shape, verticesB)
-  const rb = b.shape.type === 'circle' ? b.shape.radius : 0
+  const rb = b.shape.radius
   if (na === 1 && nb === 1) {
     const dx = verticesB[0] - verticesA[0]
     const dy = verticesB[1] - verticesA[1]

@@ -32,9 +32,11 @@ const BODY_TYPES: readonly BodyType[] = ['static', 'kinematic', 'dynamic']
  */
 export const POSE_STRIDE = 6
 
+const SHAPE_TYPES: readonly string[] = ['circle', 'polygon', 'capsule', 'segment']
+
 function checkShape(shape: Shape): Shape {
-  if (shape === null || typeof shape !== 'object' || (shape.type !== 'circle' && shape.type !== 'polygon')) {
-    throw new RangeError('body shape must be made by circle(), box() or polygon()')
+  if (shape === null || typeof shape !== 'object' || !SHAPE_TYPES.includes(shape.type)) {
+    throw new RangeError('body shape must be made by circle(), box(), polygon(), capsule() or segment()')
   }
   return shape
 }
@@ -62,6 +64,11 @@ export class WorldApi extends WorldStore {
     const typeIndex = BODY_TYPES.indexOf(def.type ?? 'dynamic')
     if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${def.type}`)
     const body = new Body(this.nextBodyId, typeIndex, checkShape(def.shape))
+    if (typeIndex === DYNAMIC && def.shape.type === 'segment') {
+      throw new RangeError(
+        'a dynamic body needs a shape with mass: a segment has none (use it on static or kinematic bodies)',
+      )
+    }
     const position = checkPosition('position', def.position ?? { x: 0, y: 0 })
     const angle = checkAngle('angle', def.angle ?? 0)
     body.density = inRange('density', def.density ?? 1, 1e-6, 1e6)

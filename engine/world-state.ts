@@ -30,20 +30,46 @@ import {
   sealSave,
   WorldLoadError,
 } from './save-format.ts'
-import { box, circle, polygon, type Shape } from './shapes.ts'
+import { box, capsule, circle, polygon, type Shape, segment } from './shapes.ts'
 import type { WorldDef } from './types.ts'
 import { type ResolvedWorldDef, resolveWorldDef, SETTINGS_NUMBERS, type WorldStore } from './world-store.ts'
 
 /** Numbers of one writer call, written with one ByteWriter.f64s (see the writers below). */
 const staged = new Float64Array(32)
 
-/** Writes a shape. */
+/**
+ * Writes a shape: a kind byte, then its numbers. Kinds: 0 circle at the origin (radius), 1 box
+ * (half extents), 2 polygon (count, vertices), 3 circle off the origin (radius, centre), 4 rounded
+ * polygon (count, vertices, radius), 5 capsule (centres, radius), 6 segment (points).
+ */
 function writeShape(w: ByteWriter, shape: Shape): void {
   const n = staged
   if (shape.type === 'circle') {
-    w.u8(0)
+    const c = shape.centroid
+    const centred = c.x === 0 && c.y === 0
+    w.u8(centred ? 0 : 3)
     n[0] = shape.radius
-    w.f64s(n, 0, 1)
+    n[1] = c.x
+    n[2] = c.y
+    w.f64s(n, 0, centred ? 1 : 3)
+  } else if (shape.type === 'capsule' || shape.type === 'segment') {
+    const capsule = shape.type === 'capsule'
+    w.u8(capsule ? 5 : 6)
+    n[0] = shape.vertices[0].x
+    n[1] = shape.vertices[0].y
+    n[2] = shape.vertices[1].x
+    n[3] = shape.vertices[1].y
+    n[4] = shape.radius
+    w.f64s(n, 0, capsule ? 5 : 4)
+  } else if (shape.radius > 0) {
+    w.u8(4)
+    w.u8(shape.count)
+    for (let i = 0; i < shape.count; i++) {
+      n[2 * i] = shape.vertices[i].x
+      n[2 * i + 1] = shape.vertices[i].y
+    }
+    n[2 * shape.count] = shape.radius
+    w.f64s(n, 0, 2 * shape.count + 1)
   } else if (shape.box !== null) {
     w.u8(1)
     n[0] = shape.box.halfWidth
@@ -66,11 +92,20 @@ function readShape(r: ByteReader): Shape {
   try {
     if (kind === 0) return circle(r.num('circle radius'))
     if (kind === 1) return box(r.num('box half width'), r.num('box half height'))
-    if (kind === 2) {
+    if (kind === 2 || kind === 4) {
       const n = r.u8('polygon vertex count')
       const points = []
       for (let i = 0; i < n; i++) points.push({ x: r.num('polygon vertex'), y: r.num('polygon vertex') })
-      return polygon(points)
+      return kind === 2 ? polygon(points) : polygon(points, r.num('polygon radius'))
+    }
+    if (kind === 3) {
+      const radius = r.num('circle radius')
+      return circle(radius, { x: r.num('circle center'), y: r.num('circle center') })
+    }
+    if (kind === 5 || kind === 6) {
+      const p1 = { x: r.num('segment point'), y: r.num('segment point') }
+      const p2 = { x: r.num('segment point'), y: r.num('segment point') }
+      return kind === 5 ? capsule(p1, p2, r.num('capsule radius')) : segment(p1, p2)
     }
   } catch (e) {
     if (e instanceof WorldLoadError) throw e

@@ -159,10 +159,18 @@ export class WorldStore {
     const out = this.aabb
     if (shape.type === 'circle') {
       const r = shape.radius + margin
-      out[0] = b.x - r
-      out[1] = b.y - r
-      out[2] = b.x + r
-      out[3] = b.y + r
+      const lx = shape.centroid.x
+      const ly = shape.centroid.y
+      let x = b.x
+      let y = b.y
+      if (lx !== 0 || ly !== 0) {
+        x += b.c * lx - b.s * ly
+        y += b.s * lx + b.c * ly
+      }
+      out[0] = x - r
+      out[1] = y - r
+      out[2] = x + r
+      out[3] = y + r
       return
     }
     let minX = Number.POSITIVE_INFINITY
@@ -184,10 +192,12 @@ export class WorldStore {
       if (x > maxX) maxX = x
       if (y > maxY) maxY = y
     }
-    out[0] = minX - margin
-    out[1] = minY - margin
-    out[2] = maxX + margin
-    out[3] = maxY + margin
+    // A rounded polygon or capsule reaches its radius beyond its vertices (0 for sharp shapes).
+    const reach = margin + shape.radius
+    out[0] = minX - reach
+    out[1] = minY - reach
+    out[2] = maxX + reach
+    out[3] = maxY + reach
   }
 
   /** Adds a body's proxy to the broadphase. */
