@@ -1,5 +1,5 @@
 /*
- * A rigid body: one shape, its mass properties, and its state.
+ * A rigid body: its shapes (body-shape.ts), its mass properties, and its state.
  *
  * The state follows Box2D v3's split between the step's start and the sub-steps: (cx, cy) and the
  * rotation (c, s) are the centre of mass and orientation at the start of the step; during the
@@ -9,10 +9,10 @@
  *
  * All fields are numbers (or fixed references) so every Body has one hidden class in V8.
  */
+import type { BodyShape } from './body-shape.ts'
 import type { Contact } from './contact.ts'
 import type { Joint } from './joint.ts'
-import { polygonGeometry } from './polygon-geometry.ts'
-import { computeMass, type Shape } from './shapes.ts'
+import { combineMass, computeMass, type MassData, type Shape } from './shapes.ts'
 
 /** Body type codes, in the order of BodyType. */
 export const STATIC = 0
@@ -23,12 +23,8 @@ export const DYNAMIC = 2
 export class Body {
   readonly id: number
   type: number
-  readonly shape: Shape
-  /** The shape's vertices and normals laid out for the narrowphase (polygon-geometry.ts). */
-  readonly geometry: Float64Array
-  density: number
-  friction: number
-  restitution: number
+  /** The body's shapes, in id (creation) order. */
+  readonly shapes: BodyShape[] = []
   linearDamping: number
   angularDamping: number
   gravityScale: number
@@ -89,14 +85,9 @@ export class Body {
   /** Joints this body is part of (any order; used as a set). */
   readonly joints: Joint[] = []
 
-  constructor(id: number, type: number, shape: Shape) {
+  constructor(id: number, type: number) {
     this.id = id
     this.type = type
-    this.shape = shape
-    this.geometry = polygonGeometry(shape)
-    this.density = 1
-    this.friction = 0.6
-    this.restitution = 0
     this.linearDamping = 0
     this.angularDamping = 0
     this.gravityScale = 1
@@ -118,20 +109,50 @@ export class Body {
   }
 }
 
-/** Sets mass, inertia, centre of mass and extents from the shape and density. */
+/**
+ * The mass properties of a body's shapes (each at its own density), summed by the parallel-axis
+ * theorem; one shape's are its own, bit for bit.
+ */
+export function bodyMass(body: Body): MassData {
+  const shapes = body.shapes
+  if (shapes.length === 1) return computeMass(shapes[0].shape, shapes[0].density)
+  return combineMass(shapes.map((s) => computeMass(s.shape, s.density)))
+}
+
+/**
+ * Sets mass, inertia, centre of mass and extents from the shapes and their densities. A body without
+ * shapes keeps its centre at the origin and its extents at 0. Bodies that are not dynamic keep mass 0.
+ */
 export function updateMassData(body: Body): void {
-  const shape = body.shape
-  const md = computeMass(shape, body.density)
+  const md = bodyMass(body)
   body.localCenterX = md.center.x
   body.localCenterY = md.center.y
+  body.mass = 0
+  body.invMass = 0
+  body.inertia = 0
+  body.invInertia = 0
   if (body.type === DYNAMIC) {
     body.mass = md.mass
     body.invMass = 1 / md.mass
     body.inertia = body.fixedRotation ? 0 : md.inertia
     body.invInertia = body.fixedRotation ? 0 : 1 / md.inertia
   }
-  body.maxExtent = shapeMaxExtent(shape, md.center.x, md.center.y)
-  body.minExtent = shapeMinExtent(shape, md.center.x, md.center.y)
+  const shapes = body.shapes
+  if (shapes.length === 1) {
+    const shape = shapes[0].shape
+    body.maxExtent = shapeMaxExtent(shape, md.center.x, md.center.y)
+    body.minExtent = shapeMinExtent(shape, md.center.x, md.center.y)
+    return
+  }
+  let maxExtent = 0
+  let minExtent = shapes.length > 0 ? Number.POSITIVE_INFINITY : 0
+  for (const s of shapes) {
+    maxExtent = Math.max(maxExtent, shapeMaxExtent(s.shape, md.center.x, md.center.y))
+    const own = computeMass(s.shape, 1).center
+    minExtent = Math.min(minExtent, shapeMinExtent(s.shape, own.x, own.y))
+  }
+  body.maxExtent = maxExtent
+  body.minExtent = minExtent
 }
 
 /** Farthest reach of a shape's surface from a point (cx, cy) of the body frame (m). */

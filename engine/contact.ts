@@ -1,6 +1,7 @@
 /*
- * A contact: a pair of bodies whose fat AABBs overlap, its manifold, and the solver data of its
- * points. A contact lives from the step the broadphase pairs its bodies until their fat AABBs part;
+ * A contact: a pair of shapes on two bodies whose fat AABBs overlap, its manifold, and the solver
+ * data of its points. A compound body touching another has one contact per pair of touching shapes.
+ * A contact lives from the step the broadphase pairs its shapes until their fat AABBs part;
  * it is "touching" while the narrowphase reports at least one (possibly speculative) point.
  *
  * The solver copies touching contacts into flat constraint records each step and stores the
@@ -8,6 +9,7 @@
  * inherits the impulses of the old point with the same feature id (Box2D's b2UpdateContact).
  */
 import type { Body } from './body.ts'
+import type { BodyShape } from './body-shape.ts'
 import { collideGeometry } from './collide.ts'
 import {
   ANCHOR_AX,
@@ -32,7 +34,7 @@ import {
 } from './contact-record.ts'
 import { Manifold, type ManifoldPoint } from './manifold.ts'
 
-/** Multiplier that makes the pair key (a * KEY_SCALE + b) unique for body ids below 2^26. */
+/** Multiplier that makes the pair key (a * KEY_SCALE + b) unique for shape ids below 2^26. */
 export const KEY_SCALE = 67108864
 
 /** The persistent fields of a contact point; a contact has each twice, suffixed 0 and 1. */
@@ -52,13 +54,16 @@ export const CONTACT_POINT_FIELDS = [
 ] as const
 
 /**
- * A contact between two bodies, bodyA.id < bodyB.id. Its numbers live in the world's ContactStore
+ * A contact between two shapes, shapeA.id < shapeB.id, on bodies bodyA and bodyB (the shapes'
+ * bodies; their ids may be in either order). Its numbers live in the world's ContactStore
  * (contact-record.ts) at offset `base`; the hot passes read them there by offset, and the named
  * properties below (friction, normalX, anchorAx0, ...) read and write the same record for
  * everything else (saving, read-back, tests).
  */
 export class Contact {
   key: number
+  shapeA: BodyShape
+  shapeB: BodyShape
   bodyA: Body
   bodyB: Body
   touching = false
@@ -102,28 +107,29 @@ export class Contact {
   declare totalNormalImpulse1: number
   declare totalTangentImpulse1: number
 
-  constructor(bodyA: Body, bodyB: Body, store: ContactStore) {
-    this.key = bodyA.id * KEY_SCALE + bodyB.id
-    this.bodyA = bodyA
-    this.bodyB = bodyB
+  constructor(shapeA: BodyShape, shapeB: BodyShape, store: ContactStore) {
+    this.key = shapeA.id * KEY_SCALE + shapeB.id
+    this.shapeA = shapeA
+    this.shapeB = shapeB
+    this.bodyA = shapeA.body
+    this.bodyB = shapeB.body
     this.store = store
     this.base = store.allocate()
-    const d = store.data
-    d[this.base + FRICTION] = Math.sqrt(bodyA.friction * bodyB.friction)
-    d[this.base + RESTITUTION] = Math.max(bodyA.restitution, bodyB.restitution)
+    mixMaterials(this)
   }
 
   /** Reinitializes a pooled contact for a new pair (no allocation). */
-  reset(bodyA: Body, bodyB: Body): this {
-    this.key = bodyA.id * KEY_SCALE + bodyB.id
-    this.bodyA = bodyA
-    this.bodyB = bodyB
+  reset(shapeA: BodyShape, shapeB: BodyShape): this {
+    this.key = shapeA.id * KEY_SCALE + shapeB.id
+    this.shapeA = shapeA
+    this.shapeB = shapeB
+    this.bodyA = shapeA.body
+    this.bodyB = shapeB.body
     this.touching = false
     this.pointCount = 0
     const d = this.store.data
     const o = this.base
-    d[o + FRICTION] = Math.sqrt(bodyA.friction * bodyB.friction)
-    d[o + RESTITUTION] = Math.max(bodyA.restitution, bodyB.restitution)
+    mixMaterials(this)
     d[o + NORMAL_X] = 0
     d[o + NORMAL_Y] = 0
     for (let p = o + POINT_0; p < o + POINT_0 + 2 * POINT_FIELDS; p += POINT_FIELDS) {
@@ -134,6 +140,13 @@ export class Contact {
     }
     return this
   }
+}
+
+/** Sets the pair's friction (geometric mean) and restitution (larger) from its shapes (Box2D's mixing). */
+export function mixMaterials(c: Contact): void {
+  const d = c.store.data
+  d[c.base + FRICTION] = Math.sqrt(c.shapeA.friction * c.shapeB.friction)
+  d[c.base + RESTITUTION] = Math.max(c.shapeA.restitution, c.shapeB.restitution)
 }
 
 /** The named properties of a contact's record and their offsets in it. */
@@ -198,15 +211,17 @@ export function clearContact(c: Contact): void {
 export function updateContact(c: Contact, speculativeDistance: number): boolean {
   const a = c.bodyA
   const b = c.bodyB
+  const sa = c.shapeA
+  const sb = c.shapeB
   collideGeometry(
-    a.shape,
-    a.geometry,
+    sa.shape,
+    sa.geometry,
     a.x,
     a.y,
     a.c,
     a.s,
-    b.shape,
-    b.geometry,
+    sb.shape,
+    sb.geometry,
     b.x,
     b.y,
     b.c,

@@ -29,6 +29,7 @@
  * swept along the shorter arc.
  */
 import { type Body, DYNAMIC, STATIC } from './body.ts'
+import type { BodyShape } from './body-shape.ts'
 import { type BroadPhase, IdBuffer } from './broad-phase.ts'
 import {
   CORE,
@@ -79,18 +80,18 @@ const EARLIEST = 3
  * Box2D v3.1 does): the contact handles the surfaces, and the core stops a body that the contact
  * failed to stop (a thin bar spun up by the impact and rotating through a wall) from crossing.
  */
-function timeOfImpact(a: Body, b: Body): void {
+function timeOfImpact(a: Body, sa: BodyShape, b: Body, sb: BodyShape): void {
   sweep[FRACTION] = 0
   sweep[CORE] = 0
-  sweptDistance(a, b)
+  sweptDistance(a, sa.shape, b, sb.shape)
   if (sweep[DISTANCE] >= START_SKIP_DISTANCE) {
     search[SPIN] = sweepArc(a) * a.maxExtent
     search[TARGET] = TOI_TARGET
-    advance(a, b)
+    advance(a, sa, b, sb)
     return
   }
   sweep[CORE] = 0.25 * a.minExtent
-  sweptDistance(a, b)
+  sweptDistance(a, sa.shape, b, sb.shape)
   const d = sweep[DISTANCE]
   if (d <= 0) {
     search[IMPACT] = 1
@@ -100,7 +101,7 @@ function timeOfImpact(a: Body, b: Body): void {
   // of its remaining gap per step, so it never crosses and never freezes completely.
   search[SPIN] = 0
   search[TARGET] = Math.min(TOI_TARGET, 0.5 * d)
-  advance(a, b)
+  advance(a, sa, b, sb)
   coreHit = search[IMPACT] < 1
 }
 
@@ -111,7 +112,7 @@ let coreHit = false
  * Conservative advancement from distance sweep[DISTANCE] at t = 0 to the gap search[TARGET], into
  * search[IMPACT]; search[SPIN] bounds a's rotational speed, sweep[CORE] is passed on to sweptDistance.
  */
-function advance(a: Body, b: Body): void {
+function advance(a: Body, sa: BodyShape, b: Body, sb: BodyShape): void {
   let d = sweep[DISTANCE]
   const target = search[TARGET]
   const dax = a.awake ? a.cx - a.c0x : 0
@@ -133,7 +134,7 @@ function advance(a: Body, b: Body): void {
       break
     }
     sweep[FRACTION] = t
-    sweptDistance(a, b)
+    sweptDistance(a, sa.shape, b, sb.shape)
     d = sweep[DISTANCE]
   }
   search[IMPACT] = t
@@ -186,8 +187,8 @@ export function solveContinuous(
   awake: Body[],
   count: number,
   broadPhase: BroadPhase,
-  bodies: Map<number, Body>,
-  canCollide: (a: Body, b: Body) => boolean,
+  shapes: Map<number, BodyShape>,
+  canCollide: (a: BodyShape, b: BodyShape) => boolean,
 ): void {
   moverCount = 0
   let bullets = 0
@@ -197,33 +198,47 @@ export function solveContinuous(
     if (b.bullet) bullets++
     const d = travel(b)
     if (d > broadPhase.margin) movers[moverCount++] = b
-    if (!b.bullet && d > 0.5 * b.minExtent) sweepBody(b, broadPhase, bodies, canCollide)
+    if (!b.bullet && d > 0.5 * b.minExtent) sweepBody(b, broadPhase, shapes, canCollide)
   }
   if (bullets === 0) return
   for (let i = 0; i < count; i++) {
     const b = awake[i]
     if (b.type === DYNAMIC && b.bullet && travel(b) > 0.5 * b.minExtent) {
-      sweepBody(b, broadPhase, bodies, canCollide)
+      sweepBody(b, broadPhase, shapes, canCollide)
     }
   }
 }
 
 // The dynamic body hit at the earliest impact sweepBody found so far (search[EARLIEST]).
 let hitBody: Body | null = null
-/** The static body whose core hit is the earliest, if it is. */
-let coreStop: Body | null = null
+/** The shape of a static body whose core hit is the earliest, if it is. */
+let coreStop: BodyShape | null = null
 
-function sweepAgainst(b: Body, other: Body, canCollide: (a: Body, b: Body) => boolean): void {
+/** Sweeps each shape of body b against one shape of another body. */
+function sweepAgainst(b: Body, os: BodyShape, canCollide: (a: BodyShape, b: BodyShape) => boolean): void {
+  const other = os.body
   if (other === b) return
   const sweepable = other.type === STATIC || (b.bullet && other.type === DYNAMIC)
-  if (!sweepable || !canCollide(b, other)) return
+  if (!sweepable) return
+  const shapes = b.shapes
+  for (let i = 0; i < shapes.length; i++) sweepShapeAgainst(b, shapes[i], other, os, canCollide)
+}
+
+function sweepShapeAgainst(
+  b: Body,
+  bs: BodyShape,
+  other: Body,
+  os: BodyShape,
+  canCollide: (a: BodyShape, b: BodyShape) => boolean,
+): void {
+  if (!canCollide(bs, os)) return
   coreHit = false
-  timeOfImpact(b, other)
+  timeOfImpact(b, bs, other, os)
   const t = search[IMPACT]
   if (t < search[EARLIEST]) {
     search[EARLIEST] = t
     hitBody = other.type === DYNAMIC && other.awake ? other : null
-    coreStop = coreHit && other.type === STATIC ? other : null
+    coreStop = coreHit && other.type === STATIC ? os : null
   }
 }
 
@@ -236,8 +251,8 @@ function sweepAgainst(b: Body, other: Body, canCollide: (a: Body, b: Body) => bo
 function sweepBody(
   b: Body,
   broadPhase: BroadPhase,
-  bodies: Map<number, Body>,
-  canCollide: (a: Body, b: Body) => boolean,
+  shapes: Map<number, BodyShape>,
+  canCollide: (a: BodyShape, b: BodyShape) => boolean,
 ): void {
   const r = b.maxExtent
   const minX = Math.min(b.c0x, b.cx) - r
@@ -253,7 +268,7 @@ function sweepBody(
   hitBody = null
   coreStop = null
   for (let k = 0; k < n; k++) {
-    const other = bodies.get(candidates.ids[k])
+    const other = shapes.get(candidates.ids[k])
     if (other !== undefined) sweepAgainst(b, other, canCollide)
   }
   if (b.bullet) {
@@ -262,7 +277,8 @@ function sweepBody(
       const ro = other.maxExtent
       if (Math.min(other.c0x, other.cx) - ro > maxX || Math.max(other.c0x, other.cx) + ro < minX) continue
       if (Math.min(other.c0y, other.cy) - ro > maxY || Math.max(other.c0y, other.cy) + ro < minY) continue
-      sweepAgainst(b, other, canCollide)
+      const otherShapes = other.shapes
+      for (let j = 0; j < otherShapes.length; j++) sweepAgainst(b, otherShapes[j], canCollide)
     }
   }
   finishSweep(b)
@@ -287,11 +303,11 @@ function finishSweep(b: Body): void {
   sweep[FRACTION] = minT
   advanceTo(b)
   if (hitBody !== null) advanceTo(hitBody)
-  const other = coreStop
-  if (other === null) return
+  const stop = coreStop
+  if (stop === null) return
   sweep[FRACTION] = 1
-  poseAt(other)
-  const n = transformVertices(other.shape, verticesB)
+  poseAt(stop.body)
+  const n = transformVertices(stop.shape, verticesB)
   let nx = b.cx - verticesB[0]
   let ny = b.cy - verticesB[1]
   if (n > 1) {

@@ -6,8 +6,11 @@
  * u32 FNV-1a checksum of the payload, then the payload. Truncated, corrupted or other-version
  * bytes throw a WorldLoadError naming what is wrong; nothing half-built is returned.
  */
-/** Bumped whenever the payload layout changes. */
-export const SAVE_FORMAT_VERSION = 1
+/**
+ * Bumped whenever the payload layout changes. 2: shapes are saved per body with their own ids,
+ * material, filter and flags, and contacts name their shapes (compound bodies, issue 27).
+ */
+export const SAVE_FORMAT_VERSION = 2
 const MAGIC = 0x57434e43 // "CNCW" little-endian
 /** Bytes before the payload. */
 export const HEADER_BYTES = 16

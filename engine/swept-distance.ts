@@ -130,11 +130,11 @@ function boundaryDistance(p: Float64Array, pn: number, q: Float64Array, qn: numb
 }
 
 /**
- * Signed distance between the shapes of a and b at sweep fraction sweep[FRACTION] (negative when
+ * Signed distance between shape A of body a and shape B of body b at sweep fraction sweep[FRACTION] (negative when
  * overlapping), into sweep[DISTANCE]. With sweep[CORE] > 0, body a is replaced by its core: a circle of
  * that radius at its centre of mass.
  */
-export function sweptDistance(a: Body, b: Body): void {
+export function sweptDistance(a: Body, shapeA: Shape, b: Body, shapeB: Shape): void {
   const core = sweep[CORE]
   poseAt(a)
   let na: number
@@ -145,12 +145,12 @@ export function sweptDistance(a: Body, b: Body): void {
     na = 1
     ra = core
   } else {
-    na = transformVertices(a.shape, verticesA)
-    ra = a.shape.radius
+    na = transformVertices(shapeA, verticesA)
+    ra = shapeA.radius
   }
   poseAt(b)
-  const nb = transformVertices(b.shape, verticesB)
-  const rb = b.shape.radius
+  const nb = transformVertices(shapeB, verticesB)
+  const rb = shapeB.radius
   if (na === 1 && nb === 1) {
     const dx = verticesB[0] - verticesA[0]
     const dy = verticesB[1] - verticesA[1]

@@ -5,6 +5,7 @@
  * a player's command) can never put a NaN, an infinity or a dangling id into the simulation.
  */
 import { Body, DYNAMIC, STATIC, updateMassData } from './body.ts'
+import { BodyShape } from './body-shape.ts'
 import { limitBodyVelocity } from './body-state.ts'
 import { MAX_ROTATION, STEP_SECONDS } from './constants.ts'
 import { angle as checkAngle, position as checkPosition, finite, finiteVec, inRange } from './def-checks.ts'
@@ -16,11 +17,15 @@ import type {
   BodyDef,
   BodyId,
   BodyType,
+  CompoundBodyDef,
   ContactInfo,
+  Filter,
   JointDef,
   JointId,
   JointInfo,
   JointReaction,
+  ShapeDef,
+  ShapeId,
 } from './types.ts'
 import { WorldStore } from './world-store.ts'
 
@@ -35,7 +40,7 @@ export const POSE_STRIDE = 6
 const SHAPE_TYPES: readonly string[] = ['circle', 'polygon', 'capsule', 'segment']
 
 function checkShape(shape: Shape): Shape {
-  if (shape === null || typeof shape !== 'object' || !SHAPE_TYPES.includes(shape.type)) {
+  if (shape === null || typeof shape !== 'object' || !SHAPE_TYPES.includes(shape?.type)) {
     throw new RangeError('body shape must be made by circle(), box(), polygon(), capsule() or segment()')
   }
   return shape
@@ -58,22 +63,24 @@ export class WorldApi extends WorldStore {
     return this.bodies.length
   }
 
-  /** Creates a body; ids are handed out 1, 2, 3... and never reused. Throws on an invalid definition. */
-  createBody(def: BodyDef): BodyId {
+  /**
+   * Creates a body with its shapes (`shape`, or `shapes` in order); body ids are handed out 1, 2,
+   * 3... and shape ids likewise, never reused. Throws on an invalid definition.
+   */
+  createBody(def: BodyDef | CompoundBodyDef): BodyId {
     this.revision++
+    const shapeDefs = bodyShapeDefs(def)
     const typeIndex = BODY_TYPES.indexOf(def.type ?? 'dynamic')
     if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${def.type}`)
-    const body = new Body(this.nextBodyId, typeIndex, checkShape(def.shape))
-    if (typeIndex === DYNAMIC && def.shape.type === 'segment') {
+    const body = new Body(this.nextBodyId, typeIndex)
+    const shapes = shapeDefs.map((sd, i) => buildShape(sd, this.nextShapeId + i, body, def))
+    if (typeIndex === DYNAMIC && !shapes.some((s) => s.shape.type !== 'segment')) {
       throw new RangeError(
-        'a dynamic body needs a shape with mass: a segment has none (use it on static or kinematic bodies)',
+        'a dynamic body needs a shape with mass: a segment has none (use it on static or kinematic bodies, or add a shape with area)',
       )
     }
     const position = checkPosition('position', def.position ?? { x: 0, y: 0 })
     const angle = checkAngle('angle', def.angle ?? 0)
-    body.density = inRange('density', def.density ?? 1, 1e-6, 1e6)
-    body.friction = inRange('friction', def.friction ?? 0.6, 0, 100)
-    body.restitution = inRange('restitution', def.restitution ?? 0, 0, 1)
     body.linearDamping = inRange('linearDamping', def.linearDamping ?? 0, 0, 1e6)
     body.angularDamping = inRange('angularDamping', def.angularDamping ?? 0, 0, 1e6)
     body.gravityScale = inRange('gravityScale', def.gravityScale ?? 1, -1e3, 1e3)
@@ -81,6 +88,8 @@ export class WorldApi extends WorldStore {
     body.enableSleep = def.enableSleep !== false
     body.fixedRotation = def.fixedRotation === true
     this.nextBodyId++
+    this.nextShapeId += shapes.length
+    for (const s of shapes) body.shapes.push(s)
     updateMassData(body)
     body.x = position.x
     body.y = position.y
@@ -98,8 +107,110 @@ export class WorldApi extends WorldStore {
     body.awake = typeIndex !== STATIC && def.awake !== false
     this.bodies.push(body)
     this.bodyMap.set(body.id, body)
-    this.createProxy(body)
+    for (const s of shapes) {
+      this.shapeMap.set(s.id, s)
+      this.createProxy(s)
+    }
     return body.id
+  }
+
+  /**
+   * Attaches a shape to a body and returns its id (handed out after every id so far, never
+   * reused). The body's mass, centre of mass and inertia are recomputed (its origin stays put, and
+   * its centre's velocity follows the body's rotation); the body wakes.
+   */
+  createShape(bodyId: BodyId, def: ShapeDef): ShapeId {
+    this.revision++
+    const body = this.body(bodyId)
+    const s = buildShape(def, this.nextShapeId, body, {})
+    this.nextShapeId++
+    body.shapes.push(s)
+    this.shapeMap.set(s.id, s)
+    this.remass(body)
+    this.createProxy(s)
+    this.islands.wake(body)
+    if (body.type === STATIC) this.wakeTouching(body)
+    return s.id
+  }
+
+  /**
+   * Detaches a shape from its body and destroys its contacts; the body is re-massed and wakes with
+   * everything the shape touched. A dynamic body must keep a shape with mass (a RangeError otherwise).
+   */
+  destroyShape(id: ShapeId): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    const body = s.body
+    if (body.type === DYNAMIC && !body.shapes.some((o) => o !== s && o.shape.type !== 'segment')) {
+      throw new RangeError(
+        `shape ${id} is the last shape with mass of dynamic body ${body.id}; destroy the body instead`,
+      )
+    }
+    this.destroyShapeContacts(s)
+    this.broadPhase.destroyProxy(s.proxy)
+    s.proxy = -1
+    body.shapes.splice(body.shapes.indexOf(s), 1)
+    this.shapeMap.delete(id)
+    this.remass(body)
+    this.islands.wake(body)
+  }
+
+  /** The ids of a body's shapes, in creation order. */
+  bodyShapes(bodyId: BodyId): ShapeId[] {
+    return this.body(bodyId).shapes.map((s) => s.id)
+  }
+
+  /** Whether a shape with this id exists. */
+  hasShape(id: ShapeId): boolean {
+    return this.shapeMap.has(id)
+  }
+
+  /** The body a shape is attached to. */
+  getShapeBody(id: ShapeId): BodyId {
+    return this.bodyShape(id).body.id
+  }
+
+  /** A shape's geometry (shared, immutable), in its body's frame. */
+  getShapeGeometry(id: ShapeId): Shape {
+    return this.bodyShape(id).shape
+  }
+
+  /** A shape's collision filter (a copy). */
+  getFilter(id: ShapeId): Filter {
+    const s = this.bodyShape(id)
+    return { categoryBits: s.categoryBits, maskBits: s.maskBits, groupIndex: s.groupIndex }
+  }
+
+  /** Destroys every contact of one shape and wakes the bodies it touched. */
+  protected destroyShapeContacts(s: BodyShape): void {
+    const body = s.body
+    for (const c of body.contacts.slice()) {
+      if (c.shapeA !== s && c.shapeB !== s) continue
+      const other = c.bodyA === body ? c.bodyB : c.bodyA
+      this.unlinkContact(c)
+      this.contactPool.push(c)
+      this.islands.wake(other)
+      this.contactArray.splice(this.contactArray.indexOf(c), 1)
+    }
+  }
+
+  /**
+   * Recomputes a body's mass properties after its shapes changed, keeping the origin in place; the
+   * centre of mass moves, and its velocity becomes that of the body's point now at the centre
+   * (v + w x (new centre - old centre), as Box2D's b2UpdateBodyMassData).
+   */
+  protected remass(body: Body): void {
+    const oldCx = body.cx
+    const oldCy = body.cy
+    updateMassData(body)
+    body.updateCenter()
+    if (body.type !== STATIC) {
+      body.vx -= body.w * (body.cy - oldCy)
+      body.vy += body.w * (body.cx - oldCx)
+      limitBodyVelocity(body, this.maxAngularSpeed)
+    }
+    body.c0x = body.cx
+    body.c0y = body.cy
   }
 
   /** Destroys a body, its contacts and its joints, and wakes everything it touched. */
@@ -112,7 +223,7 @@ export class WorldApi extends WorldStore {
       this.unlinkContact(c)
       this.contactPool.push(c)
       this.islands.wake(other)
-      this.broadPhase.touchProxy(other.proxy)
+      this.touchProxies(other)
     }
     const contacts = this.contactArray
     let kept = 0
@@ -120,7 +231,11 @@ export class WorldApi extends WorldStore {
       if (contacts[i].bodyA !== body && contacts[i].bodyB !== body) contacts[kept++] = contacts[i]
     }
     contacts.length = kept
-    this.broadPhase.destroyProxy(body.proxy)
+    for (const s of body.shapes) {
+      this.broadPhase.destroyProxy(s.proxy)
+      s.proxy = -1
+      this.shapeMap.delete(s.id)
+    }
     this.bodies.splice(this.bodies.indexOf(body), 1)
     this.bodyMap.delete(id)
   }
@@ -170,9 +285,11 @@ export class WorldApi extends WorldStore {
     return BODY_TYPES[this.body(id).type]
   }
 
-  /** The body's shape (shared, immutable). */
+  /** The body's first shape (shared, immutable); bodyShapes() lists them all. */
   getShape(id: BodyId): Shape {
-    return this.body(id).shape
+    const shapes = this.body(id).shapes
+    if (shapes.length === 0) throw new RangeError(`body ${id} has no shapes`)
+    return shapes[0].shape
   }
 
   /** World position of the body origin (m). */
@@ -256,7 +373,7 @@ export class WorldApi extends WorldStore {
     b.s = sin(angle)
     b.updateCenter()
     this.moveProxy(b, false)
-    this.broadPhase.touchProxy(b.proxy)
+    this.touchProxies(b)
     this.islands.wake(b)
     if (b.type === STATIC) this.wakeTouching(b)
   }
@@ -343,7 +460,14 @@ export class WorldApi extends WorldStore {
           tangentImpulse: j === 0 ? c.totalTangentImpulse0 : c.totalTangentImpulse1,
         })
       }
-      out.push({ bodyA: c.bodyA.id, bodyB: c.bodyB.id, normal: { x: c.normalX, y: c.normalY }, points })
+      out.push({
+        bodyA: c.bodyA.id,
+        bodyB: c.bodyB.id,
+        shapeA: c.shapeA.id,
+        shapeB: c.shapeB.id,
+        normal: { x: c.normalX, y: c.normalY },
+        points,
+      })
     }
     return out
   }
@@ -367,10 +491,9 @@ export class WorldApi extends WorldStore {
     joint.bodyB.joints.push(joint)
     this.islands.wake(joint.bodyA)
     this.islands.wake(joint.bodyB)
-    const lo = Math.min(joint.bodyA.id, joint.bodyB.id)
-    const hi = Math.max(joint.bodyA.id, joint.bodyB.id)
-    const contact = this.contactMap.get(lo, hi)
-    if (contact !== undefined && !joint.collideConnected) {
+    if (joint.collideConnected) return
+    for (const contact of joint.bodyA.contacts.slice()) {
+      if (contact.bodyA !== joint.bodyB && contact.bodyB !== joint.bodyB) continue
       this.unlinkContact(contact)
       this.contactArray.splice(this.contactArray.indexOf(contact), 1)
       this.contactPool.push(contact)
@@ -389,8 +512,8 @@ export class WorldApi extends WorldStore {
     this.islands.wake(bodyA)
     this.islands.wake(bodyB)
     // Bodies that may now collide get a contact from the broadphase again.
-    if (bodyA.proxy >= 0) this.broadPhase.touchProxy(bodyA.proxy)
-    if (bodyB.proxy >= 0) this.broadPhase.touchProxy(bodyB.proxy)
+    this.touchProxies(bodyA)
+    this.touchProxies(bodyB)
   }
 
   /** Whether a joint with this id exists. */
@@ -426,4 +549,60 @@ export class WorldApi extends WorldStore {
     // Joint impulses accumulate per sub-step, so force = impulse / h.
     return jointReaction(this.joint(id), this.settings.subSteps / STEP_SECONDS)
   }
+}
+
+/** The shape definitions of a body definition: `shapes`, or `shape` as a one-shape list. */
+function bodyShapeDefs(def: BodyDef | CompoundBodyDef): ShapeDef[] {
+  if (def === null || typeof def !== 'object') throw new RangeError('body definition must be an object')
+  if ('shapes' in def && def.shapes !== undefined) {
+    if (def.shape !== undefined) throw new RangeError('body definition gives both shape and shapes; give one')
+    if (!Array.isArray(def.shapes) || def.shapes.length === 0 || def.shapes.length > MAX_BODY_SHAPES) {
+      throw new RangeError(`body shapes must be an array of 1 to ${MAX_BODY_SHAPES} shape definitions`)
+    }
+    return def.shapes
+  }
+  return [{ shape: (def as BodyDef).shape }]
+}
+
+/** Most shapes one body definition may give at once (m): 1,024. */
+const MAX_BODY_SHAPES = 1024
+
+/** Builds a validated BodyShape; material the shape definition omits comes from the body's definition. */
+function buildShape(
+  sd: ShapeDef,
+  id: number,
+  body: Body,
+  bodyDef: { density?: number; friction?: number; restitution?: number },
+): BodyShape {
+  if (sd === null || typeof sd !== 'object')
+    throw new RangeError(`shape definition must be an object, got ${sd}`)
+  const s = new BodyShape(id, body, checkShape(sd.shape))
+  s.density = inRange('density', sd.density ?? bodyDef.density ?? 1, 1e-6, 1e6)
+  s.friction = inRange('friction', sd.friction ?? bodyDef.friction ?? 0.6, 0, 100)
+  s.restitution = inRange('restitution', sd.restitution ?? bodyDef.restitution ?? 0, 0, 1)
+  s.rollingResistance = inRange('rollingResistance', sd.rollingResistance ?? 0, 0, 100)
+  s.tangentSpeed = inRange('tangentSpeed', sd.tangentSpeed ?? 0, -1e3, 1e3)
+  if (sd.filter !== undefined) setShapeFilter(s, sd.filter)
+  s.sensor = sd.sensor === true
+  s.enableSensorEvents = sd.enableSensorEvents !== false
+  s.enableContactEvents = sd.enableContactEvents !== false
+  s.enableHitEvents = sd.enableHitEvents === true
+  return s
+}
+
+/** Validates a filter and writes it into a shape (masks as unsigned 32-bit numbers). */
+export function setShapeFilter(s: BodyShape, f: Filter): void {
+  if (f === null || typeof f !== 'object') throw new RangeError(`filter must be an object, got ${f}`)
+  const category = f.categoryBits ?? 1
+  const mask = f.maskBits ?? 0xffffffff
+  const group = f.groupIndex ?? 0
+  if (!Number.isInteger(category) || category < 0 || category > 0xffffffff)
+    throw new RangeError(`filter categoryBits must be an integer in [0, 2^32), got ${category}`)
+  if (!Number.isInteger(mask) || mask < 0 || mask > 0xffffffff)
+    throw new RangeError(`filter maskBits must be an integer in [0, 2^32), got ${mask}`)
+  if (!Number.isInteger(group) || group < -2147483648 || group > 2147483647)
+    throw new RangeError(`filter groupIndex must be an integer in [-2^31, 2^31), got ${group}`)
+  s.categoryBits = category
+  s.maskBits = mask
+  s.groupIndex = group
 }

@@ -2,8 +2,9 @@
  * Saving, loading and hashing a world.
  *
  * The saved bytes hold everything that influences future steps: settings, id counters, every
- * body (shape, material, flags, transform, velocity, sleep timer, step-start pose, fat AABB),
- * every contact with its manifold and accumulated impulses (warm starting), and every joint with
+ * body (damping, flags, transform, velocity, sleep timer, step-start pose) with its shapes (geometry,
+ * material, filter, flags, fat AABB), every contact (by shape ids) with its manifold and accumulated
+ * impulses (warm starting), and every joint with
  * its accumulated impulses. The broadphase tree is rebuilt from the saved fat AABBs: the pairs it
  * reports are sorted and depend only on the boxes, so its shape does not matter. A world loaded
  * from these bytes steps bit-identically to the original. The container (header, checksum) is in
@@ -11,7 +12,8 @@
  *
  * The hash is FNV-1a of the payload: it covers exactly the state that a save captures.
  */
-import { Body, STATIC, updateMassData } from './body.ts'
+import { Body, DYNAMIC, STATIC, updateMassData } from './body.ts'
+import { BodyShape } from './body-shape.ts'
 import { CONTACT_POINT_FIELDS, Contact } from './contact.ts'
 import {
   type ContactStore,
@@ -131,14 +133,18 @@ export const BODY_STATE_FIELDS = [
   'q0c',
   'q0s',
 ] as const
-/** Body material fields in saved order (after the shape). */
-export const BODY_MATERIAL_FIELDS = [
+/** Body material fields in saved order (after the type). */
+export const BODY_MATERIAL_FIELDS = ['linearDamping', 'angularDamping', 'gravityScale'] as const
+/** Shape fields in saved order (after the geometry). */
+export const SHAPE_FIELDS = [
   'density',
   'friction',
   'restitution',
-  'linearDamping',
-  'angularDamping',
-  'gravityScale',
+  'rollingResistance',
+  'tangentSpeed',
+  'categoryBits',
+  'maskBits',
+  'groupIndex',
 ] as const
 /** Contact point fields in saved order, for point 0 and point 1. */
 export const POINT_FIELDS = [
@@ -181,19 +187,15 @@ export const JOINT_FIELDS = [
  * call that V8 did not inline was a heap number each (about 3 KB per hash of a 100-body pile).
  */
 
-/** Writes a body's definition and state (fat AABB comes separately). */
+/** Writes a body's definition and state (its shapes come after it). */
 export function writeBody(w: ByteWriter, b: Body): void {
   const n = staged
   w.f64(b.id)
   w.u8(b.type)
-  writeShape(w, b.shape)
-  n[0] = b.density
-  n[1] = b.friction
-  n[2] = b.restitution
-  n[3] = b.linearDamping
-  n[4] = b.angularDamping
-  n[5] = b.gravityScale
-  w.f64s(n, 0, 6)
+  n[0] = b.linearDamping
+  n[1] = b.angularDamping
+  n[2] = b.gravityScale
+  w.f64s(n, 0, 3)
   w.u8((b.bullet ? 1 : 0) | (b.enableSleep ? 2 : 0) | (b.fixedRotation ? 4 : 0) | (b.awake ? 8 : 0))
   n[0] = b.x
   n[1] = b.y
@@ -212,12 +214,47 @@ export function writeBody(w: ByteWriter, b: Body): void {
   w.f64s(n, 0, 14)
 }
 
-/** Reads a body written by writeBody (mass properties are recomputed by the caller). */
+/** Writes a shape on a body (its fat AABB comes separately). */
+export function writeBodyShape(w: ByteWriter, s: BodyShape): void {
+  const n = staged
+  w.f64(s.id)
+  writeShape(w, s.shape)
+  n[0] = s.density
+  n[1] = s.friction
+  n[2] = s.restitution
+  n[3] = s.rollingResistance
+  n[4] = s.tangentSpeed
+  n[5] = s.categoryBits
+  n[6] = s.maskBits
+  n[7] = s.groupIndex
+  w.f64s(n, 0, 8)
+  w.u8(
+    (s.sensor ? 1 : 0) |
+      (s.enableSensorEvents ? 2 : 0) |
+      (s.enableContactEvents ? 4 : 0) |
+      (s.enableHitEvents ? 8 : 0),
+  )
+}
+
+/** Reads a shape written by writeBodyShape, for `body`. */
+function readBodyShape(r: ByteReader, body: Body): BodyShape {
+  const id = r.num('shape id')
+  const s = new BodyShape(id, body, readShape(r))
+  for (const f of SHAPE_FIELDS) s[f] = r.num(`shape ${id} ${f}`)
+  const flags = r.u8('shape flags')
+  s.sensor = (flags & 1) !== 0
+  s.enableSensorEvents = (flags & 2) !== 0
+  s.enableContactEvents = (flags & 4) !== 0
+  s.enableHitEvents = (flags & 8) !== 0
+  return s
+}
+
+/** Reads a body written by writeBody (its shapes and mass properties are added by the caller). */
 function readBody(r: ByteReader): Body {
   const id = r.num('body id')
   const type = r.u8('body type')
   if (type > 2) throw new WorldLoadError(`saved world has body ${id} of unknown type ${type}`)
-  const body = new Body(id, type, readShape(r))
+  const body = new Body(id, type)
   for (const f of BODY_MATERIAL_FIELDS) body[f] = r.num(`body ${id} ${f}`)
   const flags = r.u8('body flags')
   body.bullet = (flags & 1) !== 0
@@ -228,13 +265,13 @@ function readBody(r: ByteReader): Body {
   return body
 }
 
-/** Writes a contact (bodies by id). */
+/** Writes a contact (shapes by id). */
 export function writeContact(w: ByteWriter, c: Contact): void {
   // The record holds the normal and each point's fields in save order (contact-record.ts).
   const d = c.store.data
   const o = c.base
-  w.f64(c.bodyA.id)
-  w.f64(c.bodyB.id)
+  w.f64(c.shapeA.id)
+  w.f64(c.shapeB.id)
   w.u8(c.touching ? 1 : 0)
   w.u8(c.pointCount)
   w.f64s(d, o + NORMAL_X, 2)
@@ -243,11 +280,17 @@ export function writeContact(w: ByteWriter, c: Contact): void {
 }
 
 /** Reads a contact written by writeContact. */
-function readContact(r: ByteReader, lookup: (id: number) => Body, store: ContactStore): Contact {
-  const a = lookup(r.num('contact body A'))
-  const b = lookup(r.num('contact body B'))
+function readContact(r: ByteReader, shapes: Map<number, BodyShape>, store: ContactStore): Contact {
+  const idA = r.num('contact shape A')
+  const idB = r.num('contact shape B')
+  const a = shapes.get(idA)
+  const b = shapes.get(idB)
+  if (a === undefined || b === undefined)
+    throw new WorldLoadError(`saved world has a contact of missing shape ${a === undefined ? idA : idB}`)
   if (a.id >= b.id)
-    throw new WorldLoadError(`saved world has a contact with bodies out of order (${a.id}, ${b.id})`)
+    throw new WorldLoadError(`saved world has a contact with shapes out of order (${a.id}, ${b.id})`)
+  if (a.body === b.body)
+    throw new WorldLoadError(`saved world has a contact between shapes of one body ${a.body.id}`)
   const c = new Contact(a, b, store)
   c.touching = r.u8('contact touching') === 1
   c.pointCount = r.u8('contact point count')
@@ -322,11 +365,17 @@ function writeWorld(w: ByteWriter, world: WorldStore): void {
   w.f64(world.tickCount)
   w.f64(world.nextBodyId)
   w.f64(world.nextJointId)
+  w.f64(world.nextShapeId)
   w.u32(world.bodies.length)
   for (const b of world.bodies) {
     writeBody(w, b)
-    world.broadPhase.getFatAABB(b.proxy, fatAABB)
-    w.f64s(fatAABB, 0, 4)
+    const shapes = b.shapes
+    w.u32(shapes.length)
+    for (let i = 0; i < shapes.length; i++) {
+      writeBodyShape(w, shapes[i])
+      world.broadPhase.getFatAABB(shapes[i].proxy, fatAABB)
+      w.f64s(fatAABB, 0, 4)
+    }
   }
   w.u32(world.contactArray.length)
   for (const c of world.contactArray) writeContact(w, c)
@@ -372,13 +421,14 @@ export function loadWorldState<T extends WorldStore>(
   world.tickCount = r.num('tick')
   world.nextBodyId = r.num('next body id')
   world.nextJointId = r.num('next joint id')
+  world.nextShapeId = r.num('next shape id')
   readBodies(r, world)
   const lookup = (id: number): Body => {
     const b = id === 0 ? world.ground : world.bodyMap.get(id)
     if (b === undefined) throw new WorldLoadError(`saved world refers to missing body ${id}`)
     return b
   }
-  readContacts(r, world, lookup)
+  readContacts(r, world)
   readJoints(r, world, lookup)
   r.finish()
   return world
@@ -387,32 +437,52 @@ export function loadWorldState<T extends WorldStore>(
 function readBodies(r: ByteReader, world: WorldStore): void {
   const count = r.u32('body count')
   let lastId = 0
+  let lastShapeId = 0
   for (let i = 0; i < count; i++) {
     const b = readBody(r)
     if (!(b.id > lastId) || b.id >= world.nextBodyId || !Number.isInteger(b.id)) {
       throw new WorldLoadError(`saved world has an invalid or out-of-order body id ${b.id}`)
     }
     lastId = b.id
+    const shapeCount = r.u32('shape count')
+    for (let k = 0; k < shapeCount; k++) {
+      const s = readBodyShape(r, b)
+      if (!(s.id > lastShapeId) || s.id >= world.nextShapeId || !Number.isInteger(s.id)) {
+        throw new WorldLoadError(`saved world has an invalid or out-of-order shape id ${s.id}`)
+      }
+      lastShapeId = s.id
+      const box = [r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB')]
+      s.proxy = world.broadPhase.createProxyWithFatAABB(
+        box[0],
+        box[1],
+        box[2],
+        box[3],
+        s.id,
+        b.type === STATIC,
+      )
+      // Every proxy is queried at the next step; pairs that already have a contact are skipped.
+      world.broadPhase.touchProxy(s.proxy)
+      b.shapes.push(s)
+      world.shapeMap.set(s.id, s)
+    }
+    if (b.type === DYNAMIC && !b.shapes.some((s) => s.shape.type !== 'segment'))
+      throw new WorldLoadError(`saved world has dynamic body ${b.id} without a shape with mass`)
     updateMassData(b)
-    const box = [r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB')]
-    b.proxy = world.broadPhase.createProxyWithFatAABB(box[0], box[1], box[2], box[3], b.id, b.type === STATIC)
-    // Every proxy is queried at the next step; pairs that already have a contact are skipped.
-    world.broadPhase.touchProxy(b.proxy)
     world.bodies.push(b)
     world.bodyMap.set(b.id, b)
   }
 }
 
-function readContacts(r: ByteReader, world: WorldStore, lookup: (id: number) => Body): void {
+function readContacts(r: ByteReader, world: WorldStore): void {
   const contactCount = r.u32('contact count')
   for (let i = 0; i < contactCount; i++) {
-    const c = readContact(r, lookup, world.contactStore)
-    if (world.contactMap.has(c.bodyA.id, c.bodyB.id))
-      throw new WorldLoadError(`saved world has a duplicate contact ${c.bodyA.id}-${c.bodyB.id}`)
+    const c = readContact(r, world.shapeMap, world.contactStore)
+    if (world.contactMap.has(c.shapeA.id, c.shapeB.id))
+      throw new WorldLoadError(`saved world has a duplicate contact ${c.shapeA.id}-${c.shapeB.id}`)
     if (i > 0 && world.contactArray[i - 1].key > c.key)
       throw new WorldLoadError('saved world has contacts out of order')
     world.contactArray.push(c)
-    world.contactMap.set(c.bodyA.id, c.bodyB.id, c)
+    world.contactMap.set(c.shapeA.id, c.shapeB.id, c)
     c.bodyA.contacts.push(c)
     c.bodyB.contacts.push(c)
   }

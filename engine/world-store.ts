@@ -4,6 +4,7 @@
  * WorldApi (world-api.ts) the public methods; this layer only keeps the containers consistent.
  */
 import { Body, STATIC } from './body.ts'
+import type { BodyShape } from './body-shape.ts'
 import { BroadPhase, PairBuffer } from './broad-phase.ts'
 import { SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
 import type { Contact } from './contact.ts'
@@ -12,7 +13,6 @@ import { IslandBuilder } from './island.ts'
 import type { Joint } from './joint.ts'
 import { PairMap } from './pair-map.ts'
 import { VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
-import { circle } from './shapes.ts'
 import { Softness } from './softness.ts'
 import { StepContext } from './step-context.ts'
 import type { WorldDef } from './types.ts'
@@ -88,13 +88,16 @@ export class WorldStore {
   revision = 0
   nextBodyId = 1
   nextJointId = 1
+  nextShapeId = 1
 
   /** Bodies in ascending id order. */
   readonly bodies: Body[] = []
   readonly bodyMap = new Map<number, Body>()
+  /** Every body's shapes by id. */
+  readonly shapeMap = new Map<number, BodyShape>()
   /** Contacts in ascending pair-key order. */
   readonly contactArray: Contact[] = []
-  /** Contacts by body-id pair (lower id first). */
+  /** Contacts by shape-id pair (lower id first). */
   readonly contactMap = new PairMap<Contact>()
   /** The contacts' numbers (contact-record.ts). */
   readonly contactStore = new ContactStore()
@@ -104,7 +107,7 @@ export class WorldStore {
   readonly jointList: Joint[] = []
   readonly jointMap = new Map<number, Joint>()
   /** The fixed world frame that joints with `bodyA: null` attach to (id 0, never in the broadphase). */
-  readonly ground = new Body(0, STATIC, circle(1))
+  readonly ground = new Body(0, STATIC)
 
   // Solver sets of the current step, in id order
   protected readonly awake: Body[] = []
@@ -153,9 +156,10 @@ export class WorldStore {
     ctx.columnStiffness.set(contactHertz, s.contactDampingRatio, h)
   }
 
-  /** Computes a body's tight AABB (plus the speculative margin for moving bodies) into `aabb`. */
-  protected computeAABB(b: Body, margin: number): void {
-    const shape = b.shape
+  /** Computes a shape's tight AABB on its body (plus the speculative margin for moving bodies) into `aabb`. */
+  protected computeAABB(bs: BodyShape, margin: number): void {
+    const b = bs.body
+    const shape = bs.shape
     const out = this.aabb
     if (shape.type === 'circle') {
       const r = shape.radius + margin
@@ -177,7 +181,7 @@ export class WorldStore {
     let minY = Number.POSITIVE_INFINITY
     let maxX = Number.NEGATIVE_INFINITY
     let maxY = Number.NEGATIVE_INFINITY
-    const g = b.geometry
+    const g = bs.geometry
     const bx = b.x
     const by = b.y
     const c = b.c
@@ -200,29 +204,39 @@ export class WorldStore {
     out[3] = maxY + reach
   }
 
-  /** Adds a body's proxy to the broadphase. */
-  protected createProxy(b: Body): void {
-    const isStatic = b.type === STATIC
-    this.computeAABB(b, isStatic ? 0 : SPECULATIVE_DISTANCE)
+  /** Adds a shape's proxy to the broadphase. */
+  protected createProxy(bs: BodyShape): void {
+    const isStatic = bs.body.type === STATIC
+    this.computeAABB(bs, isStatic ? 0 : SPECULATIVE_DISTANCE)
     const a = this.aabb
-    b.proxy = this.broadPhase.createProxy(a[0], a[1], a[2], a[3], b.id, isStatic)
+    bs.proxy = this.broadPhase.createProxy(a[0], a[1], a[2], a[3], bs.id, isStatic)
   }
 
   /**
-   * Updates a body's proxy after it moved; enlarged proxies are paired at the next step. After a
-   * step (`predict`), the fat AABB also reaches ahead along the step's displacement.
+   * Updates the proxies of a body's shapes after it moved; enlarged proxies are paired at the next
+   * step. After a step (`predict`), the fat AABBs also reach ahead along the step's displacement.
    */
   protected moveProxy(b: Body, predict: boolean): void {
-    this.computeAABB(b, b.type === STATIC ? 0 : SPECULATIVE_DISTANCE)
-    const a = this.aabb
-    a[4] = predict ? b.cx - b.c0x : 0
-    a[5] = predict ? b.cy - b.c0y : 0
-    this.broadPhase.moveProxyPredicted(b.proxy, a)
+    const shapes = b.shapes
+    const margin = b.type === STATIC ? 0 : SPECULATIVE_DISTANCE
+    for (let i = 0; i < shapes.length; i++) {
+      const bs = shapes[i]
+      this.computeAABB(bs, margin)
+      const a = this.aabb
+      a[4] = predict ? b.cx - b.c0x : 0
+      a[5] = predict ? b.cy - b.c0y : 0
+      this.broadPhase.moveProxyPredicted(bs.proxy, a)
+    }
+  }
+
+  /** Marks every proxy of a body for pairing at the next step. */
+  protected touchProxies(b: Body): void {
+    for (const bs of b.shapes) if (bs.proxy >= 0) this.broadPhase.touchProxy(bs.proxy)
   }
 
   /** Removes a contact from the pair map and from both bodies' lists (not from `contacts`). */
   protected unlinkContact(c: Contact): void {
-    this.contactMap.delete(c.bodyA.id, c.bodyB.id)
+    this.contactMap.delete(c.shapeA.id, c.shapeB.id)
     removeItem(c.bodyA.contacts, c)
     removeItem(c.bodyB.contacts, c)
   }
@@ -232,6 +246,13 @@ export class WorldStore {
     const b = this.bodyMap.get(id)
     if (b === undefined) throw new RangeError(`no body with id ${id}`)
     return b
+  }
+
+  /** A shape by id, or a RangeError naming the id. */
+  protected bodyShape(id: number): BodyShape {
+    const s = this.shapeMap.get(id)
+    if (s === undefined) throw new RangeError(`no shape with id ${id}`)
+    return s
   }
 
   /** A joint by id, or a RangeError naming the id. */

@@ -28,7 +28,8 @@
  * joints by id; maps are used only for lookups by id, never iterated. Nothing allocates per step
  * once the arrays have grown.
  */
-import { type Body, DYNAMIC, STATIC } from './body.ts'
+import { DYNAMIC, STATIC } from './body.ts'
+import { type BodyShape, shouldFilterCollide } from './body-shape.ts'
 import {
   integratePositions,
   integrateVelocities,
@@ -123,13 +124,13 @@ export class World extends WorldApi {
       const idA = pairs.a[i]
       const idB = pairs.b[i]
       if (this.contactMap.has(idA, idB)) continue
-      const a = this.bodyMap.get(idA)!
-      const b = this.bodyMap.get(idB)!
-      if (!shouldCollide(a, b)) continue
-      const contact = this.contactPool.pop()?.reset(a, b) ?? new Contact(a, b, this.contactStore)
+      const sa = this.shapeMap.get(idA)!
+      const sb = this.shapeMap.get(idB)!
+      if (!shouldCollide(sa, sb)) continue
+      const contact = this.contactPool.pop()?.reset(sa, sb) ?? new Contact(sa, sb, this.contactStore)
       this.contactMap.set(idA, idB, contact)
-      a.contacts.push(contact)
-      b.contacts.push(contact)
+      sa.body.contacts.push(contact)
+      sb.body.contacts.push(contact)
       fresh[freshCount++] = contact
     }
     if (freshCount > 0) mergeContacts(this.contactArray, fresh, freshCount)
@@ -158,7 +159,7 @@ export class World extends WorldApi {
         contacts[kept++] = c
         continue
       }
-      if (!this.broadPhase.testOverlap(a.proxy, b.proxy)) {
+      if (!this.broadPhase.testOverlap(c.shapeA.proxy, c.shapeB.proxy)) {
         this.unlinkContact(c)
         this.contactPool.push(c)
         continue
@@ -345,7 +346,7 @@ export class World extends WorldApi {
   /** Time of impact for fast bodies and bullets (when continuous collision is on). */
   private solveContinuous(): void {
     if (!this.settings.enableContinuous) return
-    solveContinuous(this.awake, this.awakeCount, this.broadPhase, this.bodyMap, shouldCollide)
+    solveContinuous(this.awake, this.awakeCount, this.broadPhase, this.shapeMap, shouldCollide)
   }
 
   /** Puts islands to sleep that rested long enough (when sleeping is on). */
@@ -378,9 +379,16 @@ export function loadWorld(bytes: Uint8Array): World {
   return loadWorldState(bytes, (settings) => new World(settings))
 }
 
-/** Whether two bodies should get a contact: one must be dynamic, and no joint between them may forbid it. */
-function shouldCollide(a: Body, b: Body): boolean {
+/**
+ * Whether two shapes should get a contact: they are on different bodies, one of which is dynamic;
+ * neither is a sensor; their filters agree (Box2D's rule); and no joint between the bodies forbids it.
+ */
+function shouldCollide(sa: BodyShape, sb: BodyShape): boolean {
+  const a = sa.body
+  const b = sb.body
+  if (a === b) return false
   if (a.type !== DYNAMIC && b.type !== DYNAMIC) return false
+  if (sa.sensor || sb.sensor || !shouldFilterCollide(sa, sb)) return false
   const joints = a.joints.length < b.joints.length ? a.joints : b.joints
   for (let i = 0; i < joints.length; i++) {
     const j: Joint = joints[i]

@@ -18,12 +18,14 @@ import {
   type BodyId,
   box,
   buildScene,
+  capsule,
   circle,
   createWorld,
   type JointId,
   Prng,
   pileScene,
   polygon,
+  segment,
   type Vec2,
   type World,
 } from '../../engine/index.ts'
@@ -88,6 +90,55 @@ class RoomSchedule {
   }
 }
 
+/**
+ * 150 compound bodies (dumbbells of two discs on a bar, capsules with a fin, rounded triangles with
+ * a ball on top) in a V of static segments with walls, sleeping off: several manifolds per body
+ * pair, every pair of kinds.
+ */
+function buildCompoundPile(world: World): void {
+  world.createBody({
+    type: 'static',
+    shapes: [
+      { shape: segment({ x: -12, y: 4 }, { x: 0, y: 0 }) },
+      { shape: segment({ x: 0, y: 0 }, { x: 12, y: 4 }) },
+      { shape: box(0.25, 10, { x: -12, y: 12 }) },
+      { shape: box(0.25, 10, { x: 12, y: 12 }) },
+    ],
+  })
+  const prng = new Prng(3)
+  for (let i = 0; i < 150; i++) {
+    const position = { x: prng.range(-9, 9), y: 5 + 0.6 * i }
+    const angle = prng.range(-3, 3)
+    const kind = i % 3
+    const shapes =
+      kind === 0
+        ? [
+            { shape: circle(0.3, { x: -0.6, y: 0 }) },
+            { shape: box(0.6, 0.1) },
+            { shape: circle(0.3, { x: 0.6, y: 0 }) },
+          ]
+        : kind === 1
+          ? [
+              { shape: capsule({ x: -0.4, y: 0 }, { x: 0.4, y: 0 }, 0.2) },
+              { shape: box(0.08, 0.3, { x: 0, y: 0.3 }, 0.4) },
+            ]
+          : [
+              {
+                shape: polygon(
+                  [
+                    { x: -0.35, y: -0.3 },
+                    { x: 0.35, y: -0.3 },
+                    { x: 0, y: 0.3 },
+                  ],
+                  0.05,
+                ),
+              },
+              { shape: circle(0.18, { x: 0, y: 0.5 }) },
+            ]
+    world.createBody({ position, angle, shapes })
+  }
+}
+
 /** Steps between the room's regrabs in the warm-up (the measured rounds regrab once, first). */
 const REGRAB_STEPS = 600
 
@@ -97,9 +148,11 @@ export class AllocationScene {
   private readonly schedule: RoomSchedule | null
   private tick = 0
 
-  constructor(readonly name: 'pile' | 'room') {
-    this.world = createWorld(name === 'pile' ? { enableSleep: false } : {})
-    if (name === 'pile') {
+  constructor(readonly name: 'pile' | 'room' | 'compound') {
+    this.world = createWorld(name === 'room' ? {} : { enableSleep: false })
+    if (name === 'compound') {
+      buildCompoundPile(this.world)
+    } else if (name === 'pile') {
       buildScene(this.world, pileScene(300))
       for (const [x, height] of [
         [40, 20],

@@ -27,7 +27,7 @@ import { type AllocationResult, measureAllocation } from '../measure-allocation.
  * where every intermediate double is a heap number (the least of the rounds: 25 bytes per step
  * after 6,000 warm-up steps, 19 after 12,000; on main before 2026-11-24, a scavenge in the rounds).
  */
-const PLAN = { pile: [2000, 3000, 3], room: [12000, 2000, 5] } as const
+const PLAN = { pile: [2000, 3000, 3], room: [12000, 2000, 5], compound: [2000, 3000, 3] } as const
 
 /** Bytes per step above which a step counts as allocating. */
 const BOUND = 64
@@ -40,7 +40,7 @@ const BOUND = 64
  * allocation-free is the heap growth (64 bytes per step); with 16 MB a collection needs 1.8 KB per
  * step, so a real allocation still fails the heap-growth bound (and a large one both).
  */
-async function measure(scene: 'pile' | 'room'): Promise<AllocationResult> {
+async function measure(scene: keyof typeof PLAN): Promise<AllocationResult> {
   const [warmup, steps, rounds] = PLAN[scene]
   const result = await measureAllocation({
     resolveDir: dirname(fileURLToPath(import.meta.url)),
@@ -92,6 +92,12 @@ describe('allocation', () => {
   // hash boxed each number it wrote (about 3 KB per hash).
   it('a warm capacity room (awake 100-body pile, 5 mouse-joint drags, spawns) steps 5 x 2000 times without heap growth', async () => {
     const result = await measure('room')
+    expect(result.facts.contacts).toBeGreaterThan(100)
+    expectNoAllocation(result)
+  }, 240_000)
+
+  it('a warm pile of compound bodies (dumbbells, capsules, rounded polygons) on segments steps 3 x 3000 times without heap growth', async () => {
+    const result = await measure('compound')
     expect(result.facts.contacts).toBeGreaterThan(100)
     expectNoAllocation(result)
   }, 240_000)
