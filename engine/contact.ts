@@ -16,8 +16,11 @@ import {
   ANCHOR_AY,
   ANCHOR_BX,
   ANCHOR_BY,
+  APPROACH,
   type ContactStore,
   FRICTION,
+  HIT_X,
+  HIT_Y,
   ID,
   NORMAL_IMPULSE,
   NORMAL_X,
@@ -33,6 +36,7 @@ import {
   TOTAL_TANGENT,
 } from './contact-record.ts'
 import { Manifold, type ManifoldPoint } from './manifold.ts'
+import type { Shape } from './shapes.ts'
 
 /** Multiplier that makes the pair key (a * KEY_SCALE + b) unique for shape ids below 2^26. */
 export const KEY_SCALE = 67108864
@@ -66,8 +70,21 @@ export class Contact {
   shapeB: BodyShape
   bodyA: Body
   bodyB: Body
+  /**
+   * The shapes' proxies, geometries and narrowphase layouts, copied here when the pair is made
+   * (they never change during a shape's life): the collide loop then reads only the contact and
+   * its bodies, as it did when a body had one shape, not the shape objects (a cache miss each).
+   */
+  proxyA: number
+  proxyB: number
+  geomA: Shape
+  geomB: Shape
+  layoutA: Float64Array
+  layoutB: Float64Array
   touching = false
   pointCount = 0
+  /** Which events the pair reports: CONTACT_EVENTS | HIT_EVENTS (either shape asking is enough). */
+  events = 0
   /** The store holding this contact's record, and the record's offset in store.data. */
   readonly store: ContactStore
   readonly base: number
@@ -113,6 +130,12 @@ export class Contact {
     this.shapeB = shapeB
     this.bodyA = shapeA.body
     this.bodyB = shapeB.body
+    this.proxyA = shapeA.proxy
+    this.proxyB = shapeB.proxy
+    this.geomA = shapeA.shape
+    this.geomB = shapeB.shape
+    this.layoutA = shapeA.geometry
+    this.layoutB = shapeB.geometry
     this.store = store
     this.base = store.allocate()
     mixMaterials(this)
@@ -125,6 +148,12 @@ export class Contact {
     this.shapeB = shapeB
     this.bodyA = shapeA.body
     this.bodyB = shapeB.body
+    this.proxyA = shapeA.proxy
+    this.proxyB = shapeB.proxy
+    this.geomA = shapeA.shape
+    this.geomB = shapeB.shape
+    this.layoutA = shapeA.geometry
+    this.layoutB = shapeB.geometry
     this.touching = false
     this.pointCount = 0
     const d = this.store.data
@@ -142,8 +171,21 @@ export class Contact {
   }
 }
 
-/** Sets the pair's friction (geometric mean) and restitution (larger) from its shapes (Box2D's mixing). */
+/** Contact.events bit: begin and end events. */
+export const CONTACT_EVENTS = 1
+/** Contact.events bit: hit events. */
+export const HIT_EVENTS = 2
+
+/**
+ * Sets the pair's friction (geometric mean) and restitution (larger) from its shapes (Box2D's
+ * mixing), and which events it reports.
+ */
 export function mixMaterials(c: Contact): void {
+  const sa = c.shapeA
+  const sb = c.shapeB
+  c.events =
+    (sa.enableContactEvents || sb.enableContactEvents ? CONTACT_EVENTS : 0) |
+    (sa.enableHitEvents || sb.enableHitEvents ? HIT_EVENTS : 0)
   const d = c.store.data
   d[c.base + FRICTION] = Math.sqrt(c.shapeA.friction * c.shapeB.friction)
   d[c.base + RESTITUTION] = Math.max(c.shapeA.restitution, c.shapeB.restitution)
@@ -211,17 +253,15 @@ export function clearContact(c: Contact): void {
 export function updateContact(c: Contact, speculativeDistance: number): boolean {
   const a = c.bodyA
   const b = c.bodyB
-  const sa = c.shapeA
-  const sb = c.shapeB
   collideGeometry(
-    sa.shape,
-    sa.geometry,
+    c.geomA,
+    c.layoutA,
     a.x,
     a.y,
     a.c,
     a.s,
-    sb.shape,
-    sb.geometry,
+    c.geomB,
+    c.layoutB,
     b.x,
     b.y,
     b.c,
@@ -263,4 +303,34 @@ function writePoint(d: Float64Array, p: number, mp: ManifoldPoint, a: Body, b: B
   inherit(mp.id)
   d[p + NORMAL_IMPULSE] = found[0]
   d[p + TANGENT_IMPULSE] = found[1]
+}
+
+/**
+ * Stores the fastest approach speed along the normal among the contact's points, at the bodies'
+ * velocities before the step's solve (m/s, positive when closing), and that point, for hit events.
+ */
+export function measureApproach(c: Contact): void {
+  const a = c.bodyA
+  const b = c.bodyB
+  const d = c.store.data
+  const o = c.base
+  const nx = d[o + NORMAL_X]
+  const ny = d[o + NORMAL_Y]
+  let best = Number.NEGATIVE_INFINITY
+  for (let j = 0; j < c.pointCount; j++) {
+    const p = o + POINT_0 + j * POINT_FIELDS
+    const rax = d[p + ANCHOR_AX]
+    const ray = d[p + ANCHOR_AY]
+    const rbx = d[p + ANCHOR_BX]
+    const rby = d[p + ANCHOR_BY]
+    const dvx = b.vx - b.w * rby - (a.vx - a.w * ray)
+    const dvy = b.vy + b.w * rbx - (a.vy + a.w * rax)
+    const approach = -(dvx * nx + dvy * ny)
+    if (approach > best) {
+      best = approach
+      d[o + HIT_X] = d[p + PX]
+      d[o + HIT_Y] = d[p + PY]
+    }
+  }
+  d[o + APPROACH] = best
 }

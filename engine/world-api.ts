@@ -5,13 +5,14 @@
  * a player's command) can never put a NaN, an infinity or a dangling id into the simulation.
  */
 import { Body, DYNAMIC, STATIC, updateMassData } from './body.ts'
-import { BodyShape } from './body-shape.ts'
+import { BodyShape, shouldFilterCollide } from './body-shape.ts'
 import { limitBodyVelocity } from './body-state.ts'
 import { MAX_ROTATION, STEP_SECONDS } from './constants.ts'
 import { angle as checkAngle, position as checkPosition, finite, finiteVec, inRange } from './def-checks.ts'
 import { JOINT_TYPE_NAMES, type Joint, MOUSE } from './joint.ts'
 import { buildJoint, jointInfo, jointReaction, localPoint } from './joint-defs.ts'
 import { atan2, cos, sin, type Vec2 } from './math.ts'
+import { SensorState } from './sensor.ts'
 import type { Shape } from './shapes.ts'
 import type {
   BodyDef,
@@ -107,10 +108,7 @@ export class WorldApi extends WorldStore {
     body.awake = typeIndex !== STATIC && def.awake !== false
     this.bodies.push(body)
     this.bodyMap.set(body.id, body)
-    for (const s of shapes) {
-      this.shapeMap.set(s.id, s)
-      this.createProxy(s)
-    }
+    for (const s of shapes) this.addShape(s)
     return body.id
   }
 
@@ -125,9 +123,8 @@ export class WorldApi extends WorldStore {
     const s = buildShape(def, this.nextShapeId, body, {})
     this.nextShapeId++
     body.shapes.push(s)
-    this.shapeMap.set(s.id, s)
     this.remass(body)
-    this.createProxy(s)
+    this.addShape(s)
     this.islands.wake(body)
     if (body.type === STATIC) this.wakeTouching(body)
     return s.id
@@ -147,10 +144,8 @@ export class WorldApi extends WorldStore {
       )
     }
     this.destroyShapeContacts(s)
-    this.broadPhase.destroyProxy(s.proxy)
-    s.proxy = -1
+    this.removeShape(s)
     body.shapes.splice(body.shapes.indexOf(s), 1)
-    this.shapeMap.delete(id)
     this.remass(body)
     this.islands.wake(body)
   }
@@ -181,12 +176,53 @@ export class WorldApi extends WorldStore {
     return { categoryBits: s.categoryBits, maskBits: s.maskBits, groupIndex: s.groupIndex }
   }
 
-  /** Destroys every contact of one shape and wakes the bodies it touched. */
-  protected destroyShapeContacts(s: BodyShape): void {
+  /**
+   * Sets a shape's collision filter. Contacts the new filter forbids end, and pairs it allows begin,
+   * at the next step (their events come from that step); the body wakes.
+   */
+  setFilter(id: ShapeId, filter: Filter): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    setShapeFilter(s, filter)
+    this.destroyShapeContacts(s, true)
+    if (s.proxy >= 0) this.broadPhase.touchProxy(s.proxy)
+    this.islands.wake(s.body)
+  }
+
+  /** Registers a new shape: the id map, its proxy, the sensor list, the hit-event count. */
+  private addShape(s: BodyShape): void {
+    this.shapeMap.set(s.id, s)
+    this.createProxy(s)
+    if (s.enableHitEvents) this.hitEventShapes++
+    if (s.sensor) {
+      // Sensors are kept in id order; a new shape has the largest id so far.
+      this.sensors.push(new SensorState(s))
+    }
+  }
+
+  /** Unregisters a shape (its contacts are already gone). */
+  private removeShape(s: BodyShape): void {
+    this.broadPhase.destroyProxy(s.proxy)
+    s.proxy = -1
+    this.shapeMap.delete(s.id)
+    if (s.enableHitEvents) this.hitEventShapes--
+    if (s.sensor) {
+      const k = this.sensors.findIndex((t) => t.shape === s)
+      if (k >= 0) this.sensors.splice(k, 1)
+    }
+  }
+
+  /**
+   * Destroys the contacts of one shape (with `onlyFiltered`, only those its filter now forbids)
+   * and wakes the bodies it touched; touching ones report their end at the next step.
+   */
+  protected destroyShapeContacts(s: BodyShape, onlyFiltered = false): void {
     const body = s.body
     for (const c of body.contacts.slice()) {
       if (c.shapeA !== s && c.shapeB !== s) continue
+      if (onlyFiltered && shouldFilterCollide(c.shapeA, c.shapeB)) continue
       const other = c.bodyA === body ? c.bodyB : c.bodyA
+      this.endContactLater(c)
       this.unlinkContact(c)
       this.contactPool.push(c)
       this.islands.wake(other)
@@ -220,6 +256,7 @@ export class WorldApi extends WorldStore {
     for (const j of body.joints.slice()) this.destroyJoint(j.id)
     for (const c of body.contacts.slice()) {
       const other = c.bodyA === body ? c.bodyB : c.bodyA
+      this.endContactLater(c)
       this.unlinkContact(c)
       this.contactPool.push(c)
       this.islands.wake(other)
@@ -231,11 +268,7 @@ export class WorldApi extends WorldStore {
       if (contacts[i].bodyA !== body && contacts[i].bodyB !== body) contacts[kept++] = contacts[i]
     }
     contacts.length = kept
-    for (const s of body.shapes) {
-      this.broadPhase.destroyProxy(s.proxy)
-      s.proxy = -1
-      this.shapeMap.delete(s.id)
-    }
+    for (const s of body.shapes) this.removeShape(s)
     this.bodies.splice(this.bodies.indexOf(body), 1)
     this.bodyMap.delete(id)
   }
@@ -494,6 +527,7 @@ export class WorldApi extends WorldStore {
     if (joint.collideConnected) return
     for (const contact of joint.bodyA.contacts.slice()) {
       if (contact.bodyA !== joint.bodyB && contact.bodyB !== joint.bodyB) continue
+      this.endContactLater(contact)
       this.unlinkContact(contact)
       this.contactArray.splice(this.contactArray.indexOf(contact), 1)
       this.contactPool.push(contact)

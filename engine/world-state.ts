@@ -32,6 +32,7 @@ import {
   sealSave,
   WorldLoadError,
 } from './save-format.ts'
+import { SensorState } from './sensor.ts'
 import { box, capsule, circle, polygon, type Shape, segment } from './shapes.ts'
 import type { WorldDef } from './types.ts'
 import { type ResolvedWorldDef, resolveWorldDef, SETTINGS_NUMBERS, type WorldStore } from './world-store.ts'
@@ -381,6 +382,13 @@ function writeWorld(w: ByteWriter, world: WorldStore): void {
   for (const c of world.contactArray) writeContact(w, c)
   w.u32(world.jointList.length)
   for (const j of world.jointList) writeJoint(w, j)
+  // What each sensor saw after the last step (the next step's sensor events depend on it).
+  w.u32(world.sensors.length)
+  for (const state of world.sensors) {
+    w.f64(state.shape.id)
+    w.u32(state.count)
+    for (let i = 0; i < state.count; i++) w.f64(state.visitors[i])
+  }
 }
 const fatAABB = new Float64Array(4)
 
@@ -428,8 +436,10 @@ export function loadWorldState<T extends WorldStore>(
     if (b === undefined) throw new WorldLoadError(`saved world refers to missing body ${id}`)
     return b
   }
+  world.sensors.sort((a, b) => a.shape.id - b.shape.id)
   readContacts(r, world)
   readJoints(r, world, lookup)
+  readSensors(r, world)
   r.finish()
   return world
 }
@@ -437,6 +447,7 @@ export function loadWorldState<T extends WorldStore>(
 function readBodies(r: ByteReader, world: WorldStore): void {
   const count = r.u32('body count')
   let lastId = 0
+  // Shape ids rise within a body (a body's shapes are listed in creation order).
   let lastShapeId = 0
   for (let i = 0; i < count; i++) {
     const b = readBody(r)
@@ -447,8 +458,13 @@ function readBodies(r: ByteReader, world: WorldStore): void {
     const shapeCount = r.u32('shape count')
     for (let k = 0; k < shapeCount; k++) {
       const s = readBodyShape(r, b)
-      if (!(s.id > lastShapeId) || s.id >= world.nextShapeId || !Number.isInteger(s.id)) {
-        throw new WorldLoadError(`saved world has an invalid or out-of-order shape id ${s.id}`)
+      if (
+        !(s.id > lastShapeId) ||
+        s.id >= world.nextShapeId ||
+        !Number.isInteger(s.id) ||
+        world.shapeMap.has(s.id)
+      ) {
+        throw new WorldLoadError(`saved world has an invalid, repeated or out-of-order shape id ${s.id}`)
       }
       lastShapeId = s.id
       const box = [r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB')]
@@ -464,7 +480,10 @@ function readBodies(r: ByteReader, world: WorldStore): void {
       world.broadPhase.touchProxy(s.proxy)
       b.shapes.push(s)
       world.shapeMap.set(s.id, s)
+      if (s.enableHitEvents) world.hitEventShapes++
+      if (s.sensor) world.sensors.push(new SensorState(s))
     }
+    lastShapeId = 0
     if (b.type === DYNAMIC && !b.shapes.some((s) => s.shape.type !== 'segment'))
       throw new WorldLoadError(`saved world has dynamic body ${b.id} without a shape with mass`)
     updateMassData(b)
@@ -498,5 +517,26 @@ function readJoints(r: ByteReader, world: WorldStore, lookup: (id: number) => Bo
     world.jointMap.set(j.id, j)
     j.bodyA.joints.push(j)
     j.bodyB.joints.push(j)
+  }
+}
+
+function readSensors(r: ByteReader, world: WorldStore): void {
+  const count = r.u32('sensor count')
+  if (count !== world.sensors.length)
+    throw new WorldLoadError(`saved world lists ${count} sensors for ${world.sensors.length} sensor shapes`)
+  for (const state of world.sensors) {
+    const id = r.num('sensor id')
+    if (id !== state.shape.id)
+      throw new WorldLoadError(`saved world has sensor ${id} where ${state.shape.id} was expected`)
+    const n = r.u32('sensor visitor count')
+    let last = 0
+    for (let i = 0; i < n; i++) {
+      const v = r.num('sensor visitor')
+      if (!(v > last) || !Number.isInteger(v))
+        throw new WorldLoadError(`saved world has sensor ${id} visitor ${v} out of order`)
+      last = v
+      state.visitors[i] = v
+    }
+    state.count = n
   }
 }

@@ -9,10 +9,12 @@ import { BroadPhase, PairBuffer } from './broad-phase.ts'
 import { SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
 import type { Contact } from './contact.ts'
 import { ContactStore } from './contact-record.ts'
+import { EventBuffers } from './events.ts'
 import { IslandBuilder } from './island.ts'
 import type { Joint } from './joint.ts'
 import { PairMap } from './pair-map.ts'
 import { VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
+import type { SensorState } from './sensor.ts'
 import { Softness } from './softness.ts'
 import { StepContext } from './step-context.ts'
 import type { WorldDef } from './types.ts'
@@ -95,6 +97,12 @@ export class WorldStore {
   readonly bodyMap = new Map<number, Body>()
   /** Every body's shapes by id. */
   readonly shapeMap = new Map<number, BodyShape>()
+  /** Sensor shapes and what overlaps them, in shape-id order. */
+  readonly sensors: SensorState[] = []
+  /** The last step's contact and sensor events. */
+  readonly events = new EventBuffers()
+  /** Shapes that asked for hit events (the step looks for hits only when some did). */
+  hitEventShapes = 0
   /** Contacts in ascending pair-key order. */
   readonly contactArray: Contact[] = []
   /** Contacts by shape-id pair (lower id first). */
@@ -232,6 +240,15 @@ export class WorldStore {
   /** Marks every proxy of a body for pairing at the next step. */
   protected touchProxies(b: Body): void {
     for (const bs of b.shapes) if (bs.proxy >= 0) this.broadPhase.touchProxy(bs.proxy)
+  }
+
+  /**
+   * Records the end of a touching contact that the API destroys between steps (a destroyed body or
+   * shape, a changed filter, a joint that forbids the pair): it is reported by the next step.
+   */
+  protected endContactLater(c: Contact): void {
+    if (c.touching && (c.events & 1) !== 0)
+      this.events.addEnd(this.events.pendingEnd, c.shapeA.id, c.shapeB.id)
   }
 
   /** Removes a contact from the pair map and from both bodies' lists (not from `contacts`). */

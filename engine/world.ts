@@ -38,8 +38,25 @@ import {
   STATE_STRIDE,
   stateToBody,
 } from './body-state.ts'
-import { MAX_ROTATION, SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
-import { Contact, clearContact, updateContact } from './contact.ts'
+import { HIT_EVENT_SPEED, MAX_ROTATION, SPECULATIVE_DISTANCE, STEP_SECONDS } from './constants.ts'
+import {
+  CONTACT_EVENTS,
+  Contact,
+  clearContact,
+  HIT_EVENTS,
+  measureApproach,
+  updateContact,
+} from './contact.ts'
+import {
+  APPROACH,
+  HIT_X,
+  HIT_Y,
+  POINT_0,
+  POINT_FIELDS,
+  NORMAL_X as RECORD_NORMAL_X,
+  NORMAL_Y as RECORD_NORMAL_Y,
+  TOTAL_NORMAL,
+} from './contact-record.ts'
 import {
   applyRestitution,
   ContactConstraints,
@@ -49,9 +66,11 @@ import {
   warmStartContacts,
 } from './contact-solver.ts'
 import { solveContinuous } from './continuous.ts'
+import type { ContactEvents, SensorEvents } from './events.ts'
 import { planExtraSweeps } from './extra-sweeps.ts'
 import { type Joint, prepareJoints, solveJoints, warmStartJoints } from './joint.ts'
 import { ByteWriter } from './save-format.ts'
+import { updateSensors } from './sensor.ts'
 import type { WorldDef } from './types.ts'
 import { WorldApi } from './world-api.ts'
 import { hashWorld, loadWorldState, saveWorld } from './world-state.ts'
@@ -62,6 +81,7 @@ export class World extends WorldApi {
   /** Advances the world by exactly one fixed step of 1/60 s. */
   step(): void {
     this.revision++
+    this.events.beginStep()
     this.updatePairs()
     this.collide()
     this.buildSolverSets()
@@ -76,11 +96,24 @@ export class World extends WorldApi {
     }
     this.applyRestitution()
     this.storeImpulses()
+    this.reportHits()
     this.finalizeBodies()
     this.solveContinuous()
     this.updateBroadPhase()
     this.sleepIslands()
+    this.updateSensors()
+    this.events.finishStep()
     this.tickCount++
+  }
+
+  /** The last step's contact events (begin, end, hit), in shape-id order; valid until the next step. */
+  contactEvents(): ContactEvents {
+    return this.events.contactEvents()
+  }
+
+  /** The last step's sensor events (begin, end), in (sensor, visitor) id order; valid until the next step. */
+  sensorEvents(): SensorEvents {
+    return this.events.sensorEvents()
   }
 
   /** Everything that influences future steps, as versioned, checksummed bytes. */
@@ -151,6 +184,7 @@ export class World extends WorldApi {
     let m = 0
     let g = 0
     let woke = false
+    const events = this.events
     for (let i = 0; i < contacts.length; i++) {
       const c = contacts[i]
       const a = c.bodyA
@@ -159,7 +193,10 @@ export class World extends WorldApi {
         contacts[kept++] = c
         continue
       }
-      if (!this.broadPhase.testOverlap(c.shapeA.proxy, c.shapeB.proxy)) {
+      // Begin and end events: the touching flag before this step's narrowphase.
+      const was = c.touching && (c.events & CONTACT_EVENTS) !== 0
+      if (!this.broadPhase.testOverlap(c.proxyA, c.proxyB)) {
+        if (was) events.addEnd(events.end, c.shapeA.id, c.shapeB.id)
         this.unlinkContact(c)
         this.contactPool.push(c)
         continue
@@ -171,8 +208,14 @@ export class World extends WorldApi {
       const dx = b.cx - a.cx
       const dy = b.cy - a.cy
       const reach = a.maxExtent + b.maxExtent + SPECULATIVE_DISTANCE
-      if (dx * dx + dy * dy > 1.0001 * reach * reach) clearContact(c)
-      else if (updateContact(c, SPECULATIVE_DISTANCE)) {
+      if (dx * dx + dy * dy > 1.0001 * reach * reach) {
+        clearContact(c)
+        if (was) events.addEnd(events.end, c.shapeA.id, c.shapeB.id)
+      } else if (updateContact(c, SPECULATIVE_DISTANCE)) {
+        if (c.events !== 0) {
+          if ((c.events & CONTACT_EVENTS) !== 0 && !was) events.addEnd(events.begin, c.shapeA.id, c.shapeB.id)
+          if ((c.events & HIT_EVENTS) !== 0) measureApproach(c)
+        }
         if (!a.awake) {
           this.islands.wake(a)
           woke ||= a.awake
@@ -183,7 +226,7 @@ export class World extends WorldApi {
         }
         if (a.invMass > 0 && b.invMass > 0) active[m++] = c
         else grounded[g++] = c
-      }
+      } else if (was) events.addEnd(events.end, c.shapeA.id, c.shapeB.id)
     }
     contacts.length = kept
     this.collidedActive = woke ? -1 : m
@@ -342,6 +385,44 @@ export class World extends WorldApi {
       b.updateOrigin()
     }
   }
+
+  /**
+   * Hit events: touching contacts that ask for them, closed faster than HIT_EVENT_SPEED at the step
+   * start and pushed this step (Box2D's hit events), in shape-id order.
+   */
+  private reportHits(): void {
+    if (this.hitEventShapes === 0) return
+    const contacts = this.contactArray
+    const events = this.events
+    for (let i = 0; i < contacts.length; i++) {
+      const c = contacts[i]
+      if ((c.events & HIT_EVENTS) === 0 || !c.touching || (!c.bodyA.awake && !c.bodyB.awake)) continue
+      const d = c.store.data
+      const o = c.base
+      if (!(d[o + APPROACH] > HIT_EVENT_SPEED)) continue
+      const pushed =
+        d[o + POINT_0 + TOTAL_NORMAL] > 0 ||
+        (c.pointCount > 1 && d[o + POINT_0 + POINT_FIELDS + TOTAL_NORMAL] > 0)
+      if (!pushed) continue
+      const e = events.hit.next()
+      e.shapeA = c.shapeA.id
+      e.shapeB = c.shapeB.id
+      e.point.x = d[o + HIT_X]
+      e.point.y = d[o + HIT_Y]
+      e.normal.x = d[o + RECORD_NORMAL_X]
+      e.normal.y = d[o + RECORD_NORMAL_Y]
+      e.approachSpeed = d[o + APPROACH]
+    }
+  }
+
+  /** Sensor overlaps and their begin and end events. */
+  private updateSensors(): void {
+    if (this.sensors.length === 0) return
+    updateSensors(this.sensors, this.broadPhase, this.shapeMap, this.events, this.aabb, this.sensorBox)
+  }
+
+  /** The tight AABB of a sensor into `aabb` (a bound method made once: no closure per step). */
+  private readonly sensorBox = (s: BodyShape): void => this.computeAABB(s, 0)
 
   /** Time of impact for fast bodies and bullets (when continuous collision is on). */
   private solveContinuous(): void {

@@ -103,7 +103,14 @@ function buildCompoundPile(world: World): void {
       { shape: segment({ x: 0, y: 0 }, { x: 12, y: 4 }) },
       { shape: box(0.25, 10, { x: -12, y: 12 }) },
       { shape: box(0.25, 10, { x: 12, y: 12 }) },
+      { shape: box(3, 1, { x: -4, y: 3 }), sensor: true },
     ],
+  })
+  world.createBody({
+    type: 'kinematic',
+    position: { x: 4, y: 4 },
+    angularVelocity: 1,
+    shapes: [{ shape: capsule({ x: -2, y: 0 }, { x: 2, y: 0 }, 0.4), sensor: true }],
   })
   const prng = new Prng(3)
   for (let i = 0; i < 150; i++) {
@@ -135,7 +142,7 @@ function buildCompoundPile(world: World): void {
               },
               { shape: circle(0.18, { x: 0, y: 0.5 }) },
             ]
-    world.createBody({ position, angle, shapes })
+    world.createBody({ position, angle, shapes: shapes.map((d) => ({ ...d, enableHitEvents: i % 2 === 0 })) })
   }
 }
 
@@ -147,6 +154,8 @@ export class AllocationScene {
   readonly world: World
   private readonly schedule: RoomSchedule | null
   private tick = 0
+  /** Events read in the compound scene (so the reads cannot be optimized away). */
+  eventCount = 0
 
   constructor(readonly name: 'pile' | 'room' | 'compound') {
     this.world = createWorld(name === 'room' ? {} : { enableSleep: false })
@@ -175,6 +184,12 @@ export class AllocationScene {
   step(): void {
     this.schedule?.drag(this.tick)
     this.world.step()
+    if (this.name === 'compound') {
+      // Read the events as a game would: the arrays and records are the world's, reused.
+      const c = this.world.contactEvents()
+      const s = this.world.sensorEvents()
+      this.eventCount += c.begin.length + c.end.length + c.hit.length + s.begin.length + s.end.length
+    }
     if (this.schedule !== null && this.tick % 60 === 0) this.world.hash()
     this.tick++
   }
@@ -193,7 +208,7 @@ export class AllocationScene {
   }
 
   /** Bodies and contacts now (a real pile has contacts). */
-  counts(): { bodies: number; contacts: number } {
-    return { bodies: this.world.bodyCount, contacts: this.world.contacts().length }
+  counts(): { bodies: number; contacts: number; events: number } {
+    return { bodies: this.world.bodyCount, contacts: this.world.contacts().length, events: this.eventCount }
   }
 }

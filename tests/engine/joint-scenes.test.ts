@@ -176,4 +176,4 @@ describe('determinism with every joint type and a bullet', () => {
   })
 })
 
-const GOLDEN = 767789056
+const GOLDEN = 2289305600
