@@ -64,6 +64,12 @@ export class Body {
   dqc = 1
   dqs = 0
 
+  // Force (N) and torque (N m) applied through the API since the last step; the next step applies
+  // them over its 1/60 s and clears them (Box2D's b2Body_ApplyForce).
+  fx = 0
+  fy = 0
+  torque = 0
+
   // Sleep
   awake = true
   sleepTime = 0

@@ -4,6 +4,7 @@
  */
 
 export {
+  HIT_EVENT_SPEED,
   LINEAR_SLOP,
   MAX_LINEAR_SPEED,
   MAX_POLYGON_VERTICES,
@@ -13,6 +14,13 @@ export {
   SPECULATIVE_DISTANCE,
   STEP_SECONDS,
 } from './constants.ts'
+export type {
+  ContactEvents,
+  ContactHitEvent,
+  ContactTouchEvent,
+  SensorEvent,
+  SensorEvents,
+} from './events.ts'
 export { CHAIN_LINK_LENGTH, CHAIN_TOP, hangingChainScene, ragdollScene } from './joint-stress-scenes.ts'
 export { atan2, cos, PI, sin, TRIG_LIMIT, TWO_PI, type Vec2, wrapAngle } from './math.ts'
 export { Prng } from './prng.ts'
@@ -56,14 +64,19 @@ export type {
   BodyDef,
   BodyId,
   BodyType,
+  CompoundBodyDef,
   ContactInfo,
   DistanceJointDef,
+  ExplosionDef,
+  Filter,
   JointDef,
   JointId,
   JointInfo,
   JointReaction,
   MouseJointDef,
   RevoluteJointDef,
+  ShapeDef,
+  ShapeId,
   WorldDef,
 } from './types.ts'
 export { createWorld, loadWorld, World } from './world.ts'

@@ -130,6 +130,20 @@ export interface CompoundBodyDef extends Omit<BodyDef, 'shape'> {
   shapes: ShapeDef[]
 }
 
+/** An explosion for World.explode (Box2D v3.1's b2ExplosionDef). */
+export interface ExplosionDef {
+  /** Centre (world, m). */
+  position: Vec2
+  /** Shapes within this distance get the full impulse (m). */
+  radius: number
+  /** Beyond the radius the impulse falls linearly to 0 over this distance (m), usually 0. */
+  falloff?: number
+  /** Impulse per metre of a shape's width across the blast direction (N s/m); negative pulls in. */
+  impulsePerLength: number
+  /** Categories affected (unsigned 32-bit), usually all. */
+  maskBits?: number
+}
+
 /** Revolute (pin) joint: bodies share a world anchor point and rotate about it. */
 export interface RevoluteJointDef {
   type: 'revolute'

@@ -7,7 +7,8 @@
 import { Body, DYNAMIC, STATIC, updateMassData } from './body.ts'
 import { BodyShape, shouldFilterCollide } from './body-shape.ts'
 import { limitBodyVelocity } from './body-state.ts'
-import { MAX_ROTATION, STEP_SECONDS } from './constants.ts'
+import { MAX_LINEAR_SPEED, MAX_ROTATION, STEP_SECONDS } from './constants.ts'
+import { mixMaterials } from './contact.ts'
 import { angle as checkAngle, position as checkPosition, finite, finiteVec, inRange } from './def-checks.ts'
 import { JOINT_TYPE_NAMES, type Joint, MOUSE } from './joint.ts'
 import { buildJoint, jointInfo, jointReaction, localPoint } from './joint-defs.ts'
@@ -20,6 +21,7 @@ import type {
   BodyType,
   CompoundBodyDef,
   ContactInfo,
+  ExplosionDef,
   Filter,
   JointDef,
   JointId,
@@ -459,6 +461,184 @@ export class WorldApi extends WorldStore {
     limitBodyVelocity(b, this.maxAngularSpeed)
   }
 
+  /**
+   * Adds a force (N) at a world point (m) to a dynamic body and wakes it; it acts over the next step
+   * (as the impulse force x 1/60 s at its start) and is then cleared, like Box2D's forces. Forces
+   * given several times before a step add up.
+   */
+  applyForce(id: BodyId, force: Vec2, point: Vec2): void {
+    this.revision++
+    const b = this.body(id)
+    finiteVec('force', force)
+    finiteVec('point', point)
+    if (b.type !== DYNAMIC) return
+    this.addForce(b, force.x, force.y, (point.x - b.cx) * force.y - (point.y - b.cy) * force.x)
+  }
+
+  /** Adds a torque (N m) to a dynamic body for the next step (see applyForce) and wakes it. */
+  applyTorque(id: BodyId, torque: number): void {
+    this.revision++
+    const b = this.body(id)
+    finite('torque', torque)
+    if (b.type !== DYNAMIC) return
+    this.addForce(b, 0, 0, torque)
+  }
+
+  /** Applies an angular impulse (N m s) to a dynamic body now and wakes it; the spin is clamped to the limit. */
+  applyAngularImpulse(id: BodyId, impulse: number): void {
+    this.revision++
+    const b = this.body(id)
+    finite('impulse', impulse)
+    if (b.type !== DYNAMIC) return
+    this.islands.wake(b)
+    b.w += b.invInertia * impulse
+    limitBodyVelocity(b, this.maxAngularSpeed)
+  }
+
+  private addForce(b: Body, fx: number, fy: number, torque: number): void {
+    const pending = b.fx !== 0 || b.fy !== 0 || b.torque !== 0
+    // Sums stay finite: each part is clamped to what could change the velocity by twice the limit.
+    const cap = (2 * MAX_LINEAR_SPEED * b.mass) / STEP_SECONDS
+    const torqueCap =
+      (2 * this.maxAngularSpeed * Math.max(b.inertia, 1e-300)) / STEP_SECONDS + cap * b.maxExtent
+    b.fx = Math.max(-cap, Math.min(cap, b.fx + fx))
+    b.fy = Math.max(-cap, Math.min(cap, b.fy + fy))
+    b.torque = Math.max(-torqueCap, Math.min(torqueCap, b.torque + torque))
+    if (!pending && (b.fx !== 0 || b.fy !== 0 || b.torque !== 0)) this.forced.push(b)
+    this.islands.wake(b)
+  }
+
+  /** Sets a shape's friction (0..100); its contacts take the new mix at once; the body and what it touches wake. */
+  setFriction(id: ShapeId, friction: number): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    s.friction = inRange('friction', friction, 0, 100)
+    this.remixContacts(s)
+  }
+
+  /** Sets a shape's restitution (0..1); its contacts take the new mix at once; the body and what it touches wake. */
+  setRestitution(id: ShapeId, restitution: number): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    s.restitution = inRange('restitution', restitution, 0, 1)
+    this.remixContacts(s)
+  }
+
+  /** Sets a shape's density (kg/m^2, 1e-6..1e6) and re-masses its body (origin kept); wakes it. */
+  setDensity(id: ShapeId, density: number): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    s.density = inRange('density', density, 1e-6, 1e6)
+    this.remass(s.body)
+    this.islands.wake(s.body)
+  }
+
+  /** Re-mixes the friction and restitution of a shape's contacts and wakes what it touches. */
+  private remixContacts(s: BodyShape): void {
+    this.islands.wake(s.body)
+    for (const c of s.body.contacts) {
+      if (c.shapeA !== s && c.shapeB !== s) continue
+      mixMaterials(c)
+      this.islands.wake(c.bodyA === s.body ? c.bodyB : c.bodyA)
+    }
+  }
+
+  /**
+   * Changes a body's type. Its contacts end (reported by the next step) and its proxies are made
+   * again, so the broadphase pairs it afresh at the next step; a body made static stops; a body made
+   * dynamic needs a shape with mass (a RangeError otherwise) and is re-massed. The body and what it
+   * touched wake.
+   */
+  setBodyType(id: BodyId, type: BodyType): void {
+    this.revision++
+    const b = this.body(id)
+    const typeIndex = BODY_TYPES.indexOf(type)
+    if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${type}`)
+    if (typeIndex === b.type) return
+    if (typeIndex === DYNAMIC && !b.shapes.some((s) => s.shape.type !== 'segment')) {
+      throw new RangeError(`body ${id} has no shape with mass and cannot be dynamic`)
+    }
+    for (const c of b.contacts.slice()) {
+      const other = c.bodyA === b ? c.bodyB : c.bodyA
+      this.endContactLater(c)
+      this.unlinkContact(c)
+      this.contactPool.push(c)
+      this.contactArray.splice(this.contactArray.indexOf(c), 1)
+      this.islands.wake(other)
+    }
+    this.islands.wake(b)
+    b.type = typeIndex
+    for (const s of b.shapes) {
+      this.broadPhase.destroyProxy(s.proxy)
+      this.createProxy(s)
+    }
+    if (typeIndex === STATIC) {
+      b.vx = 0
+      b.vy = 0
+      b.w = 0
+      b.awake = false
+      b.sleepTime = 0
+    } else b.awake = true
+    b.fx = 0
+    b.fy = 0
+    b.torque = 0
+    updateMassData(b)
+    b.updateCenter()
+    b.c0x = b.cx
+    b.c0y = b.cy
+    b.q0c = b.c
+    b.q0s = b.s
+    // Joints to it may now join or leave a tree of pins: they wake with it.
+    for (const j of b.joints) {
+      this.islands.wake(j.bodyA)
+      this.islands.wake(j.bodyB)
+    }
+  }
+
+  /**
+   * An explosion (Box2D v3.1's b2World_Explode): every shape of a dynamic body within radius +
+   * falloff of `position` (m) whose category is in `maskBits` gets an impulse away from the
+   * position at its nearest point, of impulsePerLength (N s/m) times the shape's width across that
+   * direction, full within `radius` and falling linearly to 0 over `falloff` (m) beyond it.
+   * Bodies are visited in id order and shapes in creation order.
+   */
+  explode(def: ExplosionDef): void {
+    this.revision++
+    const p = finiteVec('position', def.position)
+    const radius = inRange('radius', def.radius, 0, 1e6)
+    const falloff = inRange('falloff', def.falloff ?? 0, 0, 1e6)
+    const perLength = finite('impulsePerLength', def.impulsePerLength)
+    const mask = def.maskBits ?? 0xffffffff
+    if (!Number.isInteger(mask) || mask < 0 || mask > 0xffffffff)
+      throw new RangeError(`maskBits must be an integer in [0, 2^32), got ${mask}`)
+    const reach = radius + falloff
+    const near = { x: 0, y: 0, distance: 0 }
+    for (const b of this.bodies.slice()) {
+      if (b.type !== DYNAMIC) continue
+      for (const s of b.shapes) {
+        if ((s.categoryBits & mask) === 0) continue
+        nearestPoint(s, p, near)
+        if (near.distance > reach) continue
+        let dx = near.x - p.x
+        let dy = near.y - p.y
+        let len = Math.sqrt(dx * dx + dy * dy)
+        if (len === 0) {
+          // The position is inside the shape: push from it toward the body's centre of mass.
+          dx = b.cx - p.x
+          dy = b.cy - p.y
+          len = Math.sqrt(dx * dx + dy * dy)
+          if (len === 0) continue
+        }
+        dx /= len
+        dy /= len
+        const scale =
+          near.distance <= radius || falloff === 0 ? 1 : Math.max(0, (reach - near.distance) / falloff)
+        const magnitude = perLength * projectedWidth(s, -dy, dx) * scale
+        this.applyLinearImpulse(b.id, { x: magnitude * dx, y: magnitude * dy }, { x: near.x, y: near.y })
+      }
+    }
+  }
+
   /** Gravity (m/s^2). */
   getGravity(): Vec2 {
     return { x: this.gravityX, y: this.gravityY }
@@ -639,4 +819,79 @@ export function setShapeFilter(s: BodyShape, f: Filter): void {
   s.categoryBits = category
   s.maskBits = mask
   s.groupIndex = group
+}
+
+/** The nearest point of a shape's surface (world) to p, and its distance (0 when p is inside). */
+function nearestPoint(s: BodyShape, p: Vec2, out: { x: number; y: number; distance: number }): void {
+  const b = s.body
+  const shape = s.shape
+  // p in the body frame.
+  const dx = p.x - b.x
+  const dy = p.y - b.y
+  const lx = b.c * dx + b.s * dy
+  const ly = -b.s * dx + b.c * dy
+  let qx = shape.centroid.x
+  let qy = shape.centroid.y
+  let inside = false
+  if (shape.type !== 'circle') {
+    // Nearest point of the core (polygon or segment) to p.
+    const vs = shape.vertices
+    const n = shape.count
+    let best = Number.POSITIVE_INFINITY
+    for (let i = 0; i < (n === 2 ? 1 : n); i++) {
+      const a = vs[i]
+      const e = vs[i + 1 < n ? i + 1 : 0]
+      const ex = e.x - a.x
+      const ey = e.y - a.y
+      const t = Math.max(0, Math.min(1, ((lx - a.x) * ex + (ly - a.y) * ey) / (ex * ex + ey * ey)))
+      const cx = a.x + t * ex
+      const cy = a.y + t * ey
+      const d = (lx - cx) * (lx - cx) + (ly - cy) * (ly - cy)
+      if (d < best) {
+        best = d
+        qx = cx
+        qy = cy
+      }
+    }
+    if (n > 2) {
+      inside = true
+      for (let i = 0; i < n; i++) {
+        if (shape.normals[i].x * (lx - vs[i].x) + shape.normals[i].y * (ly - vs[i].y) > 0) inside = false
+      }
+    }
+  }
+  const gx = lx - qx
+  const gy = ly - qy
+  const gap = Math.sqrt(gx * gx + gy * gy)
+  const r = shape.radius
+  if (inside || gap <= r) {
+    out.x = p.x
+    out.y = p.y
+    out.distance = 0
+    return
+  }
+  // Surface point: r along the gap from the core's nearest point.
+  const sx = qx + (r * gx) / gap
+  const sy = qy + (r * gy) / gap
+  out.x = b.x + b.c * sx - b.s * sy
+  out.y = b.y + b.s * sx + b.c * sy
+  out.distance = gap - r
+}
+
+/** A shape's width along the world direction (tx, ty) (unit): its projection's length (m). */
+function projectedWidth(s: BodyShape, tx: number, ty: number): number {
+  const b = s.body
+  const shape = s.shape
+  // The direction in the body frame.
+  const lx = b.c * tx + b.s * ty
+  const ly = -b.s * tx + b.c * ty
+  if (shape.type === 'circle') return 2 * shape.radius
+  let lo = Number.POSITIVE_INFINITY
+  let hi = Number.NEGATIVE_INFINITY
+  for (let i = 0; i < shape.count; i++) {
+    const d = shape.vertices[i].x * lx + shape.vertices[i].y * ly
+    lo = Math.min(lo, d)
+    hi = Math.max(hi, d)
+  }
+  return hi - lo + 2 * shape.radius
 }

@@ -133,6 +133,9 @@ export const BODY_STATE_FIELDS = [
   'c0y',
   'q0c',
   'q0s',
+  'fx',
+  'fy',
+  'torque',
 ] as const
 /** Body material fields in saved order (after the type). */
 export const BODY_MATERIAL_FIELDS = ['linearDamping', 'angularDamping', 'gravityScale'] as const
@@ -212,7 +215,10 @@ export function writeBody(w: ByteWriter, b: Body): void {
   n[11] = b.c0y
   n[12] = b.q0c
   n[13] = b.q0s
-  w.f64s(n, 0, 14)
+  n[14] = b.fx
+  n[15] = b.fy
+  n[16] = b.torque
+  w.f64s(n, 0, 17)
 }
 
 /** Writes a shape on a body (its fat AABB comes separately). */
@@ -487,6 +493,7 @@ function readBodies(r: ByteReader, world: WorldStore): void {
     if (b.type === DYNAMIC && !b.shapes.some((s) => s.shape.type !== 'segment'))
       throw new WorldLoadError(`saved world has dynamic body ${b.id} without a shape with mass`)
     updateMassData(b)
+    if (b.fx !== 0 || b.fy !== 0 || b.torque !== 0) world.forced.push(b)
     world.bodies.push(b)
     world.bodyMap.set(b.id, b)
   }

@@ -101,6 +101,8 @@ export class WorldStore {
   readonly sensors: SensorState[] = []
   /** The last step's contact and sensor events. */
   readonly events = new EventBuffers()
+  /** Bodies with a force or torque to apply at the next step (each once). */
+  readonly forced: Body[] = []
   /** Shapes that asked for hit events (the step looks for hits only when some did). */
   hitEventShapes = 0
   /** Contacts in ascending pair-key order. */

@@ -82,6 +82,7 @@ export class World extends WorldApi {
   step(): void {
     this.revision++
     this.events.beginStep()
+    this.applyForces()
     this.updatePairs()
     this.collide()
     this.buildSolverSets()
@@ -144,6 +145,30 @@ export class World extends WorldApi {
   /** Solver state of the awake bodies (body-state.ts; record 0 static) and the contact constraints. */
   private state: Float64Array = new Float64Array(64 * STATE_STRIDE)
   private readonly constraints = new ContactConstraints()
+
+  /**
+   * Forces and torques given since the last step act over this step: as the impulse F dt (and T dt)
+   * at its start, then they are cleared (Box2D spreads them over the sub-steps; the velocity
+   * reached at the step's end is the same).
+   */
+  private applyForces(): void {
+    const forced = this.forced
+    if (forced.length === 0) return
+    const maxAngularSpeed = MAX_ROTATION * this.stepContext.invH
+    for (let i = 0; i < forced.length; i++) {
+      const b = forced[i]
+      if (b.type === DYNAMIC) {
+        b.vx += b.invMass * b.fx * STEP_SECONDS
+        b.vy += b.invMass * b.fy * STEP_SECONDS
+        b.w += b.invInertia * b.torque * STEP_SECONDS
+        limitBodyVelocity(b, maxAngularSpeed)
+      }
+      b.fx = 0
+      b.fy = 0
+      b.torque = 0
+    }
+    forced.length = 0
+  }
 
   /** Creates contacts for pairs whose fat AABBs began to overlap, keeping pair-key order. */
   private updatePairs(): void {
