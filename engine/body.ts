@@ -12,7 +12,11 @@
 import type { BodyShape } from './body-shape.ts'
 import type { Contact } from './contact.ts'
 import type { Joint } from './joint.ts'
-import { combineMass, computeMass, type MassData, type Shape } from './shapes.ts'
+import { circle, combineMass, computeMass, type MassData, type Shape } from './shapes.ts'
+
+/** Placeholders of a body without shapes (never collided). */
+const EMPTY_SHAPE: Shape = circle(1)
+const EMPTY_LAYOUT = new Float64Array(0)
 
 /** Body type codes, in the order of BodyType. */
 export const STATIC = 0
@@ -25,6 +29,15 @@ export class Body {
   type: number
   /** The body's shapes, in id (creation) order. */
   readonly shapes: BodyShape[] = []
+  /**
+   * The number of shapes, and the first shape's geometry, layout and proxy, mirrored here by
+   * syncShapes() whenever the shapes or their proxies change: the per-step passes over bodies read
+   * a one-shape body without touching its shape object.
+   */
+  shapeCount = 0
+  shape0: Shape = EMPTY_SHAPE
+  geometry0: Float64Array = EMPTY_LAYOUT
+  proxy0 = -1
   linearDamping: number
   angularDamping: number
   gravityScale: number
@@ -100,6 +113,15 @@ export class Body {
     this.bullet = false
     this.enableSleep = true
     this.fixedRotation = false
+  }
+
+  /** Refreshes the mirrored first-shape fields after the shapes or their proxies changed. */
+  syncShapes(): void {
+    this.shapeCount = this.shapes.length
+    const first = this.shapes.length > 0 ? this.shapes[0] : null
+    this.shape0 = first === null ? EMPTY_SHAPE : first.shape
+    this.geometry0 = first === null ? EMPTY_LAYOUT : first.geometry
+    this.proxy0 = first === null ? -1 : first.proxy
   }
 
   /** Recomputes the origin from the centre of mass and rotation. */

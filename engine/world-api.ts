@@ -111,6 +111,7 @@ export class WorldApi extends WorldStore {
     this.bodies.push(body)
     this.bodyMap.set(body.id, body)
     for (const s of shapes) this.addShape(s)
+    body.syncShapes()
     return body.id
   }
 
@@ -127,6 +128,7 @@ export class WorldApi extends WorldStore {
     body.shapes.push(s)
     this.remass(body)
     this.addShape(s)
+    body.syncShapes()
     this.islands.wake(body)
     if (body.type === STATIC) this.wakeTouching(body)
     return s.id
@@ -148,6 +150,7 @@ export class WorldApi extends WorldStore {
     this.destroyShapeContacts(s)
     this.removeShape(s)
     body.shapes.splice(body.shapes.indexOf(s), 1)
+    body.syncShapes()
     this.remass(body)
     this.islands.wake(body)
   }
@@ -572,6 +575,7 @@ export class WorldApi extends WorldStore {
       this.broadPhase.destroyProxy(s.proxy)
       this.createProxy(s)
     }
+    b.syncShapes()
     if (typeIndex === STATIC) {
       b.vx = 0
       b.vy = 0

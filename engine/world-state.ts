@@ -490,6 +490,7 @@ function readBodies(r: ByteReader, world: WorldStore): void {
       if (s.sensor) world.sensors.push(new SensorState(s))
     }
     lastShapeId = 0
+    b.syncShapes()
     if (b.type === DYNAMIC && !b.shapes.some((s) => s.shape.type !== 'segment'))
       throw new WorldLoadError(`saved world has dynamic body ${b.id} without a shape with mass`)
     updateMassData(b)
