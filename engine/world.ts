@@ -447,7 +447,7 @@ export class World extends WorldApi {
   }
 
   /** The tight AABB of a sensor into `aabb` (a bound method made once: no closure per step). */
-  private readonly sensorBox = (s: BodyShape): void => this.computeAABB(s, 0)
+  private readonly sensorBox = (s: BodyShape): void => this.computeAABB(s, false)
 
   /** Time of impact for fast bodies and bullets (when continuous collision is on). */
   private solveContinuous(): void {
