@@ -3,7 +3,8 @@
  *
  * World.step() is Box2D v3's stage list (b2World_Step, solver.h), one call per stage:
  *
- *   updatePairs          broadphase: contacts for newly overlapping fat AABBs
+ *   applyForces          forces and torques given since the last step, as impulses
+ *   updatePairs          broadphase (one proxy per shape): contacts for newly overlapping fat AABBs
  *   collide              narrowphase for every contact with an awake body; wake what gets touched
  *   buildSolverSets      awake bodies, active contacts and joints, all in id order
  *   prepareJoints        joint constraint data for the step
@@ -16,10 +17,12 @@
  *     relax                joints, then contacts, without bias
  *   applyRestitution     once, after the sub-steps
  *   storeImpulses        back into the contacts for warm starting
+ *   reportHits           hit events (when a shape asked for them)
  *   finalizeBodies       fold the deltas into transforms, sleep velocities
  *   solveContinuous      time of impact for fast bodies and bullets
  *   updateBroadPhase     move the fat AABBs of awake bodies
  *   sleepIslands         islands that rested long enough go to sleep
+ *   updateSensors        sensor overlaps and their events
  *
  * The bodies' solver state lives in one array with named offsets (body-state.ts) that the contact
  * and joint stages read and write by a body's solver index.
