@@ -4,7 +4,7 @@
  * and the contacts' pair map. Depends only on the engine's root files (math, constants).
  */
 export { BroadPhase, IdBuffer, PairBuffer, sortKeys } from './broad-phase.ts'
-export { collideGeometry } from './collide.ts'
+export { collideGeometry, collideGeometryAt, type Pose } from './collide.ts'
 export { type DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 export { Manifold, type ManifoldPoint } from './manifold.ts'
 export { PairMap } from './pair-map.ts'
@@ -39,13 +39,19 @@ export {
 } from './shape-distance.ts'
 export {
   box,
+  type CapsuleShape,
   type CircleShape,
+  capsule,
   circle,
+  combineMass,
   computeMass,
   type MassData,
+  type PolygonalShape,
   type PolygonShape,
   polygon,
+  type SegmentShape,
   type Shape,
+  segment,
 } from './shapes.ts'
 export {
   CORE,
