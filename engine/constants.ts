@@ -30,6 +30,8 @@ export const MAX_SHAPE_EXTENT = 1e5
  * Bodies may still travel past it under the simulation's own motion.
  */
 export const MAX_POSITION = 1e6
+/** Hit events report contacts that closed faster than this (m/s): 1, Box2D's hitEventThreshold. */
+export const HIT_EVENT_SPEED = 1
 /** Fat AABBs grow this much around the tight box of a moving body (m), Box2D's b2_aabbMargin. */
 export const AABB_MARGIN = 0.1
 /** Re-fattened proxies reach this many displacements ahead along the motion (Box2D v2.4's aabbMultiplier). */

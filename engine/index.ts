@@ -5,15 +5,22 @@
 
 export {
   box,
+  type CapsuleShape,
   type CircleShape,
+  capsule,
   circle,
+  combineMass,
   computeMass,
   type MassData,
+  type PolygonalShape,
   type PolygonShape,
   polygon,
+  type SegmentShape,
   type Shape,
+  segment,
 } from './collision/index.ts'
 export {
+  HIT_EVENT_SPEED,
   LINEAR_SLOP,
   MAX_LINEAR_SPEED,
   MAX_POLYGON_VERTICES,
@@ -54,8 +61,11 @@ export type {
   BodyDef,
   BodyId,
   BodyType,
+  CompoundBodyDef,
   ContactInfo,
   DistanceJointDef,
+  ExplosionDef,
+  Filter,
   JointBreakDef,
   JointDef,
   JointEvents,
@@ -66,10 +76,19 @@ export type {
   MouseJointDef,
   PrismaticJointDef,
   RevoluteJointDef,
+  ShapeDef,
+  ShapeId,
   WeldJointDef,
   WheelJointDef,
   WorldDef,
 } from './types.ts'
+export type {
+  ContactEvents,
+  ContactHitEvent,
+  ContactTouchEvent,
+  SensorEvent,
+  SensorEvents,
+} from './world/index.ts'
 export {
   createWorld,
   DEFAULT_WORLD_DEF,

@@ -10,6 +10,50 @@ import type { Vec2 } from './math.ts'
 export type BodyId = number
 /** Opaque joint id: handed out in creation order from 1, never reused within a world. */
 export type JointId = number
+/** Opaque shape id: handed out in creation order from 1, never reused within a world. */
+export type ShapeId = number
+
+/**
+ * Box2D's collision filter: two shapes of the same non-zero group collide if the group is positive
+ * and never if it is negative; otherwise they collide when each one's category is in the other's mask.
+ */
+export interface Filter {
+  /** The categories this shape is in: an unsigned 32-bit mask, usually 1. */
+  categoryBits: number
+  /** The categories this shape collides with: an unsigned 32-bit mask, usually 0xffffffff (all). */
+  maskBits: number
+  /**
+   * Shapes of the same non-zero group always collide (positive) or never collide (negative),
+   * whatever their masks; usually 0 (no group). An integer in [-2^31, 2^31).
+   */
+  groupIndex: number
+}
+
+/** A shape to attach to a body, with its material, filter and flags; only `shape` is required. */
+export interface ShapeDef {
+  /** The geometry in the body's frame: circle(), box(), polygon(), capsule() or segment(). */
+  shape: Shape
+  /** Density (kg/m^2), usually 1 (the body definition's `density` if given). */
+  density?: number
+  /** Coulomb friction, usually 0.6 (the body definition's if given); pairs mix by sqrt(a b). */
+  friction?: number
+  /** Restitution 0..1, usually 0 (the body definition's if given); pairs mix by max(a, b). */
+  restitution?: number
+  /** Rolling resistance (non-dimensional, Box2D v3.1), usually 0; pairs mix by max(a, b). */
+  rollingResistance?: number
+  /** Surface speed along the shape's outline, counter-clockwise (m/s): a conveyor belt; usually 0. */
+  tangentSpeed?: number
+  /** Collision filter; usually category 1, every mask bit, group 0. */
+  filter?: Filter
+  /** Detects overlap (sensorEvents) and never pushes, usually false. */
+  sensor?: boolean
+  /** Whether sensors see this shape, usually true. */
+  enableSensorEvents?: boolean
+  /** Begin and end contact events for this shape, usually true. */
+  enableContactEvents?: boolean
+  /** Hit events (impacts faster than 1 m/s) for this shape, usually false. */
+  enableHitEvents?: boolean
+}
 
 /** How a body moves: static never moves, kinematic moves by its velocity only, dynamic by forces. */
 export type BodyType = 'static' | 'kinematic' | 'dynamic'
@@ -38,7 +82,10 @@ export interface WorldDef {
   timeToSleep?: number
 }
 
-/** A body definition; only `shape` is required. */
+/**
+ * A body definition with one shape; everything but `shape` is optional. CompoundBodyDef gives
+ * `shapes` instead.
+ */
 export interface BodyDef {
   /** Usually 'dynamic'. */
   type?: BodyType
@@ -50,13 +97,13 @@ export interface BodyDef {
   linearVelocity?: Vec2
   /** Angular velocity (rad/s). */
   angularVelocity?: number
-  /** The body's one shape. */
+  /** The body's one shape (shorthand for `shapes: [{ shape, density, friction, restitution }]`). */
   shape: Shape
-  /** Density (kg/m^2), usually 1. */
+  /** Density (kg/m^2) of the shapes that give none, usually 1. */
   density?: number
-  /** Coulomb friction coefficient, usually 0.6; pairs mix by sqrt(a*b). */
+  /** Coulomb friction coefficient of the shapes that give none, usually 0.6; pairs mix by sqrt(a*b). */
   friction?: number
-  /** Restitution (bounciness) 0..1, usually 0; pairs mix by max(a, b). */
+  /** Restitution (bounciness) 0..1 of the shapes that give none, usually 0; pairs mix by max(a, b). */
   restitution?: number
   /** Linear damping (1/s), usually 0. */
   linearDamping?: number
@@ -80,6 +127,30 @@ export interface JointBreakDef {
   breakForce?: number
   /** Reaction torque (N m) above which the joint breaks after a step; usually Infinity (never). */
   breakTorque?: number
+}
+
+/**
+ * A body definition with any number of shapes (a compound body): BodyDef with `shapes` in place of
+ * `shape`. Its `density`, `friction` and `restitution` are the defaults of shapes that give none.
+ */
+export interface CompoundBodyDef extends Omit<BodyDef, 'shape'> {
+  shape?: undefined
+  /** The body's shapes, in order (their ids are handed out in this order), 1 to 1,024. */
+  shapes: ShapeDef[]
+}
+
+/** An explosion for World.explode (Box2D v3.1's b2ExplosionDef). */
+export interface ExplosionDef {
+  /** Centre (world, m). */
+  position: Vec2
+  /** Shapes within this distance get the full impulse (m). */
+  radius: number
+  /** Beyond the radius the impulse falls linearly to 0 over this distance (m), usually 0. */
+  falloff?: number
+  /** Impulse per metre of a shape's width across the blast direction (N s/m); negative pulls in. */
+  impulsePerLength: number
+  /** Categories affected (unsigned 32-bit), usually all. */
+  maskBits?: number
 }
 
 /** Revolute (pin) joint: bodies share a world anchor point and rotate about it. */
@@ -263,6 +334,9 @@ export interface JointEvents {
 export interface ContactInfo {
   bodyA: BodyId
   bodyB: BodyId
+  /** The touching shapes (shapeA on bodyA, shapeB on bodyB; shapeA < shapeB). */
+  shapeA: ShapeId
+  shapeB: ShapeId
   /** World unit normal from A to B. */
   normal: Vec2
   points: Array<{

@@ -5,20 +5,26 @@
  * Depends only on the engine's root files (math, constants).
  */
 export { BroadPhase, IdBuffer, PairBuffer, sortKeys } from './broad-phase.ts'
-export { collideGeometry } from './collide.ts'
+export { collideGeometry, collideGeometryAt, type Pose } from './collide.ts'
 export { type DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 export { Manifold, type ManifoldPoint } from './manifold.ts'
 export { PairMap } from './pair-map.ts'
 export { polygonGeometry, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
 export {
   box,
+  type CapsuleShape,
   type CircleShape,
+  capsule,
   circle,
+  combineMass,
   computeMass,
   type MassData,
+  type PolygonalShape,
   type PolygonShape,
   polygon,
+  type SegmentShape,
   type Shape,
+  segment,
 } from './shapes.ts'
 export {
   CORE,

@@ -7,7 +7,7 @@
  * so results are bit-identical.
  *
  * Layout, MAX_POLYGON_VERTICES slots per block: [SHIFTED_X | SHIFTED_Y | NORMAL_X | NORMAL_Y |
- * VERTEX_X | VERTEX_Y]. Circles get an empty array.
+ * VERTEX_X | VERTEX_Y]. Capsules and segments are two-vertex polygons; circles get an empty array.
  */
 import { MAX_POLYGON_VERTICES } from '../constants.ts'
 import type { Shape } from './shapes.ts'
@@ -31,7 +31,7 @@ const EMPTY = new Float64Array(0)
 
 /** The flat geometry of a shape (an empty array for a circle). */
 export function polygonGeometry(shape: Shape): Float64Array {
-  if (shape.type !== 'polygon') return EMPTY
+  if (shape.type === 'circle') return EMPTY
   const g = new Float64Array(GEOMETRY_SIZE)
   const vs = shape.vertices
   const ns = shape.normals

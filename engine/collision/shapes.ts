@@ -1,17 +1,29 @@
 /*
- * Shapes and their mass properties.
+ * Shapes and their mass properties: Box2D v3's set, in the body's local frame (metres).
  *
- * A body has one shape. Circles are centred on the body origin. Polygons are convex, counter-
- * clockwise, 3 to 8 vertices, given in the body's local frame; `polygon()` computes the convex hull
- * of its input and rejects input that is not already a strictly convex polygon (a concave,
- * collinear or degenerate vertex list throws an error naming what is wrong), so a shape is always
- * exactly what the caller wrote. Boxes are polygons of four vertices.
+ * - circle(radius, center?): a disc.
+ * - box(halfWidth, halfHeight, center?, angle?): a polygon of four vertices.
+ * - polygon(points, radius?): convex, counter-clockwise, 3 to 8 vertices; `polygon()` rejects input
+ *   that is not already a strictly convex polygon (a concave, collinear or degenerate vertex list
+ *   throws an error naming what is wrong), so a shape is always exactly what the caller wrote. A
+ *   radius > 0 rounds it: the shape is the polygon grown by that radius (a Minkowski sum with a disc).
+ * - capsule(center1, center2, radius): a segment grown by a radius (a stadium).
+ * - segment(point1, point2): a two-sided line of zero thickness and zero mass.
  *
- * Mass, centroid and rotational inertia come from density by the polygon triangle-fan formulas
- * (Box2D's b2ComputePolygonMass; Ericson, "Real-Time Collision Detection" 2.6).
+ * Capsules and segments are laid out as two-vertex polygons (normals n and -n), which is how the
+ * narrowphase treats them (Box2D v3's b2MakeCapsule): one polygon routine with a radius collides
+ * every pair of them.
+ *
+ * Mass, centroid and rotational inertia come from density by closed forms: the polygon triangle fan
+ * (Box2D's b2ComputePolygonMass; Ericson, "Real-Time Collision Detection" 2.6); for a rounded
+ * polygon, exactly, the polygon plus a rectangle on each edge plus a circular sector at each vertex
+ * (Box2D approximates it by pushing the vertices out); a capsule as a rectangle and two half discs
+ * (b2ComputeCapsuleMass). A body of several shapes adds them by the parallel-axis theorem
+ * (`combineMass`).
  */
+
 import { MAX_POLYGON_VERTICES, MAX_SHAPE_EXTENT, MIN_SHAPE_EXTENT } from '../constants.ts'
-import { PI, type Vec2 } from '../math.ts'
+import { atan2, cos, PI, sin, TRIG_LIMIT, type Vec2 } from '../math.ts'
 
 /*
  * Every shape object has every field, in the same order (type, radius, count, vertices, normals,
@@ -19,7 +31,7 @@ import { PI, type Vec2 } from '../math.ts'
  * monomorphic: a polymorphic load of `radius` was measured to allocate in the step.
  */
 
-/** A circle centred on the body origin. */
+/** A circle (disc) in the body frame. */
 export interface CircleShape {
   readonly type: 'circle'
   /** Radius (m). */
@@ -28,7 +40,7 @@ export interface CircleShape {
   readonly count: 0
   readonly vertices: readonly Vec2[]
   readonly normals: readonly Vec2[]
-  /** Always the origin. */
+  /** The circle's centre in the body frame (m); the origin unless given. */
   readonly centroid: Vec2
   readonly box: null
 }
@@ -36,8 +48,8 @@ export interface CircleShape {
 /** A convex polygon in the body frame, counter-clockwise, with outward unit edge normals. */
 export interface PolygonShape {
   readonly type: 'polygon'
-  /** Always 0 for polygons (uniform layout; no rounded polygons). */
-  readonly radius: 0
+  /** Rounding radius (m): 0 for a sharp polygon, > 0 grows it by that much all round. */
+  readonly radius: number
   /** Number of vertices, 3..8. */
   readonly count: number
   /** Vertices in the body frame (m), counter-clockwise. */
@@ -46,12 +58,50 @@ export interface PolygonShape {
   readonly normals: readonly Vec2[]
   /** Area centroid in the body frame (m). */
   readonly centroid: Vec2
-  /** Set for shapes made by box(): half extents (m), for compact encoding and drawing. */
+  /**
+   * Set for shapes made by box() centred on the origin and not turned: half extents (m), for
+   * compact encoding and drawing; null for every other polygon.
+   */
   readonly box: { readonly halfWidth: number; readonly halfHeight: number } | null
 }
 
+/**
+ * A capsule in the body frame, laid out as a two-vertex polygon with a radius: vertices [center1,
+ * center2], normals [n, -n] with n the right-hand normal of center1 -> center2.
+ */
+export interface CapsuleShape {
+  readonly type: 'capsule'
+  /** Radius (m). */
+  readonly radius: number
+  /** Always 2. */
+  readonly count: 2
+  readonly vertices: readonly Vec2[]
+  readonly normals: readonly Vec2[]
+  /** Midpoint of the two centres (m). */
+  readonly centroid: Vec2
+  readonly box: null
+}
+
+/** A two-sided segment of zero thickness and zero mass, laid out as a capsule of radius 0. */
+export interface SegmentShape {
+  readonly type: 'segment'
+  /** Always 0. */
+  readonly radius: number
+  /** Always 2. */
+  readonly count: 2
+  /** [point1, point2]; normals [n, -n] with n the right-hand normal of point1 -> point2. */
+  readonly vertices: readonly Vec2[]
+  readonly normals: readonly Vec2[]
+  /** Midpoint (m). */
+  readonly centroid: Vec2
+  readonly box: null
+}
+
 /** Every shape kind a body can have. */
-export type Shape = CircleShape | PolygonShape
+export type Shape = CircleShape | PolygonShape | CapsuleShape | SegmentShape
+
+/** The shapes the narrowphase treats as polygons (a capsule and a segment have two vertices). */
+export type PolygonalShape = PolygonShape | CapsuleShape | SegmentShape
 
 /** Mass properties of a shape at a density. */
 export interface MassData {
@@ -71,16 +121,36 @@ function checkSize(what: string, value: number): void {
   }
 }
 
-/** A circle of the given radius (m) centred on the body origin. */
-export function circle(radius: number): CircleShape {
-  checkSize('circle radius', radius)
-  return { type: 'circle', radius, count: 0, vertices: [], normals: [], centroid: { x: 0, y: 0 }, box: null }
+function checkPoint(what: string, p: Vec2 | undefined): Vec2 {
+  if (p === null || typeof p !== 'object' || !Number.isFinite(p.x) || !Number.isFinite(p.y)) {
+    throw new RangeError(`${what} must be a finite point {x, y}, got ${JSON.stringify(p)}`)
+  }
+  if (Math.abs(p.x) > MAX_SHAPE_EXTENT || Math.abs(p.y) > MAX_SHAPE_EXTENT) {
+    throw new RangeError(`${what} (${p.x}, ${p.y}) is more than ${MAX_SHAPE_EXTENT} m from the body origin`)
+  }
+  return { x: p.x, y: p.y }
 }
 
-/** An axis-aligned box (in the body frame) of the given half extents (m), centred on the origin. */
-export function box(halfWidth: number, halfHeight: number): PolygonShape {
+/** A circle of the given radius (m), centred on `center` in the body frame (default: the origin). */
+export function circle(radius: number, center?: Vec2): CircleShape {
+  checkSize('circle radius', radius)
+  const c = center === undefined ? { x: 0, y: 0 } : checkPoint('circle center', center)
+  if (Math.abs(c.x) + radius > MAX_SHAPE_EXTENT || Math.abs(c.y) + radius > MAX_SHAPE_EXTENT) {
+    throw new RangeError(`circle reaches more than ${MAX_SHAPE_EXTENT} m from the body origin`)
+  }
+  return { type: 'circle', radius, count: 0, vertices: [], normals: [], centroid: c, box: null }
+}
+
+/**
+ * A box of the given half extents (m), centred on `center` (default: the origin) and turned by
+ * `angle` (rad, default 0) in the body frame. Vertices start at the (-halfWidth, -halfHeight) corner.
+ */
+export function box(halfWidth: number, halfHeight: number, center?: Vec2, angle?: number): PolygonShape {
   checkSize('box halfWidth', halfWidth)
   checkSize('box halfHeight', halfHeight)
+  if (center !== undefined || (angle !== undefined && angle !== 0)) {
+    return turnedBox(halfWidth, halfHeight, center ?? { x: 0, y: 0 }, angle ?? 0)
+  }
   const vertices = [
     { x: -halfWidth, y: -halfHeight },
     { x: halfWidth, y: -halfHeight },
@@ -104,16 +174,38 @@ export function box(halfWidth: number, halfHeight: number): PolygonShape {
   }
 }
 
+/** A box that is offset or turned: its four vertices as a polygon (box: null). */
+function turnedBox(halfWidth: number, halfHeight: number, center: Vec2, angle: number): PolygonShape {
+  const c0 = checkPoint('box center', center)
+  if (!Number.isFinite(angle) || Math.abs(angle) >= TRIG_LIMIT) {
+    throw new RangeError(`box angle must be a finite number below ${TRIG_LIMIT} rad in size, got ${angle}`)
+  }
+  const c = cos(angle)
+  const s = sin(angle)
+  const corners = [
+    [-halfWidth, -halfHeight],
+    [halfWidth, -halfHeight],
+    [halfWidth, halfHeight],
+    [-halfWidth, halfHeight],
+  ]
+  const points = corners.map(([x, y]) => ({ x: c0.x + c * x - s * y, y: c0.y + s * x + c * y }))
+  return polygon(points)
+}
+
 function cross3(o: Vec2, a: Vec2, b: Vec2): number {
   return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)
 }
 
 /**
- * A convex polygon from 3..8 vertices in the body frame (m). The vertices may be given in either
- * winding and any starting vertex; they are stored counter-clockwise. Throws if the list is not a
- * strictly convex polygon: repeated points, collinear vertices, a concave vertex, or too small.
+ * A convex polygon from 3..8 vertices in the body frame (m), rounded by `radius` (m, default 0).
+ * The vertices may be given in either winding and any starting vertex; they are stored
+ * counter-clockwise. Throws if the list is not a strictly convex polygon: repeated points, collinear
+ * vertices, a concave vertex, or too small.
  */
-export function polygon(points: readonly Vec2[]): PolygonShape {
+export function polygon(points: readonly Vec2[], radius = 0): PolygonShape {
+  if (!Array.isArray(points))
+    throw new RangeError(`polygon points must be an array, got ${JSON.stringify(points)}`)
+  if (radius !== 0) checkSize('polygon radius', radius)
   const n = points.length
   if (n < 3 || n > MAX_POLYGON_VERTICES) {
     throw new RangeError(`polygon needs 3 to ${MAX_POLYGON_VERTICES} vertices, got ${n}`)
@@ -187,7 +279,69 @@ export function polygon(points: readonly Vec2[]): PolygonShape {
     normals.push({ x: ey / len, y: -ex / len })
   }
   const mass = polygonMass(ccw, 1)
-  return { type: 'polygon', radius: 0, count: n, vertices: ccw, normals, centroid: mass.center, box: null }
+  for (const v of ccw) {
+    if (Math.abs(v.x) + radius > MAX_SHAPE_EXTENT || Math.abs(v.y) + radius > MAX_SHAPE_EXTENT) {
+      throw new RangeError(`rounded polygon reaches more than ${MAX_SHAPE_EXTENT} m from the body origin`)
+    }
+  }
+  return { type: 'polygon', radius, count: n, vertices: ccw, normals, centroid: mass.center, box: null }
+}
+
+/** A two-vertex polygon: the shared layout of capsules and segments. */
+function twoPointShape<T extends 'capsule' | 'segment'>(
+  type: T,
+  p1: Vec2,
+  p2: Vec2,
+  radius: number,
+): { type: T; radius: number; count: 2; vertices: Vec2[]; normals: Vec2[]; centroid: Vec2; box: null } {
+  const dx = p2.x - p1.x
+  const dy = p2.y - p1.y
+  const length = Math.sqrt(dx * dx + dy * dy)
+  if (!(length >= MIN_SHAPE_EXTENT)) {
+    throw new RangeError(
+      `${type} points (${p1.x}, ${p1.y}) and (${p2.x}, ${p2.y}) are closer than ${MIN_SHAPE_EXTENT} m`,
+    )
+  }
+  for (const p of [p1, p2]) {
+    if (Math.abs(p.x) + radius > MAX_SHAPE_EXTENT || Math.abs(p.y) + radius > MAX_SHAPE_EXTENT) {
+      throw new RangeError(`${type} reaches more than ${MAX_SHAPE_EXTENT} m from the body origin`)
+    }
+  }
+  const nx = dy / length
+  const ny = -dx / length
+  return {
+    type,
+    radius,
+    count: 2,
+    vertices: [p1, p2],
+    normals: [
+      { x: nx, y: ny },
+      { x: -nx, y: -ny },
+    ],
+    centroid: { x: 0.5 * (p1.x + p2.x), y: 0.5 * (p1.y + p2.y) },
+    box: null,
+  }
+}
+
+/**
+ * A capsule: the segment center1 -> center2 (body frame, m) grown by `radius` (m). Its ends are at
+ * least MIN_SHAPE_EXTENT apart (a shorter one is a circle).
+ */
+export function capsule(center1: Vec2, center2: Vec2, radius: number): CapsuleShape {
+  const p1 = checkPoint('capsule center1', center1)
+  const p2 = checkPoint('capsule center2', center2)
+  checkSize('capsule radius', radius)
+  return twoPointShape('capsule', p1, p2, radius)
+}
+
+/**
+ * A two-sided segment from point1 to point2 (body frame, m), of zero thickness and zero mass: for
+ * static and kinematic bodies, or a dynamic body that also has a shape with mass.
+ */
+export function segment(point1: Vec2, point2: Vec2): SegmentShape {
+  const p1 = checkPoint('segment point1', point1)
+  const p2 = checkPoint('segment point2', point2)
+  return twoPointShape('segment', p1, p2, 0)
 }
 
 /** Mass properties of a convex polygon at a density (kg/m^2), by a triangle fan from vertex 0. */
@@ -220,12 +374,129 @@ function polygonMass(vertices: readonly Vec2[], density: number): MassData {
   return { mass, center: { x: centerX + origin.x, y: centerY + origin.y }, inertia: inertiaAtCentroid }
 }
 
-/** Mass, centre of mass and inertia about the centre of mass of a shape at a density (kg/m^2). */
+/**
+ * Mass properties of a polygon grown by radius r (exact): the polygon, a rectangle of width r on
+ * each edge, and at each vertex a circular sector of radius r spanning the turn between the two
+ * edge normals (the turns add up to a full circle).
+ */
+function roundedPolygonMass(shape: PolygonShape, density: number): MassData {
+  const core = polygonMass(shape.vertices, density)
+  const r = shape.radius
+  const n = shape.count
+  const vs = shape.vertices
+  const ns = shape.normals
+  // Sums about the body origin: mass, first moments, second moment (polar).
+  let m = core.mass
+  let mx = core.mass * core.center.x
+  let my = core.mass * core.center.y
+  let j = core.inertia + core.mass * (core.center.x * core.center.x + core.center.y * core.center.y)
+  for (let i = 0; i < n; i++) {
+    const a = vs[i]
+    const b = vs[i + 1 < n ? i + 1 : 0]
+    const nx = ns[i].x
+    const ny = ns[i].y
+    // Edge rectangle: length L along the edge, width r outward.
+    const ex = b.x - a.x
+    const ey = b.y - a.y
+    const length = Math.sqrt(ex * ex + ey * ey)
+    const rm = density * length * r
+    const rcx = 0.5 * (a.x + b.x) + 0.5 * r * nx
+    const rcy = 0.5 * (a.y + b.y) + 0.5 * r * ny
+    m += rm
+    mx += rm * rcx
+    my += rm * rcy
+    j += (rm * (length * length + r * r)) / 12 + rm * (rcx * rcx + rcy * rcy)
+    // Vertex sector at b, from this edge's normal to the next edge's, angle theta.
+    const mnx = ns[i + 1 < n ? i + 1 : 0].x
+    const mny = ns[i + 1 < n ? i + 1 : 0].y
+    const theta = atan2(nx * mny - ny * mnx, nx * mnx + ny * mny)
+    const sm = 0.5 * density * theta * r * r
+    // Centroid of a sector of half-angle t: 2 r sin(t) / (3 t) from its apex, along the bisector
+    // n1 + n2, whose length is 2 cos(t).
+    const bx = nx + mnx
+    const by = ny + mny
+    const bl = Math.sqrt(bx * bx + by * by)
+    const sinHalf = Math.sqrt(Math.max(0, 1 - 0.25 * bl * bl))
+    const d = theta > 0 ? (4 * r * sinHalf) / (3 * theta) : 0
+    const scx = b.x + (bl > 0 ? (d * bx) / bl : 0)
+    const scy = b.y + (bl > 0 ? (d * by) / bl : 0)
+    m += sm
+    mx += sm * scx
+    my += sm * scy
+    // A sector's polar moment about its apex is m r^2 / 2; move it to the body origin.
+    j += 0.5 * sm * r * r - sm * d * d + sm * (scx * scx + scy * scy)
+  }
+  const cx = mx / m
+  const cy = my / m
+  return { mass: m, center: { x: cx, y: cy }, inertia: j - m * (cx * cx + cy * cy) }
+}
+
+/** Capsule: a rectangle 2r x L and two half discs (Box2D's b2ComputeCapsuleMass, exact). */
+function capsuleMass(shape: CapsuleShape, density: number): MassData {
+  const p1 = shape.vertices[0]
+  const p2 = shape.vertices[1]
+  const r = shape.radius
+  const dx = p2.x - p1.x
+  const dy = p2.y - p1.y
+  const length = Math.sqrt(dx * dx + dy * dy)
+  const boxMass = density * 2 * r * length
+  const circleMass = density * PI * r * r
+  // Each half disc's centroid lies 4r / (3 pi) beyond its end; h is half the length.
+  const lc = (4 * r) / (3 * PI)
+  const h = 0.5 * length
+  const circleInertia = circleMass * (0.5 * r * r + h * h + 2 * h * lc)
+  const boxInertia = (boxMass * (4 * r * r + length * length)) / 12
+  return {
+    mass: boxMass + circleMass,
+    center: { x: shape.centroid.x, y: shape.centroid.y },
+    inertia: circleInertia + boxInertia,
+  }
+}
+
+/**
+ * Mass, centre of mass and inertia about the centre of mass of a shape at a density (kg/m^2). A
+ * segment has none (mass 0 at its midpoint).
+ */
 export function computeMass(shape: Shape, density: number): MassData {
   if (shape.type === 'circle') {
     const r = shape.radius
     const mass = density * PI * r * r
-    return { mass, center: { x: 0, y: 0 }, inertia: 0.5 * mass * r * r }
+    return { mass, center: { x: shape.centroid.x, y: shape.centroid.y }, inertia: 0.5 * mass * r * r }
   }
+  if (shape.type === 'segment')
+    return { mass: 0, center: { x: shape.centroid.x, y: shape.centroid.y }, inertia: 0 }
+  if (shape.type === 'capsule') return capsuleMass(shape, density)
+  if (shape.radius > 0) return roundedPolygonMass(shape, density)
   return polygonMass(shape.vertices, density)
+}
+
+/**
+ * The mass properties of several shapes on one body (each with its own density), by the
+ * parallel-axis theorem: mass = sum m_i, centre = sum m_i c_i / mass, inertia about that centre =
+ * sum (I_i + m_i |c_i - centre|^2). One part is returned as it is; parts without mass count for
+ * nothing (all massless: mass 0, centre at the first part's centre, or the origin if none).
+ */
+export function combineMass(parts: readonly MassData[]): MassData {
+  if (parts.length === 1) return parts[0]
+  let mass = 0
+  let mx = 0
+  let my = 0
+  for (const p of parts) {
+    mass += p.mass
+    mx += p.mass * p.center.x
+    my += p.mass * p.center.y
+  }
+  if (!(mass > 0)) {
+    const c = parts.length > 0 ? parts[0].center : { x: 0, y: 0 }
+    return { mass: 0, center: { x: c.x, y: c.y }, inertia: 0 }
+  }
+  const cx = mx / mass
+  const cy = my / mass
+  let inertia = 0
+  for (const p of parts) {
+    const dx = p.center.x - cx
+    const dy = p.center.y - cy
+    inertia += p.inertia + p.mass * (dx * dx + dy * dy)
+  }
+  return { mass, center: { x: cx, y: cy }, inertia }
 }

@@ -57,8 +57,14 @@ export function poseAt(b: Body): void {
 /** Writes `shape`'s world vertices at `pose` into `out` (a circle: its centre); returns how many. */
 export function transformVertices(shape: Shape, out: Float64Array): number {
   if (shape.type === 'circle') {
+    const lx = shape.centroid.x
+    const ly = shape.centroid.y
     out[0] = pose[0]
     out[1] = pose[1]
+    if (lx !== 0 || ly !== 0) {
+      out[0] += pose[2] * lx - pose[3] * ly
+      out[1] += pose[3] * lx + pose[2] * ly
+    }
     return 1
   }
   for (let i = 0; i < shape.count; i++) {
@@ -124,11 +130,11 @@ function boundaryDistance(p: Float64Array, pn: number, q: Float64Array, qn: numb
 }
 
 /**
- * Signed distance between the shapes of a and b at sweep fraction sweep[FRACTION] (negative when
+ * Signed distance between shape A of body a and shape B of body b at sweep fraction sweep[FRACTION] (negative when
  * overlapping), into sweep[DISTANCE]. With sweep[CORE] > 0, body a is replaced by its core: a circle of
  * that radius at its centre of mass.
  */
-export function sweptDistance(a: Body, b: Body): void {
+export function sweptDistance(a: Body, shapeA: Shape, b: Body, shapeB: Shape): void {
   const core = sweep[CORE]
   poseAt(a)
   let na: number
@@ -139,12 +145,12 @@ export function sweptDistance(a: Body, b: Body): void {
     na = 1
     ra = core
   } else {
-    na = transformVertices(a.shape, verticesA)
-    ra = a.shape.type === 'circle' ? a.shape.radius : 0
+    na = transformVertices(shapeA, verticesA)
+    ra = shapeA.radius
   }
   poseAt(b)
-  const nb = transformVertices(b.shape, verticesB)
-  const rb = b.shape.type === 'circle' ? b.shape.radius : 0
+  const nb = transformVertices(shapeB, verticesB)
+  const rb = shapeB.radius
   if (na === 1 && nb === 1) {
     const dx = verticesB[0] - verticesA[0]
     const dy = verticesB[1] - verticesA[1]

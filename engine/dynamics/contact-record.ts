@@ -43,7 +43,15 @@ export const TANGENT_IMPULSE = 9
 /** Total impulses applied during the last step, all sub-steps (N s); tangent along (ny, -nx). */
 export const TOTAL_NORMAL = 10
 export const TOTAL_TANGENT = 11
-/** Numbers per contact record (28 used; 32 keeps records on 64-byte boundaries). */
+/**
+ * For hit events, set by the narrowphase pass of the step for contacts that ask for them: the
+ * fastest approach speed along the normal of the manifold's points at the step start (m/s) and that
+ * point (world, m). Not saved: recomputed before every use.
+ */
+export const APPROACH = 28
+export const HIT_X = 29
+export const HIT_Y = 30
+/** Numbers per contact record (31 used; 32 keeps records on 64-byte boundaries). */
 export const CONTACT_STRIDE = 32
 
 /** The contact records of one world. */

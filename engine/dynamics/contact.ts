@@ -1,6 +1,7 @@
 /*
- * A contact: a pair of bodies whose fat AABBs overlap, its manifold, and the solver data of its
- * points. A contact lives from the step the broadphase pairs its bodies until their fat AABBs part;
+ * A contact: a pair of shapes on two bodies whose fat AABBs overlap, its manifold, and the solver
+ * data of its points. A compound body touching another has one contact per pair of touching shapes.
+ * A contact lives from the step the broadphase pairs its shapes until their fat AABBs part;
  * it is "touching" while the narrowphase reports at least one (possibly speculative) point.
  *
  * The solver copies touching contacts into flat constraint records each step and stores the
@@ -8,15 +9,19 @@
  * inherits the impulses of the old point with the same feature id (Box2D's b2UpdateContact).
  */
 
-import { collideGeometry, Manifold, type ManifoldPoint } from '../collision/index.ts'
+import { collideGeometry, Manifold, type ManifoldPoint, type Shape } from '../collision/index.ts'
 import type { Body } from './body.ts'
+import type { BodyShape } from './body-shape.ts'
 import {
   ANCHOR_AX,
   ANCHOR_AY,
   ANCHOR_BX,
   ANCHOR_BY,
+  APPROACH,
   type ContactStore,
   FRICTION,
+  HIT_X,
+  HIT_Y,
   ID,
   NORMAL_IMPULSE,
   NORMAL_X,
@@ -32,7 +37,7 @@ import {
   TOTAL_TANGENT,
 } from './contact-record.ts'
 
-/** Multiplier that makes the pair key (a * KEY_SCALE + b) unique for body ids below 2^26. */
+/** Multiplier that makes the pair key (a * KEY_SCALE + b) unique for shape ids below 2^26. */
 export const KEY_SCALE = 67108864
 
 /** The persistent fields of a contact point; a contact has each twice, suffixed 0 and 1. */
@@ -52,17 +57,33 @@ export const CONTACT_POINT_FIELDS = [
 ] as const
 
 /**
- * A contact between two bodies, bodyA.id < bodyB.id. Its numbers live in the world's ContactStore
+ * A contact between two shapes, shapeA.id < shapeB.id, on bodies bodyA and bodyB (the shapes'
+ * bodies; their ids may be in either order). Its numbers live in the world's ContactStore
  * (contact-record.ts) at offset `base`; the hot passes read them there by offset, and the named
  * properties below (friction, normalX, anchorAx0, ...) read and write the same record for
  * everything else (saving, read-back, tests).
  */
 export class Contact {
   key: number
+  shapeA: BodyShape
+  shapeB: BodyShape
   bodyA: Body
   bodyB: Body
+  /**
+   * The shapes' proxies, geometries and narrowphase layouts, copied here when the pair is made
+   * (they never change during a shape's life): the collide loop then reads only the contact and
+   * its bodies, as it did when a body had one shape, not the shape objects (a cache miss each).
+   */
+  proxyA: number
+  proxyB: number
+  geomA: Shape
+  geomB: Shape
+  layoutA: Float64Array
+  layoutB: Float64Array
   touching = false
   pointCount = 0
+  /** Which events the pair reports: CONTACT_EVENTS | HIT_EVENTS (either shape asking is enough). */
+  events = 0
   /** The store holding this contact's record, and the record's offset in store.data. */
   readonly store: ContactStore
   readonly base: number
@@ -102,28 +123,41 @@ export class Contact {
   declare totalNormalImpulse1: number
   declare totalTangentImpulse1: number
 
-  constructor(bodyA: Body, bodyB: Body, store: ContactStore) {
-    this.key = bodyA.id * KEY_SCALE + bodyB.id
-    this.bodyA = bodyA
-    this.bodyB = bodyB
+  constructor(shapeA: BodyShape, shapeB: BodyShape, store: ContactStore) {
+    this.key = shapeA.id * KEY_SCALE + shapeB.id
+    this.shapeA = shapeA
+    this.shapeB = shapeB
+    this.bodyA = shapeA.body
+    this.bodyB = shapeB.body
+    this.proxyA = shapeA.proxy
+    this.proxyB = shapeB.proxy
+    this.geomA = shapeA.shape
+    this.geomB = shapeB.shape
+    this.layoutA = shapeA.geometry
+    this.layoutB = shapeB.geometry
     this.store = store
     this.base = store.allocate()
-    const d = store.data
-    d[this.base + FRICTION] = Math.sqrt(bodyA.friction * bodyB.friction)
-    d[this.base + RESTITUTION] = Math.max(bodyA.restitution, bodyB.restitution)
+    mixMaterials(this)
   }
 
   /** Reinitializes a pooled contact for a new pair (no allocation). */
-  reset(bodyA: Body, bodyB: Body): this {
-    this.key = bodyA.id * KEY_SCALE + bodyB.id
-    this.bodyA = bodyA
-    this.bodyB = bodyB
+  reset(shapeA: BodyShape, shapeB: BodyShape): this {
+    this.key = shapeA.id * KEY_SCALE + shapeB.id
+    this.shapeA = shapeA
+    this.shapeB = shapeB
+    this.bodyA = shapeA.body
+    this.bodyB = shapeB.body
+    this.proxyA = shapeA.proxy
+    this.proxyB = shapeB.proxy
+    this.geomA = shapeA.shape
+    this.geomB = shapeB.shape
+    this.layoutA = shapeA.geometry
+    this.layoutB = shapeB.geometry
     this.touching = false
     this.pointCount = 0
     const d = this.store.data
     const o = this.base
-    d[o + FRICTION] = Math.sqrt(bodyA.friction * bodyB.friction)
-    d[o + RESTITUTION] = Math.max(bodyA.restitution, bodyB.restitution)
+    mixMaterials(this)
     d[o + NORMAL_X] = 0
     d[o + NORMAL_Y] = 0
     for (let p = o + POINT_0; p < o + POINT_0 + 2 * POINT_FIELDS; p += POINT_FIELDS) {
@@ -134,6 +168,26 @@ export class Contact {
     }
     return this
   }
+}
+
+/** Contact.events bit: begin and end events. */
+export const CONTACT_EVENTS = 1
+/** Contact.events bit: hit events. */
+export const HIT_EVENTS = 2
+
+/**
+ * Sets the pair's friction (geometric mean) and restitution (larger) from its shapes (Box2D's
+ * mixing), and which events it reports.
+ */
+export function mixMaterials(c: Contact): void {
+  const sa = c.shapeA
+  const sb = c.shapeB
+  c.events =
+    (sa.enableContactEvents || sb.enableContactEvents ? CONTACT_EVENTS : 0) |
+    (sa.enableHitEvents || sb.enableHitEvents ? HIT_EVENTS : 0)
+  const d = c.store.data
+  d[c.base + FRICTION] = Math.sqrt(c.shapeA.friction * c.shapeB.friction)
+  d[c.base + RESTITUTION] = Math.max(c.shapeA.restitution, c.shapeB.restitution)
 }
 
 /** The named properties of a contact's record and their offsets in it. */
@@ -199,14 +253,14 @@ export function updateContact(c: Contact, speculativeDistance: number): boolean 
   const a = c.bodyA
   const b = c.bodyB
   collideGeometry(
-    a.shape,
-    a.geometry,
+    c.geomA,
+    c.layoutA,
     a.x,
     a.y,
     a.c,
     a.s,
-    b.shape,
-    b.geometry,
+    c.geomB,
+    c.layoutB,
     b.x,
     b.y,
     b.c,
@@ -248,4 +302,34 @@ function writePoint(d: Float64Array, p: number, mp: ManifoldPoint, a: Body, b: B
   inherit(mp.id)
   d[p + NORMAL_IMPULSE] = found[0]
   d[p + TANGENT_IMPULSE] = found[1]
+}
+
+/**
+ * Stores the fastest approach speed along the normal among the contact's points, at the bodies'
+ * velocities before the step's solve (m/s, positive when closing), and that point, for hit events.
+ */
+export function measureApproach(c: Contact): void {
+  const a = c.bodyA
+  const b = c.bodyB
+  const d = c.store.data
+  const o = c.base
+  const nx = d[o + NORMAL_X]
+  const ny = d[o + NORMAL_Y]
+  let best = Number.NEGATIVE_INFINITY
+  for (let j = 0; j < c.pointCount; j++) {
+    const p = o + POINT_0 + j * POINT_FIELDS
+    const rax = d[p + ANCHOR_AX]
+    const ray = d[p + ANCHOR_AY]
+    const rbx = d[p + ANCHOR_BX]
+    const rby = d[p + ANCHOR_BY]
+    const dvx = b.vx - b.w * rby - (a.vx - a.w * ray)
+    const dvy = b.vy + b.w * rbx - (a.vy + a.w * rax)
+    const approach = -(dvx * nx + dvy * ny)
+    if (approach > best) {
+      best = approach
+      d[o + HIT_X] = d[p + PX]
+      d[o + HIT_Y] = d[p + PY]
+    }
+  }
+  d[o + APPROACH] = best
 }

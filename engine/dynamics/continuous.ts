@@ -46,6 +46,7 @@ import {
   verticesB,
 } from '../collision/index.ts'
 import { type Body, DYNAMIC, STATIC } from './body.ts'
+import type { BodyShape } from './body-shape.ts'
 
 /** Gap (m) at which conservative advancement stops: the linear slop. */
 const TOI_TARGET = 0.005
@@ -117,7 +118,7 @@ export class ContinuousSolver {
   /** The dynamic body hit at the earliest impact sweepBody found so far (search[EARLIEST]). */
   private hitBody: Body | null = null
   /** The static body whose core hit is the earliest, if it is. */
-  private coreStop: Body | null = null
+  private coreStop: BodyShape | null = null
 
   /**
    * First sweep fraction in (0, 1) at which the fast body a comes within the target gap of b, or 1,
@@ -129,18 +130,18 @@ export class ContinuousSolver {
    * Box2D v3.1 does): the contact handles the surfaces, and the core stops a body that the contact
    * failed to stop (a thin bar spun up by the impact and rotating through a wall) from crossing.
    */
-  private timeOfImpact(a: Body, b: Body): void {
+  private timeOfImpact(a: Body, sa: BodyShape, b: Body, sb: BodyShape): void {
     sweep[FRACTION] = 0
     sweep[CORE] = 0
-    sweptDistance(a, b)
+    sweptDistance(a, sa.shape, b, sb.shape)
     if (sweep[DISTANCE] >= START_SKIP_DISTANCE) {
       this.search[SPIN] = sweepArc(a) * a.maxExtent
       this.search[TARGET] = TOI_TARGET
-      this.advance(a, b)
+      this.advance(a, sa, b, sb)
       return
     }
     sweep[CORE] = 0.25 * a.minExtent
-    sweptDistance(a, b)
+    sweptDistance(a, sa.shape, b, sb.shape)
     const d = sweep[DISTANCE]
     if (d <= 0) {
       this.search[IMPACT] = 1
@@ -150,7 +151,7 @@ export class ContinuousSolver {
     // of its remaining gap per step, so it never crosses and never freezes completely.
     this.search[SPIN] = 0
     this.search[TARGET] = Math.min(TOI_TARGET, 0.5 * d)
-    this.advance(a, b)
+    this.advance(a, sa, b, sb)
     this.coreHit = this.search[IMPACT] < 1
   }
 
@@ -158,7 +159,7 @@ export class ContinuousSolver {
    * Conservative advancement from distance sweep[DISTANCE] at t = 0 to the gap search[TARGET], into
    * search[IMPACT]; search[SPIN] bounds a's rotational speed, sweep[CORE] is passed on to sweptDistance.
    */
-  private advance(a: Body, b: Body): void {
+  private advance(a: Body, sa: BodyShape, b: Body, sb: BodyShape): void {
     let d = sweep[DISTANCE]
     const target = this.search[TARGET]
     const dax = a.awake ? a.cx - a.c0x : 0
@@ -180,7 +181,7 @@ export class ContinuousSolver {
         break
       }
       sweep[FRACTION] = t
-      sweptDistance(a, b)
+      sweptDistance(a, sa.shape, b, sb.shape)
       d = sweep[DISTANCE]
     }
     this.search[IMPACT] = t
@@ -195,8 +196,8 @@ export class ContinuousSolver {
     awake: Body[],
     count: number,
     broadPhase: BroadPhase,
-    bodies: Map<number, Body>,
-    canCollide: (a: Body, b: Body) => boolean,
+    shapes: Map<number, BodyShape>,
+    canCollide: (a: BodyShape, b: BodyShape) => boolean,
   ): void {
     this.moverCount = 0
     let bullets = 0
@@ -206,28 +207,42 @@ export class ContinuousSolver {
       if (b.bullet) bullets++
       const d = travel(b)
       if (d > broadPhase.margin) this.movers[this.moverCount++] = b
-      if (!b.bullet && d > 0.5 * b.minExtent) this.sweepBody(b, broadPhase, bodies, canCollide)
+      if (!b.bullet && d > 0.5 * b.minExtent) this.sweepBody(b, broadPhase, shapes, canCollide)
     }
     if (bullets === 0) return
     for (let i = 0; i < count; i++) {
       const b = awake[i]
       if (b.type === DYNAMIC && b.bullet && travel(b) > 0.5 * b.minExtent) {
-        this.sweepBody(b, broadPhase, bodies, canCollide)
+        this.sweepBody(b, broadPhase, shapes, canCollide)
       }
     }
   }
 
-  private sweepAgainst(b: Body, other: Body, canCollide: (a: Body, b: Body) => boolean): void {
+  /** Sweeps each shape of body b against one shape of another body. */
+  private sweepAgainst(b: Body, os: BodyShape, canCollide: (a: BodyShape, b: BodyShape) => boolean): void {
+    const other = os.body
     if (other === b) return
     const sweepable = other.type === STATIC || (b.bullet && other.type === DYNAMIC)
-    if (!sweepable || !canCollide(b, other)) return
+    if (!sweepable) return
+    const shapes = b.shapes
+    for (let i = 0; i < shapes.length; i++) this.sweepShapeAgainst(b, shapes[i], other, os, canCollide)
+  }
+
+  private sweepShapeAgainst(
+    b: Body,
+    bs: BodyShape,
+    other: Body,
+    os: BodyShape,
+    canCollide: (a: BodyShape, b: BodyShape) => boolean,
+  ): void {
+    if (!canCollide(bs, os)) return
     this.coreHit = false
-    this.timeOfImpact(b, other)
+    this.timeOfImpact(b, bs, other, os)
     const t = this.search[IMPACT]
     if (t < this.search[EARLIEST]) {
       this.search[EARLIEST] = t
       this.hitBody = other.type === DYNAMIC && other.awake ? other : null
-      this.coreStop = this.coreHit && other.type === STATIC ? other : null
+      this.coreStop = this.coreHit && other.type === STATIC ? os : null
     }
   }
 
@@ -240,8 +255,8 @@ export class ContinuousSolver {
   private sweepBody(
     b: Body,
     broadPhase: BroadPhase,
-    bodies: Map<number, Body>,
-    canCollide: (a: Body, b: Body) => boolean,
+    shapes: Map<number, BodyShape>,
+    canCollide: (a: BodyShape, b: BodyShape) => boolean,
   ): void {
     const r = b.maxExtent
     const minX = Math.min(b.c0x, b.cx) - r
@@ -257,7 +272,7 @@ export class ContinuousSolver {
     this.hitBody = null
     this.coreStop = null
     for (let k = 0; k < n; k++) {
-      const other = bodies.get(this.candidates.ids[k])
+      const other = shapes.get(this.candidates.ids[k])
       if (other !== undefined) this.sweepAgainst(b, other, canCollide)
     }
     if (b.bullet) {
@@ -266,7 +281,8 @@ export class ContinuousSolver {
         const ro = other.maxExtent
         if (Math.min(other.c0x, other.cx) - ro > maxX || Math.max(other.c0x, other.cx) + ro < minX) continue
         if (Math.min(other.c0y, other.cy) - ro > maxY || Math.max(other.c0y, other.cy) + ro < minY) continue
-        this.sweepAgainst(b, other, canCollide)
+        const otherShapes = other.shapes
+        for (let j = 0; j < otherShapes.length; j++) this.sweepAgainst(b, otherShapes[j], canCollide)
       }
     }
     this.finishSweep(b)
@@ -291,11 +307,11 @@ export class ContinuousSolver {
     sweep[FRACTION] = minT
     advanceTo(b)
     if (this.hitBody !== null) advanceTo(this.hitBody)
-    const other = this.coreStop
-    if (other === null) return
+    const stop = this.coreStop
+    if (stop === null) return
     sweep[FRACTION] = 1
-    poseAt(other)
-    const n = transformVertices(other.shape, verticesB)
+    poseAt(stop.body)
+    const n = transformVertices(stop.shape, verticesB)
     let nx = b.cx - verticesB[0]
     let ny = b.cy - verticesB[1]
     if (n > 1) {

@@ -1,10 +1,11 @@
 /*
- * Dynamics: bodies and their solver state, contacts and their records, the soft-step contact
- * solver with its extra sweeps for pinched bodies and tall columns, islands and sleep, and the
- * continuous stage. Depends on collision/ and the root files.
+ * Dynamics: bodies, their shapes (body-shape.ts) and their solver state, contacts and their
+ * records, the soft-step contact solver with its extra sweeps for pinched bodies and tall columns,
+ * islands and sleep, and the continuous stage. Depends on collision/ and the root files.
  */
 
 export { Body, DYNAMIC, STATIC, updateMassData } from './body.ts'
+export { BodyShape, shouldFilterCollide } from './body-shape.ts'
 export {
   DPX,
   DPY,
@@ -21,8 +22,27 @@ export {
   VY,
   W,
 } from './body-state.ts'
-export { CONTACT_POINT_FIELDS, Contact, clearContact, updateContact } from './contact.ts'
-export { ContactStore, NORMAL_X, POINT_0, POINT_FIELDS } from './contact-record.ts'
+export {
+  CONTACT_EVENTS,
+  CONTACT_POINT_FIELDS,
+  Contact,
+  clearContact,
+  HIT_EVENTS,
+  measureApproach,
+  mixMaterials,
+  updateContact,
+} from './contact.ts'
+export {
+  APPROACH,
+  ContactStore,
+  HIT_X,
+  HIT_Y,
+  NORMAL_X,
+  NORMAL_Y,
+  POINT_0,
+  POINT_FIELDS,
+  TOTAL_NORMAL,
+} from './contact-record.ts'
 export {
   applyRestitution,
   ContactConstraints,

@@ -1,7 +1,16 @@
 /*
  * The World: its storage (world-store.ts), its public methods (world-api.ts), the step as a list
- * of stages (world.ts), and saving, loading and hashing (world-state.ts, save-format.ts).
+ * of stages (world.ts), its contact and sensor events (events.ts) and the sensor stage (sensor.ts),
+ * and saving, loading and hashing (world-state.ts, save-format.ts).
  */
+
+export type {
+  ContactEvents,
+  ContactHitEvent,
+  ContactTouchEvent,
+  SensorEvent,
+  SensorEvents,
+} from './events.ts'
 export { SAVE_FORMAT_VERSION, WorldLoadError } from './save-format.ts'
 export { createWorld, loadWorld, World } from './world.ts'
 export {

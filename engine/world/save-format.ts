@@ -6,8 +6,13 @@
  * u32 FNV-1a checksum of the payload, then the payload. Truncated, corrupted or other-version
  * bytes throw a WorldLoadError naming what is wrong; nothing half-built is returned.
  */
-/** Bumped whenever the payload layout changes. */
-export const SAVE_FORMAT_VERSION = 2
+/**
+ * Bumped whenever the payload layout changes. 2 was used by two branches with different layouts
+ * (issue 27: shapes saved per body with their own ids, material, filter and flags, contacts naming
+ * their shapes, a sensor section and pending forces; issue 28: the new joint kinds' fields behind
+ * joint flag bit 3); 3 is their merged layout, with both.
+ */
+export const SAVE_FORMAT_VERSION = 3
 const MAGIC = 0x57434e43 // "CNCW" little-endian
 /** Bytes before the payload. */
 export const HEADER_BYTES = 16

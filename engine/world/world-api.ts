@@ -6,9 +6,18 @@
  */
 
 import type { Shape } from '../collision/index.ts'
-import { MAX_ROTATION, STEP_SECONDS } from '../constants.ts'
+import { MAX_LINEAR_SPEED, MAX_ROTATION, STEP_SECONDS } from '../constants.ts'
 import { angle as checkAngle, position as checkPosition, finite, finiteVec, inRange } from '../def-checks.ts'
-import { Body, DYNAMIC, limitBodyVelocity, STATIC, updateMassData } from '../dynamics/index.ts'
+import {
+  Body,
+  BodyShape,
+  DYNAMIC,
+  limitBodyVelocity,
+  mixMaterials,
+  STATIC,
+  shouldFilterCollide,
+  updateMassData,
+} from '../dynamics/index.ts'
 import {
   buildJoint,
   DISTANCE,
@@ -31,12 +40,18 @@ import type {
   BodyDef,
   BodyId,
   BodyType,
+  CompoundBodyDef,
   ContactInfo,
+  ExplosionDef,
+  Filter,
   JointDef,
   JointId,
   JointInfo,
   JointReaction,
+  ShapeDef,
+  ShapeId,
 } from '../types.ts'
+import { SensorState } from './sensor.ts'
 import { WorldStore } from './world-store.ts'
 
 const BODY_TYPES: readonly BodyType[] = ['static', 'kinematic', 'dynamic']
@@ -57,9 +72,11 @@ export const POSE_AWAKE = 5
 /** The POSE_TYPE value of a static body. */
 export const POSE_STATIC = 0
 
+const SHAPE_TYPES: readonly string[] = ['circle', 'polygon', 'capsule', 'segment']
+
 function checkShape(shape: Shape): Shape {
-  if (shape === null || typeof shape !== 'object' || (shape.type !== 'circle' && shape.type !== 'polygon')) {
-    throw new RangeError('body shape must be made by circle(), box() or polygon()')
+  if (shape === null || typeof shape !== 'object' || !SHAPE_TYPES.includes(shape?.type)) {
+    throw new RangeError('body shape must be made by circle(), box(), polygon(), capsule() or segment()')
   }
   return shape
 }
@@ -81,17 +98,24 @@ export class WorldApi extends WorldStore {
     return this.bodies.length
   }
 
-  /** Creates a body; ids are handed out 1, 2, 3... and never reused. Throws on an invalid definition. */
-  createBody(def: BodyDef): BodyId {
+  /**
+   * Creates a body with its shapes (`shape`, or `shapes` in order); body ids are handed out 1, 2,
+   * 3... and shape ids likewise, never reused. Throws on an invalid definition.
+   */
+  createBody(def: BodyDef | CompoundBodyDef): BodyId {
     this.revision++
+    const shapeDefs = bodyShapeDefs(def)
     const typeIndex = BODY_TYPES.indexOf(def.type ?? 'dynamic')
     if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${def.type}`)
-    const body = new Body(this.nextBodyId, typeIndex, checkShape(def.shape))
+    const body = new Body(this.nextBodyId, typeIndex)
+    const shapes = shapeDefs.map((sd, i) => buildShape(sd, this.nextShapeId + i, body, def))
+    if (typeIndex === DYNAMIC && !shapes.some((s) => s.shape.type !== 'segment')) {
+      throw new RangeError(
+        'a dynamic body needs a shape with mass: a segment has none (use it on static or kinematic bodies, or add a shape with area)',
+      )
+    }
     const position = checkPosition('position', def.position ?? { x: 0, y: 0 })
     const angle = checkAngle('angle', def.angle ?? 0)
-    body.density = inRange('density', def.density ?? 1, 1e-6, 1e6)
-    body.friction = inRange('friction', def.friction ?? 0.6, 0, 100)
-    body.restitution = inRange('restitution', def.restitution ?? 0, 0, 1)
     body.linearDamping = inRange('linearDamping', def.linearDamping ?? 0, 0, 1e6)
     body.angularDamping = inRange('angularDamping', def.angularDamping ?? 0, 0, 1e6)
     body.gravityScale = inRange('gravityScale', def.gravityScale ?? 1, -1e3, 1e3)
@@ -99,6 +123,8 @@ export class WorldApi extends WorldStore {
     body.enableSleep = def.enableSleep !== false
     body.fixedRotation = def.fixedRotation === true
     this.nextBodyId++
+    this.nextShapeId += shapes.length
+    for (const s of shapes) body.shapes.push(s)
     updateMassData(body)
     body.x = position.x
     body.y = position.y
@@ -116,8 +142,148 @@ export class WorldApi extends WorldStore {
     body.awake = typeIndex !== STATIC && def.awake !== false
     this.bodies.push(body)
     this.bodyMap.set(body.id, body)
-    this.createProxy(body)
+    for (const s of shapes) this.addShape(s)
+    body.syncShapes()
     return body.id
+  }
+
+  /**
+   * Attaches a shape to a body and returns its id (handed out after every id so far, never
+   * reused). The body's mass, centre of mass and inertia are recomputed (its origin stays put, and
+   * its centre's velocity follows the body's rotation); the body wakes.
+   */
+  createShape(bodyId: BodyId, def: ShapeDef): ShapeId {
+    this.revision++
+    const body = this.body(bodyId)
+    const s = buildShape(def, this.nextShapeId, body, {})
+    this.nextShapeId++
+    body.shapes.push(s)
+    this.remass(body)
+    this.addShape(s)
+    body.syncShapes()
+    this.islands.wake(body)
+    if (body.type === STATIC) this.wakeTouching(body)
+    return s.id
+  }
+
+  /**
+   * Detaches a shape from its body and destroys its contacts; the body is re-massed and wakes with
+   * everything the shape touched. A dynamic body must keep a shape with mass (a RangeError otherwise).
+   */
+  destroyShape(id: ShapeId): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    const body = s.body
+    if (body.type === DYNAMIC && !body.shapes.some((o) => o !== s && o.shape.type !== 'segment')) {
+      throw new RangeError(
+        `shape ${id} is the last shape with mass of dynamic body ${body.id}; destroy the body instead`,
+      )
+    }
+    this.destroyShapeContacts(s)
+    this.removeShape(s)
+    body.shapes.splice(body.shapes.indexOf(s), 1)
+    body.syncShapes()
+    this.remass(body)
+    this.islands.wake(body)
+  }
+
+  /** The ids of a body's shapes, in creation order. */
+  bodyShapes(bodyId: BodyId): ShapeId[] {
+    return this.body(bodyId).shapes.map((s) => s.id)
+  }
+
+  /** Whether a shape with this id exists. */
+  hasShape(id: ShapeId): boolean {
+    return this.shapeMap.has(id)
+  }
+
+  /** The body a shape is attached to. */
+  getShapeBody(id: ShapeId): BodyId {
+    return this.bodyShape(id).body.id
+  }
+
+  /** A shape's geometry (shared, immutable), in its body's frame. */
+  getShapeGeometry(id: ShapeId): Shape {
+    return this.bodyShape(id).shape
+  }
+
+  /** A shape's collision filter (a copy). */
+  getFilter(id: ShapeId): Filter {
+    const s = this.bodyShape(id)
+    return { categoryBits: s.categoryBits, maskBits: s.maskBits, groupIndex: s.groupIndex }
+  }
+
+  /**
+   * Sets a shape's collision filter. Contacts the new filter forbids end, and pairs it allows begin,
+   * at the next step (their events come from that step); the body wakes.
+   */
+  setFilter(id: ShapeId, filter: Filter): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    setShapeFilter(s, filter)
+    this.destroyShapeContacts(s, true)
+    if (s.proxy >= 0) this.broadPhase.touchProxy(s.proxy)
+    this.islands.wake(s.body)
+  }
+
+  /** Registers a new shape: the id map, its proxy, the sensor list, the hit-event count. */
+  private addShape(s: BodyShape): void {
+    this.shapeMap.set(s.id, s)
+    this.createProxy(s)
+    if (s.enableHitEvents) this.hitEventShapes++
+    if (s.sensor) {
+      // Sensors are kept in id order; a new shape has the largest id so far.
+      this.sensors.push(new SensorState(s))
+    }
+  }
+
+  /** Unregisters a shape (its contacts are already gone). */
+  private removeShape(s: BodyShape): void {
+    this.broadPhase.destroyProxy(s.proxy)
+    s.proxy = -1
+    this.shapeMap.delete(s.id)
+    if (s.enableHitEvents) this.hitEventShapes--
+    if (s.sensor) {
+      const k = this.sensors.findIndex((t) => t.shape === s)
+      if (k >= 0) this.sensors.splice(k, 1)
+    }
+  }
+
+  /**
+   * Destroys the contacts of one shape (with `onlyFiltered`, only those its filter now forbids)
+   * and wakes the bodies it touched; touching ones report their end at the next step.
+   */
+  protected destroyShapeContacts(s: BodyShape, onlyFiltered = false): void {
+    const body = s.body
+    for (const c of body.contacts.slice()) {
+      if (c.shapeA !== s && c.shapeB !== s) continue
+      if (onlyFiltered && shouldFilterCollide(c.shapeA, c.shapeB)) continue
+      const other = c.bodyA === body ? c.bodyB : c.bodyA
+      this.endContactLater(c)
+      this.unlinkContact(c)
+      this.contactPool.push(c)
+      this.islands.wake(other)
+      this.contactArray.splice(this.contactArray.indexOf(c), 1)
+    }
+  }
+
+  /**
+   * Recomputes a body's mass properties after its shapes changed, keeping the origin in place; the
+   * centre of mass moves, and its velocity becomes that of the body's point now at the centre
+   * (v + w x (new centre - old centre), as Box2D's b2UpdateBodyMassData).
+   */
+  protected remass(body: Body): void {
+    const oldCx = body.cx
+    const oldCy = body.cy
+    updateMassData(body)
+    body.updateCenter()
+    if (body.type !== STATIC) {
+      body.vx -= body.w * (body.cy - oldCy)
+      body.vy += body.w * (body.cx - oldCx)
+      limitBodyVelocity(body, this.maxAngularSpeed)
+    }
+    body.c0x = body.cx
+    body.c0y = body.cy
   }
 
   /** Destroys a body, its contacts and its joints, and wakes everything it touched. */
@@ -127,10 +293,11 @@ export class WorldApi extends WorldStore {
     for (const j of body.joints.slice()) this.destroyJoint(j.id)
     for (const c of body.contacts.slice()) {
       const other = c.bodyA === body ? c.bodyB : c.bodyA
+      this.endContactLater(c)
       this.unlinkContact(c)
       this.contactPool.push(c)
       this.islands.wake(other)
-      this.broadPhase.touchProxy(other.proxy)
+      this.touchProxies(other)
     }
     const contacts = this.contactArray
     let kept = 0
@@ -138,7 +305,7 @@ export class WorldApi extends WorldStore {
       if (contacts[i].bodyA !== body && contacts[i].bodyB !== body) contacts[kept++] = contacts[i]
     }
     contacts.length = kept
-    this.broadPhase.destroyProxy(body.proxy)
+    for (const s of body.shapes) this.removeShape(s)
     this.bodies.splice(this.bodies.indexOf(body), 1)
     this.bodyMap.delete(id)
   }
@@ -188,9 +355,11 @@ export class WorldApi extends WorldStore {
     return BODY_TYPES[this.body(id).type]
   }
 
-  /** The body's shape (shared, immutable). */
+  /** The body's first shape (shared, immutable); bodyShapes() lists them all. */
   getShape(id: BodyId): Shape {
-    return this.body(id).shape
+    const shapes = this.body(id).shapes
+    if (shapes.length === 0) throw new RangeError(`body ${id} has no shapes`)
+    return shapes[0].shape
   }
 
   /** World position of the body origin (m). */
@@ -274,7 +443,7 @@ export class WorldApi extends WorldStore {
     b.s = sin(angle)
     b.updateCenter()
     this.moveProxy(b, false)
-    this.broadPhase.touchProxy(b.proxy)
+    this.touchProxies(b)
     this.islands.wake(b)
     if (b.type === STATIC) this.wakeTouching(b)
   }
@@ -327,6 +496,185 @@ export class WorldApi extends WorldStore {
     limitBodyVelocity(b, this.maxAngularSpeed)
   }
 
+  /**
+   * Adds a force (N) at a world point (m) to a dynamic body and wakes it; it acts over the next step
+   * (as the impulse force x 1/60 s at its start) and is then cleared, like Box2D's forces. Forces
+   * given several times before a step add up.
+   */
+  applyForce(id: BodyId, force: Vec2, point: Vec2): void {
+    this.revision++
+    const b = this.body(id)
+    finiteVec('force', force)
+    finiteVec('point', point)
+    if (b.type !== DYNAMIC) return
+    this.addForce(b, force.x, force.y, (point.x - b.cx) * force.y - (point.y - b.cy) * force.x)
+  }
+
+  /** Adds a torque (N m) to a dynamic body for the next step (see applyForce) and wakes it. */
+  applyTorque(id: BodyId, torque: number): void {
+    this.revision++
+    const b = this.body(id)
+    finite('torque', torque)
+    if (b.type !== DYNAMIC) return
+    this.addForce(b, 0, 0, torque)
+  }
+
+  /** Applies an angular impulse (N m s) to a dynamic body now and wakes it; the spin is clamped to the limit. */
+  applyAngularImpulse(id: BodyId, impulse: number): void {
+    this.revision++
+    const b = this.body(id)
+    finite('impulse', impulse)
+    if (b.type !== DYNAMIC) return
+    this.islands.wake(b)
+    b.w += b.invInertia * impulse
+    limitBodyVelocity(b, this.maxAngularSpeed)
+  }
+
+  private addForce(b: Body, fx: number, fy: number, torque: number): void {
+    const pending = b.fx !== 0 || b.fy !== 0 || b.torque !== 0
+    // Sums stay finite: each part is clamped to what could change the velocity by twice the limit.
+    const cap = (2 * MAX_LINEAR_SPEED * b.mass) / STEP_SECONDS
+    const torqueCap =
+      (2 * this.maxAngularSpeed * Math.max(b.inertia, 1e-300)) / STEP_SECONDS + cap * b.maxExtent
+    b.fx = Math.max(-cap, Math.min(cap, b.fx + fx))
+    b.fy = Math.max(-cap, Math.min(cap, b.fy + fy))
+    b.torque = Math.max(-torqueCap, Math.min(torqueCap, b.torque + torque))
+    if (!pending && (b.fx !== 0 || b.fy !== 0 || b.torque !== 0)) this.forced.push(b)
+    this.islands.wake(b)
+  }
+
+  /** Sets a shape's friction (0..100); its contacts take the new mix at once; the body and what it touches wake. */
+  setFriction(id: ShapeId, friction: number): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    s.friction = inRange('friction', friction, 0, 100)
+    this.remixContacts(s)
+  }
+
+  /** Sets a shape's restitution (0..1); its contacts take the new mix at once; the body and what it touches wake. */
+  setRestitution(id: ShapeId, restitution: number): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    s.restitution = inRange('restitution', restitution, 0, 1)
+    this.remixContacts(s)
+  }
+
+  /** Sets a shape's density (kg/m^2, 1e-6..1e6) and re-masses its body (origin kept); wakes it. */
+  setDensity(id: ShapeId, density: number): void {
+    this.revision++
+    const s = this.bodyShape(id)
+    s.density = inRange('density', density, 1e-6, 1e6)
+    this.remass(s.body)
+    this.islands.wake(s.body)
+  }
+
+  /** Re-mixes the friction and restitution of a shape's contacts and wakes what it touches. */
+  private remixContacts(s: BodyShape): void {
+    this.islands.wake(s.body)
+    for (const c of s.body.contacts) {
+      if (c.shapeA !== s && c.shapeB !== s) continue
+      mixMaterials(c)
+      this.islands.wake(c.bodyA === s.body ? c.bodyB : c.bodyA)
+    }
+  }
+
+  /**
+   * Changes a body's type. Its contacts end (reported by the next step) and its proxies are made
+   * again, so the broadphase pairs it afresh at the next step; a body made static stops; a body made
+   * dynamic needs a shape with mass (a RangeError otherwise) and is re-massed. The body and what it
+   * touched wake.
+   */
+  setBodyType(id: BodyId, type: BodyType): void {
+    this.revision++
+    const b = this.body(id)
+    const typeIndex = BODY_TYPES.indexOf(type)
+    if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${type}`)
+    if (typeIndex === b.type) return
+    if (typeIndex === DYNAMIC && !b.shapes.some((s) => s.shape.type !== 'segment')) {
+      throw new RangeError(`body ${id} has no shape with mass and cannot be dynamic`)
+    }
+    for (const c of b.contacts.slice()) {
+      const other = c.bodyA === b ? c.bodyB : c.bodyA
+      this.endContactLater(c)
+      this.unlinkContact(c)
+      this.contactPool.push(c)
+      this.contactArray.splice(this.contactArray.indexOf(c), 1)
+      this.islands.wake(other)
+    }
+    this.islands.wake(b)
+    b.type = typeIndex
+    for (const s of b.shapes) {
+      this.broadPhase.destroyProxy(s.proxy)
+      this.createProxy(s)
+    }
+    b.syncShapes()
+    if (typeIndex === STATIC) {
+      b.vx = 0
+      b.vy = 0
+      b.w = 0
+      b.awake = false
+      b.sleepTime = 0
+    } else b.awake = true
+    b.fx = 0
+    b.fy = 0
+    b.torque = 0
+    updateMassData(b)
+    b.updateCenter()
+    b.c0x = b.cx
+    b.c0y = b.cy
+    b.q0c = b.c
+    b.q0s = b.s
+    // Joints to it may now join or leave a tree of pins: they wake with it.
+    for (const j of b.joints) {
+      this.islands.wake(j.bodyA)
+      this.islands.wake(j.bodyB)
+    }
+  }
+
+  /**
+   * An explosion (Box2D v3.1's b2World_Explode): every shape of a dynamic body within radius +
+   * falloff of `position` (m) whose category is in `maskBits` gets an impulse away from the
+   * position at its nearest point, of impulsePerLength (N s/m) times the shape's width across that
+   * direction, full within `radius` and falling linearly to 0 over `falloff` (m) beyond it.
+   * Bodies are visited in id order and shapes in creation order.
+   */
+  explode(def: ExplosionDef): void {
+    this.revision++
+    const p = finiteVec('position', def.position)
+    const radius = inRange('radius', def.radius, 0, 1e6)
+    const falloff = inRange('falloff', def.falloff ?? 0, 0, 1e6)
+    const perLength = finite('impulsePerLength', def.impulsePerLength)
+    const mask = def.maskBits ?? 0xffffffff
+    if (!Number.isInteger(mask) || mask < 0 || mask > 0xffffffff)
+      throw new RangeError(`maskBits must be an integer in [0, 2^32), got ${mask}`)
+    const reach = radius + falloff
+    const near = { x: 0, y: 0, distance: 0 }
+    for (const b of this.bodies.slice()) {
+      if (b.type !== DYNAMIC) continue
+      for (const s of b.shapes) {
+        if ((s.categoryBits & mask) === 0) continue
+        nearestPoint(s, p, near)
+        if (near.distance > reach) continue
+        let dx = near.x - p.x
+        let dy = near.y - p.y
+        let len = Math.sqrt(dx * dx + dy * dy)
+        if (len === 0) {
+          // The position is inside the shape: push from it toward the body's centre of mass.
+          dx = b.cx - p.x
+          dy = b.cy - p.y
+          len = Math.sqrt(dx * dx + dy * dy)
+          if (len === 0) continue
+        }
+        dx /= len
+        dy /= len
+        const scale =
+          near.distance <= radius || falloff === 0 ? 1 : Math.max(0, (reach - near.distance) / falloff)
+        const magnitude = perLength * projectedWidth(s, -dy, dx) * scale
+        this.applyLinearImpulse(b.id, { x: magnitude * dx, y: magnitude * dy }, { x: near.x, y: near.y })
+      }
+    }
+  }
+
   /** Gravity (m/s^2). */
   getGravity(): Vec2 {
     return { x: this.gravityX, y: this.gravityY }
@@ -361,7 +709,14 @@ export class WorldApi extends WorldStore {
           tangentImpulse: j === 0 ? c.totalTangentImpulse0 : c.totalTangentImpulse1,
         })
       }
-      out.push({ bodyA: c.bodyA.id, bodyB: c.bodyB.id, normal: { x: c.normalX, y: c.normalY }, points })
+      out.push({
+        bodyA: c.bodyA.id,
+        bodyB: c.bodyB.id,
+        shapeA: c.shapeA.id,
+        shapeB: c.shapeB.id,
+        normal: { x: c.normalX, y: c.normalY },
+        points,
+      })
     }
     return out
   }
@@ -385,10 +740,10 @@ export class WorldApi extends WorldStore {
     joint.bodyB.joints.push(joint)
     this.islands.wake(joint.bodyA)
     this.islands.wake(joint.bodyB)
-    const lo = Math.min(joint.bodyA.id, joint.bodyB.id)
-    const hi = Math.max(joint.bodyA.id, joint.bodyB.id)
-    const contact = this.contactMap.get(lo, hi)
-    if (contact !== undefined && !joint.collideConnected) {
+    if (joint.collideConnected) return
+    for (const contact of joint.bodyA.contacts.slice()) {
+      if (contact.bodyA !== joint.bodyB && contact.bodyB !== joint.bodyB) continue
+      this.endContactLater(contact)
       this.unlinkContact(contact)
       this.contactArray.splice(this.contactArray.indexOf(contact), 1)
       this.contactPool.push(contact)
@@ -407,8 +762,8 @@ export class WorldApi extends WorldStore {
     this.islands.wake(bodyA)
     this.islands.wake(bodyB)
     // Bodies that may now collide get a contact from the broadphase again.
-    if (bodyA.proxy >= 0) this.broadPhase.touchProxy(bodyA.proxy)
-    if (bodyB.proxy >= 0) this.broadPhase.touchProxy(bodyB.proxy)
+    this.touchProxies(bodyA)
+    this.touchProxies(bodyB)
   }
 
   /** Whether a joint with this id exists. */
@@ -510,4 +865,135 @@ export class WorldApi extends WorldStore {
     // Joint impulses accumulate per sub-step, so force = impulse / h.
     return jointReaction(this.joint(id), this.settings.subSteps / STEP_SECONDS)
   }
+}
+
+/** The shape definitions of a body definition: `shapes`, or `shape` as a one-shape list. */
+function bodyShapeDefs(def: BodyDef | CompoundBodyDef): ShapeDef[] {
+  if (def === null || typeof def !== 'object') throw new RangeError('body definition must be an object')
+  if ('shapes' in def && def.shapes !== undefined) {
+    if (def.shape !== undefined) throw new RangeError('body definition gives both shape and shapes; give one')
+    if (!Array.isArray(def.shapes) || def.shapes.length === 0 || def.shapes.length > MAX_BODY_SHAPES) {
+      throw new RangeError(`body shapes must be an array of 1 to ${MAX_BODY_SHAPES} shape definitions`)
+    }
+    return def.shapes
+  }
+  return [{ shape: (def as BodyDef).shape }]
+}
+
+/** Most shapes one body definition may give at once (m): 1,024. */
+const MAX_BODY_SHAPES = 1024
+
+/** Builds a validated BodyShape; material the shape definition omits comes from the body's definition. */
+function buildShape(
+  sd: ShapeDef,
+  id: number,
+  body: Body,
+  bodyDef: { density?: number; friction?: number; restitution?: number },
+): BodyShape {
+  if (sd === null || typeof sd !== 'object')
+    throw new RangeError(`shape definition must be an object, got ${sd}`)
+  const s = new BodyShape(id, body, checkShape(sd.shape))
+  s.density = inRange('density', sd.density ?? bodyDef.density ?? 1, 1e-6, 1e6)
+  s.friction = inRange('friction', sd.friction ?? bodyDef.friction ?? 0.6, 0, 100)
+  s.restitution = inRange('restitution', sd.restitution ?? bodyDef.restitution ?? 0, 0, 1)
+  s.rollingResistance = inRange('rollingResistance', sd.rollingResistance ?? 0, 0, 100)
+  s.tangentSpeed = inRange('tangentSpeed', sd.tangentSpeed ?? 0, -1e3, 1e3)
+  if (sd.filter !== undefined) setShapeFilter(s, sd.filter)
+  s.sensor = sd.sensor === true
+  s.enableSensorEvents = sd.enableSensorEvents !== false
+  s.enableContactEvents = sd.enableContactEvents !== false
+  s.enableHitEvents = sd.enableHitEvents === true
+  return s
+}
+
+/** Validates a filter and writes it into a shape (masks as unsigned 32-bit numbers). */
+export function setShapeFilter(s: BodyShape, f: Filter): void {
+  if (f === null || typeof f !== 'object') throw new RangeError(`filter must be an object, got ${f}`)
+  const category = f.categoryBits ?? 1
+  const mask = f.maskBits ?? 0xffffffff
+  const group = f.groupIndex ?? 0
+  if (!Number.isInteger(category) || category < 0 || category > 0xffffffff)
+    throw new RangeError(`filter categoryBits must be an integer in [0, 2^32), got ${category}`)
+  if (!Number.isInteger(mask) || mask < 0 || mask > 0xffffffff)
+    throw new RangeError(`filter maskBits must be an integer in [0, 2^32), got ${mask}`)
+  if (!Number.isInteger(group) || group < -2147483648 || group > 2147483647)
+    throw new RangeError(`filter groupIndex must be an integer in [-2^31, 2^31), got ${group}`)
+  s.categoryBits = category
+  s.maskBits = mask
+  s.groupIndex = group
+}
+
+/** The nearest point of a shape's surface (world) to p, and its distance (0 when p is inside). */
+function nearestPoint(s: BodyShape, p: Vec2, out: { x: number; y: number; distance: number }): void {
+  const b = s.body
+  const shape = s.shape
+  // p in the body frame.
+  const dx = p.x - b.x
+  const dy = p.y - b.y
+  const lx = b.c * dx + b.s * dy
+  const ly = -b.s * dx + b.c * dy
+  let qx = shape.centroid.x
+  let qy = shape.centroid.y
+  let inside = false
+  if (shape.type !== 'circle') {
+    // Nearest point of the core (polygon or segment) to p.
+    const vs = shape.vertices
+    const n = shape.count
+    let best = Number.POSITIVE_INFINITY
+    for (let i = 0; i < (n === 2 ? 1 : n); i++) {
+      const a = vs[i]
+      const e = vs[i + 1 < n ? i + 1 : 0]
+      const ex = e.x - a.x
+      const ey = e.y - a.y
+      const t = Math.max(0, Math.min(1, ((lx - a.x) * ex + (ly - a.y) * ey) / (ex * ex + ey * ey)))
+      const cx = a.x + t * ex
+      const cy = a.y + t * ey
+      const d = (lx - cx) * (lx - cx) + (ly - cy) * (ly - cy)
+      if (d < best) {
+        best = d
+        qx = cx
+        qy = cy
+      }
+    }
+    if (n > 2) {
+      inside = true
+      for (let i = 0; i < n; i++) {
+        if (shape.normals[i].x * (lx - vs[i].x) + shape.normals[i].y * (ly - vs[i].y) > 0) inside = false
+      }
+    }
+  }
+  const gx = lx - qx
+  const gy = ly - qy
+  const gap = Math.sqrt(gx * gx + gy * gy)
+  const r = shape.radius
+  if (inside || gap <= r) {
+    out.x = p.x
+    out.y = p.y
+    out.distance = 0
+    return
+  }
+  // Surface point: r along the gap from the core's nearest point.
+  const sx = qx + (r * gx) / gap
+  const sy = qy + (r * gy) / gap
+  out.x = b.x + b.c * sx - b.s * sy
+  out.y = b.y + b.s * sx + b.c * sy
+  out.distance = gap - r
+}
+
+/** A shape's width along the world direction (tx, ty) (unit): its projection's length (m). */
+function projectedWidth(s: BodyShape, tx: number, ty: number): number {
+  const b = s.body
+  const shape = s.shape
+  // The direction in the body frame.
+  const lx = b.c * tx + b.s * ty
+  const ly = -b.s * tx + b.c * ty
+  if (shape.type === 'circle') return 2 * shape.radius
+  let lo = Number.POSITIVE_INFINITY
+  let hi = Number.NEGATIVE_INFINITY
+  for (let i = 0; i < shape.count; i++) {
+    const d = shape.vertices[i].x * lx + shape.vertices[i].y * ly
+    lo = Math.min(lo, d)
+    hi = Math.max(hi, d)
+  }
+  return hi - lo + 2 * shape.radius
 }

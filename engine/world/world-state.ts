@@ -2,8 +2,9 @@
  * Saving, loading and hashing a world.
  *
  * The saved bytes hold everything that influences future steps: settings, id counters, every
- * body (shape, material, flags, transform, velocity, sleep timer, step-start pose, fat AABB),
- * every contact with its manifold and accumulated impulses (warm starting), and every joint with
+ * body (damping, flags, transform, velocity, sleep timer, step-start pose) with its shapes (geometry,
+ * material, filter, flags, fat AABB), every contact (by shape ids) with its manifold and accumulated
+ * impulses (warm starting), and every joint with
  * its accumulated impulses. The broadphase tree is rebuilt from the saved fat AABBs: the pairs it
  * reports are sorted and depend only on the boxes, so its shape does not matter. A world loaded
  * from these bytes steps bit-identically to the original. The container (header, checksum) is in
@@ -12,12 +13,14 @@
  * The hash is FNV-1a of the payload: it covers exactly the state that a save captures.
  */
 
-import { box, circle, polygon, type Shape } from '../collision/index.ts'
+import { box, capsule, circle, polygon, type Shape, segment } from '../collision/index.ts'
 import {
   Body,
+  BodyShape,
   CONTACT_POINT_FIELDS,
   Contact,
   type ContactStore,
+  DYNAMIC,
   NORMAL_X,
   POINT_0,
   POINT_FIELDS as RECORD_POINT_FIELDS,
@@ -36,18 +39,45 @@ import {
   sealSave,
   WorldLoadError,
 } from './save-format.ts'
+import { SensorState } from './sensor.ts'
 import { type ResolvedWorldDef, resolveWorldDef, SETTINGS_NUMBERS, type WorldStore } from './world-store.ts'
 
 /** Numbers of one writer call, written with one ByteWriter.f64s (see the writers below). */
 const staged = new Float64Array(32)
 
-/** Writes a shape. */
+/**
+ * Writes a shape: a kind byte, then its numbers. Kinds: 0 circle at the origin (radius), 1 box
+ * (half extents), 2 polygon (count, vertices), 3 circle off the origin (radius, centre), 4 rounded
+ * polygon (count, vertices, radius), 5 capsule (centres, radius), 6 segment (points).
+ */
 function writeShape(w: ByteWriter, shape: Shape): void {
   const n = staged
   if (shape.type === 'circle') {
-    w.u8(0)
+    const c = shape.centroid
+    const centred = c.x === 0 && c.y === 0
+    w.u8(centred ? 0 : 3)
     n[0] = shape.radius
-    w.f64s(n, 0, 1)
+    n[1] = c.x
+    n[2] = c.y
+    w.f64s(n, 0, centred ? 1 : 3)
+  } else if (shape.type === 'capsule' || shape.type === 'segment') {
+    const capsule = shape.type === 'capsule'
+    w.u8(capsule ? 5 : 6)
+    n[0] = shape.vertices[0].x
+    n[1] = shape.vertices[0].y
+    n[2] = shape.vertices[1].x
+    n[3] = shape.vertices[1].y
+    n[4] = shape.radius
+    w.f64s(n, 0, capsule ? 5 : 4)
+  } else if (shape.radius > 0) {
+    w.u8(4)
+    w.u8(shape.count)
+    for (let i = 0; i < shape.count; i++) {
+      n[2 * i] = shape.vertices[i].x
+      n[2 * i + 1] = shape.vertices[i].y
+    }
+    n[2 * shape.count] = shape.radius
+    w.f64s(n, 0, 2 * shape.count + 1)
   } else if (shape.box !== null) {
     w.u8(1)
     n[0] = shape.box.halfWidth
@@ -70,11 +100,20 @@ function readShape(r: ByteReader): Shape {
   try {
     if (kind === 0) return circle(r.num('circle radius'))
     if (kind === 1) return box(r.num('box half width'), r.num('box half height'))
-    if (kind === 2) {
+    if (kind === 2 || kind === 4) {
       const n = r.u8('polygon vertex count')
       const points = []
       for (let i = 0; i < n; i++) points.push({ x: r.num('polygon vertex'), y: r.num('polygon vertex') })
-      return polygon(points)
+      return kind === 2 ? polygon(points) : polygon(points, r.num('polygon radius'))
+    }
+    if (kind === 3) {
+      const radius = r.num('circle radius')
+      return circle(radius, { x: r.num('circle center'), y: r.num('circle center') })
+    }
+    if (kind === 5 || kind === 6) {
+      const p1 = { x: r.num('segment point'), y: r.num('segment point') }
+      const p2 = { x: r.num('segment point'), y: r.num('segment point') }
+      return kind === 5 ? capsule(p1, p2, r.num('capsule radius')) : segment(p1, p2)
     }
   } catch (e) {
     if (e instanceof WorldLoadError) throw e
@@ -99,15 +138,22 @@ export const BODY_STATE_FIELDS = [
   'c0y',
   'q0c',
   'q0s',
+  'fx',
+  'fy',
+  'torque',
 ] as const
-/** Body material fields in saved order (after the shape). */
-export const BODY_MATERIAL_FIELDS = [
+/** Body material fields in saved order (after the type). */
+export const BODY_MATERIAL_FIELDS = ['linearDamping', 'angularDamping', 'gravityScale'] as const
+/** Shape fields in saved order (after the geometry). */
+export const SHAPE_FIELDS = [
   'density',
   'friction',
   'restitution',
-  'linearDamping',
-  'angularDamping',
-  'gravityScale',
+  'rollingResistance',
+  'tangentSpeed',
+  'categoryBits',
+  'maskBits',
+  'groupIndex',
 ] as const
 /** Contact point fields in saved order, for point 0 and point 1. */
 export const POINT_FIELDS = [
@@ -180,19 +226,15 @@ const LAST_JOINT_TYPE = 6
  * call that V8 did not inline was a heap number each (about 3 KB per hash of a 100-body pile).
  */
 
-/** Writes a body's definition and state (fat AABB comes separately). */
+/** Writes a body's definition and state (its shapes come after it). */
 export function writeBody(w: ByteWriter, b: Body): void {
   const n = staged
   w.f64(b.id)
   w.u8(b.type)
-  writeShape(w, b.shape)
-  n[0] = b.density
-  n[1] = b.friction
-  n[2] = b.restitution
-  n[3] = b.linearDamping
-  n[4] = b.angularDamping
-  n[5] = b.gravityScale
-  w.f64s(n, 0, 6)
+  n[0] = b.linearDamping
+  n[1] = b.angularDamping
+  n[2] = b.gravityScale
+  w.f64s(n, 0, 3)
   w.u8((b.bullet ? 1 : 0) | (b.enableSleep ? 2 : 0) | (b.fixedRotation ? 4 : 0) | (b.awake ? 8 : 0))
   n[0] = b.x
   n[1] = b.y
@@ -208,15 +250,53 @@ export function writeBody(w: ByteWriter, b: Body): void {
   n[11] = b.c0y
   n[12] = b.q0c
   n[13] = b.q0s
-  w.f64s(n, 0, 14)
+  n[14] = b.fx
+  n[15] = b.fy
+  n[16] = b.torque
+  w.f64s(n, 0, 17)
 }
 
-/** Reads a body written by writeBody (mass properties are recomputed by the caller). */
+/** Writes a shape on a body (its fat AABB comes separately). */
+export function writeBodyShape(w: ByteWriter, s: BodyShape): void {
+  const n = staged
+  w.f64(s.id)
+  writeShape(w, s.shape)
+  n[0] = s.density
+  n[1] = s.friction
+  n[2] = s.restitution
+  n[3] = s.rollingResistance
+  n[4] = s.tangentSpeed
+  n[5] = s.categoryBits
+  n[6] = s.maskBits
+  n[7] = s.groupIndex
+  w.f64s(n, 0, 8)
+  w.u8(
+    (s.sensor ? 1 : 0) |
+      (s.enableSensorEvents ? 2 : 0) |
+      (s.enableContactEvents ? 4 : 0) |
+      (s.enableHitEvents ? 8 : 0),
+  )
+}
+
+/** Reads a shape written by writeBodyShape, for `body`. */
+function readBodyShape(r: ByteReader, body: Body): BodyShape {
+  const id = r.num('shape id')
+  const s = new BodyShape(id, body, readShape(r))
+  for (const f of SHAPE_FIELDS) s[f] = r.num(`shape ${id} ${f}`)
+  const flags = r.u8('shape flags')
+  s.sensor = (flags & 1) !== 0
+  s.enableSensorEvents = (flags & 2) !== 0
+  s.enableContactEvents = (flags & 4) !== 0
+  s.enableHitEvents = (flags & 8) !== 0
+  return s
+}
+
+/** Reads a body written by writeBody (its shapes and mass properties are added by the caller). */
 function readBody(r: ByteReader): Body {
   const id = r.num('body id')
   const type = r.u8('body type')
   if (type > 2) throw new WorldLoadError(`saved world has body ${id} of unknown type ${type}`)
-  const body = new Body(id, type, readShape(r))
+  const body = new Body(id, type)
   for (const f of BODY_MATERIAL_FIELDS) body[f] = r.num(`body ${id} ${f}`)
   const flags = r.u8('body flags')
   body.bullet = (flags & 1) !== 0
@@ -227,13 +307,13 @@ function readBody(r: ByteReader): Body {
   return body
 }
 
-/** Writes a contact (bodies by id). */
+/** Writes a contact (shapes by id). */
 export function writeContact(w: ByteWriter, c: Contact): void {
   // The record holds the normal and each point's fields in save order (contact-record.ts).
   const d = c.store.data
   const o = c.base
-  w.f64(c.bodyA.id)
-  w.f64(c.bodyB.id)
+  w.f64(c.shapeA.id)
+  w.f64(c.shapeB.id)
   w.u8(c.touching ? 1 : 0)
   w.u8(c.pointCount)
   w.f64s(d, o + NORMAL_X, 2)
@@ -242,11 +322,17 @@ export function writeContact(w: ByteWriter, c: Contact): void {
 }
 
 /** Reads a contact written by writeContact. */
-function readContact(r: ByteReader, lookup: (id: number) => Body, store: ContactStore): Contact {
-  const a = lookup(r.num('contact body A'))
-  const b = lookup(r.num('contact body B'))
+function readContact(r: ByteReader, shapes: Map<number, BodyShape>, store: ContactStore): Contact {
+  const idA = r.num('contact shape A')
+  const idB = r.num('contact shape B')
+  const a = shapes.get(idA)
+  const b = shapes.get(idB)
+  if (a === undefined || b === undefined)
+    throw new WorldLoadError(`saved world has a contact of missing shape ${a === undefined ? idA : idB}`)
   if (a.id >= b.id)
-    throw new WorldLoadError(`saved world has a contact with bodies out of order (${a.id}, ${b.id})`)
+    throw new WorldLoadError(`saved world has a contact with shapes out of order (${a.id}, ${b.id})`)
+  if (a.body === b.body)
+    throw new WorldLoadError(`saved world has a contact between shapes of one body ${a.body.id}`)
   const c = new Contact(a, b, store)
   c.touching = r.u8('contact touching') === 1
   c.pointCount = r.u8('contact point count')
@@ -391,16 +477,29 @@ function writeWorld(w: ByteWriter, world: WorldStore): void {
   w.f64(world.tickCount)
   w.f64(world.nextBodyId)
   w.f64(world.nextJointId)
+  w.f64(world.nextShapeId)
   w.u32(world.bodies.length)
   for (const b of world.bodies) {
     writeBody(w, b)
-    world.broadPhase.getFatAABB(b.proxy, fatAABB)
-    w.f64s(fatAABB, 0, 4)
+    const shapes = b.shapes
+    w.u32(shapes.length)
+    for (let i = 0; i < shapes.length; i++) {
+      writeBodyShape(w, shapes[i])
+      world.broadPhase.getFatAABB(shapes[i].proxy, fatAABB)
+      w.f64s(fatAABB, 0, 4)
+    }
   }
   w.u32(world.contactArray.length)
   for (const c of world.contactArray) writeContact(w, c)
   w.u32(world.jointList.length)
   for (const j of world.jointList) writeJoint(w, j)
+  // What each sensor saw after the last step (the next step's sensor events depend on it).
+  w.u32(world.sensors.length)
+  for (const state of world.sensors) {
+    w.f64(state.shape.id)
+    w.u32(state.count)
+    for (let i = 0; i < state.count; i++) w.f64(state.visitors[i])
+  }
 }
 const fatAABB = new Float64Array(4)
 
@@ -441,14 +540,17 @@ export function loadWorldState<T extends WorldStore>(
   world.tickCount = r.num('tick')
   world.nextBodyId = r.num('next body id')
   world.nextJointId = r.num('next joint id')
+  world.nextShapeId = r.num('next shape id')
   readBodies(r, world)
   const lookup = (id: number): Body => {
     const b = id === 0 ? world.ground : world.bodyMap.get(id)
     if (b === undefined) throw new WorldLoadError(`saved world refers to missing body ${id}`)
     return b
   }
-  readContacts(r, world, lookup)
+  world.sensors.sort((a, b) => a.shape.id - b.shape.id)
+  readContacts(r, world)
   readJoints(r, world, lookup)
+  readSensors(r, world)
   r.finish()
   return world
 }
@@ -456,32 +558,63 @@ export function loadWorldState<T extends WorldStore>(
 function readBodies(r: ByteReader, world: WorldStore): void {
   const count = r.u32('body count')
   let lastId = 0
+  // Shape ids rise within a body (a body's shapes are listed in creation order).
+  let lastShapeId = 0
   for (let i = 0; i < count; i++) {
     const b = readBody(r)
     if (!(b.id > lastId) || b.id >= world.nextBodyId || !Number.isInteger(b.id)) {
       throw new WorldLoadError(`saved world has an invalid or out-of-order body id ${b.id}`)
     }
     lastId = b.id
+    const shapeCount = r.u32('shape count')
+    for (let k = 0; k < shapeCount; k++) {
+      const s = readBodyShape(r, b)
+      if (
+        !(s.id > lastShapeId) ||
+        s.id >= world.nextShapeId ||
+        !Number.isInteger(s.id) ||
+        world.shapeMap.has(s.id)
+      ) {
+        throw new WorldLoadError(`saved world has an invalid, repeated or out-of-order shape id ${s.id}`)
+      }
+      lastShapeId = s.id
+      const box = [r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB')]
+      s.proxy = world.broadPhase.createProxyWithFatAABB(
+        box[0],
+        box[1],
+        box[2],
+        box[3],
+        s.id,
+        b.type === STATIC,
+      )
+      // Every proxy is queried at the next step; pairs that already have a contact are skipped.
+      world.broadPhase.touchProxy(s.proxy)
+      b.shapes.push(s)
+      world.shapeMap.set(s.id, s)
+      if (s.enableHitEvents) world.hitEventShapes++
+      if (s.sensor) world.sensors.push(new SensorState(s))
+    }
+    lastShapeId = 0
+    b.syncShapes()
+    if (b.type === DYNAMIC && !b.shapes.some((s) => s.shape.type !== 'segment'))
+      throw new WorldLoadError(`saved world has dynamic body ${b.id} without a shape with mass`)
     updateMassData(b)
-    const box = [r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB'), r.num('fat AABB')]
-    b.proxy = world.broadPhase.createProxyWithFatAABB(box[0], box[1], box[2], box[3], b.id, b.type === STATIC)
-    // Every proxy is queried at the next step; pairs that already have a contact are skipped.
-    world.broadPhase.touchProxy(b.proxy)
+    if (b.fx !== 0 || b.fy !== 0 || b.torque !== 0) world.forced.push(b)
     world.bodies.push(b)
     world.bodyMap.set(b.id, b)
   }
 }
 
-function readContacts(r: ByteReader, world: WorldStore, lookup: (id: number) => Body): void {
+function readContacts(r: ByteReader, world: WorldStore): void {
   const contactCount = r.u32('contact count')
   for (let i = 0; i < contactCount; i++) {
-    const c = readContact(r, lookup, world.contactStore)
-    if (world.contactMap.has(c.bodyA.id, c.bodyB.id))
-      throw new WorldLoadError(`saved world has a duplicate contact ${c.bodyA.id}-${c.bodyB.id}`)
+    const c = readContact(r, world.shapeMap, world.contactStore)
+    if (world.contactMap.has(c.shapeA.id, c.shapeB.id))
+      throw new WorldLoadError(`saved world has a duplicate contact ${c.shapeA.id}-${c.shapeB.id}`)
     if (i > 0 && world.contactArray[i - 1].key > c.key)
       throw new WorldLoadError('saved world has contacts out of order')
     world.contactArray.push(c)
-    world.contactMap.set(c.bodyA.id, c.bodyB.id, c)
+    world.contactMap.set(c.shapeA.id, c.shapeB.id, c)
     c.bodyA.contacts.push(c)
     c.bodyB.contacts.push(c)
   }
@@ -497,5 +630,26 @@ function readJoints(r: ByteReader, world: WorldStore, lookup: (id: number) => Bo
     world.jointMap.set(j.id, j)
     j.bodyA.joints.push(j)
     j.bodyB.joints.push(j)
+  }
+}
+
+function readSensors(r: ByteReader, world: WorldStore): void {
+  const count = r.u32('sensor count')
+  if (count !== world.sensors.length)
+    throw new WorldLoadError(`saved world lists ${count} sensors for ${world.sensors.length} sensor shapes`)
+  for (const state of world.sensors) {
+    const id = r.num('sensor id')
+    if (id !== state.shape.id)
+      throw new WorldLoadError(`saved world has sensor ${id} where ${state.shape.id} was expected`)
+    const n = r.u32('sensor visitor count')
+    let last = 0
+    for (let i = 0; i < n; i++) {
+      const v = r.num('sensor visitor')
+      if (!(v > last) || !Number.isInteger(v))
+        throw new WorldLoadError(`saved world has sensor ${id} visitor ${v} out of order`)
+      last = v
+      state.visitors[i] = v
+    }
+    state.count = n
   }
 }

@@ -3,7 +3,8 @@
  *
  * World.step() is Box2D v3's stage list (b2World_Step, solver.h), one call per stage:
  *
- *   updatePairs          broadphase: contacts for newly overlapping fat AABBs
+ *   applyForces          forces and torques given since the last step, as impulses
+ *   updatePairs          broadphase (one proxy per shape): contacts for newly overlapping fat AABBs
  *   collide              narrowphase for every contact with an awake body; wake what gets touched
  *   buildSolverSets      awake bodies, active contacts and joints, all in id order
  *   prepareJoints        joint constraint data for the step
@@ -19,11 +20,13 @@
  *     relax                the same passes without bias
  *   applyRestitution     once, after the sub-steps
  *   storeImpulses        back into the contacts for warm starting
+ *   reportHits           hit events (when a shape asked for them)
  *   finalizeBodies       fold the deltas into transforms, sleep velocities
  *   solveContinuous      time of impact for fast bodies and bullets
  *   updateBroadPhase     move the fat AABBs of awake bodies
  *   sleepIslands         islands that rested long enough go to sleep
  *   breakJoints          joints whose reaction exceeds a break threshold are destroyed
+ *   updateSensors        sensor overlaps and their events
  *
  * The bodies' solver state lives in one array with named offsets (body-state.ts) that the contact
  * and joint stages read and write by a body's solver index. Every stage's working state (the joint
@@ -35,26 +38,38 @@
  * once the arrays have grown.
  */
 
-import { MAX_ROTATION, SPECULATIVE_DISTANCE, STEP_SECONDS } from '../constants.ts'
+import { HIT_EVENT_SPEED, MAX_ROTATION, SPECULATIVE_DISTANCE, STEP_SECONDS } from '../constants.ts'
 import {
+  APPROACH,
   applyRestitution,
-  type Body,
+  type BodyShape,
+  CONTACT_EVENTS,
   Contact,
   ContactConstraints,
   ContinuousSolver,
   clearContact,
   DYNAMIC,
+  HIT_EVENTS,
+  HIT_X,
+  HIT_Y,
   integratePositions,
   integrateVelocities,
   limitBodyVelocity,
   loadSolverStates,
+  measureApproach,
+  POINT_0,
+  POINT_FIELDS,
   planExtraSweeps,
   prepareContacts,
+  NORMAL_X as RECORD_NORMAL_X,
+  NORMAL_Y as RECORD_NORMAL_Y,
   STATE_STRIDE,
   STATIC,
+  shouldFilterCollide,
   solveContacts,
   stateToBody,
   storeImpulses,
+  TOTAL_NORMAL,
   updateContact,
   warmStartContacts,
 } from '../dynamics/index.ts'
@@ -69,7 +84,9 @@ import {
   warmStartJoints,
 } from '../joints/index.ts'
 import type { JointEvents, WorldDef } from '../types.ts'
+import type { ContactEvents, SensorEvents } from './events.ts'
 import { ByteWriter } from './save-format.ts'
+import { updateSensors } from './sensor.ts'
 import { WorldApi } from './world-api.ts'
 import { hashWorld, loadWorldState, saveWorld } from './world-state.ts'
 import { resolveWorldDef } from './world-store.ts'
@@ -79,6 +96,8 @@ export class World extends WorldApi {
   /** Advances the world by exactly one fixed step of 1/60 s. */
   step(): void {
     this.revision++
+    this.events.beginStep()
+    this.applyForces()
     this.updatePairs()
     this.collide()
     this.buildSolverSets()
@@ -95,11 +114,14 @@ export class World extends WorldApi {
     }
     this.applyRestitution()
     this.storeImpulses()
+    this.reportHits()
     this.finalizeBodies()
     this.solveContinuous()
     this.updateBroadPhase()
     this.sleepIslands()
     this.breakJoints()
+    this.updateSensors()
+    this.events.finishStep()
     this.tickCount++
   }
 
@@ -123,6 +145,16 @@ export class World extends WorldApi {
       if (exceedsBreak(j, scale)) this.brokenJoints.push(j.id)
     }
     for (let i = 0; i < this.brokenJoints.length; i++) this.destroyJoint(this.brokenJoints[i])
+  }
+
+  /** The last step's contact events (begin, end, hit), in shape-id order; valid until the next step. */
+  contactEvents(): ContactEvents {
+    return this.events.contactEvents()
+  }
+
+  /** The last step's sensor events (begin, end), in (sensor, visitor) id order; valid until the next step. */
+  sensorEvents(): SensorEvents {
+    return this.events.sensorEvents()
   }
 
   /** Everything that influences future steps, as versioned, checksummed bytes. */
@@ -158,6 +190,30 @@ export class World extends WorldApi {
   /** The continuous stage's search state (continuous.ts). */
   private readonly continuous = new ContinuousSolver()
 
+  /**
+   * Forces and torques given since the last step act over this step: as the impulse F dt (and T dt)
+   * at its start, then they are cleared (Box2D spreads them over the sub-steps; the velocity
+   * reached at the step's end is the same).
+   */
+  private applyForces(): void {
+    const forced = this.forced
+    if (forced.length === 0) return
+    const maxAngularSpeed = MAX_ROTATION * this.stepContext.invH
+    for (let i = 0; i < forced.length; i++) {
+      const b = forced[i]
+      if (b.type === DYNAMIC) {
+        b.vx += b.invMass * b.fx * STEP_SECONDS
+        b.vy += b.invMass * b.fy * STEP_SECONDS
+        b.w += b.invInertia * b.torque * STEP_SECONDS
+        limitBodyVelocity(b, maxAngularSpeed)
+      }
+      b.fx = 0
+      b.fy = 0
+      b.torque = 0
+    }
+    forced.length = 0
+  }
+
   /** Creates contacts for pairs whose fat AABBs began to overlap, keeping pair-key order. */
   private updatePairs(): void {
     const pairs = this.pairBuffer
@@ -170,13 +226,13 @@ export class World extends WorldApi {
       const idA = pairs.a[i]
       const idB = pairs.b[i]
       if (this.contactMap.has(idA, idB)) continue
-      const a = this.bodyMap.get(idA)!
-      const b = this.bodyMap.get(idB)!
-      if (!shouldCollide(a, b)) continue
-      const contact = this.contactPool.pop()?.reset(a, b) ?? new Contact(a, b, this.contactStore)
+      const sa = this.shapeMap.get(idA)!
+      const sb = this.shapeMap.get(idB)!
+      if (!shouldCollide(sa, sb)) continue
+      const contact = this.contactPool.pop()?.reset(sa, sb) ?? new Contact(sa, sb, this.contactStore)
       this.contactMap.set(idA, idB, contact)
-      a.contacts.push(contact)
-      b.contacts.push(contact)
+      sa.body.contacts.push(contact)
+      sb.body.contacts.push(contact)
       fresh[freshCount++] = contact
     }
     if (freshCount > 0) mergeContacts(this.contactArray, fresh, freshCount)
@@ -197,6 +253,7 @@ export class World extends WorldApi {
     let m = 0
     let g = 0
     let woke = false
+    const events = this.events
     for (let i = 0; i < contacts.length; i++) {
       const c = contacts[i]
       const a = c.bodyA
@@ -205,7 +262,10 @@ export class World extends WorldApi {
         contacts[kept++] = c
         continue
       }
-      if (!this.broadPhase.testOverlap(a.proxy, b.proxy)) {
+      // Begin and end events: the touching flag before this step's narrowphase.
+      const was = c.touching && (c.events & CONTACT_EVENTS) !== 0
+      if (!this.broadPhase.testOverlap(c.proxyA, c.proxyB)) {
+        if (was) events.addEnd(events.end, c.shapeA.id, c.shapeB.id)
         this.unlinkContact(c)
         this.contactPool.push(c)
         continue
@@ -217,8 +277,14 @@ export class World extends WorldApi {
       const dx = b.cx - a.cx
       const dy = b.cy - a.cy
       const reach = a.maxExtent + b.maxExtent + SPECULATIVE_DISTANCE
-      if (dx * dx + dy * dy > 1.0001 * reach * reach) clearContact(c)
-      else if (updateContact(c, SPECULATIVE_DISTANCE)) {
+      if (dx * dx + dy * dy > 1.0001 * reach * reach) {
+        clearContact(c)
+        if (was) events.addEnd(events.end, c.shapeA.id, c.shapeB.id)
+      } else if (updateContact(c, SPECULATIVE_DISTANCE)) {
+        if (c.events !== 0) {
+          if ((c.events & CONTACT_EVENTS) !== 0 && !was) events.addEnd(events.begin, c.shapeA.id, c.shapeB.id)
+          if ((c.events & HIT_EVENTS) !== 0) measureApproach(c)
+        }
         if (!a.awake) {
           this.islands.wake(a)
           woke ||= a.awake
@@ -229,7 +295,7 @@ export class World extends WorldApi {
         }
         if (a.invMass > 0 && b.invMass > 0) active[m++] = c
         else grounded[g++] = c
-      }
+      } else if (was) events.addEnd(events.end, c.shapeA.id, c.shapeB.id)
     }
     contacts.length = kept
     this.collidedActive = woke ? -1 : m
@@ -402,10 +468,48 @@ export class World extends WorldApi {
     }
   }
 
+  /**
+   * Hit events: touching contacts that ask for them, closed faster than HIT_EVENT_SPEED at the step
+   * start and pushed this step (Box2D's hit events), in shape-id order.
+   */
+  private reportHits(): void {
+    if (this.hitEventShapes === 0) return
+    const contacts = this.contactArray
+    const events = this.events
+    for (let i = 0; i < contacts.length; i++) {
+      const c = contacts[i]
+      if ((c.events & HIT_EVENTS) === 0 || !c.touching || (!c.bodyA.awake && !c.bodyB.awake)) continue
+      const d = c.store.data
+      const o = c.base
+      if (!(d[o + APPROACH] > HIT_EVENT_SPEED)) continue
+      const pushed =
+        d[o + POINT_0 + TOTAL_NORMAL] > 0 ||
+        (c.pointCount > 1 && d[o + POINT_0 + POINT_FIELDS + TOTAL_NORMAL] > 0)
+      if (!pushed) continue
+      const e = events.hit.next()
+      e.shapeA = c.shapeA.id
+      e.shapeB = c.shapeB.id
+      e.point.x = d[o + HIT_X]
+      e.point.y = d[o + HIT_Y]
+      e.normal.x = d[o + RECORD_NORMAL_X]
+      e.normal.y = d[o + RECORD_NORMAL_Y]
+      e.approachSpeed = d[o + APPROACH]
+    }
+  }
+
+  /** Sensor overlaps and their begin and end events. */
+  private updateSensors(): void {
+    if (this.sensors.length === 0) return
+    updateSensors(this.sensors, this.broadPhase, this.shapeMap, this.events, this.aabb, this.sensorBox)
+  }
+
+  /** The tight AABB of a sensor into `aabb` (a bound method made once: no closure per step). */
+  private readonly sensorBox = (s: BodyShape): void => this.computeAABB(s, false)
+
   /** Time of impact for fast bodies and bullets (when continuous collision is on). */
   private solveContinuous(): void {
     if (!this.settings.enableContinuous) return
-    this.continuous.solve(this.awake, this.awakeCount, this.broadPhase, this.bodyMap, shouldCollide)
+    this.continuous.solve(this.awake, this.awakeCount, this.broadPhase, this.shapeMap, shouldCollide)
   }
 
   /** Puts islands to sleep that rested long enough (when sleeping is on). */
@@ -438,9 +542,16 @@ export function loadWorld(bytes: Uint8Array): World {
   return loadWorldState(bytes, (settings) => new World(settings))
 }
 
-/** Whether two bodies should get a contact: one must be dynamic, and no joint between them may forbid it. */
-function shouldCollide(a: Body, b: Body): boolean {
+/**
+ * Whether two shapes should get a contact: they are on different bodies, one of which is dynamic;
+ * neither is a sensor; their filters agree (Box2D's rule); and no joint between the bodies forbids it.
+ */
+function shouldCollide(sa: BodyShape, sb: BodyShape): boolean {
+  const a = sa.body
+  const b = sb.body
+  if (a === b) return false
   if (a.type !== DYNAMIC && b.type !== DYNAMIC) return false
+  if (sa.sensor || sb.sensor || !shouldFilterCollide(sa, sb)) return false
   const joints = a.joints.length < b.joints.length ? a.joints : b.joints
   for (let i = 0; i < joints.length; i++) {
     const j: Joint = joints[i]

@@ -18,11 +18,15 @@
  *   as a game would: the car's and the crane's motors reverse every 5 s (setJointMotorSpeed), the
  *   motor joint's offset goes round a circle (setJointTarget with a reused point), the piston's and
  *   the counterweight's targets move, and the world is hashed once a second.
+ * - compound: 150 compound bodies (dumbbells, capsules with a fin, rounded triangles with a ball) on
+ *   static segments, two sensors (one on a turning kinematic body), hit events on half the bodies;
+ *   every step reads the contact and sensor event lists as a game would.
  */
 import {
   type BodyId,
   box,
   buildScene,
+  capsule,
   circle,
   createWorld,
   type JointId,
@@ -30,6 +34,7 @@ import {
   Prng,
   pileScene,
   polygon,
+  segment,
   type Vec2,
   type World,
 } from '../../engine/index.ts'
@@ -130,6 +135,62 @@ class MachineSchedule {
   }
 }
 
+/**
+ * 150 compound bodies (dumbbells of two discs on a bar, capsules with a fin, rounded triangles with
+ * a ball on top) in a V of static segments with walls, sleeping off: several manifolds per body
+ * pair, every pair of kinds.
+ */
+function buildCompoundPile(world: World): void {
+  world.createBody({
+    type: 'static',
+    shapes: [
+      { shape: segment({ x: -12, y: 4 }, { x: 0, y: 0 }) },
+      { shape: segment({ x: 0, y: 0 }, { x: 12, y: 4 }) },
+      { shape: box(0.25, 10, { x: -12, y: 12 }) },
+      { shape: box(0.25, 10, { x: 12, y: 12 }) },
+      { shape: box(3, 1, { x: -4, y: 3 }), sensor: true },
+    ],
+  })
+  world.createBody({
+    type: 'kinematic',
+    position: { x: 4, y: 4 },
+    angularVelocity: 1,
+    shapes: [{ shape: capsule({ x: -2, y: 0 }, { x: 2, y: 0 }, 0.4), sensor: true }],
+  })
+  const prng = new Prng(3)
+  for (let i = 0; i < 150; i++) {
+    const position = { x: prng.range(-9, 9), y: 5 + 0.6 * i }
+    const angle = prng.range(-3, 3)
+    const kind = i % 3
+    const shapes =
+      kind === 0
+        ? [
+            { shape: circle(0.3, { x: -0.6, y: 0 }) },
+            { shape: box(0.6, 0.1) },
+            { shape: circle(0.3, { x: 0.6, y: 0 }) },
+          ]
+        : kind === 1
+          ? [
+              { shape: capsule({ x: -0.4, y: 0 }, { x: 0.4, y: 0 }, 0.2) },
+              { shape: box(0.08, 0.3, { x: 0, y: 0.3 }, 0.4) },
+            ]
+          : [
+              {
+                shape: polygon(
+                  [
+                    { x: -0.35, y: -0.3 },
+                    { x: 0.35, y: -0.3 },
+                    { x: 0, y: 0.3 },
+                  ],
+                  0.05,
+                ),
+              },
+              { shape: circle(0.18, { x: 0, y: 0.5 }) },
+            ]
+    world.createBody({ position, angle, shapes: shapes.map((d) => ({ ...d, enableHitEvents: i % 2 === 0 })) })
+  }
+}
+
 /** Steps between the room's regrabs in the warm-up (the measured rounds regrab once, first). */
 const REGRAB_STEPS = 600
 
@@ -139,12 +200,16 @@ export class AllocationScene {
   private readonly schedule: RoomSchedule | null
   private readonly machines: MachineSchedule | null = null
   private tick = 0
+  /** Events read in the compound scene (so the reads cannot be optimized away). */
+  eventCount = 0
 
-  constructor(readonly name: 'pile' | 'room' | 'machines') {
+  constructor(readonly name: 'pile' | 'room' | 'machines' | 'compound') {
     this.world = createWorld(name === 'room' ? {} : { enableSleep: false })
     if (name === 'machines') {
       buildScene(this.world, machinesScene())
       this.machines = new MachineSchedule(this.world)
+    } else if (name === 'compound') {
+      buildCompoundPile(this.world)
     } else if (name === 'pile') {
       buildScene(this.world, pileScene(300))
       for (const [x, height] of [
@@ -169,6 +234,12 @@ export class AllocationScene {
     this.schedule?.drag(this.tick)
     this.machines?.drive(this.tick)
     this.world.step()
+    if (this.name === 'compound') {
+      // Read the events as a game would: the arrays and records are the world's, reused.
+      const c = this.world.contactEvents()
+      const s = this.world.sensorEvents()
+      this.eventCount += c.begin.length + c.end.length + c.hit.length + s.begin.length + s.end.length
+    }
     if ((this.schedule !== null || this.machines !== null) && this.tick % 60 === 0) this.world.hash()
     this.tick++
   }
@@ -187,7 +258,7 @@ export class AllocationScene {
   }
 
   /** Bodies and contacts now (a real pile has contacts). */
-  counts(): { bodies: number; contacts: number } {
-    return { bodies: this.world.bodyCount, contacts: this.world.contacts().length }
+  counts(): { bodies: number; contacts: number; events: number } {
+    return { bodies: this.world.bodyCount, contacts: this.world.contacts().length, events: this.eventCount }
   }
 }

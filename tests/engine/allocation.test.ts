@@ -27,7 +27,12 @@ import { type AllocationResult, measureAllocation } from '../support/measure-all
  * where every intermediate double is a heap number (the least of the rounds: 25 bytes per step
  * after 6,000 warm-up steps, 19 after 12,000; on main before 2026-11-24, a scavenge in the rounds).
  */
-const PLAN = { pile: [2000, 3000, 3], room: [12000, 2000, 5], machines: [6000, 2000, 3] } as const
+const PLAN = {
+  pile: [2000, 3000, 3],
+  room: [12000, 2000, 5],
+  machines: [6000, 2000, 3],
+  compound: [2000, 3000, 3],
+} as const
 
 /** Bytes per step above which a step counts as allocating. */
 const BOUND = 64
@@ -40,7 +45,7 @@ const BOUND = 64
  * allocation-free is the heap growth (64 bytes per step); with 16 MB a collection needs 1.8 KB per
  * step, so a real allocation still fails the heap-growth bound (and a large one both).
  */
-async function measure(scene: 'pile' | 'room' | 'machines'): Promise<AllocationResult> {
+async function measure(scene: keyof typeof PLAN): Promise<AllocationResult> {
   const [warmup, steps, rounds] = PLAN[scene]
   const result = await measureAllocation({
     resolveDir: dirname(fileURLToPath(import.meta.url)),
@@ -99,6 +104,13 @@ describe('allocation', () => {
   it('a warm machines scene (every joint kind, motors reversed, targets moved, hashed) steps 3 x 2000 times without heap growth', async () => {
     const result = await measure('machines')
     expect(result.facts.contacts).toBeGreaterThan(5)
+    expectNoAllocation(result)
+  }, 240_000)
+
+  it('a warm pile of compound bodies (dumbbells, capsules, rounded polygons) on segments, with two sensors (one turning) and contact, hit and sensor events read every step, steps 3 x 3000 times without heap growth', async () => {
+    const result = await measure('compound')
+    expect(result.facts.contacts).toBeGreaterThan(100)
+    expect(result.facts.events).toBeGreaterThan(100)
     expectNoAllocation(result)
   }, 240_000)
 })

@@ -9,6 +9,7 @@ import { describe, expect, it } from 'vitest'
 import { box } from '../../engine/collision/shapes.ts'
 import { SPECULATIVE_DISTANCE } from '../../engine/constants.ts'
 import { Body, DYNAMIC, updateMassData } from '../../engine/dynamics/body.ts'
+import { BodyShape } from '../../engine/dynamics/body-shape.ts'
 import { CONTACT_POINT_FIELDS, Contact, updateContact } from '../../engine/dynamics/contact.ts'
 import { CONTACT_STRIDE, ContactStore } from '../../engine/dynamics/contact-record.ts'
 
@@ -23,17 +24,20 @@ const NAMES = [
 
 type Fields = Record<string, number>
 
-function bodyAt(id: number, x: number, y: number, angle: number): Body {
-  const b = new Body(id, DYNAMIC, box(0.5, 0.5))
-  b.friction = 0.25 * id
-  b.restitution = 0.1 * id
+/** The one shape of a fresh dynamic unit box with id `id` (shape id = body id). */
+function bodyAt(id: number, x: number, y: number, angle: number): BodyShape {
+  const b = new Body(id, DYNAMIC)
+  const s = new BodyShape(id, b, box(0.5, 0.5))
+  s.friction = 0.25 * id
+  s.restitution = 0.1 * id
+  b.shapes.push(s)
   updateMassData(b)
   b.x = x
   b.y = y
   b.c = Math.cos(angle)
   b.s = Math.sin(angle)
   b.updateCenter()
-  return b
+  return s
 }
 
 describe('contact records', () => {
@@ -91,8 +95,8 @@ describe('contact records', () => {
       // Each point lies halfway between the surfaces (y = 0.495) and its anchors are the point
       // minus each body's centre.
       expect(f[`py${j}`]).toBeCloseTo(0.495, 12)
-      expect(f[`anchorAx${j}`]).toBe(f[`px${j}`] - a.cx)
-      expect(f[`anchorBy${j}`]).toBe(f[`py${j}`] - b.cy)
+      expect(f[`anchorAx${j}`]).toBe(f[`px${j}`] - a.body.cx)
+      expect(f[`anchorBy${j}`]).toBe(f[`py${j}`] - b.body.cy)
     }
     // The two points are B's bottom corners clipped to A's top face: x from -0.4 to 0.5.
     expect([c.px0, c.px1].sort((p, q) => p - q)).toEqual([expect.closeTo(-0.4, 12), expect.closeTo(0.5, 12)])
@@ -102,14 +106,14 @@ describe('contact records', () => {
     c.tangentImpulse1 = 2
     const ids = [c.id0, c.id1]
     // The same features touch after a small move: each point keeps its own impulses.
-    b.x += 0.001
-    b.updateCenter()
+    b.body.x += 0.001
+    b.body.updateCenter()
     updateContact(c, SPECULATIVE_DISTANCE)
     expect([c.id0, c.id1]).toEqual(ids)
     expect([c.normalImpulse0, c.tangentImpulse0, c.normalImpulse1, c.tangentImpulse1]).toEqual([3, -1, 5, 2])
     // Apart beyond the speculative distance: no points, no normal.
-    b.y += 1
-    b.updateCenter()
+    b.body.y += 1
+    b.body.updateCenter()
     expect(updateContact(c, SPECULATIVE_DISTANCE)).toBe(false)
     expect([c.pointCount, c.normalX, c.normalY]).toEqual([0, 0, 0])
   })

@@ -176,4 +176,4 @@ describe('determinism with every joint type and a bullet', () => {
   })
 })
 
-const GOLDEN = 3301098458
+const GOLDEN = 102102048

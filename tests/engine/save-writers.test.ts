@@ -7,6 +7,7 @@
 import { describe, expect, it } from 'vitest'
 import { box } from '../../engine/collision/shapes.ts'
 import { Body, DYNAMIC } from '../../engine/dynamics/body.ts'
+import { BodyShape } from '../../engine/dynamics/body-shape.ts'
 import { Contact } from '../../engine/dynamics/contact.ts'
 import { ContactStore } from '../../engine/dynamics/contact-record.ts'
 import { Joint } from '../../engine/joints/joint.ts'
@@ -17,7 +18,9 @@ import {
   JOINT_EXTRA_FIELDS,
   JOINT_FIELDS,
   POINT_FIELDS,
+  SHAPE_FIELDS,
   writeBody,
+  writeBodyShape,
   writeContact,
   writeJoint,
 } from '../../engine/world/world-state.ts'
@@ -38,9 +41,14 @@ const bytesOf = (write: (w: ByteWriter) => void): number[] => {
 }
 
 function makeBodies(): [Body, Body] {
-  const a = new Body(3, DYNAMIC, box(0.5, 0.25))
-  const b = new Body(7, DYNAMIC, box(1, 2))
+  const a = new Body(3, DYNAMIC)
+  const b = new Body(7, DYNAMIC)
   return [a, b]
+}
+
+function makeShapes(): [BodyShape, BodyShape] {
+  const [a, b] = makeBodies()
+  return [new BodyShape(4, a, box(0.5, 0.25)), new BodyShape(9, b, box(1, 2))]
 }
 
 describe('save writers follow the field lists', () => {
@@ -54,10 +62,6 @@ describe('save writers follow the field lists', () => {
     const oracle = bytesOf((w) => {
       w.f64(body.id)
       w.u8(body.type)
-      // box shape: kind 1, half width, half height
-      w.u8(1)
-      w.f64(0.5)
-      w.f64(0.25)
       for (const f of BODY_MATERIAL_FIELDS) w.f64(body[f])
       w.u8(2 | 8)
       for (const f of BODY_STATE_FIELDS) w.f64(body[f])
@@ -65,8 +69,26 @@ describe('save writers follow the field lists', () => {
     expect(fast).toEqual(oracle)
   })
 
+  it('writeBodyShape writes the geometry, then the shape fields in list order, then the flags', () => {
+    const [shape] = makeShapes()
+    distinct(shape, SHAPE_FIELDS, 50)
+    shape.sensor = true
+    shape.enableHitEvents = true
+    const fast = bytesOf((w) => writeBodyShape(w, shape))
+    const oracle = bytesOf((w) => {
+      w.f64(shape.id)
+      // box shape: kind 1, half width, half height
+      w.u8(1)
+      w.f64(0.5)
+      w.f64(0.25)
+      for (const f of SHAPE_FIELDS) w.f64(shape[f])
+      w.u8(1 | 2 | 4 | 8)
+    })
+    expect(fast).toEqual(oracle)
+  })
+
   it('writeContact writes each point field in list order, for 0, 1 and 2 points', () => {
-    const [a, b] = makeBodies()
+    const [a, b] = makeShapes()
     for (const points of [0, 1, 2]) {
       const c = new Contact(a, b, new ContactStore())
       const next = distinct(c, POINT_FIELDS[0], 100)
