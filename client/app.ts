@@ -374,7 +374,8 @@ export class App {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
       b.dataset.title ??= b.title
       b.disabled = away
-      b.title = away ? `${b.dataset.title}: offline, reconnecting` : b.dataset.title
+      const why = status.state === 'error' && !status.retrying ? 'not in the room' : 'offline, reconnecting'
+      b.title = away ? `${b.dataset.title}: ${why}` : b.dataset.title
     }
     if (selected) this.keepInView(selected)
     $('banner').hidden = status.state !== 'error'

@@ -22,6 +22,7 @@ import {
 } from './hosting/index.ts'
 import {
   ConnectionGuard,
+  checkAccess,
   checkReplayAccess,
   createRequestHandler,
   rawHttpResponse,
@@ -111,6 +112,10 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     rooms: host,
     recordings,
     replayAccess: (url) => checkReplayAccess(config, url),
+    wsAccess: (req, url) => {
+      const decision = checkAccess(config, req, url, url.searchParams.get('room') ?? '')
+      return decision.ok ? null : decision
+    },
     metrics,
     metricsText: pool ? () => pool.metricsText() : undefined,
     log,

@@ -1,7 +1,8 @@
 /*
  * Plain HTTP on the same port as the WebSocket endpoint: the built browser client as static files,
  * health and readiness probes, Prometheus metrics, the open rooms as JSON for the lobby, and the
- * replay logs (GET /replays lists them, GET /replays/NAME downloads one). Static paths are resolved
+ * replay logs (GET /replays lists them, GET /replays/NAME downloads one), and for a plain GET /ws the
+ * answer its upgrade would get (401/403 with the reason, else 426). Static paths are resolved
  * inside the static directory only (no traversal); a replay name must match the log name pattern
  * exactly, so it can only name a file directly inside the replay directory. With a join token the
  * replay routes need the join or admin key in the URL, as a join does (http-access.ts
@@ -39,6 +40,12 @@ export interface RouteContext {
   staticDir: string
   rooms: RoomHost
   recordings?: Recordings
+  /**
+   * A plain GET /ws: the refusal its upgrade would get (status and a sentence), or null when it
+   * would be let in (answered 426). Browsers hide a failed upgrade's status, so a page that cannot
+   * connect asks here whether its key is missing or wrong (client/net/connection.ts).
+   */
+  wsAccess?: (req: IncomingMessage, url: URL) => { status: number; detail: string } | null
   /** Null when a request for the replay logs may be answered, else its refusal (checkReplayAccess). */
   replayAccess: (url: URL) => ReplayRefusal | null
   metrics: ServerMetrics
@@ -92,6 +99,11 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
           () => send(res, 500, 'text/plain', 'metrics failed\n'),
         )
         return
+      case '/ws': {
+        const refusal = ctx.wsAccess?.(req, url)
+        if (refusal) return send(res, refusal.status, 'text/plain', `${refusal.detail}\n`)
+        return send(res, 426, 'text/plain', 'WebSocket endpoint: upgrade to join (this key is accepted)\n')
+      }
       case '/rooms':
         return send(res, 200, 'application/json', JSON.stringify(listRooms(ctx.rooms)))
       case '/replays': {
