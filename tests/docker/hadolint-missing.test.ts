@@ -18,7 +18,11 @@ describe('hadolint absent', () => {
     const run = spawnSync(
       process.execPath,
       ['node_modules/vitest/vitest.mjs', 'run', 'tests/docker/hadolint.test.ts'],
-      { encoding: 'utf8', env: { ...process.env, PATH: path, NO_COLOR: '1', FORCE_COLOR: '0' }, timeout: 110_000 },
+      {
+        encoding: 'utf8',
+        env: { ...process.env, PATH: path, NO_COLOR: '1', FORCE_COLOR: '0' },
+        timeout: 110_000,
+      },
     )
     const output = run.stdout + run.stderr
     expect(output).toContain('hadolint.test.ts skipped: hadolint is not installed here')
