@@ -33,6 +33,8 @@ import type { Sandbox, ViewBody } from './modes/index.ts'
 
 /** Shortest time between two changes of the hovered body whose contacts are drawn online (ms). */
 const HOVER_MS = 150
+/** How long after a scene is framed a newly seen player's cursor frames it again (ms). */
+const REFIT_MS = 3000
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string): T => document.getElementById(id) as T
 
@@ -53,6 +55,9 @@ export class App {
   /** The body inspected for the contacts layer while nothing is selected, and when it was chosen. */
   private hover = { body: 0, at: Number.NEGATIVE_INFINITY }
   private fittedScene = ''
+  /** The camera as fit() left it and when (performance.now() ms), and how many cursors it framed. */
+  private fittedCamera: { x: number; y: number; scale: number; at: number } | null = null
+  private fittedPeople = 0
   private lastToastCount = 0
   private toastTimer: ReturnType<typeof setTimeout> | undefined
   private frameHandle = 0
@@ -234,20 +239,29 @@ export class App {
 
   /**
    * Frame the scene in the view: its movable bodies, its joints' anchors (a cradle's rods hang
-   * from above its balls) and the ground line, but not strays: bodies below the ground or much
-   * farther from the scene's middle than the rest (flung away) are left out.
+   * from above its balls), the ground line and the other players' cursors and held bodies, but not
+   * strays: bodies below the ground or much farther from the scene's middle than the rest (flung
+   * away) are left out unless a player holds them.
    */
   fit(): void {
     const points: Array<{ x: number; y: number; r: number }> = []
+    // Other players, wherever they are: their cursors and what they hold are never strays.
+    const people: Array<{ x: number; y: number; r: number }> = []
+    const cursors = this.sandbox.cursors()
+    const held = new Set(cursors.map((c) => c.body))
+    for (const c of cursors) people.push({ x: c.x, y: c.y, r: 0.5 })
     for (const b of this.sandbox.bodies()) {
       const r = shapeRadius(b.shape)
       if (b.kind === 0 && r > 50) continue // the ground: frame what stands on it instead
-      if (b.kind !== 0 && b.y + r < -1) continue // fallen off the ground
-      points.push({ x: b.x, y: b.y, r })
+      if (held.has(b.id)) people.push({ x: b.x, y: b.y, r })
+      else if (b.kind !== 0 && b.y + r < -1)
+        continue // fallen off the ground
+      else points.push({ x: b.x, y: b.y, r })
     }
     for (const j of this.sandbox.joints())
       points.push({ x: j.ax, y: j.ay, r: 0.2 }, { x: j.bx, y: j.by, r: 0.2 })
-    const kept = withoutStrays(points)
+    const kept = [...withoutStrays(points), ...people]
+    this.fittedPeople = cursors.length
     let [minX, minY, maxX, maxY] = [Infinity, 0, -Infinity, 4]
     for (const p of kept) {
       minX = Math.min(minX, p.x - p.r)
@@ -258,6 +272,27 @@ export class App {
     if (!Number.isFinite(minX)) [minX, maxX] = [-10, 10]
     const toolbar = $('toolbar').getBoundingClientRect()
     this.camera.fit(minX, minY, maxX, maxY, toolbar.bottom)
+    this.fittedCamera = {
+      x: this.camera.x,
+      y: this.camera.y,
+      scale: this.camera.scale,
+      at: performance.now(),
+    }
+  }
+
+  /**
+   * A late joiner's first frames: other players' cursors arrive after the bodies that the scene
+   * was framed on. While the camera is as fit() left it (nobody panned or zoomed) and for a few
+   * seconds after, a newly seen cursor frames the scene again, with the cursors and what they hold.
+   */
+  private refitForPeople(now: number): void {
+    const fitted = this.fittedCamera
+    const c = this.camera
+    if (!fitted || now - fitted.at > REFIT_MS) return
+    if (c.x !== fitted.x || c.y !== fitted.y || c.scale !== fitted.scale) return
+    const cursors = this.sandbox.cursors()
+    if (cursors.length <= this.fittedPeople) return
+    this.fit()
   }
 
   private frame(now: number): void {
@@ -270,7 +305,7 @@ export class App {
       this.fittedScene = scene
       this.fit()
       this.syncScenePicker()
-    }
+    } else this.refitForPeople(now)
     const selected = this.selectedBody()
     s.inspect(selected?.id ?? this.hoverInspect(now))
     const lab = selected ? s.lab(selected.id) : null
