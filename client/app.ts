@@ -150,7 +150,8 @@ export class App {
   /**
    * Tell the CSS where the toolbar ends (--bar-bottom) and where the panels under it end
    * (--panels-bottom: the Debug layer row when open): on a phone the toolbar wraps onto several
-   * rows and the HUD, the layer row and notices are placed below it.
+   * rows and the HUD, the layer row and notices are placed below it. --bottom-inset is the height
+   * of a bar along the bottom (the replay controls): the HUD sits above it.
    */
   placePanels(): void {
     const root = document.documentElement.style
@@ -167,6 +168,15 @@ export class App {
       if (!panel.hidden) below = panel.getBoundingClientRect().bottom
     }
     root.setProperty('--panels-bottom', `${Math.round(below)}px`)
+    root.setProperty('--bottom-inset', `${Math.round(this.bottomInset())}px`)
+  }
+
+  /** CSS px at the bottom of the view that a bar covers (the replay controls), else 0. */
+  private bottomInset(): number {
+    const bar = document.getElementById('replay-panel')
+    if (!bar || bar.hidden) return 0
+    const top = bar.getBoundingClientRect().top
+    return top > 0 ? Math.max(0, window.innerHeight - top) : 0
   }
 
   /** Switch the active tool. */
@@ -177,7 +187,9 @@ export class App {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
       b.classList.toggle('active', b.dataset.tool === tool)
     }
-    this.spawnPanel.show(tool === 'circle' || tool === 'box' || tool === 'polygon')
+    // A replay spawns nothing: its keys may pick a tool, but the spawn sliders stay closed.
+    const spawns = tool === 'circle' || tool === 'box' || tool === 'polygon'
+    this.spawnPanel.show(spawns && this.sandbox.mode !== 'replay')
     this.placePanels()
   }
 
@@ -271,7 +283,7 @@ export class App {
     }
     if (!Number.isFinite(minX)) [minX, maxX] = [-10, 10]
     const toolbar = $('toolbar').getBoundingClientRect()
-    this.camera.fit(minX, minY, maxX, maxY, toolbar.bottom)
+    this.camera.fit(minX, minY, maxX, maxY, toolbar.bottom, this.bottomInset())
     this.fittedCamera = {
       x: this.camera.x,
       y: this.camera.y,

@@ -193,9 +193,11 @@ export class ReplayPage {
     this.sandbox = sandbox
     this.app?.stop()
     this.app = new App(sandbox, this.httpBase, log.header.room)
-    this.app.fit()
     window.concord = this.app
     this.controls(log, name)
+    // Framed once the control bar is in: the scene sits above it, the HUD too (placePanels).
+    this.app.placePanels()
+    this.app.fit()
   }
 
   private controls(log: LoadedLog, name: string): void {

@@ -1,9 +1,13 @@
 /*
  * The rough edges a newcomer hit in the sandbox page (issue 31, "Fix"), each checked in headless
  * Chromium against a real server on 127.0.0.1 serving a client built for this file: a late
- * joiner's camera frames the other players' cursors and what they hold, not only the bodies.
+ * joiner's camera frames the other players' cursors and what they hold, not only the bodies; the
+ * replay page keeps its HUD and the ground clear of its control bar and never opens the spawn
+ * sliders.
  */
-import { mkdir } from 'node:fs/promises'
+import { mkdir, mkdtemp } from 'node:fs/promises'
+import { tmpdir } from 'node:os'
+import { join } from 'node:path'
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../bots/bot-client.ts'
@@ -80,6 +84,64 @@ describe('a late joiner', () => {
       await context.close()
     } finally {
       await bot.close()
+    }
+  })
+})
+
+/** Boxes (CSS px) of page elements by id; null for one not shown. */
+function boxes(page: Page, ids: string[]) {
+  return page.evaluate((list) => {
+    const out: Record<string, { left: number; top: number; right: number; bottom: number } | null> = {}
+    for (const id of list) {
+      const e = document.getElementById(id)
+      const r = e?.getBoundingClientRect()
+      out[id] =
+        e && r && r.width > 0 && r.height > 0
+          ? { left: r.left, top: r.top, right: r.right, bottom: r.bottom }
+          : null
+    }
+    return out
+  }, ids)
+}
+
+describe('the replay page', () => {
+  it('keeps the HUD and the ground above the control bar and opens no spawn sliders', async () => {
+    const replayDir = await mkdtemp(join(tmpdir(), 'concord-newcomer-'))
+    const recording = await serveClient(DIST, { record: true, replayDir })
+    const bot = await BotClient.connect({ url: recording.url, room: 'hud-replay', name: 'b' })
+    await bot.waitFor(() => bot.mirror.tick > 120, 'two seconds recorded')
+    await bot.close()
+    await recording.close()
+    const replays = await serveClient(DIST, { replayDir })
+    try {
+      for (const [width, height] of [
+        [1280, 800],
+        [1920, 1080],
+      ]) {
+        const context = await browser.newContext({ viewport: { width, height } })
+        const page = await context.newPage()
+        await page.goto(`${replays.url}/?replay`)
+        await page.click('#replay-list button:has-text("hud-replay")')
+        await page.waitForSelector('#replay-play')
+        await page.waitForFunction(() =>
+          /replay of hud-replay/.test(document.getElementById('hud')?.textContent ?? ''),
+        )
+        const b = await boxes(page, ['hud', 'replay-panel'])
+        expect(b.hud && b['replay-panel']).toBeTruthy()
+        // The HUD ends above the bar (they overlapped: the bar covered the HUD's last lines).
+        expect(b.hud!.bottom).toBeLessThanOrEqual(b['replay-panel']!.top)
+        const ground = await onScreen(page, 0, 0)
+        expect(ground.y).toBeLessThan(b['replay-panel']!.top)
+        // A spawn tool's key opens no sliders in a replay (nothing can be spawned there).
+        for (const key of ['c', 'b', 'p']) {
+          await page.keyboard.press(key)
+          expect(await page.locator('#spawn-panel').isVisible()).toBe(false)
+        }
+        await page.screenshot({ path: `${ARTIFACTS}/replay-hud-${width}.png` })
+        await context.close()
+      }
+    } finally {
+      await replays.close()
     }
   })
 })
