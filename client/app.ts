@@ -35,6 +35,9 @@ import type { Sandbox, ViewBody } from './modes/index.ts'
 const HOVER_MS = 150
 /** How long after a scene is framed a newly seen player's cursor frames it again (ms). */
 const REFIT_MS = 3000
+/** How long a notice stays (ms), and how long at least before the next one replaces it. */
+const TOAST_MS = 4000
+const TOAST_MIN_MS = 1500
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string): T => document.getElementById(id) as T
 
@@ -60,6 +63,9 @@ export class App {
   private fittedPeople = 0
   private lastToastCount = 0
   private toastTimer: ReturnType<typeof setTimeout> | undefined
+  /** Notices waiting for the one shown to have been read, and when that one appeared (ms). */
+  private readonly toastQueue: string[] = []
+  private toastShownAt = Number.NEGATIVE_INFINITY
   private frameHandle = 0
 
   constructor(
@@ -401,9 +407,17 @@ export class App {
     $('hud').textContent = hudText(s.stats(), this.fps.value, s.mode, s.scene())
     const controls = s.rules()?.controls ?? true
     for (const id of ['scene', 'pause', 'step', 'reset', 'gravity']) {
-      ;($(id) as HTMLButtonElement).disabled = !controls
+      const control = $(id) as HTMLButtonElement
+      control.dataset.title ??= control.title
+      control.disabled = !controls
+      control.title = controls
+        ? control.dataset.title
+        : `${control.dataset.title}: not open to you in this room (with an admin key, add &key=KEY to the address)`
     }
     $('pause').textContent = s.paused() ? 'Play' : 'Pause'
+    // On the view itself, not only on the button (the replay page has its own Play button).
+    $('paused').hidden = !s.paused() || s.mode === 'replay'
+    $('paused').textContent = controls ? '❚❚ Paused: Space or Play resumes' : '❚❚ Paused by the room'
     this.syncToggles()
     this.placePanels()
     if ($<HTMLSelectElement>('scene').value !== s.scene()) this.syncScenePicker()
@@ -435,16 +449,34 @@ export class App {
     }
     const notices = s.notices()
     if (notices.count !== this.lastToastCount) {
-      // Every notice since the last refresh (up to the few a mode keeps), one per line.
+      // Every notice since the last refresh (up to the few a mode keeps), queued without repeats.
       const fresh = notices.count - this.lastToastCount
       this.lastToastCount = notices.count
       const lines = notices.recent ? notices.recent.slice(-fresh) : [notices.latest ?? '']
-      $('toast').hidden = false
-      $('toast').textContent = lines.join('\n')
-      // Each notice stays 4 s, however soon the next one replaces it.
-      clearTimeout(this.toastTimer)
-      this.toastTimer = setTimeout(() => ($('toast').hidden = true), 4000)
+      for (const line of lines) {
+        const last = this.toastQueue.at(-1) ?? (this.toastVisible ? $('toast').textContent : null)
+        if (line !== last) this.toastQueue.push(line)
+      }
     }
+    this.showNextToast()
+  }
+
+  /**
+   * One notice at a time, never a stack: the next waits until the shown one has been up
+   * TOAST_MIN_MS; the last stays TOAST_MS.
+   */
+  private showNextToast(): void {
+    const now = performance.now()
+    if (this.toastQueue.length === 0 || (this.toastVisible && now - this.toastShownAt < TOAST_MIN_MS)) return
+    $('toast').textContent = this.toastQueue.shift() ?? ''
+    $('toast').hidden = false
+    this.toastShownAt = now
+    clearTimeout(this.toastTimer)
+    this.toastTimer = setTimeout(() => ($('toast').hidden = true), TOAST_MS)
+  }
+
+  private get toastVisible(): boolean {
+    return !$('toast').hidden
   }
 
   /** Pan so the toolbar and the lab panel do not cover the selected body (small screens). */

@@ -114,7 +114,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     replayAccess: (url) => checkReplayAccess(config, url),
     wsAccess: (req, url) => {
       const decision = checkAccess(config, req, url, url.searchParams.get('room') ?? '')
-      return decision.ok ? null : decision
+      return decision.ok ? { controls: decision.access.controls } : decision
     },
     metrics,
     metricsText: pool ? () => pool.metricsText() : undefined,

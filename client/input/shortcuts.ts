@@ -1,6 +1,7 @@
 /*
  * Keyboard shortcuts: one table drives both the key handling and the help overlay, so the help
- * can never list a key that does nothing.
+ * can never list a key that does nothing. The tools come in toolbar order, named as their buttons
+ * are, with the digit keys 1-9 along the toolbar.
  */
 
 /** What a shortcut does; main.ts maps each action to code. */
@@ -29,13 +30,13 @@ export type ShortcutAction =
 
 /** The shortcut table: keys (KeyboardEvent.key, lower case), action, description. */
 export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; help: string }> = [
-  { keys: ['g', '1'], action: 'tool:grab', help: 'Grab and throw: drag a body' },
-  { keys: ['c', '2'], action: 'tool:circle', help: 'Spawn circle: click to drop, drag to throw' },
-  { keys: ['b', '3'], action: 'tool:box', help: 'Spawn box: click to drop, drag to throw' },
+  { keys: ['g', '1'], action: 'tool:grab', help: 'Grab: drag a body, let go while moving to throw it' },
+  { keys: ['c', '2'], action: 'tool:circle', help: 'Circle: click to drop one, drag to throw it' },
+  { keys: ['b', '3'], action: 'tool:box', help: 'Box: click to drop one, drag to throw it' },
   {
     keys: ['p', '4'],
     action: 'tool:polygon',
-    help: 'Spawn polygon (3-8 sides, cycling; the next one is shown at the pointer)',
+    help: 'Polygon: click to drop one (3-8 sides, cycling; the next one is shown at the pointer)',
   },
   { keys: ['x', '5'], action: 'tool:delete', help: 'Delete: click a body' },
   {
@@ -44,8 +45,8 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
     help: 'Pin: click a body to pin it to what is under it (or the world)',
   },
   { keys: ['l', '7'], action: 'tool:rope', help: 'Rope: drag from one body (or space) to another' },
-  { keys: ['u', '9'], action: 'tool:cut', help: 'Cut: click a pin, rope, rod or spring to remove it' },
-  { keys: ['i', '8'], action: 'tool:inspect', help: 'Inspect: click a body to see its free-body diagram' },
+  { keys: ['u', '8'], action: 'tool:cut', help: 'Cut: click a pin, rope, rod or spring to remove it' },
+  { keys: ['i', '9'], action: 'tool:inspect', help: 'Lab: click a body to see its free-body diagram' },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
   { keys: ['r'], action: 'reset', help: 'Reset the scene' },

@@ -275,7 +275,10 @@ export class LockstepSandbox implements Sandbox {
   }
 
   rules(): RoomRules | null {
-    return this.runner.rules
+    const rules = this.runner.rules
+    // The room's controls, unless this page's key does not open them (the server has an admin key).
+    if (!rules?.controls || this.connection?.controlsAllowed !== false) return rules
+    return { ...rules, controls: false }
   }
 
   scene(): string {

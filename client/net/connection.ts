@@ -84,6 +84,7 @@ export class Connection {
     const message = decoded.value
     if (message.t === 'welcome') {
       this.joined = true
+      this.askControls()
       this.backoff = MIN_BACKOFF_MS
       this.handlers.status(null, false, false)
     }
@@ -156,21 +157,44 @@ export class Connection {
    * retry forever under "Cannot reach the server".
    */
   private async probeAccess(): Promise<string | null> {
+    const answer = await this.askAccess()
+    if (!answer || (answer.status !== 401 && answer.status !== 403)) return null
+    const why = answer.text
+    const hasKey = (new URL(this.url).searchParams.get('key') ?? '') !== ''
+    if (answer.status === 401)
+      return `Access key missing: ${why}. Add &key=KEY to the page address (ask whoever runs the server for the key) and reload.`
+    if (hasKey && /key/.test(why))
+      return `Access key wrong: ${why}. Fix &key= in the page address and reload.`
+    return `The server refuses this page: ${why}.`
+  }
+
+  /** The answer to a plain GET of the WebSocket URL (status and text), or null when none came. */
+  private async askAccess(): Promise<{ status: number; text: string } | null> {
     const probe = new URL(this.url)
     probe.protocol = probe.protocol === 'wss:' ? 'https:' : 'http:'
     try {
       const answer = await fetch(probe, { cache: 'no-store' })
-      if (answer.status !== 401 && answer.status !== 403) return null
-      const why = (await answer.text()).trim()
-      const hasKey = (probe.searchParams.get('key') ?? '') !== ''
-      if (answer.status === 401)
-        return `Access key missing: ${why}. Add &key=KEY to the page address (ask whoever runs the server for the key) and reload.`
-      if (hasKey && /key/.test(why))
-        return `Access key wrong: ${why}. Fix &key= in the page address and reload.`
-      return `The server refuses this page: ${why}.`
+      return { status: answer.status, text: (await answer.text()).trim() }
     } catch {
       return null
     }
+  }
+
+  /**
+   * Whether this page's key opens the room controls (scene, reset, pause, step, gravity): false on
+   * a server whose controls need the admin key when the page has not got it; null until known.
+   * Asked once after the first welcome (a plain GET of the WebSocket URL answers 200 and says so).
+   */
+  controlsAllowed: boolean | null = null
+  private controlsAsked = false
+
+  private askControls(): void {
+    if (this.controlsAsked) return
+    this.controlsAsked = true
+    void this.askAccess().then((answer) => {
+      if (answer?.status === 200)
+        this.controlsAllowed = !/room controls: need the admin key/.test(answer.text)
+    })
   }
 
   /** Send a message if the socket is open; returns the bytes sent (0 when dropped). */

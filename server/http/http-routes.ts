@@ -2,7 +2,8 @@
  * Plain HTTP on the same port as the WebSocket endpoint: the built browser client as static files,
  * health and readiness probes, Prometheus metrics, the open rooms as JSON for the lobby, and the
  * replay logs (GET /replays lists them, GET /replays/NAME downloads one), and for a plain GET /ws the
- * answer its upgrade would get (401/403 with the reason, else 426). Static paths are resolved
+ * answer its upgrade would get (401/403 with the reason, else 200 saying whether the room controls
+ * are allowed). Static paths are resolved
  * inside the static directory only (no traversal); a replay name must match the log name pattern
  * exactly, so it can only name a file directly inside the replay directory. With a join token the
  * replay routes need the join or admin key in the URL, as a join does (http-access.ts
@@ -41,11 +42,12 @@ export interface RouteContext {
   rooms: RoomHost
   recordings?: Recordings
   /**
-   * A plain GET /ws: the refusal its upgrade would get (status and a sentence), or null when it
-   * would be let in (answered 426). Browsers hide a failed upgrade's status, so a page that cannot
-   * connect asks here whether its key is missing or wrong (client/net/connection.ts).
+   * A plain GET /ws: the refusal its upgrade would get (status and a sentence), or, when it would
+   * be let in (answered 200; a browser logs any other status as an error), whether its key opens the room controls. Browsers hide a failed
+   * upgrade's status, so a page that cannot connect asks here whether its key is missing or wrong,
+   * and a joined page whether its controls work (client/net/connection.ts).
    */
-  wsAccess?: (req: IncomingMessage, url: URL) => { status: number; detail: string } | null
+  wsAccess?: (req: IncomingMessage, url: URL) => { status: number; detail: string } | { controls: boolean }
   /** Null when a request for the replay logs may be answered, else its refusal (checkReplayAccess). */
   replayAccess: (url: URL) => ReplayRefusal | null
   metrics: ServerMetrics
@@ -100,9 +102,15 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
         )
         return
       case '/ws': {
-        const refusal = ctx.wsAccess?.(req, url)
-        if (refusal) return send(res, refusal.status, 'text/plain', `${refusal.detail}\n`)
-        return send(res, 426, 'text/plain', 'WebSocket endpoint: upgrade to join (this key is accepted)\n')
+        const access = ctx.wsAccess?.(req, url) ?? { controls: true }
+        if ('detail' in access) return send(res, access.status, 'text/plain', `${access.detail}\n`)
+        const controls = access.controls ? 'allowed' : 'need the admin key'
+        return send(
+          res,
+          200,
+          'text/plain',
+          `WebSocket endpoint: upgrade to join (this key is accepted; room controls: ${controls})\n`,
+        )
       }
       case '/rooms':
         return send(res, 200, 'application/json', JSON.stringify(listRooms(ctx.rooms)))

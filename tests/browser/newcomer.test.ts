@@ -3,7 +3,9 @@
  * Chromium against a real server on 127.0.0.1 serving a client built for this file: a late
  * joiner's camera frames the other players' cursors and what they hold, not only the bodies; the
  * replay page keeps its HUD and the ground clear of its control bar and never opens the spawn
- * sliders.
+ * sliders; a paused room says so on the view; room controls are disabled for a player whose key
+ * does not open them; Help names the tools as the toolbar does, in its order, with the digit keys
+ * along it; a 200-character room name does not fill the HUD.
  */
 import { mkdir, mkdtemp } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
@@ -143,5 +145,109 @@ describe('the replay page', () => {
     } finally {
       await replays.close()
     }
+  })
+})
+
+describe('the room and its controls', () => {
+  it('shows "Paused" on the view, and disables the room controls for a player without the admin key', async () => {
+    const guarded = await serveClient(DIST, { adminToken: 'boss-key' })
+    try {
+      const room = 'paused-room'
+      const admin = await openSandbox(browser, `${guarded.url}/?room=${room}&name=admin&key=boss-key`)
+      const guest = await openSandbox(browser, `${guarded.url}/?room=${room}&name=guest`)
+      const controls = ['scene', 'pause', 'step', 'reset', 'gravity']
+      const disabled = (page: Page) =>
+        page.evaluate(
+          (ids) => ids.map((id) => (document.getElementById(id) as HTMLButtonElement).disabled),
+          controls,
+        )
+      await guest.page.waitForFunction(() => (document.getElementById('pause') as HTMLButtonElement).disabled)
+      expect(await disabled(guest.page)).toEqual([true, true, true, true, true])
+      expect(await guest.page.getAttribute('#pause', 'title')).toContain('not open to you in this room')
+      // The admin key opens them (the page asked the server, as the guest's did).
+      await admin.page.waitForFunction(() => window.concord.sandbox.rules() !== null)
+      await admin.page.waitForFunction(() => {
+        const c = (
+          window as unknown as { concord: { sandbox: { connection: { controlsAllowed: boolean | null } } } }
+        ).concord.sandbox.connection
+        return c.controlsAllowed === true
+      })
+      expect(await disabled(admin.page)).toEqual([false, false, false, false, false])
+      expect(await admin.page.locator('#paused').isVisible()).toBe(false)
+
+      await admin.page.click('#pause')
+      for (const [page, text] of [
+        [admin.page, '❚❚ Paused: Space or Play resumes'],
+        [guest.page, '❚❚ Paused by the room'],
+      ] as const) {
+        await page.waitForFunction(() => !document.getElementById('paused')!.hidden)
+        expect(await page.locator('#paused').textContent()).toBe(text)
+        // Drawn over the view, below the toolbar, clear of the HUD.
+        const b = await boxes(page, ['paused', 'toolbar', 'hud'])
+        expect(b.paused!.top).toBeGreaterThanOrEqual(b.toolbar!.bottom)
+        expect(b.paused!.right < b.hud!.left || b.paused!.bottom < b.hud!.top).toBe(true)
+      }
+      await guest.page.screenshot({ path: `${ARTIFACTS}/paused-guest.png` })
+      await admin.page.keyboard.press(' ')
+      await admin.page.waitForFunction(() => document.getElementById('paused')!.hidden)
+      await guest.page.waitForFunction(() => document.getElementById('paused')!.hidden)
+      expect(admin.errors).toEqual([])
+      await admin.context.close()
+      await guest.context.close()
+    } finally {
+      await guarded.close()
+    }
+  })
+
+  it('Help calls the tools what the toolbar does, in toolbar order, and the digit keys follow it', async () => {
+    const { page, context } = await openSandbox(browser, `${server.url}/?room=help-order`)
+    const toolbar = await page.evaluate(() =>
+      [...document.querySelectorAll<HTMLButtonElement>('#toolbar [data-tool]')].map((b) => ({
+        tool: b.dataset.tool!,
+        label: b.textContent!.trim(),
+      })),
+    )
+    expect(toolbar.map((t) => t.label)).toEqual([
+      'Grab',
+      'Circle',
+      'Box',
+      'Polygon',
+      'Delete',
+      'Pin',
+      'Rope',
+      'Cut',
+      'Lab',
+    ])
+    const rows = await page.evaluate(() =>
+      [...document.querySelectorAll('#help-rows tr')].map((r) => ({
+        keys: [...r.querySelectorAll('kbd')].map((k) => k.textContent),
+        text: r.querySelectorAll('td')[1].textContent!,
+      })),
+    )
+    for (const [i, t] of toolbar.entries()) {
+      expect(rows[i].text.startsWith(`${t.label}:`), `help row ${i}: ${rows[i].text}`).toBe(true)
+      expect(rows[i].keys).toContain(String(i + 1))
+      // The digit picks that button's tool.
+      await page.keyboard.press(String(i + 1))
+      expect(await page.getAttribute(`#toolbar [data-tool="${t.tool}"]`, 'class')).toContain('active')
+    }
+    expect(rows.map((r) => r.text).join('\n')).not.toMatch(/Inspect/)
+    expect(await page.getAttribute('#toolbar [data-tool="inspect"]', 'title')).toMatch(/^Lab/)
+    await context.close()
+  })
+
+  it('a 200-character room name is cut short in the HUD', async () => {
+    const name = 'a'.repeat(200)
+    const context = await browser.newContext({ viewport: { width: 1280, height: 800 } })
+    const page = await context.newPage()
+    await page.goto(`${server.url}/?room=${name}`)
+    await page.waitForFunction(() => window.concord?.sandbox.status().state === 'error')
+    await page.waitForFunction(() => /^room /.test(document.getElementById('hud')?.textContent ?? ''))
+    const first = (await page.locator('#hud').textContent())!.split('\n')[0]
+    expect(first).toMatch(/^room a{31}… /)
+    const b = await boxes(page, ['hud'])
+    expect(b.hud!.right - b.hud!.left).toBeLessThan(400)
+    await page.screenshot({ path: `${ARTIFACTS}/long-room-name.png` })
+    await context.close()
   })
 })
