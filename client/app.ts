@@ -124,6 +124,8 @@ export class App {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-layer]')) {
       b.addEventListener('click', () => this.act(`layer:${b.dataset.layer}` as ShortcutAction))
     }
+    // Opened from disk or from the static build there is no server: no rooms, no going online.
+    $('mode').hidden = $('rooms').hidden = !hasServer()
     $('mode').textContent = this.sandbox.mode === 'online' ? 'Offline' : 'Online'
     $('mode').addEventListener('click', () => {
       location.href =
@@ -242,6 +244,7 @@ export class App {
         $('help').hidden = !$('help').hidden
         break
       case 'lobby':
+        if (!hasServer()) break
         $('lobby').hidden = !$('lobby').hidden
         $('replays-link').setAttribute('href', replaysLink())
         if (!$('lobby').hidden) void showLobby($('lobby-list'), this.httpBase, this.room)
@@ -498,6 +501,15 @@ export class App {
     cancelAnimationFrame(this.frameHandle)
     this.sandbox.dispose()
   }
+}
+
+/**
+ * Whether a game server served this page: not when it was opened from disk (file:) or comes from
+ * the static build (scripts/build-static.mjs marks it with <meta name="concord-mode" content="offline">).
+ */
+export function hasServer(): boolean {
+  const staticBuild = document.querySelector('meta[name="concord-mode"][content="offline"]') !== null
+  return location.protocol !== 'file:' && !staticBuild
 }
 
 /** What a scene holds (SCENES' description), or '' for a scene this page does not know. */
