@@ -18,6 +18,7 @@ import {
   Renderer,
 } from './draw/index.ts'
 import {
+  helpIntro,
   helpRows,
   pickBody,
   type ShortcutAction,
@@ -35,6 +36,10 @@ import type { Sandbox, ViewBody } from './modes/index.ts'
 const HOVER_MS = 150
 /** How long after a scene is framed a newly seen player's cursor frames it again (ms). */
 const REFIT_MS = 3000
+/** On a touch screen a dropped shape is framed at least this wide (CSS px): a fingertip's size. */
+const TOUCH_SPAWN_PX = 40
+/** The spawn tools' shape at size 1x (m): a 1 m circle, box or polygon. */
+const SPAWN_SHAPE_M = 1
 /** How long a notice stays (ms), and how long at least before the next one replaces it. */
 const TOAST_MS = 4000
 const TOAST_MIN_MS = 1500
@@ -85,7 +90,8 @@ export class App {
     window.addEventListener('blur', () => this.tools.cancel())
     window.addEventListener('keydown', (e) => this.key(e))
     this.wireToolbar()
-    $('help-rows').innerHTML = helpRows()
+    $('help-rows').innerHTML = helpRows(touchLayout())
+    $('help-intro').textContent = helpIntro(touchLayout())
     this.setTool('grab')
     this.placePanels()
     this.frameHandle = requestAnimationFrame((t) => this.frame(t))
@@ -292,7 +298,18 @@ export class App {
     }
     if (!Number.isFinite(minX)) [minX, maxX] = [-10, 10]
     const toolbar = $('toolbar').getBoundingClientRect()
-    this.camera.fit(minX, minY, maxX, maxY, toolbar.bottom, this.bottomInset())
+    const bottom = this.bottomInset()
+    this.camera.fit(minX, minY, maxX, maxY, toolbar.bottom, bottom)
+    const fingerScale = TOUCH_SPAWN_PX / (SPAWN_SHAPE_M * this.spawnPanel.settings.size)
+    if (touchLayout() && kept.length === 0 && this.camera.scale < fingerScale) {
+      // Nothing to frame but the ground (the empty scene): a finger needs bigger targets than a
+      // 20 m stretch of ground at once, so zoom until a dropped shape is TOUCH_SPAWN_PX wide, keep
+      // the middle, and keep the ground a little above the bottom edge. A scene with bodies is
+      // framed whole (pinch to zoom in).
+      const c = this.camera
+      c.scale = fingerScale
+      c.y = Math.max(minY - 1, -1) + (c.height / 2 - bottom) / c.scale
+    }
     this.fittedCamera = {
       x: this.camera.x,
       y: this.camera.y,
@@ -501,6 +518,11 @@ export class App {
     cancelAnimationFrame(this.frameHandle)
     this.sandbox.dispose()
   }
+}
+
+/** Whether the page is used by touch (a coarse pointer: a phone or tablet). */
+export function touchLayout(): boolean {
+  return typeof matchMedia === 'function' && matchMedia('(pointer: coarse)').matches
 }
 
 /**

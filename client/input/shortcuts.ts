@@ -68,10 +68,40 @@ export function shortcutFor(e: { key: string; ctrlKey: boolean; altKey: boolean;
   return SHORTCUTS.find((s) => s.keys.includes(key))?.action ?? null
 }
 
-/** The help overlay's HTML rows. */
-export function helpRows(): string {
+/** The toolbar buttons of the room actions (the tools are named by their help's first word). */
+const BUTTONS: Partial<Record<ShortcutAction, string>> = {
+  pause: 'Pause',
+  step: 'Step',
+  reset: 'Reset',
+  gravity: 'Gravity',
+  fit: 'Fit',
+}
+
+/**
+ * The help overlay's HTML rows. With `touch` (a phone or tablet, no keyboard) only what has a
+ * button, named as the button is, without keys: short enough to fit a phone's screen unscrolled.
+ */
+export function helpRows(touch = false): string {
   const label = (k: string): string => (k === ' ' ? 'Space' : k === 'escape' ? 'Esc' : k.toUpperCase())
+  if (touch) {
+    const rows: string[] = []
+    for (const s of SHORTCUTS) {
+      const tool = s.action.startsWith('tool:')
+      const button = tool ? s.help.slice(0, s.help.indexOf(':')) : BUTTONS[s.action]
+      if (!button) continue
+      const text = tool ? s.help.slice(s.help.indexOf(':') + 1).trim() : s.help
+      rows.push(`<tr><td><b>${button}</b></td><td>${text.replace(/^click/, 'tap')}</td></tr>`)
+    }
+    return rows.join('')
+  }
   return SHORTCUTS.map(
     (s) => `<tr><td>${s.keys.map((k) => `<kbd>${label(k)}</kbd>`).join(' ')}</td><td>${s.help}</td></tr>`,
   ).join('')
+}
+
+/** The help overlay's first paragraph, for a mouse and keyboard or for touch. */
+export function helpIntro(touch = false): string {
+  return touch
+    ? 'Tap a tool, then tap the world; drag a body to throw it, drag empty space to pan, pinch to zoom. Everyone in the room sees the same world.'
+    : 'Drag bodies to throw them; press on empty space to pan; wheel or pinch to zoom. Everyone in the room sees the same world: the server simulates it, your page draws it.'
 }

@@ -5,7 +5,8 @@
  * replay page keeps its HUD and the ground clear of its control bar and never opens the spawn
  * sliders; a paused room says so on the view; room controls are disabled for a player whose key
  * does not open them; Help names the tools as the toolbar does, in its order, with the digit keys
- * along it; a 200-character room name does not fill the HUD.
+ * along it; a 200-character room name does not fill the HUD; on a phone the empty scene is zoomed
+ * so a dropped 1 m shape is at least 40 px wide, and Help (tools by button, no keys) fits unscrolled.
  */
 import { mkdir, mkdtemp } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
@@ -249,5 +250,82 @@ describe('the room and its controls', () => {
     expect(b.hud!.right - b.hud!.left).toBeLessThan(400)
     await page.screenshot({ path: `${ARTIFACTS}/long-room-name.png` })
     await context.close()
+  })
+})
+
+describe('on a phone', () => {
+  it('zooms the empty scene so a dropped 1 m box is at least 40 px, and Help fits without scrolling', async () => {
+    const phone = await serveClient(DIST, { defaultScene: 'empty' })
+    const context = await browser.newContext({
+      viewport: { width: 390, height: 844 },
+      deviceScaleFactor: 2,
+      hasTouch: true,
+      isMobile: true,
+    })
+    try {
+      const page = await context.newPage()
+      await page.goto(`${phone.url}/?room=phone&name=thumb`)
+      await page.waitForFunction(
+        () =>
+          window.concord?.sandbox.status().state === 'connected' &&
+          window.concord.sandbox.scene() === 'empty',
+      )
+      await page.waitForFunction(() => window.concord.sandbox.bodies().length > 0)
+      // Drop a box with the Box tool by a tap in the middle of the view.
+      await page.tap('[data-tool="box"]')
+      await page.touchscreen.tap(195, 500)
+      await page.waitForFunction(() => window.concord.sandbox.bodies().some((b) => b.kind === 2))
+      const width = await page.evaluate(() => {
+        const box = window.concord.sandbox.bodies().find((b) => b.kind === 2)!
+        if (box.shape.type !== 'box') throw new Error(`dropped a ${box.shape.type}`)
+        return 2 * box.shape.hw * window.concord.camera.scale
+      })
+      expect(width).toBeGreaterThanOrEqual(40)
+      // The ground line stays in view.
+      const ground = await onScreen(page, 0, 0)
+      expect(ground.y).toBeGreaterThan(ground.top)
+      expect(ground.y).toBeLessThan(ground.height)
+      await page.screenshot({ path: `${ARTIFACTS}/phone-empty.png` })
+
+      await page.tap('#help-button')
+      await page.waitForSelector('#help', { state: 'visible' })
+      const help = await page.evaluate(() => {
+        const h = document.getElementById('help')!
+        const close = document.getElementById('help-close')!.getBoundingClientRect()
+        return {
+          fits: h.scrollHeight <= h.clientHeight && h.scrollWidth <= h.clientWidth,
+          closeVisible: close.bottom <= window.innerHeight && close.top >= 0,
+          keys: h.querySelectorAll('kbd').length,
+          names: [...h.querySelectorAll('#help-rows tr td:first-child')].map((td) => td.textContent),
+        }
+      })
+      expect(help).toEqual({
+        fits: true,
+        closeVisible: true,
+        keys: 0,
+        names: [
+          'Grab',
+          'Circle',
+          'Box',
+          'Polygon',
+          'Delete',
+          'Pin',
+          'Rope',
+          'Cut',
+          'Lab',
+          'Pause',
+          'Step',
+          'Reset',
+          'Gravity',
+          'Fit',
+        ],
+      })
+      await page.screenshot({ path: `${ARTIFACTS}/phone-help.png` })
+      await page.tap('#help-close')
+      await page.waitForSelector('#help', { state: 'hidden' })
+    } finally {
+      await context.close()
+      await phone.close()
+    }
   })
 })
