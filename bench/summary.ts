@@ -54,3 +54,29 @@ export function summarize(samples: readonly number[]): Summary {
     max: sorted.length > 0 ? sorted[sorted.length - 1] : Number.NaN,
   }
 }
+
+/**
+ * Concord's mean step time over another engine's in each quarter of the timed steps (both lists
+ * hold the same steps in the same rounds), lowest and highest; null when a quarter's mean reads 0.
+ */
+export function quarterRatios(
+  concord: readonly number[],
+  other: readonly number[],
+): { low: number; high: number } | null {
+  const n = Math.min(concord.length, other.length)
+  if (n < 4) return null
+  const ratios: number[] = []
+  for (let q = 0; q < 4; q++) {
+    const from = Math.floor((q * n) / 4)
+    const to = Math.floor(((q + 1) * n) / 4)
+    let c = 0
+    let o = 0
+    for (let i = from; i < to; i++) {
+      c += concord[i]
+      o += other[i]
+    }
+    if (c === 0 || o === 0) return null
+    ratios.push(c / o)
+  }
+  return { low: Math.min(...ratios), high: Math.max(...ratios) }
+}

@@ -88,6 +88,11 @@ function expectSoundRun(state: BenchState, engines: readonly string[]): void {
     }
     const ratio = r.concordOverThis
     expect(ratio === null || (Number.isFinite(ratio) && ratio > 0), `${r.engine} ratio ${ratio}`).toBe(true)
+    // The spread over the run's quarters brackets the whole run's ratio (sum over sum).
+    if (ratio !== null && r.ratioRange) {
+      expect(r.ratioRange.low, `${r.engine} low`).toBeLessThanOrEqual(ratio * (1 + 1e-9))
+      expect(r.ratioRange.high, `${r.engine} high`).toBeGreaterThanOrEqual(ratio * (1 - 1e-9))
+    }
     expect(r.steps?.n, `${r.engine} timed steps`).toBeGreaterThan(0)
     expect(r.quality?.verdict, `${r.engine} end state`).toBe('contained')
   }
@@ -130,6 +135,11 @@ describe('benchmark page', () => {
     expectSoundRun(state, engines)
     expect(await page.textContent('#broadphase')).toContain('PASSED')
     expect(await page.locator('#results tbody tr').count()).toBe(engines.length)
+    // The table shows each ratio with its range; a visitor's default run is 1,000 timed steps.
+    expect(await page.textContent('#results thead')).toContain('concord / this (quarters)')
+    expect(await page.textContent('#results tbody tr:first-child')).toMatch(/\d\.\d\d \(\d\.\d\d-\d\.\d\d\)/)
+    await page.goto(`http://127.0.0.1:${server.port}/bench.html`)
+    expect(await page.inputValue('#steps')).toBe('1000')
     expect(errors).toEqual([])
     await page.close()
   })
