@@ -66,7 +66,11 @@ describe('access key in the page URL', () => {
       const status = await page.evaluate(() => window.concord?.sandbox.status())
       expect(status).toMatchObject({ state: 'error', retrying: false })
       expect(status && 'message' in status ? status.message : '').toContain(expected)
-      expect(await page.locator('#banner-text').textContent()).toContain(expected)
+      // The banner is refreshed a few times a second: wait for it to show the status.
+      await page.waitForFunction(
+        (text) => (document.getElementById('banner-text')?.textContent ?? '').includes(text),
+        expected,
+      )
       expect(await page.locator('#retry').isHidden()).toBe(true)
       // No more upgrades: the page's first retry would come 0.5 s after the refusal; wait 3 s of
       // the page's own clock and count the server's refusals again.

@@ -173,6 +173,10 @@ describe('the room and its controls', () => {
         ).concord.sandbox.connection
         return c.controlsAllowed === true
       })
+      // The panels refresh a few times a second: wait for the buttons to show it.
+      await admin.page.waitForFunction(
+        () => !(document.getElementById('pause') as HTMLButtonElement).disabled,
+      )
       expect(await disabled(admin.page)).toEqual([false, false, false, false, false])
       expect(await admin.page.locator('#paused').isVisible()).toBe(false)
 
