@@ -12,7 +12,7 @@
  *                   also apply this player's own inputs at once, with rollback)
  * Without ?room the page joins the server's default room and writes it into the address bar.
  */
-import { App } from './app.ts'
+import { App, hasServer } from './app.ts'
 import { LockstepSandbox, OfflineSandbox, OnlineSandbox, type Sandbox } from './modes/index.ts'
 import { ReplayPage } from './replay/index.ts'
 
@@ -22,8 +22,7 @@ function boot(): App {
   const room = params.get('room') || 'lobby'
   let sandbox: Sandbox
   // The static build (npm run build:static) marks its page: a static host has no game server.
-  const staticBuild = document.querySelector('meta[name="concord-mode"][content="offline"]') !== null
-  if (params.has('offline') || location.protocol === 'file:' || staticBuild) {
+  if (params.has('offline') || !hasServer()) {
     sandbox = new OfflineSandbox(params.get('scene') ?? 'pyramid')
   } else {
     if (!params.has('room')) {

@@ -67,6 +67,8 @@ export class LockstepSandbox implements Sandbox {
   private seq = 0
   private downWindow = { start: Number.NaN, bytes: 0, value: 0 }
   private contactCache: { tick: number; contacts: LabContact[] } | null = null
+  /** Players whose cursor has left the origin (a new player's cursor starts there). */
+  private readonly movedCursors = new Set<number>()
 
   constructor(private readonly options: LockstepSandboxOptions) {
     const send = (m: Parameters<Connection['send']>[0]): void => {
@@ -205,6 +207,9 @@ export class LockstepSandbox implements Sandbox {
     for (const pl of this.players) {
       const s = sim.players.get(pl.id)
       if (pl.id === this.runner.playerId || !s) continue
+      // A player who has not moved yet sits at the origin: not a cursor worth drawing.
+      if (s.cursorX !== 0 || s.cursorY !== 0 || s.grab) this.movedCursors.add(pl.id)
+      if (!this.movedCursors.has(pl.id)) continue
       out.push({
         id: pl.id,
         name: pl.name,
@@ -270,7 +275,10 @@ export class LockstepSandbox implements Sandbox {
   }
 
   rules(): RoomRules | null {
-    return this.runner.rules
+    const rules = this.runner.rules
+    // The room's controls, unless this page's key does not open them (the server has an admin key).
+    if (!rules?.controls || this.connection?.controlsAllowed !== false) return rules
+    return { ...rules, controls: false }
   }
 
   scene(): string {
