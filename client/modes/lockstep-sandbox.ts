@@ -10,6 +10,7 @@
  */
 
 import type { Vec2 } from '../../engine/index.ts'
+import { findGame } from '../../games/index.ts'
 import {
   type Command,
   type JoinMessage,
@@ -76,10 +77,11 @@ export class LockstepSandbox implements Sandbox {
       options.mode === 'predict'
         ? new PredictClient({
             send,
+            games: findGame,
             clock: () => performance.now(),
             onRollback: (before, after) => this.smoother.correct(before, after),
           })
-        : new LockstepClient({ send })
+        : new LockstepClient({ send, games: findGame })
     const key = options.key ? `&key=${encodeURIComponent(options.key)}` : ''
     this.connection = new Connection(
       `${options.url}?room=${encodeURIComponent(options.room)}${key}`,

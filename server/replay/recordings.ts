@@ -186,7 +186,7 @@ export class Recordings {
     room.emptySince = room.tick
     // Read back from the room itself (before the departed players leave, which releases grabs).
     const tick = room.tick
-    const hash = room.world.hash()
+    const hash = room.sim.hash()
     recorder.resume(recovered.name, recovered.size)
     // The players of the crashed process are gone; they come back as new joins.
     for (const id of [...room.sim.players.keys()]) room.sim.leave(id)

@@ -32,6 +32,7 @@
  */
 import type { Logger } from 'pino'
 import { SCENES, type SceneBlueprint, type World } from '../../engine/index.ts'
+import { type Game, sandbox } from '../../games/index.ts'
 import {
   type Command,
   encodeMessage,
@@ -111,10 +112,13 @@ export class Room {
      * multiple of the snapshot interval).
      */
     spread: { startTick: number; snapshotPhase: number } = { startTick: 0, snapshotPhase: 0 },
+    /** The game the room runs (fixed for the room's life). */
+    readonly game: Game = sandbox,
   ) {
     this.snapshotInterval = TICK_RATE / config.snapshotRate
     this.snapshotPhase = spread.snapshotPhase % this.snapshotInterval
     this.sim = new RoomSimulation({
+      game,
       name,
       scene: Object.hasOwn(SCENES, config.defaultScene) ? config.defaultScene : 'pyramid',
       maxBodies: config.maxBodies,
@@ -169,6 +173,8 @@ export class Room {
     mode: JoinMode = 'snapshot',
   ): RoomPlayer | string {
     if (this.players.size >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
+    if (this.players.size >= this.game.maxPlayers)
+      return `room ${this.name} is full (${this.game.name} admits ${this.game.maxPlayers} players)`
     const identity = assignIdentity(this, token)
     if (identity.replaced) identity.replaced.conn.close(4000, 'replaced by a reconnect with the same token')
     const player = new RoomPlayer(
@@ -296,7 +302,7 @@ export class Room {
     this.sim.runTick()
     this.flushEvents()
     if ((this.tick + this.snapshotPhase) % this.snapshotInterval === 0) this.snapshots.send()
-    const hash = this.tick % TICK_RATE === 0 ? this.world.hash() : undefined
+    const hash = this.tick % TICK_RATE === 0 ? this.sim.hash() : undefined
     if (hash !== undefined) this.everySecond(hash)
     this.feed.endTick(hash)
   }

@@ -3,9 +3,11 @@
  * with the flush timer frozen (fake setInterval), the new file must still get its header, so a
  * crash right after a rotation leaves a log that crash recovery can start from.
  */
+
 import pino from 'pino'
 import { Counter } from 'prom-client'
 import { afterEach, describe, expect, it, vi } from 'vitest'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import type { LogFile } from '../../../server/replay/replay-files.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
@@ -20,7 +22,13 @@ describe('log rotation', () => {
   it("writes the new log's header at once, without waiting for the flush timer", async () => {
     vi.useFakeTimers({ toFake: ['setInterval', 'clearInterval'] })
     const files = new Map<string, Uint8Array[]>()
-    const sim = new RoomSimulation({ name: 'rot', scene: 'pyramid', maxBodies: 500, controls: true })
+    const sim = new RoomSimulation({
+      game: sandbox,
+      name: 'rot',
+      scene: 'pyramid',
+      maxBodies: 500,
+      controls: true,
+    })
     const recorder = new RoomRecorder('rot', sim, {
       dir: '/nonexistent',
       fsync: 'none',
