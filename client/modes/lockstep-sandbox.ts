@@ -43,6 +43,8 @@ import type {
 export interface LockstepSandboxOptions {
   url: string
   room: string
+  /** The game a room this join creates runs (the page's `&game=`). */
+  game?: string
   name: string
   mode: 'lockstep' | 'predict'
   /** Access key for a server with join or admin tokens (the page's `?key=`), sent as `&key=`. */
@@ -106,6 +108,7 @@ export class LockstepSandbox implements Sandbox {
       name: this.options.name,
       mode: this.options.mode,
       hold: this.runner.hold,
+      ...(this.options.game ? { game: this.options.game } : {}),
     }
   }
 

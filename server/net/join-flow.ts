@@ -8,6 +8,7 @@
  * gives its claim back, so a room name is never left claimed by a server that does not hold it.
  */
 import type { Logger } from 'pino'
+import { findGame, GAMES } from '../../games/index.ts'
 import { CLOSE_CODES, type ClientMessage } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
 import type { RoomDirectory, ServerMetrics } from '../hosting/index.ts'
@@ -48,6 +49,14 @@ export class JoinFlow {
         peer,
         'room-mismatch',
         `join names room "${message.room}" but the URL names "${session.urlRoom}"`,
+      )
+      return
+    }
+    if (message.game !== undefined && !findGame(message.game)) {
+      this.actions.reject(
+        peer,
+        'invalid',
+        `unknown game "${message.game}"; this server has ${Object.keys(GAMES).join(', ')}`,
       )
       return
     }
@@ -122,6 +131,7 @@ export class JoinFlow {
       name: message.name,
       token: message.token,
       mode: message.mode,
+      game: message.game,
       strike: (code, reason, tick, seq) => this.actions.roomStrike(peer, code, reason, tick, seq),
       refused: (error, reason) => {
         session.seat = null

@@ -122,7 +122,9 @@ export class Recordings {
       throw new Error(`${name} holds room "${recovered.room}", not the room its name gives`)
     await truncateToCheckpoint(this.dir, recovered)
     this.recovered.set(recovered.room, recovered)
-    if (!rooms.getOrCreate(recovered.room)) this.recovered.delete(recovered.room)
+    // The room reopens running the log's game (a game room recovers with its score and clock).
+    if (!rooms.getOrCreate(recovered.room, recovered.runner.sim.game.name))
+      this.recovered.delete(recovered.room)
     return recovered
   }
 

@@ -33,6 +33,8 @@ export interface JoinRequest {
   name: string
   token: string | undefined
   mode: JoinMode
+  /** The game the join asks for (join.game), checked against the catalogue by the transport. */
+  game: string | undefined
   /** Strikes the room reports against this client. */
   strike: Strike
   /** The join was refused: `error` for the error message, `reason` for the close. */
@@ -63,6 +65,7 @@ export function roomSummary(room: Room): RoomSummary {
     bodies: room.world.bodyCount,
     scene: room.scene,
     tick: room.tick,
+    game: room.game.name,
   }
 }
 
@@ -108,12 +111,12 @@ export class LocalRoomHost implements RoomHost {
   }
 
   join(request: JoinRequest): RoomSeat | null {
-    const room = this.rooms.getOrCreate(request.room)
+    const room = this.rooms.getOrCreate(request.room, request.game)
     if (!room) {
       request.refused(`the server has reached its limit of ${this.maxRooms} rooms`, 'too many rooms')
       return null
     }
-    const joined = room.join(request.conn, request.name, request.token, request.mode)
+    const joined = room.join(request.conn, request.name, request.token, request.mode, request.game)
     if (typeof joined === 'string') {
       request.refused(joined, joined)
       return null

@@ -106,8 +106,8 @@ export class WorkerPool implements RoomHost {
     link.seats.set(conn, seat)
     link.pendingJoins.set(request.room, (link.pendingJoins.get(request.room) ?? 0) + 1)
     link.unanswered.set(conn, request.room)
-    const { room, name, token, mode } = request
-    link.post({ op: 'join', conn, room, name, token, mode })
+    const { room, name, token, mode, game } = request
+    link.post({ op: 'join', conn, room, name, token, mode, game })
     return seat
   }
 
@@ -141,6 +141,7 @@ export class WorkerPool implements RoomHost {
         bodies: known?.bodies ?? 0,
         scene: known?.scene ?? '',
         tick: known?.tick ?? 0,
+        game: known?.game ?? '',
       })
     }
     return out

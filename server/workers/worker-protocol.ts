@@ -29,7 +29,16 @@ export type WorkerFault =
 
 /** Main thread to worker, in order. */
 export type ToWorker =
-  | { op: 'join'; conn: number; room: string; name: string; token: string | undefined; mode: JoinMode }
+  | {
+      op: 'join'
+      conn: number
+      room: string
+      name: string
+      token: string | undefined
+      mode: JoinMode
+      /** The game the join asks for (a new room runs it; an open room must already). */
+      game: string | undefined
+    }
   | { op: 'msg'; conn: number; message: RoomMessage }
   | { op: 'leave'; conn: number }
   /** Unread bytes per connection: pairs (conn, bytes). */
@@ -76,6 +85,8 @@ export interface RoomSummary {
   bodies: number
   scene: string
   tick: number
+  /** The game the room runs. */
+  game: string
 }
 
 /** Worker to main thread. */

@@ -24,6 +24,8 @@ const RULES: RoomRules = {
   controls: true,
   scenes: [],
   worldHalfExtent: 500,
+  game: 'sandbox',
+  commands: [],
 }
 
 /** A room in process: simulation, feed, players with scripted activity, followers. */

@@ -34,6 +34,8 @@ const RULES: RoomRules = {
   controls: true,
   scenes: [],
   worldHalfExtent: 500,
+  game: 'sandbox',
+  commands: [],
 }
 
 class DelayedRoom {
