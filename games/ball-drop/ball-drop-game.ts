@@ -41,8 +41,7 @@ export const ballDrop = defineGame<BallDropState>({
         const ball = ctx.createBody({
           type: 'dynamic',
           position: { x: args.x, y: 10 },
-          angularVelocity: ctx.random.range(-1, 1),
-          shape: circle(0.3),
+          shape: circle(ctx.random.range(0.25, 0.35)),
         })
         if (typeof ball === 'string') return ball
         ctx.state.owners[ball] = player
