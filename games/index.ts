@@ -9,7 +9,7 @@ import type { Game } from './game-api.ts'
 import { sandbox } from './sandbox/index.ts'
 
 export { type ArgsChecker, type ArgsSchema, compileArgs } from './args-schema.ts'
-export { type BallDropState, ballDrop, DROP_INTERVAL } from './ball-drop/index.ts'
+export { type BallDropState, ballDrop } from './ball-drop/index.ts'
 export {
   type BuiltinCommandDefinition,
   builtin,

@@ -16,9 +16,6 @@ export interface BallDropState {
   lastDrop: Record<string, number>
 }
 
-/** Ticks a player waits between drops (one a second). */
-export const DROP_INTERVAL = 60
-
 export const ballDrop = defineGame<BallDropState>({
   name: 'ball-drop',
   maxPlayers: 8,
@@ -37,7 +34,7 @@ export const ballDrop = defineGame<BallDropState>({
       },
       apply(ctx, player, args: { x: number }) {
         const last = ctx.state.lastDrop[player]
-        if (last !== undefined && ctx.tick - last < DROP_INTERVAL) return 'one ball a second'
+        if (last !== undefined && ctx.tick - last < 60) return 'one ball a second'
         const ball = ctx.createBody({
           type: 'dynamic',
           position: { x: args.x, y: 10 },

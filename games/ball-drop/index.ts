@@ -2,4 +2,4 @@
  * Ball drop: the tutorial game of docs/games.md (players drop balls; one at rest on the target
  * scores for its dropper).
  */
-export { type BallDropState, ballDrop, DROP_INTERVAL } from './ball-drop-game.ts'
+export { type BallDropState, ballDrop } from './ball-drop-game.ts'
