@@ -398,12 +398,12 @@ describe("a game's state is part of the simulation's save and hash", () => {
     sim.runTick()
     for (let i = 0; i < TICK_RATE; i++) sim.runTick()
     records.push({ type: 'close', tick: sim.tick, reason: 'test', end: 0 })
-    const log = (list: ReplayRecord[]): Uint8Array => {
+    const log = (list: ReplayRecord[], protocol = PROTOCOL_VERSION): Uint8Array => {
       const parts = [
         encodePreamble({
           format: REPLAY_FORMAT_VERSION,
           engine: SAVE_FORMAT_VERSION,
-          protocol: PROTOCOL_VERSION,
+          protocol,
           tickRate: TICK_RATE,
         }),
         ...list.map(encodeRecord),
@@ -429,6 +429,10 @@ describe("a game's state is part of the simulation's save and hash", () => {
     const wrong = records.map((r) => (r === last ? { ...last, hash: (last.hash + 1) >>> 0 } : r))
     const bad = await replayBytes(log(wrong), noInflate, catalog, { verify: true })
     expect(bad.divergence?.tick).toBe(last.tick)
+    // A log of the protocol before games (version 2) is refused in one line naming both versions.
+    await expect(replayBytes(log(records, 2), noInflate, catalog)).rejects.toThrow(
+      'cannot start from the header: log written with protocol version 2; this build speaks version 3',
+    )
     await expect(replayBytes(log(records), noInflate, findGame)).rejects.toThrow(
       "cannot start from the header: the log's game tally is not in this build",
     )
