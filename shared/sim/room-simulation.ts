@@ -129,7 +129,7 @@ export interface SimulationOptions {
   seed?: number
   /** Body limit (also the user joint limit). */
   maxBodies: number
-  /** Whether scene, pause, step, reset and gravity are allowed. */
+  /** Whether the game's room controls (the sandbox's scene, pause, step, reset, gravity) are allowed. */
   controls: boolean
   /** Initial scene name (a key of SCENES), for a game whose setup loads the room's scene. */
   scene: string
@@ -204,7 +204,7 @@ export class RoomSimulation {
   private readonly ctx: GameContext
   private events: StepEvents = NO_EVENTS
   /** Ids of the players in join order, rebuilt on join and leave. */
-  private playerIds: number[] = []
+  private playerIds: readonly number[] = []
   /** Whether the command being applied has been passed to the observers already. */
   private told = false
 
@@ -244,7 +244,7 @@ export class RoomSimulation {
     if (refusal) return refusal
     const rejoin = this.players.has(playerId)
     this.players.set(playerId, { grab: null, cursorX: 0, cursorY: 0 })
-    this.playerIds = [...this.players.keys()]
+    this.playerIds = Object.freeze([...this.players.keys()])
     for (const o of this.observers) o.join(this.tick, playerId, name, color)
     if (!rejoin) this.game.onJoin?.(this.ctx, playerId)
     return null
@@ -257,7 +257,7 @@ export class RoomSimulation {
     this.release(playerId, player)
     this.game.onLeave?.(this.ctx, playerId)
     this.players.delete(playerId)
-    this.playerIds = [...this.players.keys()]
+    this.playerIds = Object.freeze([...this.players.keys()])
     for (const o of this.observers) o.leave(this.tick, playerId)
   }
 
@@ -368,7 +368,7 @@ export class RoomSimulation {
       this.players.set(p.id, { grab: p.grab ? { ...p.grab } : null, cursorX: p.cursorX, cursorY: p.cursorY })
       if (p.grab) this.grabCounts.set(p.grab.body, (this.grabCounts.get(p.grab.body) ?? 0) + 1)
     }
-    this.playerIds = [...this.players.keys()]
+    this.playerIds = Object.freeze([...this.players.keys()])
     this.userJoints.clear()
     for (const j of state.userJoints) this.userJoints.set(j.id, { ...j })
     this.restoreGame(state.gameState, state.random)
