@@ -108,7 +108,12 @@ describe('a game room over real sockets', { timeout: 60_000 }, () => {
     await other.opened
     other.join()
     const refusedJoin = await other.nextMessage(isError)
-    expect(refusedJoin.reason).toBe('room bd runs the game ball-drop, not sandbox')
+    expect([refusedJoin.code, refusedJoin.reason]).toEqual([
+      'full',
+      'room bd runs the game ball-drop, not sandbox',
+    ])
+    await other.closed
+    expect(other.closeCode).toBe(4001)
     const rooms = (await (await fetch(`${server.url}/rooms`)).json()) as Array<{ name: string; game: string }>
     expect(rooms.find((r) => r.name === 'bd')?.game).toBe('ball-drop')
     await Promise.all([player.close(), follower.close(), other.close()])
