@@ -8,6 +8,7 @@
  *                   and to GET /replays, which a server with a join token refuses without it)
  *   &name=NAME      player name (default: "guest" and a number)
  *   &server=URL     a WebSocket URL other than this page's origin (ws://host:port/ws)
+ *   &game=GAME      the game a new room runs (docs/games.md; fixed when the room is created)
  *   &mode=lockstep  simulate the room in the page from the server's tick stream (&mode=predict:
  *                   also apply this player's own inputs at once, with rollback)
  * Without ?room the page joins the server's default room and writes it into the address bar.
@@ -34,10 +35,11 @@ function boot(): App {
     const name = params.get('name') || `guest ${Math.floor(Math.random() * 900 + 100)}`
     const mode = params.get('mode')
     const key = params.get('key') ?? undefined
+    const game = params.get('game') ?? undefined
     sandbox =
       mode === 'lockstep' || mode === 'predict'
-        ? new LockstepSandbox({ url: ws, room, name, mode, key })
-        : new OnlineSandbox({ url: ws, room, name, key })
+        ? new LockstepSandbox({ url: ws, room, name, mode, key, game })
+        : new OnlineSandbox({ url: ws, room, name, key, game })
   }
   return new App(sandbox, httpBase, room)
 }

@@ -10,6 +10,7 @@
  */
 
 import type { Vec2 } from '../../engine/index.ts'
+import { findGame } from '../../games/index.ts'
 import {
   type Command,
   type JoinMessage,
@@ -42,6 +43,8 @@ import type {
 export interface LockstepSandboxOptions {
   url: string
   room: string
+  /** The game a room this join creates runs (the page's `&game=`). */
+  game?: string
   name: string
   mode: 'lockstep' | 'predict'
   /** Access key for a server with join or admin tokens (the page's `?key=`), sent as `&key=`. */
@@ -78,10 +81,11 @@ export class LockstepSandbox implements Sandbox {
       options.mode === 'predict'
         ? new PredictClient({
             send,
+            games: findGame,
             clock: () => performance.now(),
             onRollback: (before, after) => this.smoother.correct(before, after),
           })
-        : new LockstepClient({ send })
+        : new LockstepClient({ send, games: findGame })
     const key = options.key ? `&key=${encodeURIComponent(options.key)}` : ''
     this.connection = new Connection(
       `${options.url}?room=${encodeURIComponent(options.room)}${key}`,
@@ -106,6 +110,7 @@ export class LockstepSandbox implements Sandbox {
       name: this.options.name,
       mode: this.options.mode,
       hold: this.runner.hold,
+      ...(this.options.game ? { game: this.options.game } : {}),
     }
   }
 

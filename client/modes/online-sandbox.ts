@@ -42,6 +42,8 @@ export interface OnlineOptions {
   name: string
   /** Access key for a server with join or admin tokens (the page's `?key=`), sent as `&key=`. */
   key?: string
+  /** The game a room this join creates runs (the page's `&game=`). */
+  game?: string
 }
 
 const TOKEN_KEY = 'concord.token.'
@@ -149,6 +151,7 @@ export class OnlineSandbox implements Sandbox {
       name: this.options.name,
       mode: 'snapshot',
       ...(token ? { token } : {}),
+      ...(this.options.game ? { game: this.options.game } : {}),
     }
   }
 
