@@ -1,6 +1,6 @@
 /*
  * Checks a running Concord world's broadphase against brute force: every pair of fat AABBs that
- * overlap (touching counts; static-static pairs excluded), found by the dynamic tree (allPairs)
+ * overlap (touching counts; pairs of static shapes excluded), one proxy per shape, found by the dynamic tree (allPairs)
  * and by an O(n^2) loop over the same boxes read back from the tree, must be the same list. The
  * benchmark page runs this on every run; tests/engine/broad-phase.test.ts does the same
  * comparison against its own model of the proxies.
@@ -11,7 +11,7 @@ import { PairBuffer } from '../engine/internal.ts'
 
 /** Outcome of one comparison. */
 export interface BroadPhaseCheck {
-  /** Proxies compared (bodies with a broadphase proxy). */
+  /** Proxies compared (shapes with a broadphase proxy). */
   proxies: number
   /** Pairs the tree reported. */
   treePairs: number
@@ -28,13 +28,18 @@ const SCALE = 2 ** 26
 /** Compares the world's broadphase pairs with brute force over the same fat AABBs. */
 export function checkBroadPhase(world: World): BroadPhaseCheck {
   const bp = world.broadPhase
-  const live = world.bodies.filter((b) => b.proxy >= 0)
+  // One proxy per shape (compound bodies have several); pairs are reported by shape ids.
+  const live = world.bodies.flatMap((b) =>
+    b.shapes
+      .filter((s) => s.proxy >= 0)
+      .map((s) => ({ id: s.id, proxy: s.proxy, isStatic: world.getBodyType(b.id) === 'static' })),
+  )
   const n = live.length
   const boxes = new Float64Array(4 * n)
   const box = new Float64Array(4)
-  const isStatic = live.map((b) => world.getBodyType(b.id) === 'static')
-  live.forEach((b, i) => {
-    bp.getFatAABB(b.proxy, box)
+  const isStatic = live.map((s) => s.isStatic)
+  live.forEach((s, i) => {
+    bp.getFatAABB(s.proxy, box)
     boxes.set(box, 4 * i)
   })
   const brute: number[] = []
