@@ -18,10 +18,12 @@
  *   warm-up steps (the steady state, once V8 has optimized the rare paths). A first room of the
  *   kind runs unmeasured to warm the JIT.
  */
+
 import { mkdirSync, writeFileSync } from 'node:fs'
 import { loadavg } from 'node:os'
 import { botCommand } from '../bots/index.ts'
 import { buildScene, createWorld, Prng, pileScene, type World } from '../engine/index.ts'
+import { sandbox } from '../games/index.ts'
 import { RoomSimulation, worldFromBlueprint } from '../shared/index.ts'
 import { awakePile } from './server-load.ts'
 
@@ -73,7 +75,13 @@ const pileBytes = measure(
 
 /** A fresh room-100 (see the file comment): its simulation and the players' commands for tick i. */
 function room(): { sim: RoomSimulation; between: (i: number) => void } {
-  const sim = new RoomSimulation({ name: 'alloc', scene: 'empty', maxBodies: 1000, controls: true })
+  const sim = new RoomSimulation({
+    game: sandbox,
+    name: 'alloc',
+    scene: 'empty',
+    maxBodies: 1000,
+    controls: true,
+  })
   const blueprint = awakePile(100)
   const built = worldFromBlueprint(blueprint)
   sim.loadWorld(blueprint.name, built.world, built.joints)

@@ -20,12 +20,14 @@
  * keyframes, is replayed with --verify (every hash and keyframe checked; server/replay/replay-tool.ts, the
  * CLI's code) REPS times in this process: median ticks per second, and the first (cold) run.
  */
+
 import { mkdir, mkdtemp, readFile } from 'node:fs/promises'
 import { loadavg, tmpdir } from 'node:os'
 import { join } from 'node:path'
 import pino from 'pino'
 import { Counter } from 'prom-client'
 import { Prng, pileScene, pyramidScene, type SceneBlueprint } from '../engine/index.ts'
+import { sandbox } from '../games/index.ts'
 import { RoomRecorder, replayLog, SETTINGS } from '../server/index.ts'
 import { ReplayLogReader, RoomSimulation, worldFromBlueprint } from '../shared/index.ts'
 import { formatTable, machineInfo, median, saveResults } from './stats.ts'
@@ -90,7 +92,7 @@ async function session(
   ticks: number,
   variants: readonly Variant[],
 ): Promise<Uint8Array[]> {
-  const sim = new RoomSimulation({ name, scene: 'empty', maxBodies: 5000, controls: true })
+  const sim = new RoomSimulation({ game: sandbox, name, scene: 'empty', maxBodies: 5000, controls: true })
   const built = worldFromBlueprint(blueprint)
   sim.loadWorld(name, built.world, built.joints)
   const dir = await mkdtemp(join(tmpdir(), `concord-replay-bench-${name}-`))

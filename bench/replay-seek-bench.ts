@@ -9,6 +9,7 @@
  * sizes, keyframes (whole, delta, the longest gap and chain) and seek times (median, p95, max).
  * Wall-clock figures from a shared machine: compare within one run.
  */
+
 import { mkdir, mkdtemp, readFile, writeFile } from 'node:fs/promises'
 import { cpus, loadavg, tmpdir } from 'node:os'
 import { join } from 'node:path'
@@ -18,6 +19,7 @@ import pino from 'pino'
 import { Counter } from 'prom-client'
 import { ReplayPlayer, readLog } from '../client/index.ts'
 import { Prng } from '../engine/index.ts'
+import { sandbox } from '../games/index.ts'
 import { RoomRecorder, SETTINGS } from '../server/index.ts'
 import { RoomSimulation } from '../shared/index.ts'
 
@@ -36,7 +38,13 @@ const quantile = (sorted: number[], q: number): number =>
   sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))]
 
 async function record(): Promise<Array<{ keyframeTicks: number; budget: number; bytes: Uint8Array }>> {
-  const sim = new RoomSimulation({ name: 'seek', scene: 'pyramid', maxBodies: 1500, controls: true })
+  const sim = new RoomSimulation({
+    game: sandbox,
+    name: 'seek',
+    scene: 'pyramid',
+    maxBodies: 1500,
+    controls: true,
+  })
   const recorders = await Promise.all(
     VARIANTS.map(async ({ keyframeTicks, budget }, i) => {
       const dir = await mkdtemp(join(tmpdir(), `concord-seek-${keyframeTicks}-`))

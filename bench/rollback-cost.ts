@@ -7,7 +7,9 @@
  * (ms) after two untimed rounds of the deepest rollback; a fresh copy per run, so no run
  * re-simulates an already stepped world.
  */
+
 import { pileScene, pyramidScene, type SceneBlueprint } from '../engine/index.ts'
+import { sandbox } from '../games/index.ts'
 import { cloneSimulation, RoomSimulation, worldFromBlueprint } from '../shared/index.ts'
 import { median } from './summary.ts'
 
@@ -30,7 +32,13 @@ export function measureRollbackCost(
   warmTicks: number,
   reps: number,
 ): RollbackCost {
-  const sim = new RoomSimulation({ name: 'bench', scene: 'empty', maxBodies: 5000, controls: true })
+  const sim = new RoomSimulation({
+    game: sandbox,
+    name: 'bench',
+    scene: 'empty',
+    maxBodies: 5000,
+    controls: true,
+  })
   const built = worldFromBlueprint(blueprint)
   sim.loadWorld(blueprint.name, built.world, built.joints)
   for (let i = 0; i < warmTicks; i++) sim.runTick()

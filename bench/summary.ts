@@ -54,3 +54,53 @@ export function summarize(samples: readonly number[]): Summary {
     max: sorted.length > 0 ? sorted[sorted.length - 1] : Number.NaN,
   }
 }
+
+/**
+ * The median over rounds of Concord's time over another engine's in the same round (`chunk` steps
+ * each, taken back to back, so both meet the same machine load); null when no round can be read
+ * (a round whose time reads 0). A busy machine slows a few rounds, not their median.
+ */
+export function medianRoundRatio(
+  concord: readonly number[],
+  other: readonly number[],
+  chunk: number,
+): number | null {
+  const n = Math.min(concord.length, other.length)
+  const ratios: number[] = []
+  for (let from = 0; from + chunk <= n; from += chunk) {
+    let c = 0
+    let o = 0
+    for (let i = from; i < from + chunk; i++) {
+      c += concord[i]
+      o += other[i]
+    }
+    if (c > 0 && o > 0) ratios.push(c / o)
+  }
+  if (ratios.length === 0) return null
+  ratios.sort((a, b) => a - b)
+  const mid = ratios.length >> 1
+  return ratios.length % 2 === 1 ? ratios[mid] : (ratios[mid - 1] + ratios[mid]) / 2
+}
+
+/**
+ * The spread of medianRoundRatio over a run: the run's rounds in four consecutive quarters, the
+ * median round ratio of each, lowest and highest; null with fewer than four rounds or a quarter
+ * with no readable round.
+ */
+export function quarterRatios(
+  concord: readonly number[],
+  other: readonly number[],
+  chunk: number,
+): { low: number; high: number } | null {
+  const rounds = Math.floor(Math.min(concord.length, other.length) / chunk)
+  if (rounds < 4) return null
+  const medians: number[] = []
+  for (let q = 0; q < 4; q++) {
+    const from = Math.floor((q * rounds) / 4) * chunk
+    const to = Math.floor(((q + 1) * rounds) / 4) * chunk
+    const m = medianRoundRatio(concord.slice(from, to), other.slice(from, to), chunk)
+    if (m === null) return null
+    medians.push(m)
+  }
+  return { low: Math.min(...medians), high: Math.max(...medians) }
+}

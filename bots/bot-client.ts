@@ -35,6 +35,8 @@ export interface BotOptions {
   mode?: JoinMode
   /** join.hold for the lockstep modes (the server's default when absent). */
   hold?: number
+  /** join.game: the game a room this join creates runs (docs/games.md). */
+  game?: string
 }
 
 /** A connected protocol client. */
@@ -118,6 +120,7 @@ export class BotClient {
     }
     if (this.options.token) join.token = this.options.token
     if (hold !== undefined && join.mode !== 'snapshot') join.hold = hold
+    if (this.options.game !== undefined) join.game = this.options.game
     this.send(join)
   }
 
@@ -206,6 +209,13 @@ export class BotClient {
   command(cmd: Command): number {
     const seq = ++this.seq
     this.send({ t: 'input', seq, cmd })
+    return seq
+  }
+
+  /** Send a game command (`cmd`: docs/games.md); returns its sequence number. */
+  gameCommand(kind: string, args: Record<string, unknown>): number {
+    const seq = ++this.seq
+    this.send({ t: 'cmd', seq, k: kind, a: args })
     return seq
   }
 

@@ -18,7 +18,30 @@ interface BotArgs {
   rooms: number
 }
 
-function parseArgs(argv: string[]): BotArgs {
+/** `npm run bots -- --help`: the options, their defaults and meanings, in aligned columns. */
+export function botsHelp(): string {
+  const rows = [
+    ['option', 'default', 'meaning'],
+    ['--url <ws url>', 'ws://127.0.0.1:8080', 'the server (its WebSocket base URL)'],
+    ['--room <name>', 'lobby', 'the room the bots join'],
+    ['--count <n>', '4', 'how many bots, 1..1000'],
+    ['--seconds <s>', '0', 'stop after this long (0 = run until Ctrl-C)'],
+    ['--rooms <k>', '1', 'spread the bots over k rooms named ROOM-1 .. ROOM-k'],
+    ['--help', '', 'this text'],
+  ]
+  const widths = [0, 1].map((c) => Math.max(...rows.map((r) => r[c].length)))
+  return [
+    'Usage: npm run bots -- [options]',
+    'Simulated players: each joins, spawns a few shapes, then grabs bodies and drags them in circles,',
+    'printing its round-trip time and received bytes every second.',
+    '',
+    ...rows.map((r) => `  ${r[0].padEnd(widths[0])}  ${r[1].padEnd(widths[1])}  ${r[2]}`),
+  ].join('\n')
+}
+
+/** The bots' options from the command line, or 'help' for --help / -h; throws naming a bad option. */
+export function parseArgs(argv: string[]): BotArgs | 'help' {
+  if (argv.includes('--help') || argv.includes('-h')) return 'help'
   const args: BotArgs = { url: 'ws://127.0.0.1:8080', room: 'lobby', count: 4, seconds: 0, rooms: 1 }
   for (let i = 0; i < argv.length; i += 2) {
     const [flag, value] = [argv[i], argv[i + 1]]
@@ -28,7 +51,7 @@ function parseArgs(argv: string[]): BotArgs {
     else if (flag === '--count') args.count = Number.parseInt(value, 10)
     else if (flag === '--seconds') args.seconds = Number(value)
     else if (flag === '--rooms') args.rooms = Number.parseInt(value, 10)
-    else throw new Error(`unknown option ${flag}; use --url, --room, --count, --seconds, --rooms`)
+    else throw new Error(`unknown option ${flag}; use --url, --room, --count, --seconds, --rooms (--help)`)
   }
   if (!(args.count >= 1 && args.count <= 1000)) throw new Error('--count must be 1..1000')
   return args
@@ -73,6 +96,10 @@ export function driveBot(bot: BotClient, prng: Prng, step: number): void {
 
 async function main(): Promise<void> {
   const args = parseArgs(process.argv.slice(2))
+  if (args === 'help') {
+    process.stdout.write(`${botsHelp()}\n`)
+    return
+  }
   const url = args.url.replace(/^ws/, 'http')
   const bots: BotClient[] = []
   const roomOf = (i: number): string => (args.rooms > 1 ? `${args.room}-${(i % args.rooms) + 1}` : args.room)

@@ -4,6 +4,7 @@
  * stepped from a timer as a page steps from requestAnimationFrame. Tests and benchmarks use it.
  */
 import { performance } from 'node:perf_hooks'
+import { findGame } from '../games/index.ts'
 import { LockstepClient, PredictClient } from '../shared/index.ts'
 import { BotClient, type BotOptions } from './bot-client.ts'
 
@@ -20,8 +21,13 @@ export class LockstepBot {
     const send = bot.send.bind(bot)
     this.runner =
       mode === 'predict'
-        ? new PredictClient({ send, clock: () => performance.now(), ...(hold === undefined ? {} : { hold }) })
-        : new LockstepClient({ send, ...(hold === undefined ? {} : { hold }) })
+        ? new PredictClient({
+            send,
+            games: findGame,
+            clock: () => performance.now(),
+            ...(hold === undefined ? {} : { hold }),
+          })
+        : new LockstepClient({ send, games: findGame, ...(hold === undefined ? {} : { hold }) })
     bot.onServerMessage = (message) => this.runner.handle(message, performance.now())
   }
 

@@ -18,6 +18,7 @@ import {
   Renderer,
 } from './draw/index.ts'
 import {
+  helpIntro,
   helpRows,
   pickBody,
   type ShortcutAction,
@@ -33,6 +34,15 @@ import type { Sandbox, ViewBody } from './modes/index.ts'
 
 /** Shortest time between two changes of the hovered body whose contacts are drawn online (ms). */
 const HOVER_MS = 150
+/** How long after a scene is framed a newly seen player's cursor frames it again (ms). */
+const REFIT_MS = 3000
+/** On a touch screen a dropped shape is framed at least this wide (CSS px): a fingertip's size. */
+const TOUCH_SPAWN_PX = 40
+/** The spawn tools' shape at size 1x (m): a 1 m circle, box or polygon. */
+const SPAWN_SHAPE_M = 1
+/** How long a notice stays (ms), and how long at least before the next one replaces it. */
+const TOAST_MS = 4000
+const TOAST_MIN_MS = 1500
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string): T => document.getElementById(id) as T
 
@@ -53,8 +63,14 @@ export class App {
   /** The body inspected for the contacts layer while nothing is selected, and when it was chosen. */
   private hover = { body: 0, at: Number.NEGATIVE_INFINITY }
   private fittedScene = ''
+  /** The camera as fit() left it and when (performance.now() ms), and how many cursors it framed. */
+  private fittedCamera: { x: number; y: number; scale: number; at: number } | null = null
+  private fittedPeople = 0
   private lastToastCount = 0
   private toastTimer: ReturnType<typeof setTimeout> | undefined
+  /** Notices waiting for the one shown to have been read, and when that one appeared (ms). */
+  private readonly toastQueue: string[] = []
+  private toastShownAt = Number.NEGATIVE_INFINITY
   private frameHandle = 0
 
   constructor(
@@ -74,7 +90,8 @@ export class App {
     window.addEventListener('blur', () => this.tools.cancel())
     window.addEventListener('keydown', (e) => this.key(e))
     this.wireToolbar()
-    $('help-rows').innerHTML = helpRows()
+    $('help-rows').innerHTML = helpRows(touchLayout())
+    $('help-intro').textContent = helpIntro(touchLayout())
     this.setTool('grab')
     this.placePanels()
     this.frameHandle = requestAnimationFrame((t) => this.frame(t))
@@ -113,6 +130,8 @@ export class App {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-layer]')) {
       b.addEventListener('click', () => this.act(`layer:${b.dataset.layer}` as ShortcutAction))
     }
+    // Opened from disk or from the static build there is no server: no rooms, no going online.
+    $('mode').hidden = $('rooms').hidden = !hasServer()
     $('mode').textContent = this.sandbox.mode === 'online' ? 'Offline' : 'Online'
     $('mode').addEventListener('click', () => {
       location.href =
@@ -145,7 +164,8 @@ export class App {
   /**
    * Tell the CSS where the toolbar ends (--bar-bottom) and where the panels under it end
    * (--panels-bottom: the Debug layer row when open): on a phone the toolbar wraps onto several
-   * rows and the HUD, the layer row and notices are placed below it.
+   * rows and the HUD, the layer row and notices are placed below it. --bottom-inset is the height
+   * of a bar along the bottom (the replay controls): the HUD sits above it.
    */
   placePanels(): void {
     const root = document.documentElement.style
@@ -162,6 +182,15 @@ export class App {
       if (!panel.hidden) below = panel.getBoundingClientRect().bottom
     }
     root.setProperty('--panels-bottom', `${Math.round(below)}px`)
+    root.setProperty('--bottom-inset', `${Math.round(this.bottomInset())}px`)
+  }
+
+  /** CSS px at the bottom of the view that a bar covers (the replay controls), else 0. */
+  private bottomInset(): number {
+    const bar = document.getElementById('replay-panel')
+    if (!bar || bar.hidden) return 0
+    const top = bar.getBoundingClientRect().top
+    return top > 0 ? Math.max(0, window.innerHeight - top) : 0
   }
 
   /** Switch the active tool. */
@@ -172,7 +201,9 @@ export class App {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
       b.classList.toggle('active', b.dataset.tool === tool)
     }
-    this.spawnPanel.show(tool === 'circle' || tool === 'box' || tool === 'polygon')
+    // A replay spawns nothing: its keys may pick a tool, but the spawn sliders stay closed.
+    const spawns = tool === 'circle' || tool === 'box' || tool === 'polygon'
+    this.spawnPanel.show(spawns && this.sandbox.mode !== 'replay')
     this.placePanels()
   }
 
@@ -219,6 +250,7 @@ export class App {
         $('help').hidden = !$('help').hidden
         break
       case 'lobby':
+        if (!hasServer()) break
         $('lobby').hidden = !$('lobby').hidden
         $('replays-link').setAttribute('href', replaysLink())
         if (!$('lobby').hidden) void showLobby($('lobby-list'), this.httpBase, this.room)
@@ -234,20 +266,29 @@ export class App {
 
   /**
    * Frame the scene in the view: its movable bodies, its joints' anchors (a cradle's rods hang
-   * from above its balls) and the ground line, but not strays: bodies below the ground or much
-   * farther from the scene's middle than the rest (flung away) are left out.
+   * from above its balls), the ground line and the other players' cursors and held bodies, but not
+   * strays: bodies below the ground or much farther from the scene's middle than the rest (flung
+   * away) are left out unless a player holds them.
    */
   fit(): void {
     const points: Array<{ x: number; y: number; r: number }> = []
+    // Other players, wherever they are: their cursors and what they hold are never strays.
+    const people: Array<{ x: number; y: number; r: number }> = []
+    const cursors = this.sandbox.cursors()
+    const held = new Set(cursors.map((c) => c.body))
+    for (const c of cursors) people.push({ x: c.x, y: c.y, r: 0.5 })
     for (const b of this.sandbox.bodies()) {
       const r = shapeRadius(b.shape)
       if (b.kind === 0 && r > 50) continue // the ground: frame what stands on it instead
-      if (b.kind !== 0 && b.y + r < -1) continue // fallen off the ground
-      points.push({ x: b.x, y: b.y, r })
+      if (held.has(b.id)) people.push({ x: b.x, y: b.y, r })
+      else if (b.kind !== 0 && b.y + r < -1)
+        continue // fallen off the ground
+      else points.push({ x: b.x, y: b.y, r })
     }
     for (const j of this.sandbox.joints())
       points.push({ x: j.ax, y: j.ay, r: 0.2 }, { x: j.bx, y: j.by, r: 0.2 })
-    const kept = withoutStrays(points)
+    const kept = [...withoutStrays(points), ...people]
+    this.fittedPeople = cursors.length
     let [minX, minY, maxX, maxY] = [Infinity, 0, -Infinity, 4]
     for (const p of kept) {
       minX = Math.min(minX, p.x - p.r)
@@ -257,7 +298,39 @@ export class App {
     }
     if (!Number.isFinite(minX)) [minX, maxX] = [-10, 10]
     const toolbar = $('toolbar').getBoundingClientRect()
-    this.camera.fit(minX, minY, maxX, maxY, toolbar.bottom)
+    const bottom = this.bottomInset()
+    this.camera.fit(minX, minY, maxX, maxY, toolbar.bottom, bottom)
+    const fingerScale = TOUCH_SPAWN_PX / (SPAWN_SHAPE_M * this.spawnPanel.settings.size)
+    if (touchLayout() && kept.length === 0 && this.camera.scale < fingerScale) {
+      // Nothing to frame but the ground (the empty scene): a finger needs bigger targets than a
+      // 20 m stretch of ground at once, so zoom until a dropped shape is TOUCH_SPAWN_PX wide, keep
+      // the middle, and keep the ground a little above the bottom edge. A scene with bodies is
+      // framed whole (pinch to zoom in).
+      const c = this.camera
+      c.scale = fingerScale
+      c.y = Math.max(minY - 1, -1) + (c.height / 2 - bottom) / c.scale
+    }
+    this.fittedCamera = {
+      x: this.camera.x,
+      y: this.camera.y,
+      scale: this.camera.scale,
+      at: performance.now(),
+    }
+  }
+
+  /**
+   * A late joiner's first frames: other players' cursors arrive after the bodies that the scene
+   * was framed on. While the camera is as fit() left it (nobody panned or zoomed) and for a few
+   * seconds after, a newly seen cursor frames the scene again, with the cursors and what they hold.
+   */
+  private refitForPeople(now: number): void {
+    const fitted = this.fittedCamera
+    const c = this.camera
+    if (!fitted || now - fitted.at > REFIT_MS) return
+    if (c.x !== fitted.x || c.y !== fitted.y || c.scale !== fitted.scale) return
+    const cursors = this.sandbox.cursors()
+    if (cursors.length <= this.fittedPeople) return
+    this.fit()
   }
 
   private frame(now: number): void {
@@ -270,7 +343,7 @@ export class App {
       this.fittedScene = scene
       this.fit()
       this.syncScenePicker()
-    }
+    } else this.refitForPeople(now)
     const selected = this.selectedBody()
     s.inspect(selected?.id ?? this.hoverInspect(now))
     const lab = selected ? s.lab(selected.id) : null
@@ -354,9 +427,17 @@ export class App {
     $('hud').textContent = hudText(s.stats(), this.fps.value, s.mode, s.scene())
     const controls = s.rules()?.controls ?? true
     for (const id of ['scene', 'pause', 'step', 'reset', 'gravity']) {
-      ;($(id) as HTMLButtonElement).disabled = !controls
+      const control = $(id) as HTMLButtonElement
+      control.dataset.title ??= control.title
+      control.disabled = !controls
+      control.title = controls
+        ? control.dataset.title
+        : `${control.dataset.title}: not open to you in this room (with an admin key, add &key=KEY to the address)`
     }
     $('pause').textContent = s.paused() ? 'Play' : 'Pause'
+    // On the view itself, not only on the button (the replay page has its own Play button).
+    $('paused').hidden = !s.paused() || s.mode === 'replay'
+    $('paused').textContent = controls ? '❚❚ Paused: Space or Play resumes' : '❚❚ Paused by the room'
     this.syncToggles()
     this.placePanels()
     if ($<HTMLSelectElement>('scene').value !== s.scene()) this.syncScenePicker()
@@ -374,7 +455,8 @@ export class App {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
       b.dataset.title ??= b.title
       b.disabled = away
-      b.title = away ? `${b.dataset.title}: offline, reconnecting` : b.dataset.title
+      const why = status.state === 'error' && !status.retrying ? 'not in the room' : 'offline, reconnecting'
+      b.title = away ? `${b.dataset.title}: ${why}` : b.dataset.title
     }
     if (selected) this.keepInView(selected)
     $('banner').hidden = status.state !== 'error'
@@ -387,16 +469,34 @@ export class App {
     }
     const notices = s.notices()
     if (notices.count !== this.lastToastCount) {
-      // Every notice since the last refresh (up to the few a mode keeps), one per line.
+      // Every notice since the last refresh (up to the few a mode keeps), queued without repeats.
       const fresh = notices.count - this.lastToastCount
       this.lastToastCount = notices.count
       const lines = notices.recent ? notices.recent.slice(-fresh) : [notices.latest ?? '']
-      $('toast').hidden = false
-      $('toast').textContent = lines.join('\n')
-      // Each notice stays 4 s, however soon the next one replaces it.
-      clearTimeout(this.toastTimer)
-      this.toastTimer = setTimeout(() => ($('toast').hidden = true), 4000)
+      for (const line of lines) {
+        const last = this.toastQueue.at(-1) ?? (this.toastVisible ? $('toast').textContent : null)
+        if (line !== last) this.toastQueue.push(line)
+      }
     }
+    this.showNextToast()
+  }
+
+  /**
+   * One notice at a time, never a stack: the next waits until the shown one has been up
+   * TOAST_MIN_MS; the last stays TOAST_MS.
+   */
+  private showNextToast(): void {
+    const now = performance.now()
+    if (this.toastQueue.length === 0 || (this.toastVisible && now - this.toastShownAt < TOAST_MIN_MS)) return
+    $('toast').textContent = this.toastQueue.shift() ?? ''
+    $('toast').hidden = false
+    this.toastShownAt = now
+    clearTimeout(this.toastTimer)
+    this.toastTimer = setTimeout(() => ($('toast').hidden = true), TOAST_MS)
+  }
+
+  private get toastVisible(): boolean {
+    return !$('toast').hidden
   }
 
   /** Pan so the toolbar and the lab panel do not cover the selected body (small screens). */
@@ -418,6 +518,20 @@ export class App {
     cancelAnimationFrame(this.frameHandle)
     this.sandbox.dispose()
   }
+}
+
+/** Whether the page is used by touch (a coarse pointer: a phone or tablet). */
+export function touchLayout(): boolean {
+  return typeof matchMedia === 'function' && matchMedia('(pointer: coarse)').matches
+}
+
+/**
+ * Whether a game server served this page: not when it was opened from disk (file:) or comes from
+ * the static build (scripts/build-static.mjs marks it with <meta name="concord-mode" content="offline">).
+ */
+export function hasServer(): boolean {
+  const staticBuild = document.querySelector('meta[name="concord-mode"][content="offline"]') !== null
+  return location.protocol !== 'file:' && !staticBuild
 }
 
 /** What a scene holds (SCENES' description), or '' for a scene this page does not know. */

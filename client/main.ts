@@ -8,11 +8,12 @@
  *                   and to GET /replays, which a server with a join token refuses without it)
  *   &name=NAME      player name (default: "guest" and a number)
  *   &server=URL     a WebSocket URL other than this page's origin (ws://host:port/ws)
+ *   &game=GAME      the game a new room runs (docs/games.md; fixed when the room is created)
  *   &mode=lockstep  simulate the room in the page from the server's tick stream (&mode=predict:
  *                   also apply this player's own inputs at once, with rollback)
  * Without ?room the page joins the server's default room and writes it into the address bar.
  */
-import { App } from './app.ts'
+import { App, hasServer } from './app.ts'
 import { LockstepSandbox, OfflineSandbox, OnlineSandbox, type Sandbox } from './modes/index.ts'
 import { ReplayPage } from './replay/index.ts'
 
@@ -22,8 +23,7 @@ function boot(): App {
   const room = params.get('room') || 'lobby'
   let sandbox: Sandbox
   // The static build (npm run build:static) marks its page: a static host has no game server.
-  const staticBuild = document.querySelector('meta[name="concord-mode"][content="offline"]') !== null
-  if (params.has('offline') || location.protocol === 'file:' || staticBuild) {
+  if (params.has('offline') || !hasServer()) {
     sandbox = new OfflineSandbox(params.get('scene') ?? 'pyramid')
   } else {
     if (!params.has('room')) {
@@ -35,10 +35,11 @@ function boot(): App {
     const name = params.get('name') || `guest ${Math.floor(Math.random() * 900 + 100)}`
     const mode = params.get('mode')
     const key = params.get('key') ?? undefined
+    const game = params.get('game') ?? undefined
     sandbox =
       mode === 'lockstep' || mode === 'predict'
-        ? new LockstepSandbox({ url: ws, room, name, mode, key })
-        : new OnlineSandbox({ url: ws, room, name, key })
+        ? new LockstepSandbox({ url: ws, room, name, mode, key, game })
+        : new OnlineSandbox({ url: ws, room, name, key, game })
   }
   return new App(sandbox, httpBase, room)
 }

@@ -11,6 +11,11 @@ export class Prng {
     this.state = seed >>> 0
   }
 
+  /** The generator's position (32-bit unsigned): `new Prng(p.position())` continues p's sequence. */
+  position(): number {
+    return this.state
+  }
+
   /** Next 32-bit unsigned integer. */
   nextUint32(): number {
     this.state = (this.state + 0x6d2b79f5) >>> 0

@@ -22,7 +22,7 @@ function wasmFiles() {
 }
 
 /** Bundle the benchmark page into `outdir` (default dist/client); returns the size of bench.js. */
-export async function buildBenchPage(outdir = 'dist/client') {
+export async function buildBenchPage(outdir = 'dist/client', format = 'esm') {
   await mkdir(join(outdir, 'wasm'), { recursive: true })
   await build({
     entryPoints: ['bench/page/bench-page.ts'],
@@ -31,7 +31,7 @@ export async function buildBenchPage(outdir = 'dist/client') {
     minify: true,
     platform: 'browser',
     target: 'es2022',
-    format: 'esm',
+    format,
     // The wasm packages' Emscripten loaders import Node modules only on their Node branch.
     external: ['node:*', 'module', 'fs', 'path', 'url', 'crypto', 'worker_threads', 'os'],
     legalComments: 'none',

@@ -6,8 +6,12 @@ import { fileURLToPath } from 'node:url'
 import { gzipSync } from 'node:zlib'
 import { build } from 'esbuild'
 
-/** Bundle the client into `outdir`; returns { bytes, gzipBytes } of app.js. */
-export async function buildClient(outdir = 'dist/client') {
+/**
+ * Bundle the client into `outdir`; returns { bytes, gzipBytes } of app.js. `format` 'iife' makes a
+ * classic script (the static build: a page opened from disk, a file: URL, may not load a module
+ * script, which Chromium fetches with CORS from the null origin).
+ */
+export async function buildClient(outdir = 'dist/client', format = 'esm') {
   await mkdir(outdir, { recursive: true })
   await build({
     entryPoints: ['client/main.ts'],
@@ -16,7 +20,7 @@ export async function buildClient(outdir = 'dist/client') {
     minify: true,
     platform: 'browser',
     target: 'es2022',
-    format: 'esm',
+    format,
     sourcemap: 'linked',
     legalComments: 'none',
     logLevel: 'warning',

@@ -1,10 +1,11 @@
 /*
  * The server's command line: `node dist/server.js [--port 8080 ...]` (see --help). Starts the
- * server, and on SIGTERM or SIGINT shuts down gracefully: clients get a close frame with a reason,
+ * server (on a terminal it also prints "Concord sandbox at http://127.0.0.1:8080/" beside the JSON
+ * log), and on SIGTERM or SIGINT shuts down gracefully: clients get a close frame with a reason,
  * logs are flushed, and the process exits within 5 s even if something hangs. A second signal
  * during the shutdown is logged and ignored; a third exits at once (code 130).
  */
-import { helpText, loadConfig, type ServerConfig } from './config/index.ts'
+import { helpText, loadConfig, type ServerConfig, sandboxBanner } from './config/index.ts'
 import { ListenError, type RunningServer, startServer } from './server.ts'
 
 /** Hard deadline for shutdown after the drain period (ms). */
@@ -35,6 +36,8 @@ async function main(): Promise<void> {
   process.on('SIGINT', (signal) => (server ? onSignal(signal) : (early ??= signal)))
   const running = await startServer(config)
   server = running
+  // The JSON log is for machines; a person at a terminal gets the address to open.
+  if (process.stdout.isTTY) process.stdout.write(`${sandboxBanner(config.host, running.port)}\n`)
   const shutdown = (signal: string): void => {
     setTimeout(() => process.exit(1), config.drainSeconds * 1000 + SHUTDOWN_DEADLINE_MS).unref()
     running.close(`server shutting down (${signal})`).then(

@@ -22,6 +22,7 @@ import {
 } from './hosting/index.ts'
 import {
   ConnectionGuard,
+  checkAccess,
   checkKeyedRoute,
   checkMetricsAccess,
   createRequestHandler,
@@ -114,6 +115,10 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     recordings,
     keyAccess: (url, what) => checkKeyedRoute(config, url, what),
     metricsAccess: (req) => checkMetricsAccess(config, req),
+    wsAccess: (req, url) => {
+      const decision = checkAccess(config, req, url, url.searchParams.get('room') ?? '')
+      return decision.ok ? { controls: decision.access.controls } : decision
+    },
     metrics,
     metricsText: pool ? () => pool.metricsText() : undefined,
     log,

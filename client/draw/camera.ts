@@ -57,16 +57,25 @@ export class Camera {
   }
 
   /**
-   * Frame a world rectangle (m) with a margin, e.g. a scene's bodies, below a band of `insetTop`
-   * CSS px (the toolbar) that the rectangle should not hide behind.
+   * Frame a world rectangle (m) with a margin, e.g. a scene's bodies, between a band of `insetTop`
+   * CSS px (the toolbar) and one of `insetBottom` (the replay controls) that it should not hide
+   * behind.
    */
-  fit(minX: number, minY: number, maxX: number, maxY: number, insetTop = 0, margin = 1.15): void {
+  fit(
+    minX: number,
+    minY: number,
+    maxX: number,
+    maxY: number,
+    insetTop = 0,
+    insetBottom = 0,
+    margin = 1.15,
+  ): void {
     const w = Math.max(4, (maxX - minX) * margin)
     const h = Math.max(4, (maxY - minY) * margin)
-    const usable = Math.max(1, this.height - insetTop)
+    const usable = Math.max(1, this.height - insetTop - insetBottom)
     this.scale = Math.min(MAX_SCALE, Math.max(MIN_SCALE, Math.min(this.width / w, usable / h)))
     this.x = (minX + maxX) / 2
-    this.y = (minY + maxY) / 2 + insetTop / 2 / this.scale
+    this.y = (minY + maxY) / 2 + (insetTop - insetBottom) / 2 / this.scale
   }
 
   /** The visible world rectangle (m), for culling. */

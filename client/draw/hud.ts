@@ -7,6 +7,14 @@ import type { SandboxStats } from '../modes/index.ts'
 const n = (v: number | null, digits = 0, unit = ''): string =>
   v === null ? '-' : `${v.toFixed(digits)}${unit}`
 
+/** Longest room name the HUD shows whole (a valid name has at most 32 characters). */
+const ROOM_SHOWN = 32
+
+/** A room name as the HUD shows it: cut to ROOM_SHOWN characters with an ellipsis. */
+export function shownRoom(room: string): string {
+  return room.length > ROOM_SHOWN ? `${room.slice(0, ROOM_SHOWN - 1)}…` : room
+}
+
 /** The HUD text for one refresh. */
 export function hudText(
   s: SandboxStats,
@@ -15,7 +23,7 @@ export function hudText(
   scene: string,
 ): string {
   const lines = [
-    `${mode === 'offline' ? 'offline' : `${mode === 'replay' ? 'replay of' : 'room'} ${s.room}`}  ${scene}  players ${s.players}`,
+    `${mode === 'offline' ? 'offline' : `${mode === 'replay' ? 'replay of' : 'room'} ${shownRoom(s.room)}`}  ${scene}  players ${s.players}`,
     `tick ${s.tick}  fps ${fps.toFixed(0)}`,
     `bodies ${s.awake} awake / ${s.total}`,
   ]

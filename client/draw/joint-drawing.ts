@@ -3,7 +3,8 @@
  * pixels into metres at the current zoom):
  *   rod     a solid bar between the anchors
  *   rope    taut: a straight cord; slack: a cord sagging under its spare length (a parabola whose
- *           arc length is the rope's, sag = sqrt(3 d (L - d) / 8) for span d and length L)
+ *           arc length is the rope's, sag = sqrt(3 d (L - d) / 8) for span d and length L),
+ *           lying along a level static box's top where the curve would pass through it
  *   spring  a zigzag of COILS coils between short straight ends, drawn across the current length
  *   pin     a pivot ring at the anchor and thin arms to both bodies' centres (Box2D's samples draw
  *           revolute joints the same way); a motor adds a curved arrow turning the way it drives;
@@ -38,6 +39,54 @@ export function ropeSag(span: number, length: number): number {
   return Math.sqrt((3 * span * (length - span)) / 8)
 }
 
+/** The flat top of a level static box (m): from x0 to x1 at height top. */
+export interface Floor {
+  x0: number
+  x1: number
+  top: number
+}
+
+/** The flat tops of the level static boxes among `bodies` (the ground, shelves), into `out`. */
+export function floorsOf(bodies: readonly ViewBody[], out: Floor[] = []): Floor[] {
+  out.length = 0
+  for (const b of bodies) {
+    if (b.kind !== 0 || b.shape.type !== 'box' || Math.abs(b.angle) > 1e-3) continue
+    out.push({ x0: b.x - b.shape.hw, x1: b.x + b.shape.hw, top: b.y + b.shape.hh })
+  }
+  return out
+}
+
+/** Points along a slack rope's curve, one per ROPE_SEGMENTS, before any floor is applied. */
+const ROPE_SEGMENTS = 24
+
+/**
+ * The drawn path of a slack rope (x, y pairs, m): the sagging parabola from anchor a to anchor b,
+ * lying on a floor it would pass through instead (a floor counts when both anchors are above it),
+ * so a slack rope between bodies on the ground is drawn along the ground, not under it.
+ */
+export function ropePath(
+  ax: number,
+  ay: number,
+  bx: number,
+  by: number,
+  sag: number,
+  floors: readonly Floor[],
+): number[] {
+  const cx = (ax + bx) / 2
+  const cy = (ay + by) / 2 - 2 * sag
+  const lowEnd = Math.min(ay, by)
+  const path: number[] = []
+  for (let i = 0; i <= ROPE_SEGMENTS; i++) {
+    const t = i / ROPE_SEGMENTS
+    const u = 1 - t
+    const x = u * u * ax + 2 * u * t * cx + t * t * bx
+    let y = u * u * ay + 2 * u * t * cy + t * t * by
+    for (const f of floors) if (x >= f.x0 && x <= f.x1 && f.top <= lowEnd + 1e-6 && y < f.top) y = f.top
+    path.push(x, y)
+  }
+  return path
+}
+
 /** Draw every joint; `bodies` by id gives pins their arms, `debug` adds anchors and reaction forces. */
 export function drawJoints(
   ctx: CanvasRenderingContext2D,
@@ -45,6 +94,7 @@ export function drawJoints(
   body: (id: number) => ViewBody | undefined,
   px: number,
   debug: boolean,
+  floors: readonly Floor[] = [],
 ): void {
   ctx.lineCap = 'round'
   for (const j of joints) {
@@ -54,7 +104,7 @@ export function drawJoints(
         dots(ctx, j, JOINT_COLORS.rod, 3 * px)
         break
       case 'rope':
-        drawRope(ctx, j, px)
+        drawRope(ctx, j, px, floors)
         break
       case 'spring':
         drawSpring(ctx, j, px)
@@ -94,7 +144,7 @@ function dots(ctx: CanvasRenderingContext2D, j: ViewJoint, color: string, r: num
   ctx.fill()
 }
 
-function drawRope(ctx: CanvasRenderingContext2D, j: ViewJoint, px: number): void {
+function drawRope(ctx: CanvasRenderingContext2D, j: ViewJoint, px: number, floors: readonly Floor[]): void {
   const dx = j.bx - j.ax
   const dy = j.by - j.ay
   const span = Math.sqrt(dx * dx + dy * dy)
@@ -104,9 +154,12 @@ function drawRope(ctx: CanvasRenderingContext2D, j: ViewJoint, px: number): void
   ctx.lineWidth = 2 * px
   ctx.beginPath()
   ctx.moveTo(j.ax, j.ay)
-  // A quadratic curve's control point twice the sag below the chord's middle puts its lowest point at the sag.
-  if (sag > 0) ctx.quadraticCurveTo((j.ax + j.bx) / 2, (j.ay + j.by) / 2 - 2 * sag, j.bx, j.by)
-  else ctx.lineTo(j.bx, j.by)
+  // A quadratic curve's control point twice the sag below the chord's middle puts its lowest point
+  // at the sag; where that passes through a floor, the rope lies on the floor (ropePath).
+  if (sag > 0) {
+    const path = ropePath(j.ax, j.ay, j.bx, j.by, sag, floors)
+    for (let i = 2; i < path.length; i += 2) ctx.lineTo(path[i], path[i + 1])
+  } else ctx.lineTo(j.bx, j.by)
   ctx.stroke()
   dots(ctx, j, JOINT_COLORS.rope, 2.5 * px)
 }

@@ -170,8 +170,22 @@ export function computeFreeBody(bodyId: number, data: LabData): FreeBody {
   }
 }
 
-/** Longest arrow drawn (m). */
-const MAX_ARROW = 6
+/** A body's weight is drawn this long (m), or WEIGHT_MIN_PX on screen when that is longer. */
+const WEIGHT_ARROW = 2
+/** Shortest on-screen length of the weight arrow (CSS px): readable when the view is zoomed out. */
+const WEIGHT_MIN_PX = 100
+/** Longest arrow, in weights (3 weights: 6 m at the usual zoom). */
+const MAX_WEIGHTS = 3
+
+/**
+ * How arrows are sized at a zoom of `scale` CSS px per metre: metres per newton (`unit`, so the
+ * weight `weightN` is WEIGHT_ARROW m long, or WEIGHT_MIN_PX on screen if that is longer) and the
+ * longest arrow (m).
+ */
+export function arrowScale(weightN: number, scale: number): { unit: number; max: number } {
+  const weight = Math.max(WEIGHT_ARROW, WEIGHT_MIN_PX / Math.max(1e-6, scale))
+  return { unit: weight / Math.max(1e-6, weightN), max: MAX_WEIGHTS * weight }
+}
 const fmt = (v: number): string => v.toFixed(2)
 const len = (v: Vec2): number => Math.sqrt(v.x * v.x + v.y * v.y)
 
@@ -201,16 +215,16 @@ export function describeFreeBody(bodyId: number, fb: FreeBody): string {
 
 /** Draw the diagram's arrows in world space; `scale` is CSS px per metre. */
 export function drawFreeBody(ctx: CanvasRenderingContext2D, origin: Vec2, fb: FreeBody, scale: number): void {
-  // Arrows are 2 m per (m g): a body's weight is always two metres long whatever its mass.
-  const unit = 2 / Math.max(1e-6, len(fb.gravity))
+  // A body's weight is always the same length whatever its mass: 2 m, or 100 px when zoomed out.
+  const { unit, max } = arrowScale(len(fb.gravity), scale)
   const arrow = (from: Vec2, f: Vec2, color: string): void => {
-    // Forces of many body weights (a block under a stack) are drawn at most MAX_ARROW long.
-    const l = Math.min(len(f) * unit, MAX_ARROW)
+    // Forces of many body weights (a block under a stack) are drawn at most 3 weights long.
+    const l = Math.min(len(f) * unit, max)
     if (l < 1e-4) return
     const k = l / len(f)
     const tx = from.x + f.x * k
     const ty = from.y + f.y * k
-    const head = Math.min(0.25, l * 0.4)
+    const head = Math.min(Math.max(0.25, 10 / scale), l * 0.4)
     const ux = (tx - from.x) / l
     const uy = (ty - from.y) / l
     ctx.strokeStyle = color

@@ -10,7 +10,7 @@ import type { Vec2 } from '../../engine/index.ts'
 import { shapeRadius, shapeVertices, toWorld } from '../input/index.ts'
 import type { LabContact, ViewBody, ViewCursor, ViewJoint } from '../modes/index.ts'
 import type { Camera } from './camera.ts'
-import { drawJoints } from './joint-drawing.ts'
+import { drawJoints, type Floor, floorsOf } from './joint-drawing.ts'
 import { drawFreeBody, type FreeBody } from './lab.ts'
 
 /** Which debug layers are on. */
@@ -79,6 +79,8 @@ export class Renderer {
   readonly ctx: CanvasRenderingContext2D
   private dpr = 1
   private readonly byId = new Map<number, ViewBody>()
+  /** Level static box tops for this frame (ropes lie on them), reused. */
+  private readonly floors: Floor[] = []
 
   constructor(
     readonly canvas: HTMLCanvasElement,
@@ -129,7 +131,8 @@ export class Renderer {
     this.drawGrid()
     this.drawBodies(frame.bodies)
     const byId = this.bodyLookup(frame.bodies)
-    drawJoints(this.ctx, frame.joints, byId, this.lineWidth(1), frame.layers.joints)
+    const floors = frame.joints.length > 0 ? floorsOf(frame.bodies, this.floors) : this.floors
+    drawJoints(this.ctx, frame.joints, byId, this.lineWidth(1), frame.layers.joints, floors)
     if (frame.layers.aabbs) this.drawAabbs(frame.bodies)
     if (frame.layers.contacts && frame.contacts) this.drawContacts(frame.contacts)
     if (frame.selected) this.drawSelection(frame.selected)

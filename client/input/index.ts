@@ -3,6 +3,6 @@
  * the keyboard shortcuts table, and what the spawn tools drop.
  */
 export { pickBody, shapeRadius, shapeVertices, toWorld } from './picking.ts'
-export { helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
+export { helpIntro, helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
 export { SpawnPanel } from './spawn-settings.ts'
 export { TOOLS, ToolController, type ToolName } from './tools.ts'

@@ -1,6 +1,7 @@
 /*
  * Keyboard shortcuts: one table drives both the key handling and the help overlay, so the help
- * can never list a key that does nothing.
+ * can never list a key that does nothing. The tools come in toolbar order, named as their buttons
+ * are, with the digit keys 1-9 along the toolbar.
  */
 
 /** What a shortcut does; main.ts maps each action to code. */
@@ -29,13 +30,13 @@ export type ShortcutAction =
 
 /** The shortcut table: keys (KeyboardEvent.key, lower case), action, description. */
 export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; help: string }> = [
-  { keys: ['g', '1'], action: 'tool:grab', help: 'Grab and throw: drag a body' },
-  { keys: ['c', '2'], action: 'tool:circle', help: 'Spawn circle: click to drop, drag to throw' },
-  { keys: ['b', '3'], action: 'tool:box', help: 'Spawn box: click to drop, drag to throw' },
+  { keys: ['g', '1'], action: 'tool:grab', help: 'Grab: drag a body, let go while moving to throw it' },
+  { keys: ['c', '2'], action: 'tool:circle', help: 'Circle: click to drop one, drag to throw it' },
+  { keys: ['b', '3'], action: 'tool:box', help: 'Box: click to drop one, drag to throw it' },
   {
     keys: ['p', '4'],
     action: 'tool:polygon',
-    help: 'Spawn polygon (3-8 sides, cycling; the next one is shown at the pointer)',
+    help: 'Polygon: click to drop one (3-8 sides, cycling; the next one is shown at the pointer)',
   },
   { keys: ['x', '5'], action: 'tool:delete', help: 'Delete: click a body' },
   {
@@ -44,8 +45,8 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
     help: 'Pin: click a body to pin it to what is under it (or the world)',
   },
   { keys: ['l', '7'], action: 'tool:rope', help: 'Rope: drag from one body (or space) to another' },
-  { keys: ['u', '9'], action: 'tool:cut', help: 'Cut: click a pin, rope, rod or spring to remove it' },
-  { keys: ['i', '8'], action: 'tool:inspect', help: 'Inspect: click a body to see its free-body diagram' },
+  { keys: ['u', '8'], action: 'tool:cut', help: 'Cut: click a pin, rope, rod or spring to remove it' },
+  { keys: ['i', '9'], action: 'tool:inspect', help: 'Lab: click a body to see its free-body diagram' },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
   { keys: ['r'], action: 'reset', help: 'Reset the scene' },
@@ -67,10 +68,40 @@ export function shortcutFor(e: { key: string; ctrlKey: boolean; altKey: boolean;
   return SHORTCUTS.find((s) => s.keys.includes(key))?.action ?? null
 }
 
-/** The help overlay's HTML rows. */
-export function helpRows(): string {
+/** The toolbar buttons of the room actions (the tools are named by their help's first word). */
+const BUTTONS: Partial<Record<ShortcutAction, string>> = {
+  pause: 'Pause',
+  step: 'Step',
+  reset: 'Reset',
+  gravity: 'Gravity',
+  fit: 'Fit',
+}
+
+/**
+ * The help overlay's HTML rows. With `touch` (a phone or tablet, no keyboard) only what has a
+ * button, named as the button is, without keys: short enough to fit a phone's screen unscrolled.
+ */
+export function helpRows(touch = false): string {
   const label = (k: string): string => (k === ' ' ? 'Space' : k === 'escape' ? 'Esc' : k.toUpperCase())
+  if (touch) {
+    const rows: string[] = []
+    for (const s of SHORTCUTS) {
+      const tool = s.action.startsWith('tool:')
+      const button = tool ? s.help.slice(0, s.help.indexOf(':')) : BUTTONS[s.action]
+      if (!button) continue
+      const text = tool ? s.help.slice(s.help.indexOf(':') + 1).trim() : s.help
+      rows.push(`<tr><td><b>${button}</b></td><td>${text.replace(/^click/, 'tap')}</td></tr>`)
+    }
+    return rows.join('')
+  }
   return SHORTCUTS.map(
     (s) => `<tr><td>${s.keys.map((k) => `<kbd>${label(k)}</kbd>`).join(' ')}</td><td>${s.help}</td></tr>`,
   ).join('')
+}
+
+/** The help overlay's first paragraph, for a mouse and keyboard or for touch. */
+export function helpIntro(touch = false): string {
+  return touch
+    ? 'Tap a tool, then tap the world; drag a body to throw it, drag empty space to pan, pinch to zoom. Everyone in the room sees the same world.'
+    : 'Drag bodies to throw them; press on empty space to pan; wheel or pinch to zoom. Everyone in the room sees the same world: the server simulates it, your page draws it.'
 }

@@ -10,6 +10,7 @@
  */
 
 import type { Vec2 } from '../../engine/index.ts'
+import { findGame } from '../../games/index.ts'
 import {
   type Command,
   type JoinMessage,
@@ -42,6 +43,8 @@ import type {
 export interface LockstepSandboxOptions {
   url: string
   room: string
+  /** The game a room this join creates runs (the page's `&game=`). */
+  game?: string
   name: string
   mode: 'lockstep' | 'predict'
   /** Access key for a server with join or admin tokens (the page's `?key=`), sent as `&key=`. */
@@ -67,6 +70,8 @@ export class LockstepSandbox implements Sandbox {
   private seq = 0
   private downWindow = { start: Number.NaN, bytes: 0, value: 0 }
   private contactCache: { tick: number; contacts: LabContact[] } | null = null
+  /** Players whose cursor has left the origin (a new player's cursor starts there). */
+  private readonly movedCursors = new Set<number>()
 
   constructor(private readonly options: LockstepSandboxOptions) {
     const send = (m: Parameters<Connection['send']>[0]): void => {
@@ -76,10 +81,11 @@ export class LockstepSandbox implements Sandbox {
       options.mode === 'predict'
         ? new PredictClient({
             send,
+            games: findGame,
             clock: () => performance.now(),
             onRollback: (before, after) => this.smoother.correct(before, after),
           })
-        : new LockstepClient({ send })
+        : new LockstepClient({ send, games: findGame })
     const key = options.key ? `&key=${encodeURIComponent(options.key)}` : ''
     this.connection = new Connection(
       `${options.url}?room=${encodeURIComponent(options.room)}${key}`,
@@ -104,6 +110,7 @@ export class LockstepSandbox implements Sandbox {
       name: this.options.name,
       mode: this.options.mode,
       hold: this.runner.hold,
+      ...(this.options.game ? { game: this.options.game } : {}),
     }
   }
 
@@ -205,6 +212,9 @@ export class LockstepSandbox implements Sandbox {
     for (const pl of this.players) {
       const s = sim.players.get(pl.id)
       if (pl.id === this.runner.playerId || !s) continue
+      // A player who has not moved yet sits at the origin: not a cursor worth drawing.
+      if (s.cursorX !== 0 || s.cursorY !== 0 || s.grab) this.movedCursors.add(pl.id)
+      if (!this.movedCursors.has(pl.id)) continue
       out.push({
         id: pl.id,
         name: pl.name,
@@ -270,7 +280,10 @@ export class LockstepSandbox implements Sandbox {
   }
 
   rules(): RoomRules | null {
-    return this.runner.rules
+    const rules = this.runner.rules
+    // The room's controls, unless this page's key does not open them (the server has an admin key).
+    if (!rules?.controls || this.connection?.controlsAllowed !== false) return rules
+    return { ...rules, controls: false }
   }
 
   scene(): string {

@@ -42,6 +42,8 @@ export interface OnlineOptions {
   name: string
   /** Access key for a server with join or admin tokens (the page's `?key=`), sent as `&key=`. */
   key?: string
+  /** The game a room this join creates runs (the page's `&game=`). */
+  game?: string
 }
 
 const TOKEN_KEY = 'concord.token.'
@@ -149,6 +151,7 @@ export class OnlineSandbox implements Sandbox {
       name: this.options.name,
       mode: 'snapshot',
       ...(token ? { token } : {}),
+      ...(this.options.game ? { game: this.options.game } : {}),
     }
   }
 
@@ -167,9 +170,7 @@ export class OnlineSandbox implements Sandbox {
     if (message.t === 'events') for (const b of message.add) this.outbox.spawns.added(b, this.mirror.clientId)
     if (message.t === 'error' && message.code === 'input-budget') this.droppedInputs++
     if (message.t === 'events' && this.ownGrab && message.remove.includes(this.ownGrab)) {
-      this.tell(
-        `The body you were holding (${this.ownGrab}) was deleted by another player or left the world.`,
-      )
+      this.tell('The body you were holding was deleted by another player or left the world.')
       this.ownGrab = 0
     }
     if (message.t === 'state') {
@@ -400,11 +401,8 @@ export class OnlineSandbox implements Sandbox {
   private reportDropped(): void {
     const resent = this.outbox.takeResent()
     if (this.droppedInputs === 0 && resent === 0) return
-    const perTick = this.mirror.rules?.inputsPerTick
-    const again = resent > 0 ? `; sending the ${resent} spawns among them again` : ''
-    this.tell(
-      `The server dropped ${this.droppedInputs} of your inputs: more than ${perTick ?? 'its budget of'} inputs per tick arrived at once${again}.`,
-    )
+    const again = resent > 0 ? `; the ${resent} new shapes among them are sent again` : ''
+    this.tell(`The room was too busy for ${this.droppedInputs} of your actions at once${again}.`)
     this.droppedInputs = 0
   }
 
@@ -456,7 +454,10 @@ export class OnlineSandbox implements Sandbox {
   }
 
   rules(): RoomRules | null {
-    return this.mirror.rules
+    const rules = this.mirror.rules
+    // The room's controls, unless this page's key does not open them (the server has an admin key).
+    if (!rules?.controls || this.connection?.controlsAllowed !== false) return rules
+    return { ...rules, controls: false }
   }
 
   scene(): string {

@@ -2,9 +2,9 @@
  * One WebSocket to the server with automatic reconnect. It joins on open (with the reconnect
  * token of the previous welcome, so a dropped player keeps its identity and colour), decodes every
  * frame with the shared codec, and turns failures into messages a person can act on:
- * unreachable server, protocol version mismatch, full room, server shutting down. It retries with
- * exponential backoff (0.5 s doubling to 8 s) except after a version mismatch, where only a reload
- * with a newer client can help. A `moved` message (the room is held by another server) sends the
+ * unreachable server, protocol version mismatch, full room, server shutting down, a missing or
+ * wrong access key. It retries with exponential backoff (0.5 s doubling to 8 s) except after a
+ * version mismatch or a refused key, where only a reload (a newer client, a fixed address) can help. A `moved` message (the room is held by another server) sends the
  * next connection to that server at once.
  */
 import {
@@ -84,6 +84,7 @@ export class Connection {
     const message = decoded.value
     if (message.t === 'welcome') {
       this.joined = true
+      this.askControls()
       this.backoff = MIN_BACKOFF_MS
       this.handlers.status(null, false, false)
     }
@@ -119,21 +120,81 @@ export class Connection {
       )
       return
     }
+    if (!wasJoined && code === 1006) {
+      // A refused upgrade looks like an unreachable server to a page: ask the server why first.
+      this.probeAccess().then((refusal) => {
+        if (this.closed || this.ws) return
+        if (refusal) this.handlers.status(refusal, false, true)
+        else this.retry(`Cannot reach the server at ${new URL(this.url).host}. Retrying`)
+      })
+      return
+    }
     let text: string
     if (code === CLOSE_CODES.full || error?.code === 'full') {
       text = `Room full: ${error?.reason ?? reason}. Trying again`
       this.backoff = Math.max(this.backoff, 4000)
     } else if (code === CLOSE_CODES.goingAway)
       text = `The server is restarting (${reason || 'going away'}). Reconnecting`
-    else if (!wasJoined && code === 1006)
-      text = `Cannot reach the server at ${new URL(this.url).host}. Retrying`
     else text = `Connection lost${reason ? ` (${reason})` : ''}. Reconnecting`
+    this.retry(text)
+  }
+
+  /** Show `text` with a countdown and open again after the backoff, which then doubles. */
+  private retry(text: string): void {
     this.handlers.status(text, true, false, performance.now() + this.backoff)
     this.timer = setTimeout(() => {
       this.timer = null
       this.open()
     }, this.backoff)
     this.backoff = Math.min(MAX_BACKOFF_MS, this.backoff * 2)
+  }
+
+  /**
+   * Why the server refuses this URL's upgrade, as a sentence for the banner, or null when it does
+   * not (or cannot be asked). A plain GET of the WebSocket URL answers 401 (no key for a token-only
+   * room) or 403 (a wrong key, or a page origin the server does not allow) with the reason; a
+   * browser hides that status from a failed WebSocket, so without asking a refused page would
+   * retry forever under "Cannot reach the server".
+   */
+  private async probeAccess(): Promise<string | null> {
+    const answer = await this.askAccess()
+    if (!answer || (answer.status !== 401 && answer.status !== 403)) return null
+    const why = answer.text
+    const hasKey = (new URL(this.url).searchParams.get('key') ?? '') !== ''
+    if (answer.status === 401)
+      return `Access key missing: ${why}. Add &key=KEY to the page address (ask whoever runs the server for the key) and reload.`
+    if (hasKey && /key/.test(why))
+      return `Access key wrong: ${why}. Fix &key= in the page address and reload.`
+    return `The server refuses this page: ${why}.`
+  }
+
+  /** The answer to a plain GET of the WebSocket URL (status and text), or null when none came. */
+  private async askAccess(): Promise<{ status: number; text: string } | null> {
+    const probe = new URL(this.url)
+    probe.protocol = probe.protocol === 'wss:' ? 'https:' : 'http:'
+    try {
+      const answer = await fetch(probe, { cache: 'no-store' })
+      return { status: answer.status, text: (await answer.text()).trim() }
+    } catch {
+      return null
+    }
+  }
+
+  /**
+   * Whether this page's key opens the room controls (scene, reset, pause, step, gravity): false on
+   * a server whose controls need the admin key when the page has not got it; null until known.
+   * Asked once after the first welcome (a plain GET of the WebSocket URL answers 200 and says so).
+   */
+  controlsAllowed: boolean | null = null
+  private controlsAsked = false
+
+  private askControls(): void {
+    if (this.controlsAsked) return
+    this.controlsAsked = true
+    void this.askAccess().then((answer) => {
+      if (answer?.status === 200)
+        this.controlsAllowed = !/room controls: need the admin key/.test(answer.text)
+    })
   }
 
   /** Send a message if the socket is open; returns the bytes sent (0 when dropped). */

@@ -50,9 +50,7 @@ export class InputOutbox {
     }
     if (this.queue.length > 0 && !this.queuedNoticeShown) {
       this.queuedNoticeShown = true
-      this.tell(
-        `Sending ${this.queue.length} more inputs over the next frames: the room takes ${perTick} per tick.`,
-      )
+      this.tell(`Sending your next ${this.queue.length} actions a few at a time, so the room keeps up.`)
     }
     if (this.queue.length === 0) this.queuedNoticeShown = false
   }

@@ -70,8 +70,10 @@ export class ReplayPage {
       'position:fixed;left:8px;right:8px;bottom:8px;display:flex;flex-wrap:wrap;gap:6px;align-items:center'
     document.getElementById('toolbar')?.setAttribute('hidden', '')
     this.acceptDrops()
-    if (logName) void this.fetchLog(logName)
-    else void this.showPicker()
+    if (logName) {
+      this.panel.replaceChildren(this.message)
+      void this.fetchLog(logName)
+    } else void this.showPicker()
   }
 
   /** The URL of a replay route (`/replays` or `/replays/NAME`), with the page's key. */
@@ -88,7 +90,7 @@ export class ReplayPage {
     const file = el('input', {
       type: 'file',
       id: 'replay-file',
-      accept: '.log,.clog,application/octet-stream',
+      accept: '.cclog,application/octet-stream',
     })
     file.addEventListener('change', () => {
       const f = file.files?.[0]
@@ -97,10 +99,10 @@ export class ReplayPage {
     const list = el('div', { id: 'replay-list' })
     this.panel.replaceChildren(
       el('strong', {}, 'Replays'),
+      this.message,
       el('label', {}, 'Open a file: ', file),
       el('span', {}, 'or drop one on the page'),
       list,
-      this.message,
     )
     try {
       const res = await fetch(this.replayUrl('/replays'))
@@ -135,25 +137,39 @@ export class ReplayPage {
     })
   }
 
+  /**
+   * Fetch the server's log `name` and play it; when that fails, the reason stays on the page above
+   * the picker (the server's list, a file, a drop), never a blank page.
+   */
   private async fetchLog(name: string): Promise<void> {
     this.say(`loading ${name}...`)
+    const problem = await this.fetchProblem(name)
+    if (problem === null) return
+    this.say(problem, true)
+    await this.showPicker()
+  }
+
+  /** Null once the log plays (or a newer load took over), else why it cannot be opened. */
+  private async fetchProblem(name: string): Promise<string | null> {
+    const shown = name.length > 60 ? `${name.slice(0, 60)}…` : name
+    const looksLikeLog = /\.cclog$/.test(name) && !/[/\\]/.test(name)
+    const hint = looksLikeLog
+      ? ''
+      : ` A replay is named by its log file (ROOM-DATE.cclog, as in the list), not by a room name or a path.`
+    let res: Response
     try {
-      const res = await fetch(this.replayUrl(`/replays/${encodeURIComponent(name)}`))
-      if (res.status === 401 || res.status === 403) {
-        this.say(
-          `the server's log ${name} needs its key (HTTP ${res.status}): open this page with &key=KEY`,
-          true,
-        )
-        return
-      }
-      if (!res.ok) {
-        this.say(`the server has no log ${name} (HTTP ${res.status})`, true)
-        return
-      }
-      await this.play(new Uint8Array(await res.arrayBuffer()), name)
+      res = await fetch(this.replayUrl(`/replays/${encodeURIComponent(name)}`))
     } catch (error) {
-      this.say(`cannot fetch ${name}: ${(error as Error).message}`, true)
+      return `Cannot fetch the log "${shown}": ${(error as Error).message}. Open a log file instead.`
     }
+    if (res.status === 401 || res.status === 403)
+      return `The server's log "${shown}" needs its key (HTTP ${res.status}): open this page with &key=KEY.`
+    if (!res.ok) {
+      const said = (await res.text().catch(() => '')).trim()
+      return `Cannot open the replay "${shown}": ${said || 'the server has no such log'} (HTTP ${res.status}).${hint}`
+    }
+    await this.play(new Uint8Array(await res.arrayBuffer()), name)
+    return null
   }
 
   /** Load bytes as a log and start the player; a bad file gets one line saying what is wrong. */
@@ -177,9 +193,11 @@ export class ReplayPage {
     this.sandbox = sandbox
     this.app?.stop()
     this.app = new App(sandbox, this.httpBase, log.header.room)
-    this.app.fit()
     window.concord = this.app
     this.controls(log, name)
+    // Framed once the control bar is in: the scene sits above it, the HUD too (placePanels).
+    this.app.placePanels()
+    this.app.fit()
   }
 
   private controls(log: LoadedLog, name: string): void {

@@ -39,6 +39,7 @@
  * world (the runner does it); the first mismatch is kept, with its tick, for the indicator.
  */
 
+import { findGame } from '../../games/index.ts'
 import {
   type Divergence,
   deltaChain,
@@ -211,7 +212,7 @@ export class ReplayPlayer {
     listener?: SimulationListener,
     options: PlayerOptions = {},
   ): Promise<ReplayPlayer> {
-    const runner = await ReplayRunner.start(log.preamble, log.header, { inflate, listener })
+    const runner = await ReplayRunner.start(log.preamble, log.header, { inflate, games: findGame, listener })
     const player = new ReplayPlayer(log, runner, options.snapshotBudget ?? SNAPSHOT_BUDGET_BYTES)
     player.collectPeople(log.records.length)
     return player

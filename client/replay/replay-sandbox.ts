@@ -145,6 +145,8 @@ export class ReplaySandbox implements Sandbox {
   cursors(): readonly ViewCursor[] {
     this.cursorViews.length = 0
     for (const [id, p] of this.player.sim.players) {
+      // A player who has not moved yet sits at the origin: not a cursor worth drawing.
+      if (p.cursorX === 0 && p.cursorY === 0 && !p.grab) continue
       const who = this.player.people.get(id)
       this.cursorViews.push({
         id,

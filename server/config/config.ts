@@ -102,16 +102,28 @@ export function loadConfig(
 
 /** The settings as a help text table. */
 export function helpText(): string {
-  const rows = SETTINGS.map(
-    (s) =>
-      `  ${`${s.flag} <${s.kind}>`.padEnd(28)} ${s.env.padEnd(22)} ${(s.shown ?? String(s.fallback)).padEnd(12)} ${s.help}`,
+  const table = [
+    ['flag', 'env', 'default', 'meaning'],
+    ...SETTINGS.map((s) => [`${s.flag} <${s.kind}>`, s.env, s.shown ?? String(s.fallback), s.help]),
+  ]
+  // Each column as wide as its longest cell, so every row lines up.
+  const widths = [0, 1, 2].map((c) => Math.max(...table.map((row) => row[c].length)))
+  const rows = table.map(
+    (row) =>
+      `  ${row[0].padEnd(widths[0])}  ${row[1].padEnd(widths[1])}  ${row[2].padEnd(widths[2])}  ${row[3]}`,
   )
   return [
-    'Usage: node dist/server.js [options]',
+    'Usage: npm start -- [options]   (or: node dist/server.js [options])',
     '',
-    `  ${'flag'.padEnd(28)} ${'env'.padEnd(22)} ${'default'.padEnd(12)} meaning`,
-    ...rows,
+    ...rows.map((r) => r.trimEnd()),
   ].join('\n')
+}
+
+/** The line a person at a terminal sees: where to open the sandbox (any-address hosts as 127.0.0.1). */
+export function sandboxBanner(host: string, port: number): string {
+  const all = host === '0.0.0.0' || host === '::' || host === ''
+  const shown = all ? '127.0.0.1' : host.includes(':') ? `[${host}]` : host
+  return `Concord sandbox at http://${shown}:${port}/${all ? ` (listening on every address, ${host || '0.0.0.0'})` : ''}`
 }
 
 /** Unsent bytes at which a client is dropped at once: 8 send-buffer budgets, at least 1 MiB. */

@@ -3,5 +3,12 @@
  * config-settings.ts, read by config.ts (loading and checks) and config-security.ts (the limits).
  */
 
-export { hardBufferLimit, helpText, loadConfig, SETTINGS, type ServerConfig } from './config.ts'
+export {
+  hardBufferLimit,
+  helpText,
+  loadConfig,
+  SETTINGS,
+  type ServerConfig,
+  sandboxBanner,
+} from './config.ts'
 export { listSetting } from './config-security.ts'

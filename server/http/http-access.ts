@@ -25,10 +25,14 @@ export interface Access {
   controls: boolean
 }
 
-/** The upgrade decision: access, or an HTTP status with the reason (for the log and metrics). */
+/**
+ * The upgrade decision: access, or an HTTP status with the reason (for the log and metrics) and a
+ * sentence for a person (`detail`, the body of a plain GET /ws: how a page learns why its socket
+ * was refused, since a browser hides the status of a failed upgrade).
+ */
 export type AccessResult =
   | { ok: true; access: Access }
-  | { ok: false; status: 401 | 403; text: string; reason: string }
+  | { ok: false; status: 401 | 403; text: string; reason: string; detail: string }
 
 /** Constant-time string equality (a token compare must not leak how many characters matched). */
 export function sameSecret(given: string, secret: string): boolean {
@@ -115,19 +119,37 @@ export function checkAccess(
   const origins = listSetting(config.allowedOrigins)
   const origin = request.headers.origin
   if (origins.length > 0 && origin !== undefined && !origins.includes(origin)) {
-    return { ok: false, status: 403, text: 'Forbidden', reason: 'origin' }
+    return {
+      ok: false,
+      status: 403,
+      text: 'Forbidden',
+      reason: 'origin',
+      detail: `this server does not accept pages from ${origin} (--allowed-origins)`,
+    }
   }
   const role = keyRole(config, url.searchParams.get('key') ?? '')
   const admin = role === 'admin'
   const member = admin || role === 'member'
   if (role === 'forged') {
-    return { ok: false, status: 403, text: 'Forbidden', reason: 'bad-key' }
+    return {
+      ok: false,
+      status: 403,
+      text: 'Forbidden',
+      reason: 'bad-key',
+      detail: 'the key matches neither the join token nor the admin token',
+    }
   }
   const controls = config.adminToken === '' || admin
   if (config.joinToken === '' || member) return { ok: true, access: { room: null, controls } }
   const target = room || config.defaultRoom
   if (!listSetting(config.publicRooms).includes(target)) {
-    return { ok: false, status: 401, text: 'Unauthorized', reason: 'no-key' }
+    return {
+      ok: false,
+      status: 401,
+      text: 'Unauthorized',
+      reason: 'no-key',
+      detail: `room "${target}" is open only with this server's join or admin key`,
+    }
   }
   return { ok: true, access: { room: target, controls } }
 }

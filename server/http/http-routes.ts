@@ -1,7 +1,9 @@
 /*
  * Plain HTTP on the same port as the WebSocket endpoint: the built browser client as static files,
  * health and readiness probes, Prometheus metrics, the open rooms as JSON for the lobby, and the
- * replay logs (GET /replays lists them, GET /replays/NAME downloads one). Static paths are resolved
+ * replay logs (GET /replays lists them, GET /replays/NAME downloads one), and for a plain GET /ws the
+ * answer its upgrade would get (401/403 with the reason, else 200 saying whether the room controls
+ * are allowed). Static paths are resolved
  * inside the static directory only (no traversal); a replay name must match the log name pattern
  * exactly, so it can only name a file directly inside the replay directory. With a join token the
  * room list and the replay routes need the join or admin key in the URL, as a join does
@@ -49,6 +51,13 @@ export interface RouteContext {
   keyAccess: (url: URL, what: 'rooms' | 'replays') => RouteRefusal | null
   /** Null when a request for /metrics may be answered, else its refusal (checkMetricsAccess). */
   metricsAccess: (req: IncomingMessage) => RouteRefusal | null
+  /**
+   * A plain GET /ws: the refusal its upgrade would get (status and a sentence), or, when it would
+   * be let in (answered 200; a browser logs any other status as an error), whether its key opens the room controls. Browsers hide a failed
+   * upgrade's status, so a page that cannot connect asks here whether its key is missing or wrong,
+   * and a joined page whether its controls work (client/net/connection.ts).
+   */
+  wsAccess?: (req: IncomingMessage, url: URL) => { status: number; detail: string } | { controls: boolean }
   metrics: ServerMetrics
   /** The /metrics text when it is more than the registry's (room workers' metrics merged in). */
   metricsText?: () => Promise<string>
@@ -118,6 +127,17 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
           () => send(res, 500, 'text/plain', 'metrics failed\n'),
         )
         return
+      }
+      case '/ws': {
+        const access = ctx.wsAccess?.(req, url) ?? { controls: true }
+        if ('detail' in access) return send(res, access.status, 'text/plain', `${access.detail}\n`)
+        const controls = access.controls ? 'allowed' : 'need the admin key'
+        return send(
+          res,
+          200,
+          'text/plain',
+          `WebSocket endpoint: upgrade to join (this key is accepted; room controls: ${controls})\n`,
+        )
       }
       case '/rooms': {
         const refusal = ctx.keyAccess(url, 'rooms')

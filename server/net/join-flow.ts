@@ -10,6 +10,7 @@
  * over it, the join gets `full` naming the limit, counted and logged (rate-limited) as refused.
  */
 import type { Logger } from 'pino'
+import { findGame, GAMES } from '../../games/index.ts'
 import { CLOSE_CODES, type ClientMessage } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
 import type { LogLimiter, RoomDirectory, ServerMetrics } from '../hosting/index.ts'
@@ -58,6 +59,14 @@ export class JoinFlow {
         peer,
         'room-mismatch',
         `join names room "${message.room}" but the URL names "${session.urlRoom}"`,
+      )
+      return
+    }
+    if (message.game !== undefined && !findGame(message.game)) {
+      this.actions.reject(
+        peer,
+        'invalid',
+        `unknown game "${message.game}"; this server has ${Object.keys(GAMES).join(', ')}`,
       )
       return
     }
@@ -162,6 +171,7 @@ export class JoinFlow {
       token: message.token,
       mode: message.mode,
       controls: peer.access.controls,
+      game: message.game,
       strike: (code, reason, tick, seq) => this.actions.roomStrike(peer, code, reason, tick, seq),
       refused: (error, reason) => {
         session.seat = null

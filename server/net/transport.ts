@@ -262,7 +262,7 @@ export class Transport {
         peer,
         'not-joined',
         'send join first',
-        message.t === 'input' ? message.seq : undefined,
+        message.t === 'input' || message.t === 'cmd' ? message.seq : undefined,
       )
       return
     }

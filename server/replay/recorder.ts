@@ -421,7 +421,7 @@ export class RoomRecorder implements SimulationObserver {
     this.pushSmall({
       type: 'hash',
       tick: this.sim.tick,
-      hash: this.sim.world.hash(),
+      hash: this.sim.hash(),
       step: this.sim.world.tick,
     })
     this.dirty = false

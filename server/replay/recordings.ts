@@ -148,7 +148,9 @@ export class Recordings {
       throw new Error(`${name} holds room "${recovered.room}", not the room its name gives`)
     await truncateToCheckpoint(this.dir, recovered)
     this.recovered.set(recovered.room, recovered)
-    if (!rooms.getOrCreate(recovered.room)) this.recovered.delete(recovered.room)
+    // The room reopens running the log's game (a game room recovers with its score and clock).
+    if (!rooms.getOrCreate(recovered.room, recovered.runner.sim.game.name))
+      this.recovered.delete(recovered.room)
     return recovered
   }
 
@@ -221,7 +223,7 @@ export class Recordings {
     room.emptySince = room.tick
     // Read back from the room itself (before the departed players leave, which releases grabs).
     const tick = room.tick
-    const hash = room.world.hash()
+    const hash = room.sim.hash()
     recorder.resume(recovered.name, recovered.size)
     // The players of the crashed process are gone; they come back as new joins.
     for (const id of [...room.sim.players.keys()]) room.sim.leave(id)

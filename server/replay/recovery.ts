@@ -8,6 +8,7 @@
 import { truncate } from 'node:fs/promises'
 import { join } from 'node:path'
 import { inflateSync } from 'node:zlib'
+import { findGame } from '../../games/index.ts'
 import { hex, type KeyframeRecord, type ReplayRecord, ReplayRunner } from '../../shared/index.ts'
 import { scanLog } from './replay-files.ts'
 
@@ -59,12 +60,15 @@ export async function recoverLog(dir: string, name: string): Promise<RecoveredRo
   })
   if (!scan.header || !scan.preamble) throw new Error(`${name}: ${scan.status.reason || 'no header'}`)
   if (scan.status.closed) throw new Error(`${name} was closed cleanly; nothing to recover`)
-  const runner = await ReplayRunner.start(scan.preamble, scan.header, { inflate: inflateNode })
+  const runner = await ReplayRunner.start(scan.preamble, scan.header, {
+    inflate: inflateNode,
+    games: findGame,
+  })
   if (chain.length > 0) await runner.restore(chain[0].z === 2 ? [scan.header, ...chain] : chain)
   for (const r of since) await runner.apply(r)
   if (runner.divergence)
     throw new Error(`${name}: replay diverges at tick ${runner.divergence.tick}: ${runner.divergence.reason}`)
-  const hash = runner.sim.world.hash()
+  const hash = runner.sim.hash()
   if (checkpointHash !== null && hash !== checkpointHash)
     throw new Error(`${name}: rebuilt hash ${hex(hash)} differs from the checkpoint's ${hex(checkpointHash)}`)
   return {

@@ -3,6 +3,7 @@
  * (the replay CLI, recovery tests and benchmarks use this; a browser page uses the shared module
  * with DecompressionStream).
  */
+import { findGame } from '../../games/index.ts'
 import { type ReplayOptions, type ReplayReport, replayBytes } from '../../shared/index.ts'
 import { inflateNode } from './recovery.ts'
 
@@ -14,5 +15,5 @@ export {
 
 /** Replay a log held in memory (see shared/replay/replay-headless.ts). */
 export function replayLog(bytes: Uint8Array, options: ReplayOptions = {}): Promise<ReplayReport> {
-  return replayBytes(bytes, inflateNode, options)
+  return replayBytes(bytes, inflateNode, findGame, options)
 }

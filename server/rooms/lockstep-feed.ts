@@ -178,13 +178,13 @@ export class LockstepFeed implements SimulationObserver {
 
   /**
    * End of a room tick (after the simulation's tick): stream, checkpoint, serve waiting followers.
-   * `checkpoint` is world.hash() when the caller computed it at this tick already.
+   * `checkpoint` is sim.hash() when the caller computed it at this tick already.
    */
   endTick(checkpoint?: number): void {
     const tick = this.sim.tick
     let hash: number | undefined
     if (tick % HASH_INTERVAL === 0 && this.followers.size > 0) {
-      hash = checkpoint ?? this.sim.world.hash()
+      hash = checkpoint ?? this.sim.hash()
       this.checkpoints.set(tick, hash)
       this.checkpoints.delete(tick - HASH_INTERVAL * CHECKPOINTS_KEPT)
     }

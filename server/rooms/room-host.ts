@@ -35,6 +35,8 @@ export interface JoinRequest {
   mode: JoinMode
   /** Whether the connection's key allows room controls (http-access.ts); told in `welcome.rules`. */
   controls: boolean
+  /** The game the join asks for (join.game), checked against the catalogue by the transport. */
+  game: string | undefined
   /** Strikes the room reports against this client. */
   strike: Strike
   /** The join was refused: `error` for the error message, `reason` for the close. */
@@ -65,6 +67,7 @@ export function roomSummary(room: Room): RoomSummary {
     bodies: room.world.bodyCount,
     scene: room.scene,
     tick: room.tick,
+    game: room.game.name,
   }
 }
 
@@ -110,12 +113,19 @@ export class LocalRoomHost implements RoomHost {
   }
 
   join(request: JoinRequest): RoomSeat | null {
-    const room = this.rooms.getOrCreate(request.room)
+    const room = this.rooms.getOrCreate(request.room, request.game)
     if (!room) {
       request.refused(`the server has reached its limit of ${this.maxRooms} rooms`, 'too many rooms')
       return null
     }
-    const joined = room.join(request.conn, request.name, request.token, request.mode, request.controls)
+    const joined = room.join(
+      request.conn,
+      request.name,
+      request.token,
+      request.mode,
+      request.controls,
+      request.game,
+    )
     if (typeof joined === 'string') {
       request.refused(joined, joined)
       return null

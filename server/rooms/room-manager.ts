@@ -6,6 +6,7 @@
 import { performance } from 'node:perf_hooks'
 import type { Logger } from 'pino'
 import { STEP_SECONDS } from '../../engine/index.ts'
+import { findGame } from '../../games/index.ts'
 import { CLOSE_CODES, TICK_RATE } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
 import { LogLimiter, type ServerMetrics } from '../hosting/index.ts'
@@ -72,11 +73,19 @@ export class RoomManager {
   }
 
   /** The room of that name, created if there is room for it; null at the room limit. */
-  getOrCreate(name: string): Room | null {
+  getOrCreate(name: string, game?: string): Room | null {
     const existing = this.rooms.get(name)
     if (existing) return existing
     if (this.rooms.size >= this.config.maxRooms) return null
-    const room = new Room(name, this.config, this.metrics, this.log, this.spread())
+    // An unknown name never gets here (the transport refuses the join); the sandbox is the default.
+    const room = new Room(
+      name,
+      this.config,
+      this.metrics,
+      this.log,
+      this.spread(),
+      findGame(game ?? 'sandbox'),
+    )
     this.rooms.set(name, room)
     this.metrics.rooms.set(this.rooms.size)
     this.onRoomCreated?.(room)

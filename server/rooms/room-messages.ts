@@ -1,11 +1,12 @@
 /*
- * What a joined player's messages do in its room: inputs are queued for the next tick, acks move
+ * What a joined player's messages do in its room: inputs and game commands (checked against the
+ * room's game first) are queued for the next tick, acks move
  * the player's snapshot baseline, pings are answered with the room tick, lockstep reports (and a
  * join's hold) go to the feed. The same code runs on the main thread (--workers 0) and inside a
  * room worker; the transport validates every message, checks access and counts it against the
  * message rate first, and turns the strikes reported here into its own strike rules.
  */
-import type { ClientMessage } from '../../shared/index.ts'
+import type { ClientMessage, PlainData } from '../../shared/index.ts'
 import type { Room } from './room.ts'
 import type { RoomPlayer } from './room-player.ts'
 
@@ -41,6 +42,11 @@ export function handleRoomMessage(
     case 'input': {
       const error = room.queueInput(player, message.seq, message.cmd)
       if (error) strike('input-budget', error, room.tick, message.seq)
+      return
+    }
+    case 'cmd': {
+      const refused = room.queueGameCommand(player, message.seq, message.k, message.a as PlainData)
+      if (refused) strike(refused.code, refused.reason, room.tick, message.seq)
       return
     }
     case 'ack':

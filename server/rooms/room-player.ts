@@ -3,7 +3,7 @@
  * state, the per-tick input budget, what it inspects and backpressure state. What the player
  * does to the world (grab, cursor) lives in the room's RoomSimulation.
  */
-import { type Command, SnapshotEncoder } from '../../shared/index.ts'
+import { type SimCommand, SnapshotEncoder } from '../../shared/index.ts'
 import type { PlayerConnection } from './player-connection.ts'
 
 /** A player in a room. */
@@ -22,7 +22,7 @@ export class RoomPlayer {
   /** Index in the room queue of this player's move for the current tick, or -1. */
   queuedMove = -1
   /** Inputs over a tick's budget, in arrival order, waiting for the next ticks (room.ts). */
-  readonly waiting: Array<{ seq: number; cmd: Command }> = []
+  readonly waiting: Array<{ seq: number; cmd: SimCommand }> = []
   /** Room tick since which the send buffer has been over budget, or -1. */
   behindSince = -1
   /** Dropped for not reading: nothing more is sent while its connection closes. */

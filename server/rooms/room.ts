@@ -32,16 +32,18 @@
  */
 import type { Logger } from 'pino'
 import { SCENES, type SceneBlueprint, type World } from '../../engine/index.ts'
+import { type Game, sandbox } from '../../games/index.ts'
 import {
-  type Command,
   encodeMessage,
   isMovable,
   type JoinMode,
+  type PlainData,
   PROTOCOL_VERSION,
   QuantizedFrame,
   type RoomRules,
   RoomSimulation,
   type ServerMessage,
+  type SimCommand,
   type SimulationListener,
   TICK_RATE,
   type WireBody,
@@ -65,7 +67,7 @@ export const WAITING_TICKS = 4
 interface QueuedInput {
   player: RoomPlayer
   seq: number
-  cmd: Command
+  cmd: SimCommand
 }
 
 /** One room: a simulation, its players, input queue, events and snapshots. */
@@ -102,6 +104,8 @@ export class Room {
     jremove: [] as number[],
   }
   private roomChanged = false
+  /** Events the game emitted this tick (ctx.emit), sent at its end to snapshot players. */
+  private gameEvents: PlainData[] = []
   private readonly snapshotInterval: number
   /** Ticks with (tick + phase) % snapshotInterval === 0 send snapshots (see the constructor). */
   private readonly snapshotPhase: number
@@ -121,10 +125,13 @@ export class Room {
      * multiple of the snapshot interval).
      */
     spread: { startTick: number; snapshotPhase: number } = { startTick: 0, snapshotPhase: 0 },
+    /** The game the room runs (fixed for the room's life). */
+    readonly game: Game = sandbox,
   ) {
     this.snapshotInterval = TICK_RATE / config.snapshotRate
     this.snapshotPhase = spread.snapshotPhase % this.snapshotInterval
     this.sim = new RoomSimulation({
+      game,
       name,
       scene: Object.hasOwn(SCENES, config.defaultScene) ? config.defaultScene : 'pyramid',
       maxBodies: config.maxBodies,
@@ -143,6 +150,10 @@ export class Room {
       controls: config.roomControls,
       scenes: Object.keys(SCENES),
       worldHalfExtent: WORLD_HALF_EXTENT,
+      game: game.name,
+      commands: Object.keys(game.commands)
+        .filter((k) => !game.commands[k].builtin)
+        .sort(),
     }
   }
 
@@ -182,8 +193,13 @@ export class Room {
     token: string | undefined,
     mode: JoinMode = 'snapshot',
     controls = true,
+    game?: string,
   ): RoomPlayer | string {
+    if (game !== undefined && game !== this.game.name)
+      return `room ${this.name} runs the game ${this.game.name}, not ${game}`
     if (this.players.size >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
+    if (this.players.size >= this.game.maxPlayers)
+      return `room ${this.name} is full (${this.game.name} admits ${this.game.maxPlayers} players)`
     const identity = assignIdentity(this, token)
     if (identity.replaced) identity.replaced.conn.close(4000, 'replaced by a reconnect with the same token')
     const player = new RoomPlayer(
@@ -252,7 +268,7 @@ export class Room {
    * ticks (up to WAITING_TICKS ticks' worth), so a burst after a network or server hiccup loses
    * nothing; only beyond that is an input refused.
    */
-  queueInput(player: RoomPlayer, seq: number, cmd: Command): string | null {
+  queueInput(player: RoomPlayer, seq: number, cmd: SimCommand): string | null {
     const budget = this.config.inputsPerTick
     const waiting = player.waiting
     if (cmd.k === 'move') {
@@ -280,7 +296,27 @@ export class Room {
     return null
   }
 
-  private enqueue(player: RoomPlayer, seq: number, cmd: Command): void {
+  /**
+   * Check a game command (`cmd` message) against the room's game, then queue it like an input:
+   * an unknown kind or arguments that do not fit the game's schema are refused here, naming the
+   * field, before the game sees them; the input budget applies as to every input.
+   */
+  queueGameCommand(
+    player: RoomPlayer,
+    seq: number,
+    kind: string,
+    args: PlainData,
+  ): { code: 'invalid' | 'input-budget'; reason: string } | null {
+    const def = Object.hasOwn(this.game.commands, kind) ? this.game.commands[kind] : undefined
+    if (!def || def.builtin)
+      return { code: 'invalid', reason: `game ${this.game.name} has no ${kind} command` }
+    const invalid = def.check(args)
+    if (invalid !== null) return { code: 'invalid', reason: `${kind} refused: ${invalid}` }
+    const error = this.queueInput(player, seq, { k: 'cmd', kind, a: args })
+    return error === null ? null : { code: 'input-budget', reason: error }
+  }
+
+  private enqueue(player: RoomPlayer, seq: number, cmd: SimCommand): void {
     player.inputsThisTick++
     if (cmd.k === 'move') player.queuedMove = this.queue.length
     this.queue.push({ player, seq, cmd })
@@ -312,7 +348,7 @@ export class Room {
     this.sim.runTick()
     this.flushEvents()
     if ((this.tick + this.snapshotPhase) % this.snapshotInterval === 0) this.snapshots.send()
-    const hash = this.tick % TICK_RATE === 0 ? this.world.hash() : undefined
+    const hash = this.tick % TICK_RATE === 0 ? this.sim.hash() : undefined
     if (hash !== undefined) this.everySecond(hash)
     this.feed.endTick(hash)
   }
@@ -346,7 +382,7 @@ export class Room {
     for (const p of this.players.values()) p.conn.close(code, reason)
   }
 
-  private apply(player: RoomPlayer, cmd: Command): string | null {
+  private apply(player: RoomPlayer, cmd: SimCommand): string | null {
     if (cmd.k !== 'inspect') {
       const refused = this.sim.apply(player.id, cmd)
       if (refused === null) this.touched = true
@@ -388,6 +424,9 @@ export class Room {
         if (p) p.cursorDirty = true
       },
       worldReplaced: () => this.sendNewWorld(),
+      gameEvent: (_tick, event) => this.gameEvents.push(event),
+      gameFailed: (tick, message) =>
+        this.log.warn({ room: this.name, game: this.game.name, tick }, `${message}; the room is paused`),
     }
   }
 
@@ -415,6 +454,10 @@ export class Room {
       for (const body of e.add) refreshPose(this.world, body)
       this.broadcastSnapshotMode({ t: 'events', tick: this.tick, ...e })
       this.events = { add: [], remove: [], jadd: [], jremove: [] }
+    }
+    if (this.gameEvents.length > 0) {
+      this.broadcastSnapshotMode({ t: 'game', tick: this.tick, events: this.gameEvents })
+      this.gameEvents = []
     }
     if (this.roomChanged) {
       const g = this.world.getGravity()

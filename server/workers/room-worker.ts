@@ -131,13 +131,13 @@ function handle(op: ToWorker): void {
   switch (op.op) {
     case 'join': {
       const conn = new WorkerConnection(op.conn, outbox)
-      const room = rooms.getOrCreate(op.room)
+      const room = rooms.getOrCreate(op.room, op.game)
       if (!room) {
         const error = `the server has reached its limit of ${config.maxRooms} rooms`
         outbox.push({ k: 'refused', conn: op.conn, error, reason: 'too many rooms' })
         return
       }
-      const joined = room.join(conn, op.name, op.token, op.mode, op.controls)
+      const joined = room.join(conn, op.name, op.token, op.mode, op.controls, op.game)
       if (typeof joined === 'string') {
         outbox.push({ k: 'refused', conn: op.conn, error: joined, reason: joined })
         return

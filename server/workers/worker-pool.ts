@@ -107,8 +107,8 @@ export class WorkerPool implements RoomHost {
     link.seats.set(conn, seat)
     link.pendingJoins.set(request.room, (link.pendingJoins.get(request.room) ?? 0) + 1)
     link.unanswered.set(conn, request.room)
-    const { room, name, token, mode, controls } = request
-    link.post({ op: 'join', conn, room, name, token, mode, controls })
+    const { room, name, token, mode, controls, game } = request
+    link.post({ op: 'join', conn, room, name, token, mode, controls, game })
     return seat
   }
 
@@ -142,6 +142,7 @@ export class WorkerPool implements RoomHost {
         bodies: known?.bodies ?? 0,
         scene: known?.scene ?? '',
         tick: known?.tick ?? 0,
+        game: known?.game ?? '',
       })
     }
     return out

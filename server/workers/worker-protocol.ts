@@ -38,6 +38,8 @@ export type ToWorker =
       mode: JoinMode
       /** Whether the connection may use room controls (its key). */
       controls: boolean
+      /** The game the join asks for (a new room runs it; an open room must already). */
+      game: string | undefined
     }
   | { op: 'msg'; conn: number; message: RoomMessage }
   | { op: 'leave'; conn: number }
@@ -87,6 +89,8 @@ export interface RoomSummary {
   bodies: number
   scene: string
   tick: number
+  /** The game the room runs. */
+  game: string
 }
 
 /** Worker to main thread. */

@@ -4,7 +4,7 @@
  */
 
 /** Wire protocol version; a join with another version is refused with an error naming both. */
-export const PROTOCOL_VERSION = 2
+export const PROTOCOL_VERSION = 3
 
 /** Simulation rate (Hz): the server steps every room 60 times per second. */
 export const TICK_RATE = 60

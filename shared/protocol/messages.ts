@@ -105,6 +105,10 @@ export interface RoomRules {
   controls: boolean
   scenes: string[]
   worldHalfExtent: number
+  /** The game the room runs (docs/games.md), fixed when the room was created. */
+  game: string
+  /** The game's own command kinds (`cmd` messages), sorted; the built-in ones it accepts go by `input`. */
+  commands: string[]
 }
 
 // ---------------------------------------------------------------- client -> server
@@ -243,12 +247,28 @@ export interface JoinMessage {
    * `ticks` message (DEFAULT_HOLD when absent); ignored in snapshot mode.
    */
   hold?: number
+  /**
+   * The game the room should run (docs/games.md) when this join creates it; a join that names
+   * another game than an open room runs is refused. Absent: whatever the room runs (a new room
+   * runs the sandbox).
+   */
+  game?: string
 }
 /** One input command with the client's sequence number. */
 export interface InputMessage {
   t: 'input'
   seq: number
   cmd: Command
+}
+/**
+ * A game command (docs/games.md): kind `k` with arguments `a` (a map of plain data), checked
+ * against the game's JSON Schema before the game sees it.
+ */
+export interface GameCommandMessage {
+  t: 'cmd'
+  seq: number
+  k: string
+  a: Record<string, unknown>
 }
 /** Acknowledge a snapshot: the server may use its tick as the next baseline. */
 export interface AckMessage {
@@ -283,12 +303,20 @@ export interface ResyncMessage {
 export type ClientMessage =
   | JoinMessage
   | InputMessage
+  | GameCommandMessage
   | AckMessage
   | PingMessage
   | DesyncMessage
   | ResyncMessage
 
 // ---------------------------------------------------------------- server -> client
+
+/** The events a room's game emitted (ctx.emit) during tick `tick`, in order (snapshot players only). */
+export interface GameEventsMessage {
+  t: 'game'
+  tick: number
+  events: unknown[]
+}
 
 /** Reply to join: identity, rules and the full state. */
 export interface WelcomeMessage {
@@ -454,6 +482,7 @@ export interface TicksMessage {
 
 /** Every message the server sends. */
 export type ServerMessage =
+  | GameEventsMessage
   | SyncMessage
   | TicksMessage
   | WelcomeMessage

@@ -233,11 +233,53 @@ function validateCommand(value: unknown): Command {
   }
 }
 
+/** A game's name: lowercase letters, digits and dashes, starting with a letter (as games/ defines them). */
+const GAME_NAME_PATTERN = /^[a-z][a-z0-9-]{0,31}$/
+/** A game command's kind: a letter, then up to 31 letters, digits or `_` (as games/ defines them). */
+const GAME_KIND_PATTERN = /^[A-Za-z][A-Za-z0-9_]{0,31}$/
+/** Limits of a game command's arguments: nesting depth, values in all, string and key lengths. */
+export const GAME_ARGS_LIMITS = { depth: 8, values: 256, string: 1024, key: 32 } as const
+
+/**
+ * A game command's arguments as plain data: a map whose values are nil, booleans, finite numbers
+ * (-0 as 0), strings, arrays and maps, within GAME_ARGS_LIMITS; throws naming the field. The game's
+ * own schema is checked by the room, after this.
+ */
+function gameArgs(value: unknown): Fields {
+  let count = 0
+  const walk = (v: unknown, where: string, depth: number): unknown => {
+    if (++count > GAME_ARGS_LIMITS.values)
+      throw new SchemaError(`cmd a holds more than ${GAME_ARGS_LIMITS.values} values`)
+    if (v === null || typeof v === 'boolean') return v
+    if (typeof v === 'number') {
+      if (!Number.isFinite(v)) throw new SchemaError(`${where} must be a finite number`)
+      return positiveZero(v)
+    }
+    if (typeof v === 'string') return str(v, where, GAME_ARGS_LIMITS.string)
+    if (depth >= GAME_ARGS_LIMITS.depth)
+      throw new SchemaError(`${where} is nested deeper than ${GAME_ARGS_LIMITS.depth} levels`)
+    if (Array.isArray(v)) return v.map((item, i) => walk(item, `${where}[${i}]`, depth + 1))
+    if (typeof v === 'object' && Object.getPrototypeOf(v) === Object.prototype) {
+      const out: Fields = {}
+      for (const key of Object.keys(v)) {
+        if (key.length > GAME_ARGS_LIMITS.key)
+          throw new SchemaError(`${where} has a key longer than ${GAME_ARGS_LIMITS.key} characters`)
+        out[key] = walk((v as Fields)[key], `${where}.${key}`, depth + 1)
+      }
+      return out
+    }
+    throw new SchemaError(`${where} must be nil, a boolean, a number, a string, a list or a map`)
+  }
+  if (typeof value !== 'object' || value === null || Array.isArray(value) || value instanceof Uint8Array)
+    throw new SchemaError('cmd a must be a map')
+  return walk(value, 'a', 0) as Fields
+}
+
 function validateJoin(value: unknown): ClientMessage {
   const m = fields(
     value,
     'join',
-    ['t', 'v', 'room', 'name', 'mode', 'token', 'hold'],
+    ['t', 'v', 'room', 'name', 'mode', 'token', 'hold', 'game'],
     ['t', 'v', 'room', 'name', 'mode'],
   )
   const room = str(m.room, 'room', 32)
@@ -251,6 +293,12 @@ function validateJoin(value: unknown): ClientMessage {
   const join: ClientMessage = { t: 'join', v: PROTOCOL_VERSION, room, name, mode: m.mode }
   if (m.token !== undefined && m.token !== null) join.token = str(m.token, 'token', MAX_TOKEN_LENGTH)
   if (m.hold !== undefined && m.hold !== null) join.hold = int(m.hold, 'hold', 1, MAX_HOLD)
+  if (m.game !== undefined && m.game !== null) {
+    const game = str(m.game, 'game', 32)
+    if (!GAME_NAME_PATTERN.test(game))
+      throw new SchemaError('game must be 1-32 lowercase letters, digits or "-", starting with a letter')
+    join.game = game
+  }
   return join
 }
 
@@ -258,7 +306,25 @@ function validateClient(value: unknown): ClientMessage {
   const t = fields(
     value,
     'message',
-    ['t', 'v', 'room', 'name', 'mode', 'token', 'hold', 'seq', 'cmd', 'tick', 'id', 'time', 'hash', 'server'],
+    [
+      't',
+      'v',
+      'room',
+      'name',
+      'mode',
+      'token',
+      'hold',
+      'game',
+      'seq',
+      'cmd',
+      'k',
+      'a',
+      'tick',
+      'id',
+      'time',
+      'hash',
+      'server',
+    ],
     ['t'],
   ).t
   switch (t) {
@@ -267,6 +333,14 @@ function validateClient(value: unknown): ClientMessage {
     case 'input': {
       const m = fields(value, 'input', ['t', 'seq', 'cmd'], ['t', 'seq', 'cmd'])
       return { t, seq: int(m.seq, 'seq', 0, MAX_INT), cmd: validateCommand(m.cmd) }
+    }
+    case 'cmd': {
+      const m = fields(value, 'cmd', ['t', 'seq', 'k', 'a'], ['t', 'seq', 'k', 'a'])
+      const seq = int(m.seq, 'seq', 0, MAX_INT)
+      const k = str(m.k, 'cmd k', 32)
+      if (!GAME_KIND_PATTERN.test(k))
+        throw new SchemaError('cmd k must be a letter followed by up to 31 letters, digits or "_"')
+      return { t, seq, k, a: gameArgs(m.a) }
     }
     case 'ack':
       return { t, tick: int(fields(value, 'ack', ['t', 'tick'], ['t', 'tick']).tick, 'tick', 0, MAX_INT) }
@@ -326,12 +400,13 @@ export function validateClientMessage(value: unknown): DecodeResult<ClientMessag
 function refusedSeq(value: unknown): number | undefined {
   if (typeof value !== 'object' || value === null || Array.isArray(value)) return undefined
   const m = value as Fields
-  if (m.t !== 'input' || !Object.hasOwn(m, 'seq')) return undefined
+  if ((m.t !== 'input' && m.t !== 'cmd') || !Object.hasOwn(m, 'seq')) return undefined
   const seq = m.seq
   return typeof seq === 'number' && Number.isInteger(seq) && seq >= 0 && seq <= MAX_INT ? seq : undefined
 }
 
 const SERVER_FIELDS: Record<ServerMessage['t'], readonly string[]> = {
+  game: ['tick', 'events'],
   sync: ['tick', 'z', 'data'],
   ticks: ['tick', 'n', 'c'],
   welcome: ['v', 'id', 'token', 'room', 'rules', 'players', 'state'],

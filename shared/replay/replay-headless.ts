@@ -7,6 +7,7 @@
  * no header) is a ReplayToolError with one line naming the problem; a torn or corrupt tail is
  * reported (the intact prefix is replayed).
  */
+import type { GameCatalog } from '../sim/index.ts'
 import { type ReadStatus, ReplayLogReader } from './replay-log-reader.ts'
 import { type Divergence, type HeaderRecord, type Inflate, ReplayRunner } from './replay-runner.ts'
 
@@ -54,6 +55,7 @@ export interface ReplayReport {
 export async function replayBytes(
   bytes: Uint8Array,
   inflate: Inflate,
+  games: GameCatalog,
   options: ReplayOptions = {},
 ): Promise<ReplayReport> {
   const reader = new ReplayLogReader()
@@ -67,6 +69,7 @@ export async function replayBytes(
   try {
     runner = await ReplayRunner.start(reader.preamble, header, {
       inflate,
+      games,
       verify: options.verify,
     })
   } catch (error) {
@@ -79,7 +82,7 @@ export async function replayBytes(
   const end = Math.min(options.to ?? Number.POSITIVE_INFINITY, read.lastTick)
   if (every > 0 || (progressEvery > 0 && onProgress)) {
     runner.onTick = (sim) => {
-      if (every > 0 && sim.tick % every === 0) hashes.push({ tick: sim.tick, hash: sim.world.hash() })
+      if (every > 0 && sim.tick % every === 0) hashes.push({ tick: sim.tick, hash: sim.hash() })
       if (progressEvery > 0 && (sim.tick - header.tick) % progressEvery === 0) onProgress?.(sim.tick, end)
     }
   }
@@ -119,7 +122,7 @@ export async function replayBytes(
     replaySeconds,
     stepsPerSecond: replaySeconds > 0 ? runner.steps / replaySeconds : 0,
     ticksPerSecond: replaySeconds > 0 ? ticks / replaySeconds : 0,
-    finalHash: runner.sim.world.hash(),
+    finalHash: runner.sim.hash(),
     hashes,
   }
 }

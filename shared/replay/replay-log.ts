@@ -22,7 +22,6 @@
  */
 
 import {
-  type Command,
   decodeValue,
   encodeValue,
   InflateError,
@@ -31,7 +30,13 @@ import {
   validateClientMessage,
   type WireJoint,
 } from '../protocol/index.ts'
-import type { SimulationState } from '../sim/index.ts'
+import {
+  copyPlainData,
+  DEFAULT_SEED,
+  type PlainData,
+  type SimCommand,
+  type SimulationState,
+} from '../sim/index.ts'
 import { crc32 } from './crc32.ts'
 
 /** The 8 magic bytes opening every log: ASCII "CNCRDLOG". */
@@ -115,7 +120,7 @@ export type ReplayRecord =
       host: string
       pid: number
     } & StoredWorld)
-  | { type: 'command'; tick: number; player: number; cmd: Command }
+  | { type: 'command'; tick: number; player: number; cmd: SimCommand }
   | { type: 'join'; tick: number; player: number; name: string; color: string }
   | { type: 'leave'; tick: number; player: number }
   | ({ type: 'world'; tick: number; scene: string } & StoredWorld)
@@ -322,7 +327,24 @@ function simState(v: unknown): SimulationState {
       }
     }),
     userJoints: m.userJoints.map(joint),
+    // Logs from before games were the sandbox's, which keeps no state.
+    game: m.game === undefined ? 'sandbox' : str(m.game, 'state game'),
+    gameState: m.gameState === undefined ? null : plain(m.gameState, 'state gameState'),
+    random: m.random === undefined ? DEFAULT_SEED : int(m.random, 'state random'),
   }
+}
+
+function plain(v: unknown, what: string): PlainData {
+  try {
+    return copyPlainData(v, what)
+  } catch (error) {
+    throw new ReplayFormatError((error as Error).message)
+  }
+}
+
+/** A game command record's map: { k: 'cmd', kind, a }. */
+function gameCommand(m: Record<string, unknown>): SimCommand {
+  return { k: 'cmd', kind: str(m.kind, 'command kind'), a: plain(m.a, 'command arguments') }
 }
 
 function msgpack(bytes: Uint8Array, what: string): unknown {
@@ -423,11 +445,10 @@ function decodePayload(type: number, tick: number, payload: Uint8Array, format: 
     }
     case 2: {
       const id = player()
-      const checked = validateClientMessage({
-        t: 'input',
-        seq: 0,
-        cmd: msgpack(payload.subarray(4), 'command'),
-      })
+      const cmd = msgpack(payload.subarray(4), 'command')
+      if ((cmd as { k?: unknown } | null)?.k === 'cmd')
+        return { type: 'command', tick, player: id, cmd: gameCommand(map(cmd, 'command')) }
+      const checked = validateClientMessage({ t: 'input', seq: 0, cmd })
       if (!checked.ok) throw new ReplayFormatError(`command: ${checked.reason}`)
       if (checked.value.t !== 'input') throw new ReplayFormatError('command is not an input')
       return { type: 'command', tick, player: id, cmd: checked.value.cmd }

@@ -12,7 +12,12 @@
  */
 import { loadWorld, SAVE_FORMAT_VERSION, type World } from '../../engine/index.ts'
 import { PROTOCOL_VERSION, TICK_RATE } from '../protocol/index.ts'
-import { RoomSimulation, type SimulationListener, type SimulationState } from '../sim/index.ts'
+import {
+  type GameCatalog,
+  RoomSimulation,
+  type SimulationListener,
+  type SimulationState,
+} from '../sim/index.ts'
 import { decodeByteDelta } from './byte-delta.ts'
 import type { Preamble, ReplayRecord, StoredWorld } from './replay-log.ts'
 
@@ -101,9 +106,13 @@ export class ReplayRunner {
     readonly header: HeaderRecord,
     private readonly inflate: Inflate,
     private readonly verify: boolean,
+    games: GameCatalog,
     listener?: SimulationListener,
   ) {
+    const game = games(header.state.game)
+    if (!game) throw new RangeError(`the log's game ${header.state.game} is not in this build`)
     this.sim = new RoomSimulation({
+      game,
       name: header.room,
       scene: 'empty',
       maxBodies: header.maxBodies,
@@ -116,11 +125,17 @@ export class ReplayRunner {
   static async start(
     preamble: Preamble,
     header: HeaderRecord,
-    options: { inflate: Inflate; verify?: boolean; listener?: SimulationListener },
+    options: { inflate: Inflate; games: GameCatalog; verify?: boolean; listener?: SimulationListener },
   ): Promise<ReplayRunner> {
     const problem = incompatibility(preamble)
     if (problem) throw new RangeError(problem)
-    const runner = new ReplayRunner(header, options.inflate, options.verify ?? false, options.listener)
+    const runner = new ReplayRunner(
+      header,
+      options.inflate,
+      options.verify ?? false,
+      options.games,
+      options.listener,
+    )
     await runner.restore([header])
     return runner
   }
@@ -156,7 +171,7 @@ export class ReplayRunner {
     switch (r.type) {
       case 'command': {
         this.commands++
-        const refused = this.sim.apply(r.player, r.cmd)
+        const refused = this.sim.applyAccepted(r.player, r.cmd)
         if (refused)
           this.diverged({ tick: r.tick, reason: `recorded ${r.cmd.k} refused in replay: ${refused}` })
         return
@@ -172,7 +187,7 @@ export class ReplayRunner {
         return
       case 'hash': {
         this.hashesChecked++
-        const actual = this.sim.world.hash()
+        const actual = this.sim.hash()
         if (actual !== r.hash)
           this.diverged({
             tick: r.tick,

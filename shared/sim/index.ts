@@ -4,12 +4,31 @@
  * snapshot mirror, the lockstep client with its playout clock, and the predicting client).
  */
 export { ClientMirror, type MirrorBody, type MirrorCursor } from './client-mirror.ts'
+export {
+  BUILTIN_KINDS,
+  type BuiltinKind,
+  copyPlainData,
+  type GameCatalog,
+  type GameCommand,
+  type GameContext,
+  hashPlainData,
+  NO_EVENTS,
+  type PlainData,
+  type SimCommand,
+  type SimCommandDef,
+  type SimGame,
+  type StepEvents,
+  simulationHash,
+  stepEvents,
+} from './game.ts'
 export { LockstepClient } from './lockstep-client.ts'
 export { PredictClient } from './predict-client.ts'
 export {
+  DEFAULT_SEED,
   RoomSimulation,
   type SimulationListener,
   type SimulationObserver,
+  type SimulationOptions,
   type SimulationState,
   strayBodies,
   worldFromBlueprint,

@@ -27,6 +27,7 @@ import {
   type SyncMessage,
   type TicksMessage,
 } from '../protocol/index.ts'
+import type { GameCatalog } from './game.ts'
 import { PlayoutClock, type PlayoutOptions } from './lockstep-playout.ts'
 import type { RoomSimulation } from './room-simulation.ts'
 import { inflate, restoreSyncPayload } from './sync-payload.ts'
@@ -35,6 +36,8 @@ import { decodeEntries, type StreamEntry } from './tick-stream.ts'
 /** What the owner provides. */
 export interface LockstepOptions {
   send(message: ClientMessage): void
+  /** The games this build knows (games/'s findGame): a sync names its room's game. */
+  games: GameCatalog
   playout?: Partial<PlayoutOptions>
   /** Ticks simulated at most per advance() (catching up after a stall), 120. */
   maxStepsPerAdvance?: number
@@ -177,6 +180,7 @@ export class LockstepClient {
         // whatever this player's own rights (`rules.controls` says only whether its own are).
         controls: true,
         name: '',
+        games: this.options.games,
       })
       if (!restored.ok || restored.sim.tick !== message.tick) {
         this.requestResync(restored.ok ? 'sync tick does not match its payload' : restored.reason)
@@ -228,7 +232,7 @@ export class LockstepClient {
     const action = e.action
     if (action.k === 'join') sim.join(e.player, '', '')
     else if (action.k === 'leave') sim.leave(e.player)
-    else return sim.apply(e.player, action) === null
+    else return sim.applyAccepted(e.player, action) === null
     return true
   }
 
@@ -248,7 +252,7 @@ export class LockstepClient {
     const expected = this.hashes.get(tick)
     if (expected === undefined) return
     this.hashes.delete(tick)
-    this.checkHash(tick, sim.world.hash(), expected)
+    this.checkHash(tick, sim.hash(), expected)
   }
 
   /** Compare a checkpoint; on a mismatch report the desync and wait for the server's sync. */

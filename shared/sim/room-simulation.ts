@@ -1,36 +1,55 @@
 /*
- * The deterministic part of a room: the world, its scene, pause and single-step state, the room
- * tick, each player's grab and cursor, the user joints (pins and ropes), grab counts and the
- * scene-load rate limit. Everything that changes the world goes through here, in an order the
- * caller decides (the server's Room: joins, leaves and the tick's queued commands, then tick()).
+ * The deterministic part of a room: the game it runs (game.ts: SimGame, written with games/'s
+ * defineGame), the world, its scene, pause and single-step state, the room tick, each player's
+ * grab and cursor, the user joints (pins and ropes), grab counts, the time of the last scene load,
+ * the game's state and its seeded PRNG. Everything that changes the world goes through here, in an
+ * order the caller decides (the server's Room: joins, leaves and the tick's queued commands, then
+ * tick()). What a command does is the game's: apply() finds it in the game's commands, checks its
+ * arguments and runs it with a GameContext, whose primitives (spawn, grab, joints, scene loads,
+ * pause) are the engine-level rules every game shares.
  *
  * Pure: no Node APIs, no clocks, no randomness; it runs in the server, in lockstep clients and in
  * the replay player. Two RoomSimulations built with the same options that see the same joins,
  * leaves, accepted commands and external world loads at the same ticks stay bit-identical
- * (world.hash()); that is what recording and replay rely on.
+ * (hash(): the world's hash, mixed with the game's state and PRNG for a game that keeps state);
+ * that is what recording and replay rely on.
  *
  * Two hooks report what happened:
  *   - the listener (the owner, one): world side effects to turn into wire events
  *   - observers (any number: a recorder, a lockstep stream): every state change in applied order,
  *     only commands that were accepted (a refused command changes nothing); `inspect` is not a
  *     simulation command and is refused here (the server's Room handles it itself)
- * A refused command returns a reason; nothing here throws to the caller.
+ * A refused command returns a reason; nothing here throws to the caller. A game command that
+ * throws may have changed the state before it threw, so it counts as applied (observers see it,
+ * every replica throws the same way) and its sender gets "<kind> failed: <message>"; a game tick
+ * that throws pauses the room and is reported to the listener (gameFailed).
  */
-import { createWorld, SCENES, type SceneBlueprint, type World } from '../../engine/index.ts'
+import { createWorld, Prng, SCENES, type SceneBlueprint, type World } from '../../engine/index.ts'
 import {
   buildSceneJoints,
-  type Command,
   KILL_DISTANCE,
   KILL_PLANE_Y,
+  type PinCommand,
+  type RopeCommand,
   type SpawnCommand,
   TICK_RATE,
   type WireJoint,
 } from '../protocol/index.ts'
 import {
+  copyPlainData,
+  type GameContext,
+  NO_EVENTS,
+  type PlainData,
+  type SimCommand,
+  type SimGame,
+  type StepEvents,
+  simulationHash,
+  stepEvents,
+} from './game.ts'
+import {
   addUserJoint,
   grabBody,
   grabRefusal,
-  isMovable,
   jointRefusal,
   moveGrab,
   removeJoint,
@@ -38,11 +57,8 @@ import {
   spawnBody,
 } from './world-commands.ts'
 
-/** Ticks between scene loads or resets in one room: building a scene is the costliest command. */
-export const MIN_TICKS_BETWEEN_LOADS = 10
-
-/** Commands that change room settings; refused when the room's controls are off. */
-const CONTROLS = new Set(['scene', 'pause', 'step', 'reset', 'gravity'])
+/** The PRNG seed of a room whose options give none. */
+export const DEFAULT_SEED = 0x2f6b3a1d
 
 /** A player's grab: its own mouse joint on a body. */
 export interface Grab {
@@ -69,6 +85,10 @@ export interface SimulationState {
   players: Array<{ id: number; grab: Grab | null; cursorX: number; cursorY: number }>
   /** User joints in creation order. */
   userJoints: WireJoint[]
+  /** The game's name, its state (null for a game without state) and its PRNG position. */
+  game: string
+  gameState: PlainData
+  random: number
 }
 
 /** World side effects, for the owner to turn into wire events. Called synchronously. */
@@ -83,12 +103,16 @@ export interface SimulationListener {
   cursorChanged(playerId: number): void
   /** The world was replaced (scene load, reset, external load); grabs and user joints are gone. */
   worldReplaced(): void
+  /** The game emitted an event (ctx.emit) at room tick `tick`. */
+  gameEvent?(tick: number, event: PlainData): void
+  /** The game's tick threw: the room is now paused. */
+  gameFailed?(tick: number, message: string): void
 }
 
 /** Every state change in applied order: what a recorder or a lockstep stream needs. */
 export interface SimulationObserver {
   /** An accepted command, just applied at room tick `tick` (before that tick's step). */
-  command(tick: number, playerId: number, cmd: Command): void
+  command(tick: number, playerId: number, cmd: SimCommand): void
   /** A tick ended: the world stepped (unless paused) and the room tick is now `tick`. */
   ticked?(tick: number): void
   join(tick: number, playerId: number, name: string, color: string): void
@@ -99,11 +123,15 @@ export interface SimulationObserver {
 
 /** Room rules that change what commands may do. */
 export interface SimulationOptions {
+  /** The game the room runs (games/'s catalogue). */
+  game: SimGame
+  /** Seed of the game's PRNG (DEFAULT_SEED when absent). */
+  seed?: number
   /** Body limit (also the user joint limit). */
   maxBodies: number
-  /** Whether scene, pause, step, reset and gravity are allowed. */
+  /** Whether the game's room controls (the sandbox's scene, pause, step, reset, gravity) are allowed. */
   controls: boolean
-  /** Initial scene name (a key of SCENES). */
+  /** Initial scene name (a key of SCENES), for a game whose setup loads the room's scene. */
   scene: string
   /** Room name, for refusal reasons. */
   name: string
@@ -164,24 +192,62 @@ export class RoomSimulation {
   readonly maxBodies: number
   readonly controls: boolean
   readonly name: string
-  private readonly listener: SimulationListener
+  /** The game this room runs. */
+  readonly game: SimGame
+  /** The game's state (plain data; undefined for a game without state). */
+  gameState: PlainData | undefined
+  /** The game's PRNG. */
+  random: Prng
+  /** The owner's listener (none while the game's setup builds the first world). */
+  private listener: SimulationListener = NO_LISTENER
+  /** What the game sees (one object per simulation; see context()). */
+  private readonly ctx: GameContext
+  private events: StepEvents = NO_EVENTS
+  /** Ids of the players in join order, rebuilt on join and leave. */
+  private playerIds: readonly number[] = []
+  /** Whether the command being applied has been passed to the observers already. */
+  private told = false
 
   constructor(options: SimulationOptions) {
     if (!Object.hasOwn(SCENES, options.scene)) throw new RangeError(`unknown scene "${options.scene}"`)
+    this.game = options.game
     this.maxBodies = options.maxBodies
     this.controls = options.controls
     this.name = options.name
-    this.listener = options.listener ?? NO_LISTENER
     this.scene = options.scene
-    const built = worldFromBlueprint(SCENES[options.scene].make())
-    this.world = built.world
-    for (const j of built.joints) this.userJoints.set(j.id, j)
+    this.world = createWorld()
+    this.random = new Prng(options.seed ?? DEFAULT_SEED)
+    this.gameState = this.game.initialState()
+    this.ctx = this.context()
+    this.game.setup(this.ctx, { scene: options.scene })
+    // Building the first world is not a scene load: the first `scene` command is not rate limited.
+    this.lastLoadTick = Number.NEGATIVE_INFINITY
+    this.listener = options.listener ?? NO_LISTENER
   }
 
-  /** Add a player (or bring one back after a reconnect). */
-  join(playerId: number, name: string, color: string): void {
+  /** The simulation hash: world.hash() for a game without state, else mixed with its state and PRNG. */
+  hash(): number {
+    const worldHash = this.world.hash()
+    if (this.gameState === undefined) return worldHash
+    return simulationHash(worldHash, this.random.position(), this.gameState)
+  }
+
+  /** Why a player cannot join (the game is full), or null. */
+  joinRefusal(playerId: number): string | null {
+    if (this.players.has(playerId) || this.players.size < this.game.maxPlayers) return null
+    return `game ${this.game.name} is full (${this.game.maxPlayers} players)`
+  }
+
+  /** Add a player (or bring one back after a reconnect); returns a reason when the game is full. */
+  join(playerId: number, name: string, color: string): string | null {
+    const refusal = this.joinRefusal(playerId)
+    if (refusal) return refusal
+    const rejoin = this.players.has(playerId)
     this.players.set(playerId, { grab: null, cursorX: 0, cursorY: 0 })
+    this.playerIds = Object.freeze([...this.players.keys()])
     for (const o of this.observers) o.join(this.tick, playerId, name, color)
+    if (!rejoin) this.game.onJoin?.(this.ctx, playerId)
+    return null
   }
 
   /** Remove a player, releasing its grab. */
@@ -189,31 +255,58 @@ export class RoomSimulation {
     const player = this.players.get(playerId)
     if (!player) return
     this.release(playerId, player)
+    this.game.onLeave?.(this.ctx, playerId)
     this.players.delete(playerId)
+    this.playerIds = Object.freeze([...this.players.keys()])
     for (const o of this.observers) o.leave(this.tick, playerId)
   }
 
-  /** Apply one command from a player at the current tick; returns a reason when refused. */
-  apply(playerId: number, cmd: Command): string | null {
+  /**
+   * Apply one command from a player at the current tick; returns a reason when refused, or when a
+   * game command threw (it counts as applied then: see the file comment and applyAccepted).
+   */
+  apply(playerId: number, cmd: SimCommand): string | null {
+    this.told = false
     const player = this.players.get(playerId)
     if (!player) return `player ${playerId} is not in this room`
-    if (CONTROLS.has(cmd.k) && !this.controls) return `room controls are disabled in room ${this.name}`
+    if (cmd.k === 'inspect') return 'inspect is not a simulation command'
+    const custom = cmd.k === 'cmd'
+    const kind = custom ? cmd.kind : cmd.k
+    const def = Object.hasOwn(this.game.commands, kind) ? this.game.commands[kind] : undefined
+    if (!def || def.builtin === custom) return `game ${this.game.name} has no ${kind} command`
+    if (def.control && !this.controls) return `room controls are disabled in room ${this.name}`
+    const args = custom ? cmd.a : cmd
+    const invalid = def.check(args)
+    if (invalid !== null) return `${kind} refused: ${invalid}`
     let error: string | null
     try {
-      error = this.dispatch(playerId, player, cmd)
+      const result = def.apply(this.ctx, playerId, args)
+      error = typeof result === 'string' ? result : null
     } catch (e) {
-      // Engine preconditions (a non-convex polygon, a degenerate joint) throw RangeError.
-      error = `${cmd.k} refused: ${(e as Error).message}`
+      // Game code may have changed the state before it threw: everyone applies it and throws alike.
+      this.tell(playerId, cmd)
+      return `${kind} failed: ${(e as Error).message}`
     }
-    if (error === null) for (const o of this.observers) o.command(this.tick, playerId, cmd)
+    if (error === null) this.tell(playerId, cmd)
     return error
   }
 
-  /** Run one tick: step unless paused (or a step was requested), advance the tick, housekeeping. */
+  /**
+   * Apply a command that the room applied (a replayed or streamed one): null when it applied as
+   * it did there (also when game code threw, as it did there), else why it was refused here.
+   */
+  applyAccepted(playerId: number, cmd: SimCommand): string | null {
+    const error = this.apply(playerId, cmd)
+    return this.told ? null : error
+  }
+
+  /** Run one tick: step unless paused (or a step was requested), the game's tick, housekeeping. */
   runTick(): void {
-    if (!this.paused || this.stepRequested) this.world.step()
+    const step = !this.paused || this.stepRequested
+    if (step) this.world.step()
     this.stepRequested = false
     this.tick++
+    if (step && this.game.tick) this.runGameTick(this.game.tick)
     if (this.tick % TICK_RATE === 0) this.sweep()
     for (const o of this.observers) o.ticked?.(this.tick)
   }
@@ -249,15 +342,20 @@ export class RoomSimulation {
         cursorY: p.cursorY,
       })),
       userJoints: [...this.userJoints.values()].map((j) => ({ ...j })),
+      game: this.game.name,
+      gameState: this.gameState === undefined ? null : copyPlainData(this.gameState),
+      random: this.random.position(),
     }
   }
 
   /**
    * Resume from a saved state and world (a keyframe): afterwards this simulation steps exactly as
    * the one that saved them. Observers are not told (the state came from them); the listener sees a
-   * replaced world.
+   * replaced world. Throws a RangeError for another game's state.
    */
   restoreState(state: SimulationState, world: World): void {
+    if (state.game !== this.game.name)
+      throw new RangeError(`a state of game ${state.game} cannot resume a ${this.game.name} room`)
     this.tick = state.tick
     this.scene = state.scene
     this.paused = state.paused
@@ -270,10 +368,18 @@ export class RoomSimulation {
       this.players.set(p.id, { grab: p.grab ? { ...p.grab } : null, cursorX: p.cursorX, cursorY: p.cursorY })
       if (p.grab) this.grabCounts.set(p.grab.body, (this.grabCounts.get(p.grab.body) ?? 0) + 1)
     }
+    this.playerIds = Object.freeze([...this.players.keys()])
     this.userJoints.clear()
     for (const j of state.userJoints) this.userJoints.set(j.id, { ...j })
+    this.restoreGame(state.gameState, state.random)
     this.listener.worldReplaced()
     this.listener.roomChanged()
+  }
+
+  /** Set the game's state and PRNG position from saved values (null state: a game without state). */
+  restoreGame(gameState: PlainData, random: number): void {
+    this.gameState = this.game.initialState() === undefined ? undefined : copyPlainData(gameState)
+    this.random = new Prng(random)
   }
 
   /** Destroy a body and everything attached to it (grabs, user joints). */
@@ -295,6 +401,24 @@ export class RoomSimulation {
     this.listener.bodyRemoved(id)
   }
 
+  private tell(playerId: number, cmd: SimCommand): void {
+    this.told = true
+    for (const o of this.observers) o.command(this.tick, playerId, cmd)
+  }
+
+  private runGameTick(tick: (ctx: GameContext) => void): void {
+    this.events = stepEvents(this.world)
+    try {
+      tick(this.ctx)
+    } catch (e) {
+      this.paused = true
+      this.listener.roomChanged()
+      this.listener.gameFailed?.(this.tick, `${this.game.name} tick failed: ${(e as Error).message}`)
+    } finally {
+      this.events = NO_EVENTS
+    }
+  }
+
   private replaceWorld(scene: string, world: World, joints: Iterable<WireJoint>): void {
     this.lastLoadTick = this.tick
     for (const [pid, p] of this.players) {
@@ -310,69 +434,113 @@ export class RoomSimulation {
     this.listener.roomChanged()
   }
 
-  private dispatch(playerId: number, player: SimPlayer, cmd: Command): string | null {
-    const world = this.world
-    switch (cmd.k) {
-      case 'spawn':
-        return this.spawn(cmd)
-      case 'grab':
-        return this.grab(playerId, player, cmd.body, cmd.lx, cmd.ly)
-      case 'move': {
-        const p = moveGrab(world, player.grab?.joint ?? null, cmd.x, cmd.y)
-        player.cursorX = p.x
-        player.cursorY = p.y
-        this.listener.cursorChanged(playerId)
+  /** The game's view of this simulation (GameContext): accessors over its fields, and its primitives. */
+  private context(): GameContext {
+    const sim = this
+    const player = (id: number): SimPlayer => {
+      const p = sim.players.get(id)
+      if (!p) throw new RangeError(`player ${id} is not in this room`)
+      return p
+    }
+    return {
+      get world() {
+        return sim.world
+      },
+      get tick() {
+        return sim.tick
+      },
+      get players() {
+        return sim.playerIds
+      },
+      get random() {
+        return sim.random
+      },
+      get events() {
+        return sim.events
+      },
+      get state() {
+        return sim.gameState
+      },
+      set state(value) {
+        sim.gameState = value
+      },
+      get paused() {
+        return sim.paused
+      },
+      set paused(value) {
+        sim.paused = value
+        sim.listener.roomChanged()
+      },
+      get lastLoadTick() {
+        return sim.lastLoadTick
+      },
+      get scene() {
+        return sim.scene
+      },
+      get maxBodies() {
+        return sim.maxBodies
+      },
+      emit: (event) => sim.listener.gameEvent?.(sim.tick, copyPlainData(event, 'event')),
+      requestStep: () => {
+        sim.stepRequested = true
+      },
+      createBody: (def) => sim.createBody(def),
+      spawn: (cmd) => sim.spawn(cmd),
+      destroyBody: (id) => {
+        if (sim.world.hasBody(id)) sim.removeBody(id)
+      },
+      grab: (id, body, lx, ly) => sim.grab(id, player(id), body, lx, ly),
+      moveCursor: (id, x, y) => {
+        const p = player(id)
+        const at = moveGrab(sim.world, p.grab?.joint ?? null, x, y)
+        p.cursorX = at.x
+        p.cursorY = at.y
+        sim.listener.cursorChanged(id)
+      },
+      release: (id) => sim.release(id, player(id)),
+      grabbedBody: (id) => player(id).grab?.body ?? 0,
+      cursor: (id) => {
+        const p = player(id)
+        return { x: p.cursorX, y: p.cursorY }
+      },
+      addJoint: (cmd) => sim.joint(cmd),
+      removeJoint: (id) => {
+        if (!sim.userJoints.has(id)) return `joint ${id} is not a joint in this room`
+        removeJoint(sim.world, id)
+        sim.userJoints.delete(id)
+        sim.listener.jointRemoved(id)
         return null
-      }
-      case 'release':
-        this.release(playerId, player)
+      },
+      loadScene: (name) => {
+        if (!Object.hasOwn(SCENES, name)) return `unknown scene "${name}"`
+        sim.loadScene(name)
         return null
-      case 'delete':
-        if (!isMovable(world, cmd.body)) return `body ${cmd.body} does not exist or is static`
-        this.removeBody(cmd.body)
-        return null
-      case 'pin':
-      case 'rope':
-        return this.joint(cmd)
-      case 'unjoint':
-        if (!this.userJoints.has(cmd.joint)) return `joint ${cmd.joint} is not a joint in this room`
-        removeJoint(world, cmd.joint)
-        this.userJoints.delete(cmd.joint)
-        this.listener.jointRemoved(cmd.joint)
-        return null
-      case 'scene':
-        if (!Object.hasOwn(SCENES, cmd.name)) return `unknown scene "${cmd.name}"`
-        if (this.tick - this.lastLoadTick < MIN_TICKS_BETWEEN_LOADS)
-          return 'scene loads are limited to 6 per second'
-        this.loadScene(cmd.name)
-        return null
-      case 'reset':
-        if (this.tick - this.lastLoadTick < MIN_TICKS_BETWEEN_LOADS)
-          return 'scene loads are limited to 6 per second'
-        this.loadScene(this.scene)
-        return null
-      case 'pause':
-        this.paused = cmd.paused
-        this.listener.roomChanged()
-        return null
-      case 'step':
-        this.stepRequested = true
-        return null
-      case 'gravity':
-        setWorldGravity(world, cmd.x, cmd.y)
-        this.listener.roomChanged()
-        return null
-      case 'inspect':
-        return 'inspect is not a simulation command'
+      },
+      setGravity: (x, y) => {
+        setWorldGravity(sim.world, x, y)
+        sim.listener.roomChanged()
+      },
     }
   }
 
-  private spawn(cmd: SpawnCommand): string | null {
+  private createBody(def: Parameters<World['createBody']>[0]): number | string {
+    if (this.world.bodyCount >= this.maxBodies) return `body limit reached (${this.maxBodies})`
+    let id: number
+    try {
+      id = this.world.createBody(def)
+    } catch (e) {
+      return `body refused: ${(e as Error).message}`
+    }
+    this.listener.bodyAdded(id)
+    return id
+  }
+
+  private spawn(cmd: SpawnCommand): number | string {
     if (this.world.bodyCount >= this.maxBodies) return `body limit reached (${this.maxBodies})`
     const spawned = spawnBody(this.world, cmd)
     if (!spawned.ok) return spawned.reason
     this.listener.bodyAdded(spawned.value)
-    return null
+    return spawned.value
   }
 
   private grab(playerId: number, player: SimPlayer, body: number, lx: number, ly: number): string | null {
@@ -405,7 +573,7 @@ export class RoomSimulation {
     this.listener.cursorChanged(playerId)
   }
 
-  private joint(cmd: Extract<Command, { k: 'pin' | 'rope' }>): string | null {
+  private joint(cmd: PinCommand | RopeCommand): string | null {
     const refusal = jointRefusal(this.world, cmd)
     if (refusal) return refusal
     if (this.userJoints.size >= this.maxBodies) return 'joint limit reached'

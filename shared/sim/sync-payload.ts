@@ -3,8 +3,9 @@
  * bit for bit from a tick. The engine's saved world (world.save(): bodies, contacts with their
  * warm-start impulses, joints, sleep timers, id counters) plus the room state that RoomSimulation
  * keeps around it: the room tick, scene name, pause and single-step flags, the scene-load rate
- * limit, each player's grab (mouse joint and body) and cursor, and the user joints. Grab counts
- * are not sent: they are the number of players grabbing each body.
+ * limit, each player's grab (mouse joint and body) and cursor, the user joints, and the game's
+ * name, state (plain data, nil for a game without state) and PRNG position. Grab counts are not
+ * sent: they are the number of players grabbing each body.
  *
  * One MessagePack map (PROTOCOL.md, `sync`), deflated by the server when that pays. Restoring
  * never throws: a payload that does not decode, or a world that does not load, comes back as a
@@ -12,7 +13,8 @@
  */
 import { loadWorld } from '../../engine/index.ts'
 import { decodeValue, encodeValue, type WireJoint } from '../protocol/index.ts'
-import { RoomSimulation, type SimulationOptions } from './room-simulation.ts'
+import { copyPlainData, type GameCatalog, type PlainData } from './game.ts'
+import { RoomSimulation, type SimulationListener } from './room-simulation.ts'
 
 /** The decoded payload. */
 export interface SyncPayload {
@@ -28,6 +30,10 @@ export interface SyncPayload {
   joints: WireJoint[]
   /** world.save() bytes. */
   world: Uint8Array
+  /** The game's name, its state (nil for a game without state) and its PRNG position. */
+  game: string
+  state: PlainData
+  random: number
 }
 
 /** The payload of a room simulation as MessagePack bytes (not yet compressed). */
@@ -45,6 +51,9 @@ export function encodeSyncPayload(sim: RoomSimulation): Uint8Array {
     players,
     joints: [...sim.userJoints.values()],
     world: sim.world.save(),
+    game: sim.game.name,
+    state: sim.gameState ?? null,
+    random: sim.random.position(),
   }
   return encodeValue(payload)
 }
@@ -52,8 +61,15 @@ export function encodeSyncPayload(sim: RoomSimulation): Uint8Array {
 /** A restored simulation, or why the payload was refused. */
 export type RestoreResult = { ok: true; sim: RoomSimulation } | { ok: false; reason: string }
 
-/** Rules a restored simulation needs besides the payload (from the welcome's RoomRules). */
-export type RestoreOptions = Omit<SimulationOptions, 'scene'>
+/** Rules a restored simulation needs besides the payload (from the welcome's RoomRules), and where to find its game. */
+export interface RestoreOptions {
+  maxBodies: number
+  controls: boolean
+  name: string
+  listener?: SimulationListener
+  /** The games this build knows (games/'s findGame). */
+  games: GameCatalog
+}
 
 const isInt = (v: unknown): v is number => Number.isSafeInteger(v)
 const isNum = (v: unknown): v is number => typeof v === 'number' && Number.isFinite(v)
@@ -77,12 +93,17 @@ export function restoreSyncPayload(bytes: Uint8Array, options: RestoreOptions): 
   if (!Array.isArray(p.joints)) return { ok: false, reason: 'sync payload joints must be a list' }
   if (p.lastLoad !== null && !isInt(p.lastLoad))
     return { ok: false, reason: 'sync payload lastLoad must be an integer or nil' }
+  if (typeof p.game !== 'string' || !isInt(p.random) || p.random < 0 || p.random > 0xffffffff)
+    return { ok: false, reason: 'sync payload lacks game or random' }
+  const game = options.games(p.game)
+  if (!game) return { ok: false, reason: `sync payload: game ${p.game} is not in this build` }
   let sim: RoomSimulation
   try {
-    sim = new RoomSimulation({ ...options, scene: 'empty' })
+    sim = new RoomSimulation({ ...options, game, scene: 'empty' })
     sim.world = loadWorld(p.world)
+    sim.restoreGame(copyPlainData(p.state ?? null), p.random)
   } catch (error) {
-    return { ok: false, reason: `sync payload world: ${(error as Error).message}` }
+    return { ok: false, reason: `sync payload: ${(error as Error).message}` }
   }
   sim.tick = p.tick
   sim.scene = p.scene
@@ -114,9 +135,10 @@ export async function inflate(bytes: Uint8Array): Promise<Uint8Array> {
  * An independent copy of a simulation (the world through save/load, the room state copied), for
  * a predicting client's present state; it steps bit-identically to the original.
  */
-export function cloneSimulation(sim: RoomSimulation, options: RestoreOptions): RoomSimulation {
-  const copy = new RoomSimulation({ ...options, scene: 'empty' })
+export function cloneSimulation(sim: RoomSimulation, options: Omit<RestoreOptions, 'games'>): RoomSimulation {
+  const copy = new RoomSimulation({ ...options, game: sim.game, scene: 'empty' })
   copy.world = loadWorld(sim.world.save())
+  copy.restoreGame(sim.gameState ?? null, sim.random.position())
   copy.tick = sim.tick
   copy.scene = sim.scene
   copy.paused = sim.paused

@@ -11,7 +11,8 @@
  * values the server applied. Decoding checks every argument and never throws: a bad entry comes
  * back as a reason, which a client treats like a desync (it asks for a fresh sync).
  */
-import type { Command, WireShape } from '../protocol/index.ts'
+import type { WireShape } from '../protocol/index.ts'
+import { copyPlainData, type SimCommand } from './game.ts'
 
 /** A player joining the simulation (its cursor and grab slot exist from this tick). */
 export interface JoinEntry {
@@ -22,7 +23,7 @@ export interface LeaveEntry {
   k: 'leave'
 }
 /** What one stream entry does: a command, or a player joining or leaving. */
-export type StreamAction = Command | JoinEntry | LeaveEntry
+export type StreamAction = SimCommand | JoinEntry | LeaveEntry
 
 /** One entry: at `tick`, `player` did `action`. */
 export interface StreamEntry {
@@ -48,6 +49,7 @@ export const ENTRY_CODES = {
   step: 12,
   reset: 13,
   gravity: 14,
+  cmd: 15,
 } as const
 
 type Code = (typeof ENTRY_CODES)[keyof typeof ENTRY_CODES]
@@ -92,6 +94,8 @@ export function entryArguments(action: StreamAction): unknown[] {
       return [action.name]
     case 'pause':
       return [action.paused]
+    case 'cmd':
+      return [action.kind, action.a]
     case 'inspect':
       throw new RangeError('inspect changes nothing in the simulation and is never streamed')
   }
@@ -145,7 +149,7 @@ function decodeAction(code: Code, a: unknown[]): StreamAction {
       return { k: 'leave' }
     case 2: {
       if (a.length !== 10) arity(7)
-      const cmd: Command = { k: 'spawn', shape: shape(a[0]), x: num(a[1], 'x'), y: num(a[2], 'y') }
+      const cmd: SimCommand = { k: 'spawn', shape: shape(a[0]), x: num(a[1], 'x'), y: num(a[2], 'y') }
       const [angle, vx, vy, w] = [opt(a[3], 'angle'), opt(a[4], 'vx'), opt(a[5], 'vy'), opt(a[6], 'w')]
       if (angle !== undefined) cmd.angle = angle
       if (vx !== undefined) cmd.vx = vx
@@ -207,6 +211,15 @@ function decodeAction(code: Code, a: unknown[]): StreamAction {
     case 14:
       arity(2)
       return { k: 'gravity', x: num(a[0], 'gravity x'), y: num(a[1], 'gravity y') }
+    case 15: {
+      arity(2)
+      if (typeof a[0] !== 'string') throw new EntryError('game command kind must be a string')
+      try {
+        return { k: 'cmd', kind: a[0], a: copyPlainData(a[1], 'game command arguments') }
+      } catch (error) {
+        throw new EntryError((error as Error).message)
+      }
+    }
   }
 }
 
@@ -230,7 +243,7 @@ export function decodeEntries(list: unknown, firstTick: number, count: number): 
         throw new EntryError(`entry ${i} tick offset ${offset} out of order`)
       last = offset
       const code = e[2]
-      if (!Number.isInteger(code) || code < 0 || code > 14)
+      if (!Number.isInteger(code) || code < 0 || code > 15)
         throw new EntryError(`entry ${i} has unknown kind ${String(code)}`)
       entries.push({
         tick: firstTick + offset,

@@ -11,7 +11,8 @@ import { createReadStream } from 'node:fs'
 import { stat } from 'node:fs/promises'
 import { createServer, type Server } from 'node:http'
 import type { AddressInfo } from 'node:net'
-import { extname, join, normalize } from 'node:path'
+import { extname, join, normalize, resolve } from 'node:path'
+import { pathToFileURL } from 'node:url'
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { BenchOptions, BenchState } from '../../bench/page/bench-page.ts'
@@ -87,6 +88,10 @@ function expectSoundRun(state: BenchState, engines: readonly string[]): void {
     }
     const ratio = r.concordOverThis
     expect(ratio === null || (Number.isFinite(ratio) && ratio > 0), `${r.engine} ratio ${ratio}`).toBe(true)
+    // The ratio the table shows (median over rounds) and its spread over the run's quarters.
+    for (const value of [r.roundRatio, r.ratioRange?.low, r.ratioRange?.high])
+      expect(value === null || value === undefined || (Number.isFinite(value) && value > 0)).toBe(true)
+    if (r.ratioRange) expect(r.ratioRange.low).toBeLessThanOrEqual(r.ratioRange.high)
     expect(r.steps?.n, `${r.engine} timed steps`).toBeGreaterThan(0)
     expect(r.quality?.verdict, `${r.engine} end state`).toBe('contained')
   }
@@ -122,13 +127,18 @@ describe('benchmark page', () => {
     const state = await runComparison(page, {
       scene: 'pile-1000',
       count: 60,
-      steps: 10,
+      steps: 20, // four rounds of 5 steps: the least that has a spread over quarters
       sleep: false,
       engines,
     })
     expectSoundRun(state, engines)
     expect(await page.textContent('#broadphase')).toContain('PASSED')
     expect(await page.locator('#results tbody tr').count()).toBe(engines.length)
+    // The table shows each ratio with its range; a visitor's default run is 1,000 timed steps.
+    expect(await page.textContent('#results thead')).toContain('concord / this (quarters)')
+    expect(await page.textContent('#results tbody tr:first-child')).toMatch(/\d\.\d\d \(\d\.\d\d-\d\.\d\d\)/)
+    await page.goto(`http://127.0.0.1:${server.port}/bench.html`)
+    expect(await page.inputValue('#steps')).toBe('1000')
     expect(errors).toEqual([])
     await page.close()
   })
@@ -158,5 +168,35 @@ describe('benchmark page', () => {
     })
     expect(sandboxErrors).toEqual([])
     await Promise.all([page.close(), sandbox.close()])
+  })
+
+  it('opened from disk (file:): the sandbox runs with Online and Rooms hidden; the benchmark says why it cannot', async () => {
+    const folder = resolve(STATIC_DIR)
+    const sandbox = await browser.newPage()
+    const errors = collectErrors(sandbox)
+    await sandbox.goto(pathToFileURL(join(folder, 'index.html')).href)
+    await sandbox.waitForFunction(() => {
+      const c = window.concord
+      return c && c.sandbox.mode === 'offline' && c.sandbox.bodies().length > 0 && c.fps.value > 0
+    })
+    expect(await sandbox.locator('#mode').isVisible()).toBe(false)
+    expect(await sandbox.locator('#rooms').isVisible()).toBe(false)
+    // The tools act: a box dropped with the Box tool joins the world.
+    const before = await sandbox.evaluate(() => window.concord.sandbox.bodies().length)
+    await sandbox.click('[data-tool="box"]')
+    await sandbox.mouse.click(200, 200)
+    await sandbox.waitForFunction((n) => window.concord.sandbox.bodies().length === n + 1, before)
+    await sandbox.keyboard.press('o')
+    expect(await sandbox.locator('#lobby').isVisible()).toBe(false)
+    expect(errors).toEqual([])
+
+    const bench = await browser.newPage()
+    await bench.goto(pathToFileURL(join(folder, 'bench.html')).href)
+    await bench.waitForFunction(() =>
+      /Opened from disk/.test(document.getElementById('status')!.textContent!),
+    )
+    expect(await bench.textContent('#status')).toContain('Serve this folder over http')
+    expect(await bench.locator('#run').isDisabled()).toBe(true)
+    await Promise.all([sandbox.close(), bench.close()])
   })
 })

@@ -2,11 +2,14 @@
  * The sandbox page itself in lockstep and predict modes (?mode=lockstep, ?mode=predict), built and
  * served by a real server, in headless Chromium: the HUD shows the mode, a growing verified tick
  * and zero desyncs; in predict mode a real mouse drag moves the grabbed body within a few
- * animation frames of the pointer moving (the own grab does not wait for the server).
+ * animation frames of the pointer moving (the own grab does not wait for the server). In both
+ * modes another player who has not moved yet draws no cursor (no phantom at the origin), and one
+ * appears where that player moves it.
  */
 import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { startLatencyProxy } from '../../bench/latency-proxy.ts'
+import { BotClient } from '../../bots/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from '../support/chromium.ts'
 import {
@@ -49,6 +52,35 @@ describe('the sandbox page in lockstep modes', () => {
     expect(errors).toEqual([])
     await context.close()
   })
+
+  for (const mode of ['lockstep', 'predict'] as const) {
+    it(`${mode}: a player who has not moved shows no cursor; once moved, the cursor is where they put it`, async () => {
+      const room = `ls-cursor-${mode}`
+      const { page, errors, context } = await openSandbox(browser, `${server.url}/?room=${room}&mode=${mode}`)
+      const bot = await BotClient.connect({ url: server.url, room, name: 'still' })
+      try {
+        const botId = bot.mirror.clientId
+        // The page's world has the bot once it has simulated past the tick of the bot's welcome.
+        const joined = bot.mirror.tick + 2
+        await page.waitForFunction(
+          (t) => window.concord.sandbox.stats().players === 2 && window.concord.sandbox.stats().tick > t,
+          joined,
+        )
+        const others = () => page.evaluate(() => window.concord.sandbox.cursors().map((c) => ({ ...c })))
+        expect(await others()).toEqual([])
+        bot.command({ k: 'move', x: 3, y: 2 })
+        await page.waitForFunction(
+          (id) => window.concord.sandbox.cursors().some((c) => c.id === id && c.x === 3 && c.y === 2),
+          botId,
+        )
+        expect((await others()).map((c) => [c.id, c.name])).toEqual([[botId, 'still']])
+        expect(errors).toEqual([])
+      } finally {
+        await bot.close()
+        await context.close()
+      }
+    })
+  }
 
   it('predict: a dragged body follows the pointer within a few frames and the HUD shows rollbacks', async () => {
     // The page talks to the server over a path with 150 ms each way, so a body that waited for the

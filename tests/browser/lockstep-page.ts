@@ -6,6 +6,7 @@
  */
 
 import { sin } from '../../engine/index.ts'
+import { findGame } from '../../games/index.ts'
 import {
   type ClientMessage,
   decodeServerMessage,
@@ -36,7 +37,7 @@ function start(room: string, name: string): void {
   const ws = new WebSocket(`${location.origin.replace(/^http/, 'ws')}/ws?room=${room}`)
   ws.binaryType = 'arraybuffer'
   const send = (m: ClientMessage): void => ws.send(encodeMessage(m) as Uint8Array<ArrayBuffer>)
-  const runner = new LockstepClient({ send })
+  const runner = new LockstepClient({ games: findGame, send })
   client = runner
   ws.onopen = () => send({ t: 'join', v: PROTOCOL_VERSION, room, name, mode: 'lockstep' })
   ws.onmessage = (event) => {

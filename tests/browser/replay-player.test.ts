@@ -163,4 +163,35 @@ describe('browser replay player', () => {
     )
     await context.close()
   })
+
+  it('?replay=NAME for a missing log, a room name or a path shows why, above the picker', async () => {
+    const context = await browser.newContext({ viewport: { width: 1000, height: 700 } })
+    const page = await context.newPage()
+    const cases = [
+      [
+        'gone-20260101T000000000Z.cclog',
+        /Cannot open the replay "gone-20260101T000000000Z\.cclog": no such replay \(HTTP 404\)\.$/,
+      ],
+      [
+        ROOM,
+        /Cannot open the replay "replayed": no such replay \(HTTP 404\)\. A replay is named by its log file/,
+      ],
+      [
+        '../../etc/passwd',
+        /Cannot open the replay "\.\.\/\.\.\/etc\/passwd": bad replay name \(HTTP 400\)\. A replay is named/,
+      ],
+    ] as const
+    for (const [name, expected] of cases) {
+      await page.goto(`${httpBase()}/?replay=${encodeURIComponent(name)}&key=${KEY}`)
+      await page.waitForSelector(`#replay-list button[data-log="${logName}"]`)
+      const message = page.locator('#replay-message')
+      expect(await message.isVisible()).toBe(true)
+      expect(await message.textContent()).toMatch(expected)
+      // The picker is there to go on from: the file input takes the server's own log files.
+      expect(await page.locator('#replay-file').isVisible()).toBe(true)
+      const accept = (await page.getAttribute('#replay-file', 'accept')) ?? ''
+      expect(accept.split(',')).toContain(logName.slice(logName.lastIndexOf('.')))
+    }
+    await context.close()
+  })
 })

@@ -188,7 +188,9 @@ describe('notices', { timeout: 300_000 }, () => {
       }
     })
     await page.waitForFunction(() =>
-      /Sending \d+ more inputs/.test(document.getElementById('toast')!.textContent!),
+      /^Sending your next \d+ actions a few at a time, so the room keeps up\.$/.test(
+        document.getElementById('toast')!.textContent!,
+      ),
     )
     await page.waitForFunction(
       () => window.concord.sandbox.bodies().filter((b: { kind: number }) => b.kind === 2).length === 40,
@@ -250,7 +252,7 @@ describe('notices', { timeout: 300_000 }, () => {
         )
     }, sent)
     await shown(
-      `The server dropped \\d+ of your inputs: more than ${perTick} inputs per tick .*sending the \\d+ spawns among them again`,
+      '^The room was too busy for \\d+ of your actions at once; the \\d+ new shapes among them are sent again\\.$',
     )
     // Every spawn arrives once: none lost, none doubled (still so a second of server ticks later).
     const count = () =>

@@ -5,7 +5,13 @@
  * `contacts` message, built by the server's own function and sent through the codec (online).
  */
 import { describe, expect, it } from 'vitest'
-import { computeFreeBody, describeFreeBody, labFromServer, labFromWorld } from '../../../client/draw/lab.ts'
+import {
+  arrowScale,
+  computeFreeBody,
+  describeFreeBody,
+  labFromServer,
+  labFromWorld,
+} from '../../../client/draw/lab.ts'
 import { buildScene, createWorld, rampScene, towerScene, type World } from '../../../engine/index.ts'
 import { contactsMessage } from '../../../server/rooms/room-wire.ts'
 import { type ContactsMessage, decodeServerMessage, encodeMessage } from '../../../shared/index.ts'
@@ -83,5 +89,19 @@ describe('free-body diagram', () => {
           expect(Math.abs(down / (above * mg) - 1), `${data.source} on block ${index}`).toBeLessThan(0.05)
       }
     }
+  })
+})
+
+describe('free-body arrow sizes', () => {
+  it('draws the weight 2 m long, or 100 px on screen when zoomed out, and the rest in proportion', () => {
+    // The ramp scene's 1 kg box (10 N) at 25 px per metre, the zoom that frames the ramp at 1000 px:
+    // 2 m would be 50 px; the weight is drawn 100 px = 4 m, the normal 9.4 N 3.76 m (94 px).
+    const far = arrowScale(10, 25)
+    expect(10 * far.unit * 25).toBeCloseTo(100, 9)
+    expect(9.4 * far.unit * 25).toBeCloseTo(94, 9)
+    expect(far.max).toBeCloseTo(12, 9)
+    // Zoomed in (100 px per metre) the weight keeps its 2 m (200 px), whatever the body's mass.
+    for (const weight of [0.5, 10, 400]) expect(weight * arrowScale(weight, 100).unit).toBeCloseTo(2, 9)
+    expect(arrowScale(10, 100).max).toBe(6)
   })
 })

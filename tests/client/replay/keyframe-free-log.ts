@@ -7,11 +7,13 @@
  * Shared by the player's unit test and the browser test. recordWreckingBallLog records the same
  * room with keyframes (whole and delta) every so many ticks.
  */
+
 import { mkdtemp, readFile, rm } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import pino from 'pino'
 import { Counter } from 'prom-client'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import { RoomSimulation } from '../../../shared/sim/room-simulation.ts'
 
@@ -41,7 +43,13 @@ export function recordKeyframeFreeLog(ticks: number): Promise<KeyframeFreeLog> {
 /** The same room with the recorder's keyframes every `keyframeTicks` ticks (no keyframe budget). */
 export async function recordWreckingBallLog(ticks: number, keyframeTicks: number): Promise<KeyframeFreeLog> {
   const dir = await mkdtemp(join(tmpdir(), 'concord-no-keyframes-'))
-  const sim = new RoomSimulation({ name: 'long', scene: 'wrecking-ball', maxBodies: 200, controls: true })
+  const sim = new RoomSimulation({
+    game: sandbox,
+    name: 'long',
+    scene: 'wrecking-ball',
+    maxBodies: 200,
+    controls: true,
+  })
   const recorder = new RoomRecorder('long', sim, {
     dir,
     fsync: 'none',

@@ -12,6 +12,7 @@
  * stop an older one at a slice boundary and go on from there, and every seek must land on the
  * live hash, that is, where a straight play-through lands.
  */
+
 import { mkdtemp, readFile } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
@@ -22,6 +23,7 @@ import { beforeAll, describe, expect, it } from 'vitest'
 import { ReplayLoadError, ReplayPlayer, readLog } from '../../../client/replay/replay-player.ts'
 import { SNAPSHOT_TICKS } from '../../../client/replay/replay-snapshots.ts'
 import { Prng } from '../../../engine/index.ts'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import { encodeRecord, PREAMBLE_BYTES } from '../../../shared/replay/replay-log.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
@@ -58,7 +60,13 @@ function script(sim: RoomSimulation, dynamic: () => number[]): void {
 
 beforeAll(async () => {
   const dir = await mkdtemp(join(tmpdir(), 'concord-player-'))
-  const sim = new RoomSimulation({ name: 'playback', scene: 'pyramid', maxBodies: 1500, controls: true })
+  const sim = new RoomSimulation({
+    game: sandbox,
+    name: 'playback',
+    scene: 'pyramid',
+    maxBodies: 1500,
+    controls: true,
+  })
   const recorder = new RoomRecorder('playback', sim, {
     dir,
     fsync: 'none',

@@ -19,6 +19,9 @@ function snapshot(tick: number, worldBytes: number, base: Uint8Array | null): Pl
     lastLoadTick: null,
     players: [],
     userJoints: [],
+    game: 'sandbox',
+    gameState: null,
+    random: 0,
   }
   return { tick, next: 0, state, world: new Uint8Array(worldBytes), base }
 }

@@ -71,6 +71,31 @@ describe('join and admin tokens', { timeout: 20_000 }, () => {
     expect(server.host.has('private')).toBe(false)
   })
 
+  it('a plain GET of the upgrade URL answers what the upgrade would, with the reason a page can show', async () => {
+    // A browser hides a refused upgrade's status; the page asks here (client/net/connection.ts).
+    const get = async (target: string, headers: Record<string, string> = {}) => {
+      const answer = await fetch(`http://127.0.0.1:${server.port}${target}`, { headers })
+      return { status: answer.status, text: await answer.text() }
+    }
+    const missing = await get('/ws?room=private')
+    expect(missing.status).toBe(401)
+    expect(missing.text).toContain('room "private" is open only with')
+    const wrong = await get(`/ws?room=private&key=${JOIN}x`)
+    expect(wrong.status).toBe(403)
+    expect(wrong.text).toContain('the key matches neither the join token nor the admin token')
+    const origin = await get('/ws?room=open', { Origin: 'https://evil.example' })
+    expect(origin.status).toBe(403)
+    expect(origin.text).toContain('https://evil.example')
+    const member = await get(`/ws?room=private&key=${JOIN}`)
+    expect(member.status).toBe(200)
+    expect(member.text).toContain('room controls: need the admin key')
+    const admin = await get(`/ws?room=private&key=${ADMIN}`)
+    expect(admin.status).toBe(200)
+    expect(admin.text).toContain('room controls: allowed')
+    expect((await get('/ws?room=open')).status).toBe(200)
+    expect(server.host.has('private')).toBe(false)
+  })
+
   it('without a key a public room admits, but a join naming another room is refused with 4005', async () => {
     const visitor = await BotClient.connect({ url: server.url, room: 'open', name: 'visitor' })
     expect(server.host.summaries().find((r) => r.name === 'open')?.players).toBe(1)

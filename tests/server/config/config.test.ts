@@ -48,6 +48,28 @@ describe('server configuration', () => {
   }
 })
 
+describe('--help', () => {
+  it('lines every column up under its header, however long a flag or env name is', () => {
+    const lines = helpText().split('\n')
+    const header = lines.find((l) => l.trimStart().startsWith('flag'))!
+    const at = {
+      env: header.indexOf('env'),
+      fallback: header.indexOf('default'),
+      meaning: header.indexOf('meaning'),
+    }
+    const rows = lines.filter((l) => /^ {2}--/.test(l))
+    expect(rows).toHaveLength(SETTINGS.length)
+    for (const [i, row] of rows.entries()) {
+      const s = SETTINGS[i]
+      // The oracle is the setting itself: its env name starts at the env column, its meaning at
+      // the meaning column, each after at least two spaces.
+      expect(row.slice(at.env - 2, at.env + s.env.length), row).toBe(`  ${s.env}`)
+      expect(row.slice(at.meaning - 2), row).toBe(`  ${s.help}`)
+      expect(row.slice(at.fallback - 2, at.fallback), row).toBe('  ')
+    }
+  })
+})
+
 describe('--workers', () => {
   it('defaults to one worker per core, and --help says so', () => {
     // The oracle: the cores Node may use here (nproc), counted independently of server/config/config.ts.

@@ -11,6 +11,7 @@
 import { Redis } from 'ioredis'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
+import { PROTOCOL_VERSION } from '../../../shared/index.ts'
 import { startRedis, type TestRedis } from '../../support/redis-server.ts'
 import { type ServerProcess, startServerProcess } from '../../support/server-process.ts'
 import { until } from '../../support/wait.ts'
@@ -70,7 +71,7 @@ const dynamicBodies = (welcome: Decoded): number =>
 /** Join `room` at `server`; the first answer: welcome, moved, or an error (1013 while Redis is away). */
 async function ask(server: ServerProcess, room: string): Promise<{ client: DocClient; first: Decoded }> {
   const client = await DocClient.open(server.url, room)
-  client.send({ t: 'join', v: 2, room: '', name: 'q', mode: 'snapshot' })
+  client.send({ t: 'join', v: PROTOCOL_VERSION, room: '', name: 'q', mode: 'snapshot' })
   const first = await client.waitFor((m) => ['welcome', 'moved', 'error'].includes(m.t), 'an answer')
   return { client, first }
 }

@@ -9,6 +9,7 @@
 import { encode } from '@msgpack/msgpack'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../../server/server.ts'
+import { PROTOCOL_VERSION } from '../../../shared/index.ts'
 import { rawRequest } from '../../support/raw-client.ts'
 import { startRedis } from '../../support/redis-server.ts'
 import { startTestServer } from '../../support/test-server.ts'
@@ -113,7 +114,7 @@ describe('welcome.rules.controls', { timeout: 20_000 }, () => {
   /** Join `room` with `key` (or none) and return the welcome's rules.controls. */
   async function controlsOf(server: RunningServer, room: string, key?: string): Promise<unknown> {
     const c = await DocClient.open(server.url, `${room}${key ? `&key=${key}` : ''}`)
-    c.send({ t: 'join', v: 2, room: '', name: 'x', mode: 'snapshot' })
+    c.send({ t: 'join', v: PROTOCOL_VERSION, room: '', name: 'x', mode: 'snapshot' })
     const welcome = await c.waitFor((m) => m.t === 'welcome', 'welcome')
     c.end()
     return (welcome.rules as { controls: unknown }).controls
@@ -125,7 +126,7 @@ describe('welcome.rules.controls', { timeout: 20_000 }, () => {
     expect(await controlsOf(keyed, 'club', ADMIN)).toBe(true)
     // What the flag promises: the member's pause is refused, the admin's applied.
     const member = await DocClient.open(keyed.url, `club&key=${JOIN}`)
-    member.send({ t: 'join', v: 2, room: '', name: 'm', mode: 'snapshot' })
+    member.send({ t: 'join', v: PROTOCOL_VERSION, room: '', name: 'm', mode: 'snapshot' })
     await member.waitFor((m) => m.t === 'welcome', 'welcome')
     member.send({ t: 'input', seq: 9, cmd: { k: 'pause', paused: true } })
     const refused = await member.waitFor((m) => m.t === 'error', 'the refusal')
@@ -162,7 +163,7 @@ describe('error reasons', { timeout: 30_000 }, () => {
     try {
       await redis.stop()
       const d = await DocClient.open(server.url, 'fresh-room')
-      d.send({ t: 'join', v: 2, room: '', name: 'd', mode: 'snapshot' })
+      d.send({ t: 'join', v: PROTOCOL_VERSION, room: '', name: 'd', mode: 'snapshot' })
       const error = await d.waitFor((m) => m.t === 'error', 'the refusal')
       const close = await d.closed()
       expect(error.code).toBe('unavailable')

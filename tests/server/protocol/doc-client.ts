@@ -40,7 +40,7 @@ export class DocClient {
   /** Open, join in snapshot mode and wait for the welcome. */
   static async joined(base: string, room: string, name: string): Promise<DocClient> {
     const client = await DocClient.open(base, room)
-    client.send({ t: 'join', v: 2, room: '', name, mode: 'snapshot' })
+    client.send({ t: 'join', v: 3, room: '', name, mode: 'snapshot' })
     await client.waitFor((m) => m.t === 'welcome', 'welcome')
     return client
   }

@@ -5,9 +5,11 @@
  * recorder starts a new block at MAX_BLOCK_ENTRIES entries or past MAX_BLOCK_TICKS ticks, and the
  * log replays with every hash matching.
  */
+
 import pino from 'pino'
 import { Counter } from 'prom-client'
 import { describe, expect, it } from 'vitest'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import type { LogFile } from '../../../server/replay/replay-files.ts'
 import { replayLog } from '../../../server/replay/replay-tool.ts'
@@ -52,7 +54,13 @@ function frames(bytes: Uint8Array): Array<{ count: number; span: number }> {
 
 describe('the recorder keeps every block within the reader limits', () => {
   it('1,300 ticks stepped in one run and flushed once: blocks of at most 600 ticks, every hash matching', async () => {
-    const sim = new RoomSimulation({ name: 'span', scene: 'pyramid', maxBodies: 500, controls: true })
+    const sim = new RoomSimulation({
+      game: sandbox,
+      name: 'span',
+      scene: 'pyramid',
+      maxBodies: 500,
+      controls: true,
+    })
     const { recorder, bytes } = recorded(sim, 'span')
     recorder.start(0)
     sim.join(1, 'ada', '#e6194b')
@@ -72,7 +80,13 @@ describe('the recorder keeps every block within the reader limits', () => {
   })
 
   it('70,000 commands in one tick: blocks of at most 65,536 entries, all replayed', async () => {
-    const sim = new RoomSimulation({ name: 'flood', scene: 'pyramid', maxBodies: 500, controls: true })
+    const sim = new RoomSimulation({
+      game: sandbox,
+      name: 'flood',
+      scene: 'pyramid',
+      maxBodies: 500,
+      controls: true,
+    })
     const { recorder, bytes } = recorded(sim, 'flood')
     recorder.start(0)
     sim.join(1, 'ada', '#e6194b')

@@ -6,6 +6,7 @@
  */
 import { Counter } from 'prom-client'
 import { describe, expect, it } from 'vitest'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import type { LogFile } from '../../../server/replay/replay-files.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
@@ -50,7 +51,13 @@ function smallDisk(space: number) {
 }
 
 function recorderOn(openLog: (path: string) => Promise<LogFile>, retryMs: number) {
-  const sim = new RoomSimulation({ name: 'full', scene: 'tower', maxBodies: 500, controls: true })
+  const sim = new RoomSimulation({
+    game: sandbox,
+    name: 'full',
+    scene: 'tower',
+    maxBodies: 500,
+    controls: true,
+  })
   const { logger, lines } = capturingLogger('info')
   const failures = new Counter({ name: 'test_disk_failures', help: 'test', registers: [] })
   const recorder = new RoomRecorder('full', sim, {
@@ -185,7 +192,13 @@ describe('a recorder on a disk that fills up', () => {
         },
       }
     }
-    const sim = new RoomSimulation({ name: 'rot', scene: 'tower', maxBodies: 5000, controls: true })
+    const sim = new RoomSimulation({
+      game: sandbox,
+      name: 'rot',
+      scene: 'tower',
+      maxBodies: 5000,
+      controls: true,
+    })
     const { logger, lines } = capturingLogger('info')
     const recorder = new RoomRecorder('rot', sim, {
       dir: '/nonexistent',

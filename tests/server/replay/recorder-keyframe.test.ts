@@ -5,10 +5,12 @@
  * tick that every room on the thread shares. The log still holds the keyframe, in its place, and
  * it decodes to the world as saved at its tick.
  */
+
 import { inflateSync } from 'node:zlib'
 import pino from 'pino'
 import { Counter } from 'prom-client'
 import { describe, expect, it, vi } from 'vitest'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import type { LogFile } from '../../../server/replay/replay-files.ts'
 import { decodeByteDelta } from '../../../shared/replay/byte-delta.ts'
@@ -30,7 +32,13 @@ vi.mock('../../../shared/replay/byte-delta.ts', async (original) => {
 describe('delta keyframes', () => {
   it('are encoded after the tick that takes them, and land in the log in their place', async () => {
     const chunks: Uint8Array[] = []
-    const sim = new RoomSimulation({ name: 'kf', scene: 'pyramid', maxBodies: 500, controls: true })
+    const sim = new RoomSimulation({
+      game: sandbox,
+      name: 'kf',
+      scene: 'pyramid',
+      maxBodies: 500,
+      controls: true,
+    })
     const recorder = new RoomRecorder('kf', sim, {
       dir: '/nonexistent',
       fsync: 'none',

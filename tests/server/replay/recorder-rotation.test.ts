@@ -6,9 +6,11 @@
  * unclosed, so recoverable, never a closed log beside an empty one), and a world whose header
  * alone passes the size limit does not rotate at every tick.
  */
+
 import pino from 'pino'
 import { Counter } from 'prom-client'
 import { afterEach, describe, expect, it, vi } from 'vitest'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import type { LogFile } from '../../../server/replay/replay-files.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
@@ -23,7 +25,13 @@ describe('log rotation', () => {
   it("writes the new log's header at once, without waiting for the flush timer", async () => {
     vi.useFakeTimers({ toFake: ['setInterval', 'clearInterval'] })
     const files = new Map<string, Uint8Array[]>()
-    const sim = new RoomSimulation({ name: 'rot', scene: 'pyramid', maxBodies: 500, controls: true })
+    const sim = new RoomSimulation({
+      game: sandbox,
+      name: 'rot',
+      scene: 'pyramid',
+      maxBodies: 500,
+      controls: true,
+    })
     const recorder = new RoomRecorder('rot', sim, {
       dir: '/nonexistent',
       fsync: 'none',
@@ -60,7 +68,13 @@ describe('log rotation', () => {
 function memoryRecorder(maxBytes: number, keyframeTicks: number) {
   const files = new Map<string, Uint8Array[]>()
   const writes: Array<{ path: string; bytes: Uint8Array }> = []
-  const sim = new RoomSimulation({ name: 'rot', scene: 'pyramid', maxBodies: 500, controls: true })
+  const sim = new RoomSimulation({
+    game: sandbox,
+    name: 'rot',
+    scene: 'pyramid',
+    maxBodies: 500,
+    controls: true,
+  })
   const recorder = new RoomRecorder('rot', sim, {
     dir: '/nonexistent',
     fsync: 'interval',

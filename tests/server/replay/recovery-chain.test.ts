@@ -7,6 +7,7 @@
  * checkpoint its intact prefix holds, whose tick this test finds by reading the prefix, and whose
  * hash must be the live one at that tick.
  */
+
 import { mkdtemp, readFile, writeFile } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
@@ -14,6 +15,7 @@ import pino from 'pino'
 import { Counter } from 'prom-client'
 import { beforeAll, describe, expect, it } from 'vitest'
 import { Prng } from '../../../engine/index.ts'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import { recoverLog } from '../../../server/replay/recovery.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
@@ -27,7 +29,13 @@ let log: Uint8Array
 
 beforeAll(async () => {
   dir = await mkdtemp(join(tmpdir(), 'concord-recovery-chain-'))
-  const sim = new RoomSimulation({ name: 'chain', scene: 'pyramid', maxBodies: 1500, controls: true })
+  const sim = new RoomSimulation({
+    game: sandbox,
+    name: 'chain',
+    scene: 'pyramid',
+    maxBodies: 1500,
+    controls: true,
+  })
   const recorder = new RoomRecorder('chain', sim, {
     dir,
     fsync: 'none',

@@ -4,6 +4,7 @@ import { join } from 'node:path'
 import pino from 'pino'
 import { Counter } from 'prom-client'
 import { describe, expect, it } from 'vitest'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import {
   cachedLogPaths,
@@ -66,7 +67,13 @@ describe('the listing cache', () => {
 describe('pruning (--replay-keep)', () => {
   /** A real log of a tower room started at `start`, closed cleanly or left as a crash leaves it. */
   async function makeLog(dir: string, room: string, start: number, closed: boolean): Promise<string> {
-    const sim = new RoomSimulation({ name: room, scene: 'tower', maxBodies: 100, controls: true })
+    const sim = new RoomSimulation({
+      game: sandbox,
+      name: room,
+      scene: 'tower',
+      maxBodies: 100,
+      controls: true,
+    })
     const recorder = new RoomRecorder(room, sim, {
       dir,
       fsync: 'none',

@@ -61,7 +61,18 @@ type DocRead = { preamble: number[]; records: DocRecord[]; ending: 'close' | 'bo
 const isMap = (v: unknown): v is Record<string, unknown> =>
   typeof v === 'object' && v !== null && !Array.isArray(v) && !(v instanceof Uint8Array)
 const isInt = (v: unknown): boolean => Number.isInteger(v)
-const STATE_KEYS = ['tick', 'scene', 'paused', 'stepRequested', 'lastLoadTick', 'players', 'userJoints']
+const STATE_KEYS = [
+  'tick',
+  'scene',
+  'paused',
+  'stepRequested',
+  'lastLoadTick',
+  'players',
+  'userJoints',
+  'game',
+  'gameState',
+  'random',
+]
 
 /** Throws unless `v` is a state map as the document's State table says. */
 function checkState(v: unknown): void {
@@ -69,6 +80,7 @@ function checkState(v: unknown): void {
   expect(Object.keys(v).sort()).toEqual([...STATE_KEYS].sort())
   expect(isInt(v.tick) && typeof v.scene === 'string' && typeof v.paused === 'boolean').toBe(true)
   expect(v.lastLoadTick === null || isInt(v.lastLoadTick)).toBe(true)
+  expect(typeof v.game === 'string' && isInt(v.random)).toBe(true)
   for (const p of v.players as unknown[]) {
     if (!isMap(p)) throw new Error('player is not a map')
     expect(isInt(p.id) && Number.isFinite(p.cursorX) && Number.isFinite(p.cursorY)).toBe(true)

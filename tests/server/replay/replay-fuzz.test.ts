@@ -8,6 +8,7 @@
  * from one record to the next). Found Nov 24: one framed record 3,000,000 ticks after the join
  * made a replay step the empty room for 17 s; one near tick 2^32 would have taken hours.
  */
+
 import { mkdtemp, readFile, rm } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
@@ -15,6 +16,7 @@ import fc from 'fast-check'
 import pino from 'pino'
 import { Counter } from 'prom-client'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { sandbox } from '../../../games/index.ts'
 import { RoomRecorder } from '../../../server/replay/recorder.ts'
 import { type ReplayReport, ReplayToolError, replayLog } from '../../../server/replay/replay-tool.ts'
 import {
@@ -34,7 +36,13 @@ let head: Uint8Array
 
 beforeAll(async () => {
   dir = await mkdtemp(join(tmpdir(), 'concord-replay-fuzz-'))
-  const sim = new RoomSimulation({ name: 'fuzz', scene: 'tower', maxBodies: 400, controls: true })
+  const sim = new RoomSimulation({
+    game: sandbox,
+    name: 'fuzz',
+    scene: 'tower',
+    maxBodies: 400,
+    controls: true,
+  })
   const recorder = new RoomRecorder('fuzz', sim, {
     dir,
     fsync: 'none',

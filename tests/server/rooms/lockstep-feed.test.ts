@@ -4,8 +4,10 @@
  * and decode every message with the real codec. The oracle is the server simulation itself: the
  * client's world hash must equal the server's at every tick it reaches, not only at checkpoints.
  */
+
 import pino from 'pino'
 import { describe, expect, it } from 'vitest'
+import { findGame, sandbox } from '../../../games/index.ts'
 import { createMetrics } from '../../../server/hosting/metrics.ts'
 import { LockstepFeed, ROOM_SYNC_BURST, SYNC_BURST } from '../../../server/rooms/lockstep-feed.ts'
 import type { PlayerConnection } from '../../../server/rooms/player-connection.ts'
@@ -22,6 +24,8 @@ const RULES: RoomRules = {
   controls: true,
   scenes: [],
   worldHalfExtent: 500,
+  game: 'sandbox',
+  commands: [],
 }
 
 /** A room in process: simulation, feed, players with scripted activity, followers. */
@@ -37,7 +41,7 @@ class Harness {
   actEvery = 2
 
   constructor(scene = 'pyramid') {
-    this.sim = new RoomSimulation({ name: 'test', scene, maxBodies: 400, controls: true })
+    this.sim = new RoomSimulation({ game: sandbox, name: 'test', scene, maxBodies: 400, controls: true })
     this.feed = new LockstepFeed(this.sim, 'test', this.metrics, pino({ level: 'silent' }))
   }
 
@@ -49,6 +53,7 @@ class Harness {
   /** A lockstep follower; with `hold`, joined with that hold and a playout delay of at least as much. */
   addFollower(id: number, hold?: number): LockstepClient {
     const client: LockstepClient = new LockstepClient({
+      games: findGame,
       ...(hold === undefined ? {} : { hold, playout: { minDelay: hold } }),
       send: (m) => {
         if (m.t === 'desync') this.feed.reportDesync(id, m.tick, m.hash, m.server)

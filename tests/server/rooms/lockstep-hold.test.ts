@@ -47,7 +47,7 @@ async function follower(room: string, hold?: number, mode = 'lockstep'): Promise
   const c = await DocClient.open(server.url, room)
   c.send({
     t: 'join',
-    v: 2,
+    v: 3,
     room: '',
     name: `hold ${hold ?? '-'}`,
     mode,
@@ -224,7 +224,7 @@ describe('join.hold: empty ticks held back per client', { timeout: 60_000 }, () 
     const threaded = await startTestServer({ workers: 1 })
     try {
       const c = await DocClient.open(threaded.url, 'hold-worker')
-      c.send({ t: 'join', v: 2, room: '', name: 'w', mode: 'lockstep', hold: 20 })
+      c.send({ t: 'join', v: 3, room: '', name: 'w', mode: 'lockstep', hold: 20 })
       // That server's own clock runs: wait for two whole idle hash intervals after the sync.
       const sync = await c.waitFor((m) => m.t === 'sync', 'sync')
       const first = Math.ceil(((sync.tick as number) + 1) / 60) * 60
@@ -243,7 +243,7 @@ describe('join.hold: empty ticks held back per client', { timeout: 60_000 }, () 
     'a join with hold %j is refused with an error naming hold',
     async (hold) => {
       const c = await DocClient.open(server.url, 'hold-bad')
-      c.send({ t: 'join', v: 2, room: '', name: 'bad', mode: 'lockstep', hold })
+      c.send({ t: 'join', v: 3, room: '', name: 'bad', mode: 'lockstep', hold })
       const error = await c.waitFor((m) => m.t === 'error', 'the refusal')
       expect(error.code).toBe('invalid')
       expect(error.reason).toMatch(/hold must be an integer in \[1, 60\]/)

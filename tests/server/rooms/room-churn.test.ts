@@ -18,6 +18,7 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import WebSocket from 'ws'
 import { defaultConfig } from '../../../server/config/config.ts'
 import type { RunningServer } from '../../../server/server.ts'
+import { PROTOCOL_VERSION } from '../../../shared/index.ts'
 import { capturingLogger } from '../../support/raw-client.ts'
 import { startRedis } from '../../support/redis-server.ts'
 import { startTestServer } from '../../support/test-server.ts'
@@ -68,7 +69,7 @@ async function visit(
     ws.once('open', () => resolve())
     ws.once('error', reject)
   })
-  ws.send(encode({ t: 'join', v: 2, room: '', name: 'anon', mode: 'snapshot' }))
+  ws.send(encode({ t: 'join', v: PROTOCOL_VERSION, room: '', name: 'anon', mode: 'snapshot' }))
   const answer = (m: Message): boolean => m.t === 'welcome' || m.t === 'error' || m.t === 'moved'
   await until(() => messages.some(answer), `an answer in ${room}`)
   const first = messages.find(answer)!

@@ -44,6 +44,8 @@ describe('client mirror', () => {
         controls: true,
         scenes: [],
         worldHalfExtent: 500,
+        game: 'sandbox',
+        commands: [],
       },
       players: [],
       state,

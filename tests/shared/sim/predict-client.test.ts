@@ -5,9 +5,11 @@
  * at every tick the client confirms, after any number of rollbacks; its present must answer its
  * own inputs at once.
  */
+
 import pino from 'pino'
 import { describe, expect, it } from 'vitest'
 import { CorrectionSmoother } from '../../../client/modes/predict-smoothing.ts'
+import { findGame, sandbox } from '../../../games/index.ts'
 import { createMetrics } from '../../../server/hosting/metrics.ts'
 import { LockstepFeed } from '../../../server/rooms/lockstep-feed.ts'
 import {
@@ -32,10 +34,18 @@ const RULES: RoomRules = {
   controls: true,
   scenes: [],
   worldHalfExtent: 500,
+  game: 'sandbox',
+  commands: [],
 }
 
 class DelayedRoom {
-  readonly sim = new RoomSimulation({ name: 't', scene: 'empty', maxBodies: 400, controls: true })
+  readonly sim = new RoomSimulation({
+    game: sandbox,
+    name: 't',
+    scene: 'empty',
+    maxBodies: 400,
+    controls: true,
+  })
   readonly feed = new LockstepFeed(this.sim, 't', createMetrics(false), pino({ level: 'silent' }))
   readonly hashes = new Map<number, number>()
   readonly toClient: Array<{ at: number; message: ServerMessage }> = []
@@ -47,6 +57,7 @@ class DelayedRoom {
   readonly smoother = new CorrectionSmoother()
   now = 0
   readonly client = new PredictClient({
+    games: findGame,
     send: (message) => this.toServer.push({ at: this.now + LATENCY_TICKS * TICK_MS, message }),
     onRollback: (before, after) => this.smoother.correct(before, after),
   })

@@ -1,11 +1,12 @@
 import { describe, expect, it } from 'vitest'
 import { circle } from '../../../engine/index.ts'
-import { type Command, KILL_PLANE_Y } from '../../../shared/index.ts'
+import { sandbox } from '../../../games/index.ts'
+import { type Command, KILL_PLANE_Y, type SimCommand } from '../../../shared/index.ts'
 import { RoomSimulation, type SimulationObserver } from '../../../shared/sim/room-simulation.ts'
 
 /** One recorded state change, as a recorder would log it. */
 type Recorded =
-  | { t: 'command'; tick: number; player: number; cmd: Command }
+  | { t: 'command'; tick: number; player: number; cmd: SimCommand }
   | { t: 'join'; tick: number; player: number; name: string; color: string }
   | { t: 'leave'; tick: number; player: number }
 
@@ -20,7 +21,7 @@ function recorder(into: Recorded[]): SimulationObserver {
   }
 }
 
-const options = { name: 'unit', scene: 'pyramid', maxBodies: 400, controls: true }
+const options = { game: sandbox, name: 'unit', scene: 'pyramid', maxBodies: 400, controls: true }
 
 function dynamicBodies(sim: RoomSimulation): number[] {
   return sim.world.bodyIds().filter((id) => sim.world.getBodyType(id) === 'dynamic')

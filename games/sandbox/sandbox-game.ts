@@ -1,0 +1,69 @@
+/*
+ * The sandbox: Concord's building game, on the game module API. Its commands are the built-in
+ * ones, and each does to the world exactly what docs/games.md ("The sandbox's commands") says;
+ * the engine-level parts (clamps, the grab's mouse joint and force cap, anchor and rope rules, the
+ * body limit) are shared/sim's primitives that every game's ctx offers. The sandbox keeps no state
+ * of its own (its hash is the world's) and never draws from the PRNG.
+ *
+ * sandboxCommands is exported so that other games can reuse a command or wrap it with a rule of
+ * their own (a goal game that lets players grab only in their half).
+ */
+import { SCENES } from '../../engine/index.ts'
+import { isMovable } from '../../shared/index.ts'
+import { builtin, defineGame } from '../game-api.ts'
+
+/** Ticks between scene loads or resets in one room: building a scene is the costliest command. */
+export const MIN_TICKS_BETWEEN_LOADS = 10
+
+/** Why a scene load or reset must wait (at most one per MIN_TICKS_BETWEEN_LOADS ticks), or null. */
+function loadTooSoon(tick: number, lastLoadTick: number): string | null {
+  return tick - lastLoadTick < MIN_TICKS_BETWEEN_LOADS ? 'scene loads are limited to 6 per second' : null
+}
+
+/** The sandbox's commands, one per built-in kind. */
+export const sandboxCommands = {
+  spawn: builtin('spawn', (ctx, _player, cmd) => {
+    const spawned = ctx.spawn(cmd)
+    return typeof spawned === 'string' ? spawned : null
+  }),
+  grab: builtin('grab', (ctx, player, cmd) => ctx.grab(player, cmd.body, cmd.lx, cmd.ly)),
+  move: builtin('move', (ctx, player, cmd) => ctx.moveCursor(player, cmd.x, cmd.y)),
+  release: builtin('release', (ctx, player) => ctx.release(player)),
+  delete: builtin('delete', (ctx, _player, cmd) => {
+    if (!isMovable(ctx.world, cmd.body)) return `body ${cmd.body} does not exist or is static`
+    ctx.destroyBody(cmd.body)
+    return null
+  }),
+  pin: builtin('pin', (ctx, _player, cmd) => ctx.addJoint(cmd)),
+  rope: builtin('rope', (ctx, _player, cmd) => ctx.addJoint(cmd)),
+  unjoint: builtin('unjoint', (ctx, _player, cmd) => ctx.removeJoint(cmd.joint)),
+  scene: builtin(
+    'scene',
+    (ctx, _player, cmd) => {
+      if (!Object.hasOwn(SCENES, cmd.name)) return `unknown scene "${cmd.name}"`
+      return loadTooSoon(ctx.tick, ctx.lastLoadTick) ?? ctx.loadScene(cmd.name)
+    },
+    { control: true },
+  ),
+  reset: builtin('reset', (ctx) => loadTooSoon(ctx.tick, ctx.lastLoadTick) ?? ctx.loadScene(ctx.scene), {
+    control: true,
+  }),
+  pause: builtin(
+    'pause',
+    (ctx, _player, cmd) => {
+      ctx.paused = cmd.paused
+    },
+    { control: true },
+  ),
+  step: builtin('step', (ctx) => ctx.requestStep(), { control: true }),
+  gravity: builtin('gravity', (ctx, _player, cmd) => ctx.setGravity(cmd.x, cmd.y), { control: true }),
+}
+
+/** The sandbox game: the room's scene (the server's default, or the one a test asks for) and every built-in command. */
+export const sandbox = defineGame({
+  name: 'sandbox',
+  setup(ctx, options) {
+    ctx.loadScene(options.scene)
+  },
+  commands: sandboxCommands,
+})
