@@ -25,7 +25,7 @@
 import { type DynamicTree, IdBuffer, type Shape } from '../collision/index.ts'
 import { MAX_POSITION } from '../constants.ts'
 import { angle as checkAngle, position as checkPosition, finiteVec } from '../def-checks.ts'
-import { cos, sin, type Vec2 } from '../math.ts'
+import { cos, sin, TRIG_LIMIT, type Vec2 } from '../math.ts'
 import {
   type AABB,
   DEFAULT_QUERY_FILTER,
@@ -49,10 +49,16 @@ import type { WorldStore } from './world-store.ts'
 /** Longest a query may move along each axis (m): 2,000,000, across the whole world (MAX_POSITION each way). */
 export const MAX_QUERY_TRANSLATION = 2 * MAX_POSITION
 
-/** Where a query shape is: the position of its frame's origin (m) and its angle (rad). */
+/**
+ * Where a query shape is: the position of its frame's origin (m) and its rotation, as an angle
+ * (rad, default 0) or as the exact (cos, sin) pair `world.getRotation(body)` gives; give one.
+ * The rotation form allocates nothing; an angle goes through the engine's cos and sin, which box a
+ * number or two unless the angle equals the last query's.
+ */
 export interface QueryTransform {
   position: Vec2
-  angle: number
+  angle?: number
+  rotation?: { c: number; s: number }
 }
 
 /** A query's collision bits (Box2D's b2QueryFilter); both default to Box2D's (category 1, all mask bits). */
@@ -115,19 +121,74 @@ class WorldQueryView implements QueryWorld {
   }
 }
 
-/** A shape as the query routines read it. */
+/**
+ * A shape as the query routines read it. Every geometry is made by one object literal with every
+ * field (the unused ones empty), its radius a double and its points copied into double-field
+ * objects, so all of them share one hidden class and the casts' loads stay monomorphic: with a
+ * circle's and a segment's own shapes of object, the load of `radius` after the kind switch was
+ * polymorphic, and a polymorphic load of a double allocates (measured: 16 bytes per circle cast
+ * in a world of circles and segments; the same rule as engine/collision/shapes.ts).
+ */
 function toQueryGeometry(shape: Shape): QueryGeometry {
+  const vs = shape.vertices
   switch (shape.type) {
     case 'circle':
-      return { type: 'circle', center: shape.centroid, radius: shape.radius }
+      return geometry('circle', shape.radius, 0, NO_POINTS, NO_POINTS, point(shape.centroid), ORIGIN, ORIGIN)
     case 'capsule':
-      return { type: 'capsule', center1: shape.vertices[0], center2: shape.vertices[1], radius: shape.radius }
+      return geometry('capsule', shape.radius, 2, NO_POINTS, NO_POINTS, ORIGIN, point(vs[0]), point(vs[1]))
     case 'polygon':
-      return shape
+      return geometry(
+        'polygon',
+        shape.radius,
+        shape.count,
+        vs.map(point),
+        shape.normals.map(point),
+        ORIGIN,
+        ORIGIN,
+        ORIGIN,
+      )
     case 'segment':
-      return { type: 'segment', point1: shape.vertices[0], point2: shape.vertices[1] }
+      return geometry('segment', 0, 2, NO_POINTS, NO_POINTS, ORIGIN, point(vs[0]), point(vs[1]))
   }
   throw new RangeError(`the queries do not know shape kind ${String((shape as { type?: unknown }).type)}`)
+}
+
+const NO_POINTS: readonly Vec2[] = Object.freeze([])
+const ORIGIN: Vec2 = point({ x: 0, y: 0 })
+
+/** The one literal every query geometry is made by (a segment's points are center1 and center2 as well). */
+function geometry(
+  type: QueryGeometry['type'],
+  radius: number,
+  count: number,
+  vertices: readonly Vec2[],
+  normals: readonly Vec2[],
+  center: Vec2,
+  a: Vec2,
+  b: Vec2,
+): QueryGeometry {
+  const g = {
+    type,
+    radius: 0.5,
+    count,
+    vertices,
+    normals,
+    center,
+    center1: a,
+    center2: b,
+    point1: a,
+    point2: b,
+  }
+  g.radius = radius
+  return g as QueryGeometry
+}
+
+/** A copy of p in an object whose fields V8 keeps as doubles. */
+function point(p: Vec2): Vec2 {
+  const q = { x: 0.5, y: 0.5 }
+  q.x = p.x
+  q.y = p.y
+  return q
 }
 
 const SHAPE_KINDS: readonly string[] = ['circle', 'polygon', 'capsule', 'segment']
@@ -144,6 +205,8 @@ export class QueryApi extends WorldApi {
   private readonly transform: Transform = { x: 0, y: 0, c: 1, s: 0 }
   private readonly move: Vec2 = { x: 0, y: 0 }
   private readonly box: AABB = { minX: 0, minY: 0, maxX: 0, maxY: 0 }
+  /** The last query angle (rad) and its cosine and sine. */
+  private readonly lastAngle = Float64Array.of(0, 1, 0)
 
   /**
    * The closest shape the ray from `origin` along `translation` (m) hits, as { shape, body, point,
@@ -286,15 +349,44 @@ export class QueryApi extends WorldApi {
       )
     }
     if (transform === null || typeof transform !== 'object') {
-      throw new RangeError(`${what} transform must be { position, angle }, got ${transform}`)
+      throw new RangeError(
+        `${what} transform must be { position, angle } or { position, rotation }, got ${transform}`,
+      )
     }
-    checkPosition(`${what} position`, transform.position)
-    checkAngle(`${what} angle`, transform.angle)
+    // The name is built only for the error (a template string per call would allocate).
+    const p = transform.position
+    if (
+      p === null ||
+      typeof p !== 'object' ||
+      !(Math.abs(p.x) <= MAX_POSITION && Math.abs(p.y) <= MAX_POSITION)
+    )
+      checkPosition(`${what} position`, p)
     const xf = this.transform
     xf.x = transform.position.x
     xf.y = transform.position.y
-    xf.c = cos(transform.angle)
-    xf.s = sin(transform.angle)
+    const r = transform.rotation
+    if (r !== undefined) {
+      if (transform.angle !== undefined)
+        throw new RangeError(`${what} transform gives both angle and rotation; give one`)
+      if (r === null || typeof r !== 'object' || !(Math.abs(r.c * r.c + r.s * r.s - 1) <= 1e-9)) {
+        throw new RangeError(
+          `${what} rotation must be a unit (c, s) pair (c^2 + s^2 within 1e-9 of 1), got ${JSON.stringify(r)}`,
+        )
+      }
+      xf.c = r.c
+      xf.s = r.s
+    } else {
+      // The angle is compared, not passed: a double argument of a call V8 does not inline is boxed.
+      const a = transform.angle ?? 0
+      if (!(a > -TRIG_LIMIT && a < TRIG_LIMIT)) checkAngle(`${what} angle`, a)
+      if (a !== this.lastAngle[0]) {
+        this.lastAngle[0] = a
+        this.lastAngle[1] = cos(a)
+        this.lastAngle[2] = sin(a)
+      }
+      xf.c = this.lastAngle[1]
+      xf.s = this.lastAngle[2]
+    }
     return proxyOf(this.view.geometryOf(shape), this.proxy)
   }
 

@@ -27,7 +27,6 @@ import {
   Prng,
   polygon,
   type QueryFilterDef,
-  type RayHit,
   RayHitList,
   type Shape,
   segment,
@@ -325,6 +324,30 @@ describe('world queries against hand-worked answers on a turned, moved body', ()
       expect(world.save()).toEqual(before)
     })
   }
+
+  it('a shape placed by its exact rotation pair answers as by its angle; both at once, or a non-unit pair, is refused', () => {
+    const world = createWorld()
+    const body = world.createBody({
+      type: 'static',
+      position: { x: 1, y: 2 },
+      angle: 0.3,
+      shape: box(1, 0.5),
+    })
+    const rotation = world.getRotation(body)
+    const probe = box(0.3, 0.2)
+    const byAngle = world.castShape(probe, { position: { x: 1, y: 6 }, angle: 0.3 }, { x: 0, y: -8 })
+    const byPair = world.castShape(probe, { position: { x: 1, y: 6 }, rotation }, { x: 0, y: -8 })
+    expect(byPair).toEqual(byAngle)
+    expect(world.overlapShape(probe, { position: { x: 1, y: 2 }, rotation })).toEqual([
+      world.bodyShapes(body)[0],
+    ])
+    expect(() => world.overlapShape(probe, { position: { x: 0, y: 0 }, angle: 0, rotation })).toThrow(
+      /both angle and rotation/,
+    )
+    expect(() => world.overlapShape(probe, { position: { x: 0, y: 0 }, rotation: { c: 1, s: 1 } })).toThrow(
+      /rotation must be a unit/,
+    )
+  })
 
   it('a turned box cast corner-first onto a sharp box face: fraction from the corner distance, point at the corner', () => {
     const world = createWorld()
