@@ -13,9 +13,10 @@
  * Shape object.
  *
  * Queries read the state and never write it: no revision bump, no proxy moved, no body woken; the
- * world's hash before and after is the same. Sensor shapes are never reported (Box2D v3.1: sensors
- * are not found by queries). Results are ordered by fraction and then shape id (casts) or by shape
- * id (overlaps), so they do not depend on the tree's shape.
+ * world's hash before and after is the same. Sensor shapes are never reported (a trigger zone does
+ * not block a line of sight; Box2D v3.1's world queries, which test only the filter, do report
+ * them). Results are ordered by fraction and then shape id (casts) or by shape id (overlaps), so
+ * they do not depend on the tree's shape.
  *
  * Two forms per query: the plain one returns fresh objects (a RayHit, an array of them, an array
  * of ids); the `out`/`...Into` one writes into the caller's RayHit, RayHitList or IdBuffer and
