@@ -11,6 +11,10 @@ export {
   circle,
   combineMass,
   computeMass,
+  convexPolygon,
+  decompose,
+  IdBuffer,
+  MAX_OUTLINE_POINTS,
   type MassData,
   type PolygonalShape,
   type PolygonShape,
@@ -32,6 +36,14 @@ export {
 } from './constants.ts'
 export { atan2, cos, PI, sin, TRIG_LIMIT, TWO_PI, type Vec2, wrapAngle } from './math.ts'
 export { Prng } from './prng.ts'
+export {
+  type AABB,
+  DEFAULT_QUERY_FILTER,
+  makeRayHit,
+  type QueryFilter,
+  type RayHit,
+  RayHitList,
+} from './queries/index.ts'
 export {
   buildScene,
   CHAIN_LINK_LENGTH,
@@ -93,6 +105,7 @@ export {
   createWorld,
   DEFAULT_WORLD_DEF,
   loadWorld,
+  MAX_QUERY_TRANSLATION,
   POSE_ANGLE,
   POSE_AWAKE,
   POSE_ID,
@@ -101,6 +114,8 @@ export {
   POSE_TYPE,
   POSE_X,
   POSE_Y,
+  type QueryFilterDef,
+  type QueryTransform,
   resolveWorldDef,
   SAVE_FORMAT_VERSION,
   World,

@@ -95,6 +95,14 @@ export class BroadPhase {
     return this.tree.leafCount
   }
 
+  /**
+   * The tree itself, for the world's queries to walk (engine/queries): one leaf per shape, its user
+   * data (`tree.body[leaf]`) the shape id, its box the fat AABB. Read it; never change it.
+   */
+  get shapeTree(): DynamicTree {
+    return this.tree
+  }
+
   /** Height of the tree (0 for at most one proxy); about 2 log2(n) or less. */
   get treeHeight(): number {
     return this.tree.treeHeight

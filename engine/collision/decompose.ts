@@ -32,6 +32,7 @@
 import { MAX_POLYGON_VERTICES } from '../constants.ts'
 import type { Vec2 } from '../math.ts'
 import { HULL_COLLINEAR_DISTANCE, HULL_WELD_DISTANCE } from './hull.ts'
+import { convexPolygon, type PolygonShape } from './shapes.ts'
 
 /** Most points an outline may have: 64. */
 export const MAX_OUTLINE_POINTS = 64
@@ -48,13 +49,24 @@ function outsideChord(prev: Vec2, v: Vec2, next: Vec2): number {
 }
 
 /**
+ * The issue-27 contract: a simple polygon outline (either winding, 3 to 64 points, m, body frame)
+ * as convex polygon shapes whose union is the outline (decomposeOutline's pieces, each kept exactly
+ * as convexPolygon). Give them to one body: `world.createBody({ shapes: decompose(outline).map((shape)
+ * => ({ shape, density })) })`; its mass is the outline's area times the density. Throws what
+ * decomposeOutline throws.
+ */
+export function decompose(points: readonly Vec2[]): PolygonShape[] {
+  return decomposeOutline(points).map((piece) => convexPolygon(piece))
+}
+
+/**
  * Convex pieces (counter-clockwise, 3 to 8 vertices, fresh points) whose union is the simple
  * polygon `points` (either winding, 3 to 64 points, m). Throws a RangeError naming the problem and
  * the point or edge indices for: a wrong point count, a non-finite point, two points closer than
  * 0.02 m, crossing or touching edges, an edge folding back, an outline with no area, or a sliver
  * piece narrower than DECOMPOSE_MIN_WIDTH.
  */
-export function decompose(points: readonly Vec2[]): Vec2[][] {
+export function decomposeOutline(points: readonly Vec2[]): Vec2[][] {
   validateOutline(points)
   const n = points.length
   // 2. Counter-clockwise index list, collinear vertices dropped.

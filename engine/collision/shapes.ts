@@ -3,10 +3,11 @@
  *
  * - circle(radius, center?): a disc.
  * - box(halfWidth, halfHeight, center?, angle?): a polygon of four vertices.
- * - polygon(points, radius?): convex, counter-clockwise, 3 to 8 vertices; `polygon()` rejects input
- *   that is not already a strictly convex polygon (a concave, collinear or degenerate vertex list
- *   throws an error naming what is wrong), so a shape is always exactly what the caller wrote. A
- *   radius > 0 rounds it: the shape is the polygon grown by that radius (a Minkowski sum with a disc).
+ * - polygon(points, radius?): the convex hull of 3 to 64 points, 3 to 8 vertices, counter-clockwise;
+ *   points that already form a strictly convex polygon are kept exactly as given, any other list is
+ *   replaced by its hull (hull.ts). convexPolygon(points, radius?) takes exactly the vertices given
+ *   and refuses a list that is not a strictly convex polygon (the wire uses it). A radius > 0 rounds
+ *   it: the shape is the polygon grown by that radius (a Minkowski sum with a disc).
  * - capsule(center1, center2, radius): a segment grown by a radius (a stadium).
  * - segment(point1, point2): a two-sided line of zero thickness and zero mass.
  *
@@ -24,6 +25,7 @@
 
 import { MAX_POLYGON_VERTICES, MAX_SHAPE_EXTENT, MIN_SHAPE_EXTENT } from '../constants.ts'
 import { atan2, cos, PI, sin, TRIG_LIMIT, type Vec2 } from '../math.ts'
+import { computeHull, MAX_HULL_INPUT } from './hull.ts'
 
 /*
  * Every shape object has every field, in the same order (type, radius, count, vertices, normals,
@@ -197,12 +199,44 @@ function cross3(o: Vec2, a: Vec2, b: Vec2): number {
 }
 
 /**
- * A convex polygon from 3..8 vertices in the body frame (m), rounded by `radius` (m, default 0).
- * The vertices may be given in either winding and any starting vertex; they are stored
- * counter-clockwise. Throws if the list is not a strictly convex polygon: repeated points, collinear
- * vertices, a concave vertex, or too small.
+ * A convex polygon: the convex hull of `points` (3 to 64 points in the body frame, m; 3 to 8
+ * vertices after the hull), rounded by `radius` (m, default 0). Points that already form a strictly
+ * convex polygon of at most 8 vertices (either winding, any starting vertex) are kept exactly as
+ * given, stored counter-clockwise (as convexPolygon); any other list is replaced by its hull
+ * (computeHull, Box2D's quickhull: points within 0.02 m welded, vertices within 0.01 m of their
+ * neighbours' line dropped). Throws a RangeError naming the problem: not an array, a non-finite or
+ * too distant point, fewer than 3 or more than 64 points, points that weld to fewer than 3 or lie
+ * along one line, or a hull of more than 8 vertices.
  */
 export function polygon(points: readonly Vec2[], radius = 0): PolygonShape {
+  if (!Array.isArray(points))
+    throw new RangeError(`polygon points must be an array, got ${JSON.stringify(points)}`)
+  if (radius !== 0) checkSize('polygon radius', radius)
+  const n = points.length
+  if (n < 3 || n > MAX_HULL_INPUT) {
+    throw new RangeError(`polygon needs 3 to ${MAX_HULL_INPUT} points, got ${n}`)
+  }
+  checkPolygonPoints(points)
+  if (n <= MAX_POLYGON_VERTICES && convexityProblem(counterClockwise(points)) === null) {
+    return convexPolygon(points, radius)
+  }
+  let hull: Vec2[]
+  try {
+    hull = computeHull(points)
+  } catch (e) {
+    throw e instanceof RangeError ? new RangeError(`polygon: ${e.message}`) : e
+  }
+  return convexPolygon(hull, radius)
+}
+
+/**
+ * A convex polygon from exactly the vertices given: 3..8 vertices in the body frame (m), rounded by
+ * `radius` (m, default 0), in either winding and from any starting vertex, stored counter-clockwise.
+ * Throws if the list is not a strictly convex polygon: repeated points, collinear vertices, a
+ * concave vertex, a self-intersecting order, or too small. The wire uses this (a peer's vertex
+ * list is taken as sent or refused); polygon() takes the hull instead.
+ */
+export function convexPolygon(points: readonly Vec2[], radius = 0): PolygonShape {
   if (!Array.isArray(points))
     throw new RangeError(`polygon points must be an array, got ${JSON.stringify(points)}`)
   if (radius !== 0) checkSize('polygon radius', radius)
@@ -210,65 +244,10 @@ export function polygon(points: readonly Vec2[], radius = 0): PolygonShape {
   if (n < 3 || n > MAX_POLYGON_VERTICES) {
     throw new RangeError(`polygon needs 3 to ${MAX_POLYGON_VERTICES} vertices, got ${n}`)
   }
-  for (let i = 0; i < n; i++) {
-    const p = points[i]
-    if (!p || !Number.isFinite(p.x) || !Number.isFinite(p.y)) {
-      throw new RangeError(`polygon vertex ${i} is not a finite point: ${JSON.stringify(p)}`)
-    }
-    if (Math.abs(p.x) > MAX_SHAPE_EXTENT || Math.abs(p.y) > MAX_SHAPE_EXTENT) {
-      throw new RangeError(
-        `polygon vertex ${i} (${p.x}, ${p.y}) is more than ${MAX_SHAPE_EXTENT} m from the body origin`,
-      )
-    }
-  }
-  // Signed area decides the winding; make the list counter-clockwise.
-  let area2 = 0
-  for (let i = 0; i < n; i++) {
-    const a = points[i]
-    const b = points[(i + 1) % n]
-    area2 += a.x * b.y - a.y * b.x
-  }
-  const ccw =
-    area2 >= 0 ? points.map((p) => ({ x: p.x, y: p.y })) : points.map((p) => ({ x: p.x, y: p.y })).reverse()
-  for (let i = 0; i < n; i++) {
-    const a = ccw[i]
-    const b = ccw[(i + 1) % n]
-    const len = Math.sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y))
-    if (len < MIN_SHAPE_EXTENT) {
-      throw new RangeError(
-        `polygon is degenerate: vertices (${a.x}, ${a.y}) and (${b.x}, ${b.y}) are closer than ${MIN_SHAPE_EXTENT} m`,
-      )
-    }
-  }
-  for (let i = 0; i < n; i++) {
-    const prev = ccw[(i + n - 1) % n]
-    const cur = ccw[i]
-    const next = ccw[(i + 1) % n]
-    const turn = cross3(prev, cur, next)
-    const ex = cur.x - prev.x
-    const ey = cur.y - prev.y
-    const fx = next.x - cur.x
-    const fy = next.y - cur.y
-    const scale = Math.sqrt(ex * ex + ey * ey) * Math.sqrt(fx * fx + fy * fy)
-    if (turn <= 1e-9 * scale) {
-      const what = Math.abs(turn) <= 1e-9 * scale ? 'collinear (degenerate)' : 'concave'
-      throw new RangeError(`polygon is not strictly convex: vertex ${i} (${cur.x}, ${cur.y}) is ${what}`)
-    }
-  }
-  // Every vertex strictly left of every edge it is not on: exactly convexity, and it rejects a
-  // self-intersecting star whose turns are all left (n <= 8, so the n^2 check costs nothing).
-  for (let i = 0; i < n; i++) {
-    const a = ccw[i]
-    const b = ccw[(i + 1) % n]
-    for (let k = 0; k < n; k++) {
-      if (k === i || k === (i + 1) % n) continue
-      if (cross3(a, b, ccw[k]) <= 0) {
-        throw new RangeError(
-          `polygon is not convex: vertex ${k} lies outside edge ${i} (self-intersecting or concave)`,
-        )
-      }
-    }
-  }
+  checkPolygonPoints(points)
+  const ccw = counterClockwise(points)
+  const problem = convexityProblem(ccw)
+  if (problem !== null) throw new RangeError(problem)
   const normals: Vec2[] = []
   for (let i = 0; i < n; i++) {
     const a = ccw[i]
@@ -285,6 +264,75 @@ export function polygon(points: readonly Vec2[], radius = 0): PolygonShape {
     }
   }
   return { type: 'polygon', radius, count: n, vertices: ccw, normals, centroid: mass.center, box: null }
+}
+
+/** Throws a RangeError naming the first point that is not finite or lies too far from the body origin. */
+function checkPolygonPoints(points: readonly Vec2[]): void {
+  for (let i = 0; i < points.length; i++) {
+    const p = points[i]
+    if (!p || !Number.isFinite(p.x) || !Number.isFinite(p.y)) {
+      throw new RangeError(`polygon vertex ${i} is not a finite point: ${JSON.stringify(p)}`)
+    }
+    if (Math.abs(p.x) > MAX_SHAPE_EXTENT || Math.abs(p.y) > MAX_SHAPE_EXTENT) {
+      throw new RangeError(
+        `polygon vertex ${i} (${p.x}, ${p.y}) is more than ${MAX_SHAPE_EXTENT} m from the body origin`,
+      )
+    }
+  }
+}
+
+/** Fresh copies of the points, counter-clockwise (the signed area decides the winding). */
+function counterClockwise(points: readonly Vec2[]): Vec2[] {
+  const n = points.length
+  let area2 = 0
+  for (let i = 0; i < n; i++) {
+    const a = points[i]
+    const b = points[(i + 1) % n]
+    area2 += a.x * b.y - a.y * b.x
+  }
+  const copy = points.map((p) => ({ x: p.x, y: p.y }))
+  return area2 >= 0 ? copy : copy.reverse()
+}
+
+/** Why a counter-clockwise vertex list is not a strictly convex polygon (the message), or null. */
+function convexityProblem(ccw: readonly Vec2[]): string | null {
+  const n = ccw.length
+  for (let i = 0; i < n; i++) {
+    const a = ccw[i]
+    const b = ccw[(i + 1) % n]
+    const len = Math.sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y))
+    if (len < MIN_SHAPE_EXTENT) {
+      return `polygon is degenerate: vertices (${a.x}, ${a.y}) and (${b.x}, ${b.y}) are closer than ${MIN_SHAPE_EXTENT} m`
+    }
+  }
+  for (let i = 0; i < n; i++) {
+    const prev = ccw[(i + n - 1) % n]
+    const cur = ccw[i]
+    const next = ccw[(i + 1) % n]
+    const turn = cross3(prev, cur, next)
+    const ex = cur.x - prev.x
+    const ey = cur.y - prev.y
+    const fx = next.x - cur.x
+    const fy = next.y - cur.y
+    const scale = Math.sqrt(ex * ex + ey * ey) * Math.sqrt(fx * fx + fy * fy)
+    if (turn <= 1e-9 * scale) {
+      const what = Math.abs(turn) <= 1e-9 * scale ? 'collinear (degenerate)' : 'concave'
+      return `polygon is not strictly convex: vertex ${i} (${cur.x}, ${cur.y}) is ${what}`
+    }
+  }
+  // Every vertex strictly left of every edge it is not on: exactly convexity, and it rejects a
+  // self-intersecting star whose turns are all left (n <= 8, so the n^2 check costs nothing).
+  for (let i = 0; i < n; i++) {
+    const a = ccw[i]
+    const b = ccw[(i + 1) % n]
+    for (let k = 0; k < n; k++) {
+      if (k === i || k === (i + 1) % n) continue
+      if (cross3(a, b, ccw[k]) <= 0) {
+        return `polygon is not convex: vertex ${k} lies outside edge ${i} (self-intersecting or concave)`
+      }
+    }
+  }
+  return null
 }
 
 /** A two-vertex polygon: the shared layout of capsules and segments. */

@@ -4,7 +4,7 @@
  * (shape-distance.ts, shape-cast.ts), a callback-free ray cast through the dynamic tree
  * (tree-ray-cast.ts), and the world queries over them (world-queries.ts: closest and all-hits
  * rays, shape cast, AABB, point and shape overlaps, with Box2D's query filter). Depends on
- * collision/ (the tree) and the root files. The World's own query methods (issue 27) are to be
+ * collision/ (the tree) and the root files. The World's query methods (world/query-api.ts) are
  * built on WorldQueries.
  */
 export {
@@ -18,10 +18,19 @@ export {
   rayCastSegment,
 } from './ray-cast.ts'
 export { shapeCast } from './shape-cast.ts'
-export { makeDistanceOutput, makeShapeProxy, shapeDistance } from './shape-distance.ts'
+export {
+  makeDistanceOutput,
+  makeShapeProxy,
+  type ShapeProxy,
+  shapeDistance,
+  type Transform,
+} from './shape-distance.ts'
 export { TreeRayCast } from './tree-ray-cast.ts'
 export {
+  type AABB,
   DEFAULT_QUERY_FILTER,
+  makeRayHit,
+  proxyOf,
   type QueryFilter,
   type QueryGeometry,
   type QueryWorld,

@@ -1,6 +1,6 @@
 /*
- * The World: its storage (world-store.ts), its public methods (world-api.ts), the step as a list
- * of stages (world.ts), its contact and sensor events (events.ts) and the sensor stage (sensor.ts),
+ * The World: its storage (world-store.ts), its public methods (world-api.ts), its queries
+ * (query-api.ts, over engine/queries), the step as a list of stages (world.ts), its contact and sensor events (events.ts) and the sensor stage (sensor.ts),
  * and saving, loading and hashing (world-state.ts, save-format.ts).
  */
 
@@ -11,6 +11,7 @@ export type {
   SensorEvent,
   SensorEvents,
 } from './events.ts'
+export { MAX_QUERY_TRANSLATION, type QueryFilterDef, type QueryTransform } from './query-api.ts'
 export { SAVE_FORMAT_VERSION, WorldLoadError } from './save-format.ts'
 export { createWorld, loadWorld, World } from './world.ts'
 export {

@@ -85,14 +85,14 @@ import {
 } from '../joints/index.ts'
 import type { JointEvents, WorldDef } from '../types.ts'
 import type { ContactEvents, SensorEvents } from './events.ts'
+import { QueryApi } from './query-api.ts'
 import { ByteWriter } from './save-format.ts'
 import { updateSensors } from './sensor.ts'
-import { WorldApi } from './world-api.ts'
 import { hashWorld, loadWorldState, saveWorld } from './world-state.ts'
 import { resolveWorldDef } from './world-store.ts'
 
 /** A simulation world. See engine/README.md for the public surface. */
-export class World extends WorldApi {
+export class World extends QueryApi {
   /** Advances the world by exactly one fixed step of 1/60 s. */
   step(): void {
     this.revision++

@@ -1,9 +1,10 @@
 /*
  * Shapes on the wire. Boxes travel as half extents, circles as a radius, other polygons as their
- * vertex list in the body frame (the engine's counter-clockwise order). Only creation events and
+ * vertex list in the body frame (the engine's counter-clockwise order), taken exactly as sent
+ * (convexPolygon: a list that is not a strictly convex polygon is refused, not replaced by its hull). Only creation events and
  * full states carry shapes; snapshots refer to bodies by id.
  */
-import { box, circle, polygon, type Shape } from '../../engine/index.ts'
+import { box, circle, convexPolygon, type Shape } from '../../engine/index.ts'
 import type { WireShape } from './messages.ts'
 
 /** An engine shape as it travels. */
@@ -21,7 +22,7 @@ export function fromWireShape(shape: WireShape): Shape {
   if (shape.type === 'box') return box(shape.hw, shape.hh)
   const points = []
   for (let i = 0; i + 1 < shape.v.length; i += 2) points.push({ x: shape.v[i], y: shape.v[i + 1] })
-  return polygon(points)
+  return convexPolygon(points)
 }
 
 /** Vertices (m, body frame) of a wire shape for drawing; empty for circles. */

@@ -11,6 +11,7 @@ import {
   buildScene,
   circle,
   computeMass,
+  convexPolygon,
   cos,
   createWorld,
   MAX_LINEAR_SPEED,
@@ -101,8 +102,8 @@ describe('shapes', () => {
       })),
       /convex/,
     ],
-  ])('polygon() rejects %s with a message naming it', (_name, points, message) => {
-    expect(() => polygon(points)).toThrow(message)
+  ])('convexPolygon() rejects %s with a message naming it', (_name, points, message) => {
+    expect(() => convexPolygon(points)).toThrow(message)
   })
 
   it('circle() and box() reject zero, negative and non-finite sizes, naming the value', () => {

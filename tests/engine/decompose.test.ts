@@ -8,7 +8,7 @@
  * every error, with the indices it must name.
  */
 import { describe, expect, it } from 'vitest'
-import { DECOMPOSE_MIN_WIDTH, decompose } from '../../engine/collision/decompose.ts'
+import { DECOMPOSE_MIN_WIDTH, decomposeOutline as decompose } from '../../engine/collision/decompose.ts'
 import { computeHull } from '../../engine/collision/hull.ts'
 import type { Vec2 } from '../../engine/math.ts'
 import { Prng } from '../../engine/prng.ts'

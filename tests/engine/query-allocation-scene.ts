@@ -1,12 +1,14 @@
 /*
  * The work measured by tests/engine/query-allocation.test.ts: a block of the per-tick queries
  * (ray casts against every shape kind, hits, misses and initial overlaps; shape casts; a
- * closest-hit ray cast through a 1,000-leaf DynamicTree with TreeRayCast), run with reused inputs
+ * closest-hit ray cast through a 1,000-leaf DynamicTree with TreeRayCast), the WorldQueries over a
+ * test-made QueryWorld, and the World's own query methods (WorldApiScene), run with reused inputs
  * and outputs as a game's per-tick code would.
  */
 
 import { IdBuffer } from '../../engine/collision/broad-phase.ts'
 import { DynamicTree, NULL_NODE } from '../../engine/collision/dynamic-tree.ts'
+import * as engine from '../../engine/index.ts'
 import { Prng } from '../../engine/prng.ts'
 import {
   makeCastOutput,
@@ -247,5 +249,97 @@ export class QueryScene {
       if (lo > hi) return -1
     }
     return lo
+  }
+}
+
+/**
+ * The World's own query methods (engine/world/query-api.ts) in their reusing forms, over a real
+ * world of 400 shapes (every kind; compound bodies; sensors; a filter), with reused arguments and
+ * results as a game's per-tick code would pass them.
+ */
+export class WorldApiScene {
+  hits = 0
+  private readonly world: engine.World = engine.createWorld()
+  private k = 0
+  private readonly origin = { x: 0, y: 0 }
+  private readonly translation = { x: 0, y: 0 }
+  private readonly filter = { categoryBits: 1, maskBits: 0xffffffff }
+  private readonly hit = makeRayHit()
+  private readonly list = new RayHitList()
+  private readonly ids = new IdBuffer()
+  private readonly aabb = { minX: 0, minY: 0, maxX: 0, maxY: 0 }
+  private readonly probe = engine.circle(0.5)
+  private readonly probeBox = engine.box(0.4, 0.2)
+  private readonly at = { position: { x: 0, y: 0 }, rotation: { c: 1, s: 0 } }
+
+  constructor() {
+    const kinds = [
+      engine.circle(0.6, { x: 0.1, y: 0 }),
+      engine.box(0.7, 0.4),
+      engine.polygon(
+        [
+          { x: -0.5, y: -0.4 },
+          { x: 0.6, y: -0.3 },
+          { x: 0.3, y: 0.5 },
+        ],
+        0.1,
+      ),
+      engine.capsule({ x: -0.5, y: 0 }, { x: 0.5, y: 0.2 }, 0.3),
+    ]
+    for (let i = 0; i < 200; i++) {
+      const x = (i % 20) * 3 - 30
+      const y = Math.floor(i / 20) * 6 - 30
+      this.world.createBody({
+        type: i % 7 === 0 ? 'dynamic' : 'static',
+        position: { x, y },
+        angle: 0.1 * i,
+        shapes: [
+          { shape: kinds[i % 4] },
+          i % 2 === 0
+            ? { shape: engine.segment({ x: -1, y: 1.5 }, { x: 1, y: 2 }) }
+            : { shape: kinds[(i + 1) % 4], sensor: i % 5 === 0 },
+        ].map((d, j) => ({
+          ...d,
+          filter: { categoryBits: 1 << ((i + j) % 3), maskBits: 0xffffffff, groupIndex: 0 },
+        })),
+      })
+    }
+    this.world.step()
+  }
+
+  /** One block of the six queries in their reusing forms. */
+  unit(): void {
+    const k = this.k++ % 64
+    const world = this.world
+    this.origin.x = -35 + 0.25 * k
+    this.origin.y = -34 + 0.5 * k
+    this.translation.x = 70
+    this.translation.y = 40 - 1.1 * k
+    this.filter.maskBits = k % 2 === 0 ? 0xffffffff : 3
+    if (world.castRayClosest(this.origin, this.translation, this.filter, this.hit) !== null) this.hits++
+    this.hits += world.castRayInto(this.origin, this.translation, this.filter, this.list)
+    this.aabb.minX = -30 + 0.5 * k
+    this.aabb.minY = -28 + 0.25 * k
+    this.aabb.maxX = this.aabb.minX + 6.5
+    this.aabb.maxY = this.aabb.minY + 4.5
+    this.hits += world.overlapAABBInto(this.aabb, this.filter, this.ids)
+    this.origin.x = -30 + 0.75 * k
+    this.origin.y = -29.9 + 0.5 * k
+    this.hits += world.overlapPointInto(this.origin, undefined, this.ids)
+    this.at.position.x = this.origin.x + 0.25
+    this.at.position.y = this.origin.y - 0.5
+    this.at.rotation.c = Math.cos(0.05 * k)
+    this.at.rotation.s = Math.sin(0.05 * k)
+    this.hits += world.overlapShapeInto(
+      k % 2 === 0 ? this.probe : this.probeBox,
+      this.at,
+      this.filter,
+      this.ids,
+    )
+    this.at.position.x = -34
+    this.at.position.y = -30.5 + 0.75 * k
+    this.translation.x = 60
+    this.translation.y = 3 - 0.1 * k
+    if (world.castShape(this.probeBox, this.at, this.translation, undefined, this.hit) !== null) this.hits++
   }
 }
