@@ -175,7 +175,7 @@ describe('rolling resistance', () => {
     const p = held.world.getPosition(held.id)
     const moved = Math.hypot(p.x - held.start.x, p.y - held.start.y)
     console.log(`tan 0.15 < c 0.2: moved ${moved.toExponential(3)} m in 5 s`)
-    expect(moved).toBeLessThan(0.001) // settling into the soft contact (0.04 mm), not rolling (without c: 4.4 m)
+    expect(moved).toBeLessThan(0.001) // settling into the soft contact (0.04 mm), not rolling (without c: about 12 m)
 
     const rolling = discOnRamp(0.2, 0.25)
     const seconds = 2
