@@ -39,9 +39,16 @@ export interface ShapeDef {
   friction?: number
   /** Restitution 0..1, usually 0 (the body definition's if given); pairs mix by max(a, b). */
   restitution?: number
-  /** Rolling resistance (non-dimensional, Box2D v3.1), usually 0; pairs mix by max(a, b). */
+  /**
+   * Rolling resistance (non-dimensional, Box2D v3.1), usually 0: a pair resists relative spin with a
+   * torque of at most max(a, b) x the larger shape radius x the normal force.
+   */
   rollingResistance?: number
-  /** Surface speed along the shape's outline, counter-clockwise (m/s): a conveyor belt; usually 0. */
+  /**
+   * Surface speed (m/s) along the right perpendicular of the outward normal, Box2D's convention
+   * (clockwise round the outline: on a box's top face +x): a conveyor belt; usually 0. Friction
+   * drives the pair to the sum of the two shapes' speeds.
+   */
   tangentSpeed?: number
   /** Collision filter; usually category 1, every mask bit, group 0. */
   filter?: Filter

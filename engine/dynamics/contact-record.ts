@@ -44,15 +44,24 @@ export const TANGENT_IMPULSE = 9
 export const TOTAL_NORMAL = 10
 export const TOTAL_TANGENT = 11
 /**
+ * Rolling resistance of the pair (m): the larger of the shapes' rollingResistance times the larger of
+ * their radii (Box2D v3.1's mixing); the rolling impulse is clamped to it times the normal impulse.
+ */
+export const ROLLING_RESISTANCE = 28
+/** Surface speed of the pair along the tangent (ny, -nx) (m/s): the sum of the shapes' tangentSpeed. */
+export const TANGENT_SPEED = 29
+/** Accumulated rolling (angular) impulse, warm started across steps (N m s); kept while the pair touches. */
+export const ROLLING_IMPULSE = 30
+/**
  * For hit events, set by the narrowphase pass of the step for contacts that ask for them: the
  * fastest approach speed along the normal of the manifold's points at the step start (m/s) and that
  * point (world, m). Not saved: recomputed before every use.
  */
-export const APPROACH = 28
-export const HIT_X = 29
-export const HIT_Y = 30
-/** Numbers per contact record (31 used; 32 keeps records on 64-byte boundaries). */
-export const CONTACT_STRIDE = 32
+export const APPROACH = 31
+export const HIT_X = 32
+export const HIT_Y = 33
+/** Numbers per contact record (34 used; 40 keeps records on 64-byte boundaries). */
+export const CONTACT_STRIDE = 40
 
 /** The contact records of one world. */
 export class ContactStore {

@@ -55,7 +55,10 @@ import {
   NORMAL_X as CONTACT_NORMAL_X,
   NORMAL_Y as CONTACT_NORMAL_Y,
   RESTITUTION as CONTACT_RESTITUTION,
+  ROLLING_IMPULSE as CONTACT_ROLLING_IMPULSE,
+  ROLLING_RESISTANCE as CONTACT_ROLLING_RESISTANCE,
   TANGENT_IMPULSE as CONTACT_TANGENT_IMPULSE,
+  TANGENT_SPEED as CONTACT_TANGENT_SPEED,
   TOTAL_NORMAL as CONTACT_TOTAL_NORMAL,
   TOTAL_TANGENT as CONTACT_TOTAL_TANGENT,
   POINT_0,
@@ -77,7 +80,11 @@ const RESTITUTION = 7
 const BIAS_RATE = 8
 const MASS_SCALE = 9
 const IMPULSE_SCALE = 10
-const POINTS = 11
+const TANGENT_SPEED = 11
+const ROLLING_RESISTANCE = 12
+const ROLLING_IMPULSE = 13
+const ROLLING_MASS = 14
+const POINTS = 15
 // Point record layout (two per constraint)
 const RAX = 0
 const RAY = 1
@@ -241,6 +248,11 @@ export function prepareContacts(
     d[o + BIAS_RATE] = soft.biasRate
     d[o + MASS_SCALE] = soft.massScale
     d[o + IMPULSE_SCALE] = soft.impulseScale
+    d[o + TANGENT_SPEED] = cd[cb + CONTACT_TANGENT_SPEED]
+    const rollingResistance = cd[cb + CONTACT_ROLLING_RESISTANCE]
+    d[o + ROLLING_RESISTANCE] = rollingResistance
+    d[o + ROLLING_IMPULSE] = rollingResistance > 0 ? cd[cb + CONTACT_ROLLING_IMPULSE] : 0
+    d[o + ROLLING_MASS] = iA + iB > 0 ? 1 / (iA + iB) : 0
     preparePoint(d, o, o + POINTS, c, cb + POINT_0)
     if (c.pointCount > 1) preparePoint(d, o, o + POINTS + POINT_STRIDE, c, cb + POINT_0 + POINT_FIELDS)
     // A dynamic body touching one more than PINCH_MASS_RATIO times heavier is pinched.
@@ -284,6 +296,11 @@ export function warmStartContacts(k: ContactConstraints, state: Float64Array): v
       wB += iB * (d[p + RBX] * py - d[p + RBY] * px)
       vBx += mB * px
       vBy += mB * py
+    }
+    const rolling = d[o + ROLLING_IMPULSE]
+    if (rolling !== 0) {
+      wA -= iA * rolling
+      wB += iB * rolling
     }
     state[sa + VX] = vAx
     state[sa + VY] = vAy
@@ -344,6 +361,7 @@ function solveContactRange(
     const nx = d[o + NX]
     const ny = d[o + NY]
     const end = o + POINTS + k.pointCount[i] * POINT_STRIDE
+    let totalNormalImpulse = 0
 
     // Non-penetration
     for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
@@ -374,6 +392,7 @@ function solveContactRange(
       impulse = newImpulse - accumulated
       d[p + NORMAL_IMPULSE] = newImpulse
       d[p + TOTAL_NORMAL] += impulse
+      totalNormalImpulse += newImpulse
       const px = impulse * nx
       const py = impulse * ny
       vAx -= mA * px
@@ -384,8 +403,9 @@ function solveContactRange(
       wB += iB * (rBx * py - rBy * px)
     }
 
-    // Friction (Coulomb cone), tangent = (ny, -nx)
+    // Friction (Coulomb cone), tangent = (ny, -nx), towards the surfaces' relative speed (conveyors)
     const friction = d[o + FRICTION]
+    const tangentSpeed = d[o + TANGENT_SPEED]
     for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
       const rAx = d[p + RAX]
       const rAy = d[p + RAY]
@@ -393,7 +413,7 @@ function solveContactRange(
       const rBy = d[p + RBY]
       const dvx = vBx - wB * rBy - (vAx - wA * rAy)
       const dvy = vBy + wB * rBx - (vAy + wA * rAx)
-      const vt = dvx * ny - dvy * nx
+      const vt = dvx * ny - dvy * nx - tangentSpeed
       const accumulated = d[p + TANGENT_IMPULSE]
       let impulse = -d[p + TANGENT_MASS] * vt
       const maxFriction = friction * d[p + NORMAL_IMPULSE]
@@ -409,6 +429,18 @@ function solveContactRange(
       vBx += mB * px
       vBy += mB * py
       wB += iB * (rBx * py - rBy * px)
+    }
+
+    // Rolling resistance (Box2D v3.1): an angular impulse against the relative spin, at most
+    // resistance (m) x the normal impulse.
+    const rollingResistance = d[o + ROLLING_RESISTANCE]
+    if (rollingResistance > 0) {
+      const lambda = d[o + ROLLING_IMPULSE]
+      const maxLambda = rollingResistance * totalNormalImpulse
+      const next = Math.max(-maxLambda, Math.min(lambda - d[o + ROLLING_MASS] * (wB - wA), maxLambda))
+      d[o + ROLLING_IMPULSE] = next
+      wA -= iA * (next - lambda)
+      wB += iB * (next - lambda)
     }
     state[sa + VX] = vAx
     state[sa + VY] = vAy
@@ -484,6 +516,7 @@ export function storeImpulses(k: ContactConstraints, contacts: Contact[]): void 
     const cd = c.store.data
     const cp = c.base + POINT_0
     const p = i * CONSTRAINT_STRIDE + POINTS
+    cd[c.base + CONTACT_ROLLING_IMPULSE] = d[i * CONSTRAINT_STRIDE + ROLLING_IMPULSE]
     cd[cp + CONTACT_NORMAL_IMPULSE] = d[p + NORMAL_IMPULSE]
     cd[cp + CONTACT_TANGENT_IMPULSE] = d[p + TANGENT_IMPULSE]
     cd[cp + CONTACT_TOTAL_NORMAL] = d[p + TOTAL_NORMAL]

@@ -31,8 +31,11 @@ import {
   PX,
   PY,
   RESTITUTION,
+  ROLLING_IMPULSE,
+  ROLLING_RESISTANCE,
   SEPARATION,
   TANGENT_IMPULSE,
+  TANGENT_SPEED,
   TOTAL_NORMAL,
   TOTAL_TANGENT,
 } from './contact-record.ts'
@@ -89,6 +92,10 @@ export class Contact {
   readonly base: number
   declare friction: number
   declare restitution: number
+  /** Mixed rolling resistance (m) and tangent speed (m/s), and the accumulated rolling impulse (N m s). */
+  declare rollingResistance: number
+  declare tangentSpeed: number
+  declare rollingImpulse: number
   /** World unit normal from A to B. */
   declare normalX: number
   declare normalY: number
@@ -160,6 +167,7 @@ export class Contact {
     mixMaterials(this)
     d[o + NORMAL_X] = 0
     d[o + NORMAL_Y] = 0
+    d[o + ROLLING_IMPULSE] = 0
     for (let p = o + POINT_0; p < o + POINT_0 + 2 * POINT_FIELDS; p += POINT_FIELDS) {
       d[p + NORMAL_IMPULSE] = 0
       d[p + TANGENT_IMPULSE] = 0
@@ -176,7 +184,8 @@ export const CONTACT_EVENTS = 1
 export const HIT_EVENTS = 2
 
 /**
- * Sets the pair's friction (geometric mean) and restitution (larger) from its shapes (Box2D's
+ * Sets the pair's friction (geometric mean), restitution (larger), rolling resistance (the larger
+ * coefficient times the larger shape radius) and tangent speed (sum) from its shapes (Box2D v3.1's
  * mixing), and which events it reports.
  */
 export function mixMaterials(c: Contact): void {
@@ -188,12 +197,21 @@ export function mixMaterials(c: Contact): void {
   const d = c.store.data
   d[c.base + FRICTION] = Math.sqrt(c.shapeA.friction * c.shapeB.friction)
   d[c.base + RESTITUTION] = Math.max(c.shapeA.restitution, c.shapeB.restitution)
+  // Box2D v3.1 b2UpdateContact: a length, so the torque limit is resistance x radius x normal force.
+  d[c.base + ROLLING_RESISTANCE] =
+    sa.rollingResistance > 0 || sb.rollingResistance > 0
+      ? Math.max(sa.rollingResistance, sb.rollingResistance) * Math.max(sa.shape.radius, sb.shape.radius)
+      : 0
+  d[c.base + TANGENT_SPEED] = sa.tangentSpeed + sb.tangentSpeed
 }
 
 /** The named properties of a contact's record and their offsets in it. */
 const RECORD_PROPERTIES: [string, number][] = [
   ['friction', FRICTION],
   ['restitution', RESTITUTION],
+  ['rollingResistance', ROLLING_RESISTANCE],
+  ['tangentSpeed', TANGENT_SPEED],
+  ['rollingImpulse', ROLLING_IMPULSE],
   ['normalX', NORMAL_X],
   ['normalY', NORMAL_Y],
 ]
@@ -245,6 +263,7 @@ export function clearContact(c: Contact): void {
   const d = c.store.data
   d[c.base + NORMAL_X] = 0
   d[c.base + NORMAL_Y] = 0
+  d[c.base + ROLLING_IMPULSE] = 0
   c.touching = false
 }
 
@@ -285,6 +304,8 @@ export function updateContact(c: Contact, speculativeDistance: number): boolean 
   d[o + NORMAL_Y] = scratch.normalY
   if (count > 0) writePoint(d, p0, scratch.points[0], a, b)
   if (count > 1) writePoint(d, p1, scratch.points[1], a, b)
+  // The rolling impulse is the contact's, not a point's: kept while the pair touches (Box2D v3.1).
+  if (count === 0) d[o + ROLLING_IMPULSE] = 0
   c.touching = count > 0
   return c.touching
 }

@@ -41,6 +41,7 @@ export {
   NORMAL_Y,
   POINT_0,
   POINT_FIELDS,
+  ROLLING_IMPULSE,
   TOTAL_NORMAL,
 } from './contact-record.ts'
 export {

@@ -24,6 +24,7 @@ import {
   NORMAL_X,
   POINT_0,
   POINT_FIELDS as RECORD_POINT_FIELDS,
+  ROLLING_IMPULSE,
   STATIC,
   updateMassData,
 } from '../dynamics/index.ts'
@@ -314,11 +315,15 @@ export function writeContact(w: ByteWriter, c: Contact): void {
   const o = c.base
   w.f64(c.shapeA.id)
   w.f64(c.shapeB.id)
-  w.u8(c.touching ? 1 : 0)
+  // Bit 1: touching; bit 2: a rolling impulse follows (only then, so that worlds without rolling
+  // resistance save, and hash, exactly as before it existed).
+  const rolling = d[o + ROLLING_IMPULSE]
+  w.u8((c.touching ? 1 : 0) | (rolling !== 0 ? 2 : 0))
   w.u8(c.pointCount)
   w.f64s(d, o + NORMAL_X, 2)
   if (c.pointCount > 0) w.f64s(d, o + POINT_0, RECORD_POINT_FIELDS)
   if (c.pointCount > 1) w.f64s(d, o + POINT_0 + RECORD_POINT_FIELDS, RECORD_POINT_FIELDS)
+  if (rolling !== 0) w.f64(rolling)
 }
 
 /** Reads a contact written by writeContact. */
@@ -334,7 +339,9 @@ function readContact(r: ByteReader, shapes: Map<number, BodyShape>, store: Conta
   if (a.body === b.body)
     throw new WorldLoadError(`saved world has a contact between shapes of one body ${a.body.id}`)
   const c = new Contact(a, b, store)
-  c.touching = r.u8('contact touching') === 1
+  const flags = r.u8('contact flags')
+  if (flags > 3) throw new WorldLoadError(`saved world has a contact with flags ${flags}`)
+  c.touching = (flags & 1) !== 0
   c.pointCount = r.u8('contact point count')
   if (c.pointCount > 2) throw new WorldLoadError(`saved world has a contact with ${c.pointCount} points`)
   c.normalX = r.num('contact normal')
@@ -342,6 +349,7 @@ function readContact(r: ByteReader, shapes: Map<number, BodyShape>, store: Conta
   for (let j = 0; j < c.pointCount; j++) {
     for (const f of POINT_FIELDS[j]) c[f] = r.num(`contact point ${f}`)
   }
+  if ((flags & 2) !== 0) c.rollingImpulse = r.num('contact rolling impulse')
   return c
 }
 

@@ -20,7 +20,9 @@
  *   the counterweight's targets move, and the world is hashed once a second.
  * - compound: 150 compound bodies (dumbbells, capsules with a fin, rounded triangles with a ball) on
  *   static segments, two sensors (one on a turning kinematic body), hit events on half the bodies;
- *   every step reads the contact and sensor event lists as a game would.
+ *   every step reads the contact and sensor event lists as a game would. The two floor segments are
+ *   conveyors (tangent speed 0.5 m/s) and every other body's shapes have
+ *   rolling resistance 0.1, so the solver's tangent-speed and rolling-resistance paths run.
  */
 import {
   type BodyId,
@@ -144,8 +146,8 @@ function buildCompoundPile(world: World): void {
   world.createBody({
     type: 'static',
     shapes: [
-      { shape: segment({ x: -12, y: 4 }, { x: 0, y: 0 }) },
-      { shape: segment({ x: 0, y: 0 }, { x: 12, y: 4 }) },
+      { shape: segment({ x: -12, y: 4 }, { x: 0, y: 0 }), tangentSpeed: 0.5 },
+      { shape: segment({ x: 0, y: 0 }, { x: 12, y: 4 }), tangentSpeed: 0.5 },
       { shape: box(0.25, 10, { x: -12, y: 12 }) },
       { shape: box(0.25, 10, { x: 12, y: 12 }) },
       { shape: box(3, 1, { x: -4, y: 3 }), sensor: true },
@@ -187,7 +189,12 @@ function buildCompoundPile(world: World): void {
               },
               { shape: circle(0.18, { x: 0, y: 0.5 }) },
             ]
-    world.createBody({ position, angle, shapes: shapes.map((d) => ({ ...d, enableHitEvents: i % 2 === 0 })) })
+    const rollingResistance = i % 2 === 1 ? 0.1 : 0
+    world.createBody({
+      position,
+      angle,
+      shapes: shapes.map((d) => ({ ...d, enableHitEvents: i % 2 === 0, rollingResistance })),
+    })
   }
 }
 

@@ -107,7 +107,7 @@ describe('allocation', () => {
     expectNoAllocation(result)
   }, 240_000)
 
-  it('a warm pile of compound bodies (dumbbells, capsules, rounded polygons) on segments, with two sensors (one turning) and contact, hit and sensor events read every step, steps 3 x 3000 times without heap growth', async () => {
+  it('a warm pile of compound bodies (dumbbells, capsules, rounded polygons) on conveyor segments, half with rolling resistance, with two sensors (one turning) and contact, hit and sensor events read every step, steps 3 x 3000 times without heap growth', async () => {
     const result = await measure('compound')
     expect(result.facts.contacts).toBeGreaterThan(100)
     expect(result.facts.events).toBeGreaterThan(100)
