@@ -6,7 +6,7 @@
  * Each test logs what it measured.
  */
 import { describe, expect, it } from 'vitest'
-import { decompose } from '../../engine/collision/decompose.ts'
+import { decomposeOutline as decompose } from '../../engine/collision/decompose.ts'
 import {
   box,
   buildScene,
