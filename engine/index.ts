@@ -6,8 +6,11 @@
 export {
   box,
   type CapsuleShape,
+  type ChainSegmentShape,
+  type ChainShape,
   type CircleShape,
   capsule,
+  chain,
   circle,
   combineMass,
   computeMass,
@@ -22,6 +25,7 @@ export {
 export {
   HIT_EVENT_SPEED,
   LINEAR_SLOP,
+  MAX_CHAIN_POINTS,
   MAX_LINEAR_SPEED,
   MAX_POLYGON_VERTICES,
   MAX_POSITION,

@@ -20,7 +20,8 @@
  * single point with id 0.
  *
  * Points are kept only while their separation is below the speculative distance. Circle A against
- * polygon B runs polygon-against-circle with the roles swapped and flips the normal.
+ * polygon B runs polygon-against-circle with the roles swapped and flips the normal. A chain segment
+ * against anything goes to chain-collide.ts (one-sided, with ghost vertices).
  *
  * Determinism and speed: only + - * / and Math.sqrt/abs/min/max. Nothing is allocated per call:
  * scratch lives in module-level Float64Arrays. V8 boxes a non-integer number into a fresh heap
@@ -29,6 +30,7 @@
  * internal helpers pass only integers, booleans and objects, returning doubles through `found`.
  */
 import { LINEAR_SLOP, MAX_POLYGON_VERTICES } from '../constants.ts'
+import { collideChainSegmentInFrame } from './chain-collide.ts'
 import { type Manifold, makeFeatureId } from './manifold.ts'
 import { NORMAL_X, NORMAL_Y, polygonGeometry, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
 import type { CircleShape, PolygonalShape, Shape } from './shapes.ts'
@@ -120,7 +122,11 @@ export function collideGeometry(
   out: Manifold,
 ): void {
   setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
-  if (shapeA.type !== 'circle') {
+  if (shapeA.type === 'chainSegment') {
+    collideChainSegmentInFrame(frame, true, geometryA, shapeB, geometryB, out)
+  } else if (shapeB.type === 'chainSegment') {
+    collideChainSegmentInFrame(frame, false, geometryB, shapeA, geometryA, out)
+  } else if (shapeA.type !== 'circle') {
     if (shapeB.type !== 'circle') polygonsInFrame(shapeA, geometryA, shapeB, geometryB, out)
     else {
       moveToCenter(shapeB, BX)
@@ -169,7 +175,11 @@ export function collideGeometryAt(
   frame[BC] = poseB.c
   frame[BS] = poseB.s
   frame[SPEC] = 0
-  if (shapeA.type !== 'circle') {
+  if (shapeA.type === 'chainSegment') {
+    collideChainSegmentInFrame(frame, true, geometryA, shapeB, geometryB, out)
+  } else if (shapeB.type === 'chainSegment') {
+    collideChainSegmentInFrame(frame, false, geometryB, shapeA, geometryA, out)
+  } else if (shapeA.type !== 'circle') {
     if (shapeB.type !== 'circle') polygonsInFrame(shapeA, geometryA, shapeB, geometryB, out)
     else {
       moveToCenter(shapeB, BX)

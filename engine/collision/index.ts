@@ -13,8 +13,12 @@ export { polygonGeometry, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
 export {
   box,
   type CapsuleShape,
+  type ChainSegmentShape,
+  type ChainShape,
   type CircleShape,
   capsule,
+  chain,
+  chainSegmentShape,
   circle,
   combineMass,
   computeMass,

@@ -24,6 +24,9 @@
  * which exists by then and stops the approach speculatively; only the fast body's core (a small
  * circle at its centre of mass) is swept for it, so its centre can never cross (see timeOfImpact).
  *
+ * A chain segment is one-sided: a body whose centre of mass starts the step behind it is not swept
+ * against it (it passes through, as it would without continuous collision).
+ *
  * What remains is in engine/README.md: kinematic bodies are never swept against, a non-bullet
  * fast body passes through thin dynamic bodies, and a rotation over ~half a turn in one step is
  * swept along the shorter arc.
@@ -88,6 +91,23 @@ function advanceTo(b: Body): void {
   // baseline tier (a heap number per intermediate double) instead of being inlined.
   b.cx = b.x + (b.c * b.localCenterX - b.s * b.localCenterY)
   b.cy = b.y + (b.s * b.localCenterX + b.c * b.localCenterY)
+}
+
+/**
+ * Whether body b's centre of mass started the step behind chain segment `chain` (on its left, the
+ * side that does not collide): then b passes through it, and is not swept against it (one-sided,
+ * as Box2D v3's continuous query skips chain segments a body starts behind).
+ */
+function startsBehind(b: Body, chain: BodyShape): boolean {
+  const o = chain.body
+  const v = chain.shape.vertices
+  const p1x = o.x + o.c * v[0].x - o.s * v[0].y
+  const p1y = o.y + o.s * v[0].x + o.c * v[0].y
+  const p2x = o.x + o.c * v[1].x - o.s * v[1].y
+  const p2y = o.y + o.s * v[1].x + o.c * v[1].y
+  const ex = p2x - p1x
+  const ey = p2y - p1y
+  return ey * (b.c0x - p1x) - ex * (b.c0y - p1y) < 0
 }
 
 /** How far a body's surface moved this step at most (m): centre travel plus the rotation's chord. */
@@ -236,6 +256,7 @@ export class ContinuousSolver {
     canCollide: (a: BodyShape, b: BodyShape) => boolean,
   ): void {
     if (!canCollide(bs, os)) return
+    if (os.shape.type === 'chainSegment' && startsBehind(b, os)) return
     this.coreHit = false
     this.timeOfImpact(b, bs, other, os)
     const t = this.search[IMPACT]
