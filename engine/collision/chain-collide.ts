@@ -51,15 +51,10 @@ const REFERENCE_FACE_TOLERANCE = 0.1 * LINEAR_SLOP
 /** Distances below this are treated as zero when a direction is normalized (m). */
 const TINY_DISTANCE = 1e-12
 
-// Indices into `frame` (collide.ts's layout): pose A, pose B, speculative distance.
+// Indices into `frame` (collide.ts's layout): pose A (x, y, cos, sin) at AX, pose B at BX, then the
+// speculative distance.
 const AX = 0
-const AY = 1
-const AC = 2
-const AS = 3
 const BX = 4
-const BY = 5
-const BC = 6
-const BS = 7
 const SPEC = 8
 
 /** The other shape's core in the chain's frame: vertices x [i], y [M + i], normals [2M + i], [3M + i]. */
@@ -436,8 +431,12 @@ function closestFeatures(count: number, spec: number, out: Manifold): void {
     return
   }
   if (b >= M) {
-    // A segment end against a polygon edge's interior: that edge, if the join admits it.
-    const edge = b - M
+    // A segment end against a polygon edge's interior: that edge, if the join admits it. (A
+    // capsule's one edge was tried once: its face is the one whose normal points to the end.)
+    let edge = b - M
+    const gx = near[NEAR_AX] - near[NEAR_BX]
+    const gy = near[NEAR_AY] - near[NEAR_BY]
+    if (count === 2 && other[2 * M + edge] * gx + other[3 * M + edge] * gy < 0) edge = 1 - edge
     const type = classify(-other[2 * M + edge], -other[3 * M + edge])
     if (type === SKIP) return
     if (type === ADMIT) clipToPolygonFace(count, edge, spec, out)
