@@ -24,8 +24,9 @@
  * which exists by then and stops the approach speculatively; only the fast body's core (a small
  * circle at its centre of mass) is swept for it, so its centre can never cross (see timeOfImpact).
  *
- * A chain segment is one-sided: a body whose centre of mass starts the step behind it is not swept
- * against it (it passes through, as it would without continuous collision).
+ * A chain segment is swept against only by a shape whose centre crosses its line from the front to
+ * the back during the step (Box2D v3's rule, per shape): one that starts behind passes through
+ * (one-sided), one that ends in front is left to its contacts (see skipsChain).
  *
  * What remains is in engine/README.md: kinematic bodies are never swept against, a non-bullet
  * fast body passes through thin dynamic bodies, and a rotation over ~half a turn in one step is
@@ -94,11 +95,14 @@ function advanceTo(b: Body): void {
 }
 
 /**
- * Whether body b's centre of mass started the step behind chain segment `chain` (on its left, the
- * side that does not collide): then b passes through it, and is not swept against it (one-sided,
- * as Box2D v3's continuous query skips chain segments a body starts behind).
+ * Whether the sweep of shape `bs` of body b against chain segment `chain` is skipped (Box2D v3's
+ * continuous rule for chain segments, applied to the shape's centre rather than the body's so that
+ * each wheel of a car counts): when the shape's centre started the step behind the segment's line
+ * (on its left, the side that does not collide: it passes through) or ends the step in front of it
+ * (it did not cross: its contact handles it, and sweeping would hold back a body that rolls or
+ * slides along a chain, whose next segment's end lies on the body's path).
  */
-function startsBehind(b: Body, chain: BodyShape): boolean {
+function skipsChain(b: Body, bs: BodyShape, chain: BodyShape): boolean {
   const o = chain.body
   const v = chain.shape.vertices
   const p1x = o.x + o.c * v[0].x - o.s * v[0].y
@@ -107,7 +111,14 @@ function startsBehind(b: Body, chain: BodyShape): boolean {
   const p2y = o.y + o.s * v[1].x + o.c * v[1].y
   const ex = p2x - p1x
   const ey = p2y - p1y
-  return ey * (b.c0x - p1x) - ex * (b.c0y - p1y) < 0
+  // The shape's centre relative to the centre of mass, at the start and at the end of the step.
+  const rx = bs.shape.centroid.x - b.localCenterX
+  const ry = bs.shape.centroid.y - b.localCenterY
+  const x0 = b.c0x + b.q0c * rx - b.q0s * ry
+  const y0 = b.c0y + b.q0s * rx + b.q0c * ry
+  const x1 = b.cx + b.c * rx - b.s * ry
+  const y1 = b.cy + b.s * rx + b.c * ry
+  return ey * (x0 - p1x) - ex * (y0 - p1y) < 0 || ey * (x1 - p1x) - ex * (y1 - p1y) > 0
 }
 
 /** How far a body's surface moved this step at most (m): centre travel plus the rotation's chord. */
@@ -256,7 +267,7 @@ export class ContinuousSolver {
     canCollide: (a: BodyShape, b: BodyShape) => boolean,
   ): void {
     if (!canCollide(bs, os)) return
-    if (os.shape.type === 'chainSegment' && startsBehind(b, os)) return
+    if (os.shape.type === 'chainSegment' && skipsChain(b, bs, os)) return
     this.coreHit = false
     this.timeOfImpact(b, bs, other, os)
     const t = this.search[IMPACT]
