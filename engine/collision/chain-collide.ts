@@ -42,6 +42,14 @@ import { type Manifold, makeFeatureId } from './manifold.ts'
 import { NORMAL_X, NORMAL_Y, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
 import type { Shape } from './shapes.ts'
 
+/** A body's pose (collide.ts's Pose): origin (m) and rotation as (cos, sin). */
+interface Pose {
+  readonly x: number
+  readonly y: number
+  readonly c: number
+  readonly s: number
+}
+
 /** A join turns left (convex) when cross(edge0, edge1) is at least this (Box2D's convexTol). */
 const CONVEX_TOLERANCE = 0.01
 /** A normal beyond a convex neighbour's by more than this sine is skipped (Box2D's sinTol). */
@@ -83,7 +91,11 @@ const SIGN = 16 // +1 when the chain is A, -1 when it is B
 const RADIUS = 17 // the other shape's radius
 const CX = 18 // the other shape's centroid (circle centre) in the chain frame
 const CY = 19
-const seg = new Float64Array(20)
+const SPECULATIVE = 20 // the speculative distance of the call
+const QX = 21 // the normal classify() looks at
+const QY = 22
+const LEAST = 23 // leastProjection's result
+const seg = new Float64Array(24)
 
 /** What classify() decided about a normal. */
 const SKIP = 0
@@ -92,16 +104,34 @@ const SNAP = 2
 
 /**
  * Fills `out` for a pair where at least one shape is a chain segment, with the poses and the
- * speculative distance in `frame` (collide.ts's layout). The chain segment is A when `chainIsA`.
+ * speculative distance in `frame` (collide.ts's layout); given poses are copied into `frame` first.
+ * The chain segment is A when `chainIsA`.
  */
 export function collideChainSegmentInFrame(
   frame: Float64Array,
   chainIsA: boolean,
-  chainGeometry: Float64Array,
-  otherShape: Shape,
-  otherGeometry: Float64Array,
+  shapeA: Shape,
+  geometryA: Float64Array,
+  poseA: Pose | null,
+  shapeB: Shape,
+  geometryB: Float64Array,
+  poseB: Pose | null,
   out: Manifold,
 ): void {
+  if (poseA !== null && poseB !== null) {
+    // The bodies' poses, read here (this function is hot and optimized; see collideChainSegmentAt).
+    frame[AX] = poseA.x
+    frame[AX + 1] = poseA.y
+    frame[AX + 2] = poseA.c
+    frame[AX + 3] = poseA.s
+    frame[BX] = poseB.x
+    frame[BX + 1] = poseB.y
+    frame[BX + 2] = poseB.c
+    frame[BX + 3] = poseB.s
+  }
+  const chainGeometry = chainIsA ? geometryA : geometryB
+  const otherShape = chainIsA ? shapeB : shapeA
+  const otherGeometry = chainIsA ? geometryB : geometryA
   loadSegment(frame, chainIsA, chainGeometry)
   // The other shape's transform in the chain's frame: q = qP^T qO, t = qP^T (pO - pP).
   const oi = chainIsA ? BX : AX
@@ -119,9 +149,10 @@ export function collideChainSegmentInFrame(
   const lc = otherShape.centroid
   seg[CX] = qc * lc.x - qs * lc.y + tx
   seg[CY] = qs * lc.x + qc * lc.y + ty
+  seg[SPECULATIVE] = frame[SPEC]
   out.pointCount = 0
   if (otherShape.type === 'circle') {
-    segmentAndCircle(frame[SPEC], out)
+    segmentAndCircle(out)
   } else {
     const count = otherShape.count
     for (let i = 0; i < count; i++) {
@@ -134,7 +165,7 @@ export function collideChainSegmentInFrame(
       other[2 * M + i] = qc * nx - qs * ny
       other[3 * M + i] = qs * nx + qc * ny
     }
-    segmentAndPolygon(count, frame[SPEC], out)
+    segmentAndPolygon(count, out)
   }
   if (out.pointCount === 0) {
     out.normalX = 0
@@ -201,7 +232,8 @@ function loadSegment(frame: Float64Array, chainIsA: boolean, g: Float64Array): v
  * Circle at (seg[CX], seg[CY]) of radius seg[RADIUS] against the segment (Box2D v3
  * b2CollideChainSegmentAndCircle), in the chain frame.
  */
-function segmentAndCircle(spec: number, out: Manifold): void {
+function segmentAndCircle(out: Manifold): void {
+  const spec = seg[SPECULATIVE]
   const p1x = seg[P1X]
   const p1y = seg[P1Y]
   const p2x = seg[P2X]
@@ -258,8 +290,14 @@ function segmentAndCircle(spec: number, out: Manifold): void {
   p.id = 0
 }
 
-/** Whether the join admits normal (nx, ny) (chain frame, from the chain outward): SKIP, ADMIT or SNAP. */
-function classify(nx: number, ny: number): number {
+/**
+ * Whether the join admits the normal (seg[QX], seg[QY]) (chain frame, from the chain outward): SKIP,
+ * ADMIT or SNAP. (The normal is passed in `seg`: V8 boxes a double argument of a call it does not
+ * inline, and these run for every chain contact every step.)
+ */
+function classify(): number {
+  const nx = seg[QX]
+  const ny = seg[QY]
   if (nx * seg[E1X] + ny * seg[E1Y] <= 0) {
     // Towards p1.
     if (seg[CONVEX1] === 0) return SNAP
@@ -269,14 +307,26 @@ function classify(nx: number, ny: number): number {
   return seg[N2X] * ny - seg[N2Y] * nx > SIN_TOLERANCE ? SKIP : ADMIT
 }
 
-/** Smallest projection of the other polygon's vertices onto normal (nx, ny) from point (ox, oy). */
-function leastProjection(count: number, nx: number, ny: number, ox: number, oy: number): number {
+/** The axes leastProjection measures along: the segment's normal, and its neighbours'. */
+const AXIS_SEGMENT = 0
+const AXIS_PREVIOUS = 1
+const AXIS_NEXT = 2
+
+/**
+ * Smallest projection of the other polygon's vertices onto an axis (AXIS_SEGMENT: n1 from p1,
+ * AXIS_PREVIOUS: n0 from p1, AXIS_NEXT: n2 from p2), into seg[LEAST].
+ */
+function leastProjection(count: number, axis: number): void {
+  const nx = axis === AXIS_SEGMENT ? seg[E1Y] : axis === AXIS_PREVIOUS ? seg[N0X] : seg[N2X]
+  const ny = axis === AXIS_SEGMENT ? -seg[E1X] : axis === AXIS_PREVIOUS ? seg[N0Y] : seg[N2Y]
+  const ox = axis === AXIS_NEXT ? seg[P2X] : seg[P1X]
+  const oy = axis === AXIS_NEXT ? seg[P2Y] : seg[P1Y]
   let least = Number.POSITIVE_INFINITY
   for (let i = 0; i < count; i++) {
     const s = nx * (other[i] - ox) + ny * (other[M + i] - oy)
     if (s < least) least = s
   }
-  return least
+  seg[LEAST] = least
 }
 
 /** Index of the other polygon's vertex of least projection on the segment normal. */
@@ -296,7 +346,8 @@ function deepestVertex(count: number): number {
 }
 
 /** The other polygon (in `other`, core of radius seg[RADIUS]) against the segment, in the chain frame. */
-function segmentAndPolygon(count: number, spec: number, out: Manifold): void {
+function segmentAndPolygon(count: number, out: Manifold): void {
+  const spec = seg[SPECULATIVE]
   const p1x = seg[P1X]
   const p1y = seg[P1Y]
   const p2x = seg[P2X]
@@ -314,17 +365,20 @@ function segmentAndPolygon(count: number, spec: number, out: Manifold): void {
   if (behind1 && behind0 && behind2) return
   const reach = spec + seg[RADIUS]
   // 2. Separating axes.
-  let edgeSeparation = leastProjection(count, n1x, n1y, p1x, p1y)
+  leastProjection(count, AXIS_SEGMENT)
+  let edgeSeparation = seg[LEAST]
   let neighbourOwns = false
   if (convex1) {
-    const s0 = leastProjection(count, seg[N0X], seg[N0Y], p1x, p1y)
+    leastProjection(count, AXIS_PREVIOUS)
+    const s0 = seg[LEAST]
     if (s0 > edgeSeparation) {
       edgeSeparation = s0
       neighbourOwns = true
     }
   }
   if (convex2) {
-    const s2 = leastProjection(count, seg[N2X], seg[N2Y], p2x, p2y)
+    leastProjection(count, AXIS_NEXT)
+    const s2 = seg[LEAST]
     if (s2 > edgeSeparation) {
       edgeSeparation = s2
       neighbourOwns = true
@@ -340,7 +394,10 @@ function segmentAndPolygon(count: number, spec: number, out: Manifold): void {
     const vy = other[M + i]
     const s = Math.min(nx * (p1x - vx) + ny * (p1y - vy), nx * (p2x - vx) + ny * (p2y - vy))
     if (!(s < reach)) return // this axis separates them
-    if (s > polygonSeparation && classify(-nx, -ny) === ADMIT) {
+    if (!(s > polygonSeparation)) continue
+    seg[QX] = -nx
+    seg[QY] = -ny
+    if (classify() === ADMIT) {
       polygonSeparation = s
       reference = i
     }
@@ -348,16 +405,16 @@ function segmentAndPolygon(count: number, spec: number, out: Manifold): void {
   // 3. Apart: the closest features decide the normal.
   const apart = Math.max(edgeSeparation, polygonSeparation) > 0.1 * LINEAR_SLOP
   if (!behind1 && apart) {
-    closestFeatures(count, spec, out)
+    closestFeatures(count, out)
     return
   }
   // 4. Touching or overlapping: the best reference face.
   if (reference >= 0 && polygonSeparation > edgeSeparation + REFERENCE_FACE_TOLERANCE) {
-    clipToPolygonFace(count, reference, spec, out)
+    clipToPolygonFace(count, reference, out)
     return
   }
   if (neighbourOwns) return
-  clipToSegmentFace(count, incidentEdgeAt(count, deepestVertex(count)), spec, out)
+  clipToSegmentFace(count, incidentEdgeAt(count, deepestVertex(count)), out)
 }
 
 // The closest features: distance squared, segment feature (0, 1 its ends, 2 its interior), polygon
@@ -372,7 +429,8 @@ const NEAR_BX = 5
 const NEAR_BY = 6
 
 /** Step 3 of segmentAndPolygon: the shapes are apart; find their closest features (brute force). */
-function closestFeatures(count: number, spec: number, out: Manifold): void {
+function closestFeatures(count: number, out: Manifold): void {
+  const spec = seg[SPECULATIVE]
   const p1x = seg[P1X]
   const p1y = seg[P1Y]
   const ex = seg[P2X] - p1x
@@ -427,7 +485,7 @@ function closestFeatures(count: number, spec: number, out: Manifold): void {
   const b = near[NEAR_B]
   if (a === 2) {
     // A polygon vertex over the segment's interior: the segment face.
-    clipToSegmentFace(count, incidentEdgeAt(count, b), spec, out)
+    clipToSegmentFace(count, incidentEdgeAt(count, b), out)
     return
   }
   if (b >= M) {
@@ -437,20 +495,24 @@ function closestFeatures(count: number, spec: number, out: Manifold): void {
     const gx = near[NEAR_AX] - near[NEAR_BX]
     const gy = near[NEAR_AY] - near[NEAR_BY]
     if (count === 2 && other[2 * M + edge] * gx + other[3 * M + edge] * gy < 0) edge = 1 - edge
-    const type = classify(-other[2 * M + edge], -other[3 * M + edge])
+    seg[QX] = -other[2 * M + edge]
+    seg[QY] = -other[3 * M + edge]
+    const type = classify()
     if (type === SKIP) return
-    if (type === ADMIT) clipToPolygonFace(count, edge, spec, out)
-    else clipToSegmentFace(count, edge, spec, out)
+    if (type === ADMIT) clipToPolygonFace(count, edge, out)
+    else clipToSegmentFace(count, edge, out)
     return
   }
   // Two vertices: one point along their direction, if the join admits it.
   const distance = Math.sqrt(near[NEAR_D2])
   const nx = (near[NEAR_BX] - near[NEAR_AX]) / distance
   const ny = (near[NEAR_BY] - near[NEAR_AY]) / distance
-  const type = classify(nx, ny)
+  seg[QX] = nx
+  seg[QY] = ny
+  const type = classify()
   if (type === SKIP) return
   if (type === SNAP) {
-    clipToSegmentFace(count, incidentEdgeAt(count, b), spec, out)
+    clipToSegmentFace(count, incidentEdgeAt(count, b), out)
     return
   }
   const radius = seg[RADIUS]
@@ -481,7 +543,8 @@ function incidentEdgeAt(count: number, i: number): number {
  * run against the segment's direction) to the segment's ends and keeps the points closer than the
  * speculative distance, halfway between the surfaces.
  */
-function clipToSegmentFace(count: number, edge: number, spec: number, out: Manifold): void {
+function clipToSegmentFace(count: number, edge: number, out: Manifold): void {
+  const spec = seg[SPECULATIVE]
   const p1x = seg[P1X]
   const p1y = seg[P1Y]
   const tx = seg[E1X]
@@ -542,7 +605,8 @@ function clipToSegmentFace(count: number, edge: number, spec: number, out: Manif
  * incident edge; otherwise the segment is clipped to the face's ends (the segment runs against the
  * face's direction) and the points are kept as in clipToSegmentFace. The manifold normal is -n.
  */
-function clipToPolygonFace(count: number, face: number, spec: number, out: Manifold): void {
+function clipToPolygonFace(count: number, face: number, out: Manifold): void {
+  const spec = seg[SPECULATIVE]
   const p1x = seg[P1X]
   const p1y = seg[P1Y]
   const p2x = seg[P2X]

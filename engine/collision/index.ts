@@ -5,7 +5,7 @@
  * Depends only on the engine's root files (math, constants).
  */
 export { BroadPhase, IdBuffer, PairBuffer, sortKeys } from './broad-phase.ts'
-export { collideGeometry, collideGeometryAt, type Pose } from './collide.ts'
+export { collideChainSegmentAt, collideGeometry, collideGeometryAt, type Pose } from './collide.ts'
 export { type DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 export { Manifold, type ManifoldPoint } from './manifold.ts'
 export { PairMap } from './pair-map.ts'
