@@ -326,7 +326,7 @@ export const MARBLE_RUN_LAYOUT = {
   /** The sensor box in the bin: x from binLeft to binRight, y from 0 to sensorTop. */
   binLeft: -20,
   binRight: -6,
-  sensorTop: 0.8,
+  sensorTop: 2,
 } as const
 
 /** Marbles in the scene: balls then capsules. */
