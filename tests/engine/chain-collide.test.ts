@@ -20,6 +20,7 @@ import {
 } from '../../engine/collision/shapes.ts'
 import { cos, sin, type Vec2 } from '../../engine/math.ts'
 import { Prng } from '../../engine/prng.ts'
+import { makeCastOutput, rayCastChainSegment } from '../../engine/queries/ray-cast.ts'
 
 const SPEC = 0.02
 
@@ -412,5 +413,32 @@ describe('chain segments against a brute-force distance to the whole chain', () 
       }
     }
     expect(checked).toBeGreaterThan(200)
+  })
+})
+
+describe('ray casts against chain segments (queries/ray-cast.ts)', () => {
+  it('a ray from the collision side hits the floor at its point; one from behind passes through', () => {
+    const geometry = {
+      ghost1: middle.ghost1,
+      segment: { point1: middle.vertices[0], point2: middle.vertices[1] },
+      ghost2: middle.ghost2,
+    }
+    const out = makeCastOutput()
+    const down = rayCastChainSegment(
+      geometry,
+      { origin: { x: 0.25, y: 2 }, translation: { x: 0, y: -4 }, maxFraction: 1 },
+      out,
+    )
+    expect(down).not.toBeNull()
+    expect(out.fraction).toBe(0.5)
+    expect(out.point).toEqual({ x: 0.25, y: 0 })
+    expect(out.normal.y).toBe(1)
+    expect(
+      rayCastChainSegment(
+        geometry,
+        { origin: { x: 0.25, y: -2 }, translation: { x: 0, y: 4 }, maxFraction: 1 },
+        out,
+      ),
+    ).toBeNull()
   })
 })
