@@ -361,19 +361,36 @@ describe('chain segments against a brute-force distance to the whole chain', () 
     expect(checked).toBeGreaterThan(40)
   })
 
-  it('boxes and capsules just apart in front of a random terrain: deepest separation = brute-force distance', () => {
+  it('boxes, capsules, rounded boxes and triangles just apart in front of a random terrain: deepest separation = brute-force distance', () => {
     const rng = new Prng(11)
     let checked = 0
+    const perKind = [0, 0, 0, 0]
     for (let trial = 0; trial < 60; trial++) {
       const points = terrain(rng, 10)
       const c = chain(points)
       const inner = points.slice(1, -1)
-      for (let k = 0; k < 1500 && checked < 400; k++) {
+      for (let k = 0; k < 2000 && checked < 600; k++) {
         const angle = 6.2 * rng.next()
         const shape: Shape =
-          k % 2 === 0
+          k % 4 === 0
             ? box(0.2 + 0.3 * rng.next(), 0.1 + 0.3 * rng.next())
-            : capsule({ x: -0.3, y: 0 }, { x: 0.3, y: 0 }, 0.05 + 0.2 * rng.next())
+            : k % 4 === 1
+              ? capsule({ x: -0.3, y: 0 }, { x: 0.3, y: 0 }, 0.05 + 0.2 * rng.next())
+              : k % 4 === 2
+                ? polygon(
+                    [
+                      { x: -0.3, y: -0.2 },
+                      { x: 0.3, y: -0.2 },
+                      { x: 0.3, y: 0.2 },
+                      { x: -0.3, y: 0.2 },
+                    ],
+                    0.02 + 0.15 * rng.next(),
+                  )
+                : polygon([
+                    { x: -0.4, y: -0.2 },
+                    { x: 0.4 * rng.next(), y: -0.25 },
+                    { x: 0.1, y: 0.35 },
+                  ])
         const x = inner[2].x + (inner[inner.length - 3].x - inner[2].x) * rng.next()
         const y = -0.6 + 2.4 * rng.next()
         const t = xf(x, y, angle)
@@ -410,9 +427,11 @@ describe('chain segments against a brute-force distance to the whole chain', () 
         if (got !== null)
           expect(Math.abs(got.sep - gap), `${shape.type} at (${x}, ${y}, ${angle})`).toBeLessThan(1e-9)
         checked++
+        perKind[k % 4]++
       }
     }
-    expect(checked).toBeGreaterThan(200)
+    expect(checked).toBeGreaterThan(300)
+    for (const n of perKind) expect(n).toBeGreaterThan(40)
   })
 })
 
