@@ -308,6 +308,8 @@ function readBodyShape(r: ByteReader, body: Body): BodyShape {
   s.enableSensorEvents = (flags & 2) !== 0
   s.enableContactEvents = (flags & 4) !== 0
   s.enableHitEvents = (flags & 8) !== 0
+  if (s.sensor && s.shape.type === 'chainSegment')
+    throw new WorldLoadError(`saved world has chain segment ${id} as a sensor`)
   return s
 }
 

@@ -17,7 +17,9 @@ import {
   segment,
   type Vec2,
   type World,
+  WorldLoadError,
 } from '../../engine/index.ts'
+import { SETTINGS_NUMBERS } from '../../engine/world/world-store.ts'
 
 /** A flat floor at y = 0 from x = right to x = left, 1 m segments (right to left: normal up). */
 function flatFloor(right: number, left: number): Vec2[] {
@@ -327,5 +329,27 @@ describe('chains in motion', () => {
     expect(touching).toBeGreaterThan(200)
     expect(world.getPosition(car).x).toBeGreaterThan(-100)
     expect(worst).toBeGreaterThan(0)
+  })
+})
+
+describe('a saved world with a chain, damaged', () => {
+  it('a chain on a body saved as kinematic is refused with a WorldLoadError naming it', () => {
+    const world = createWorld()
+    world.createBody({ type: 'static', shapes: [{ shape: chain(flatFloor(3, -3)) }] })
+    const damaged = world.save().slice()
+    // The first body's type byte (world-state.ts writeWorld): header 16, gravity 2 f64, sub-steps
+    // u32, flags u8, the settings' f64s, tick and three id counters, the body count u32, its f64 id.
+    const at = 16 + 16 + 4 + 1 + 8 * SETTINGS_NUMBERS.length + 32 + 4 + 8
+    expect(damaged[at]).toBe(0)
+    damaged[at] = 1
+    // Re-seal the checksum (FNV-1a over the payload) so that only the content is wrong.
+    let h = 0x811c9dc5
+    for (let i = 16; i < damaged.length; i++) {
+      h ^= damaged[i]
+      h = Math.imul(h, 0x01000193)
+    }
+    new DataView(damaged.buffer).setUint32(12, h >>> 0, true)
+    expect(() => loadWorld(damaged)).toThrow(WorldLoadError)
+    expect(() => loadWorld(damaged)).toThrow('saved world has a chain on body 1, which is not static')
   })
 })
