@@ -16,6 +16,8 @@ export const MAX_LINEAR_SPEED = 400
 export const MAX_ROTATION = 0.25 * Math.PI
 /** Most vertices a convex polygon may have (b2_maxPolygonVertices). */
 export const MAX_POLYGON_VERTICES = 8
+/** Most points a chain may have (chain()): 2,048. */
+export const MAX_CHAIN_POINTS = 2048
 /** Smallest radius, half extent or edge a shape may have (m). */
 export const MIN_SHAPE_EXTENT = 0.001
 /**

@@ -3,7 +3,7 @@
  * b2DefaultBodyDef) and what they read back. The World class implements these.
  */
 
-import type { Shape } from './collision/index.ts'
+import type { ChainShape, Shape } from './collision/index.ts'
 import type { Vec2 } from './math.ts'
 
 /** Opaque body id: handed out in creation order from 1, never reused within a world. */
@@ -31,8 +31,12 @@ export interface Filter {
 
 /** A shape to attach to a body, with its material, filter and flags; only `shape` is required. */
 export interface ShapeDef {
-  /** The geometry in the body's frame: circle(), box(), polygon(), capsule() or segment(). */
-  shape: Shape
+  /**
+   * The geometry in the body's frame: circle(), box(), polygon(), capsule(), segment(), or chain()
+   * (static bodies only; one shape per segment, with consecutive ids, all with this definition's
+   * material, filter and flags).
+   */
+  shape: Shape | ChainShape
   /** Density (kg/m^2), usually 1 (the body definition's `density` if given). */
   density?: number
   /** Coulomb friction, usually 0.6 (the body definition's if given); pairs mix by sqrt(a b). */
@@ -104,7 +108,7 @@ export interface BodyDef {
   linearVelocity?: Vec2
   /** Angular velocity (rad/s). */
   angularVelocity?: number
-  /** The body's one shape (shorthand for `shapes: [{ shape, density, friction, restitution }]`). */
+  /** The body's one shape (shorthand for `shapes: [{ shape, density, friction, restitution }]`); a chain goes in `shapes`. */
   shape: Shape
   /** Density (kg/m^2) of the shapes that give none, usually 1. */
   density?: number

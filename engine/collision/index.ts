@@ -5,7 +5,7 @@
  * Depends only on the engine's root files (math, constants).
  */
 export { BroadPhase, IdBuffer, PairBuffer, sortKeys } from './broad-phase.ts'
-export { collideGeometry, collideGeometryAt, type Pose } from './collide.ts'
+export { collideChainSegmentAt, collideGeometry, collideGeometryAt, type Pose } from './collide.ts'
 export { DECOMPOSE_MIN_WIDTH, decompose, decomposeOutline, MAX_OUTLINE_POINTS } from './decompose.ts'
 export { type DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 export { Manifold, type ManifoldPoint } from './manifold.ts'
@@ -14,8 +14,12 @@ export { polygonGeometry, VERTEX_X, VERTEX_Y } from './polygon-geometry.ts'
 export {
   box,
   type CapsuleShape,
+  type ChainSegmentShape,
+  type ChainShape,
   type CircleShape,
   capsule,
+  chain,
+  chainSegmentShape,
   circle,
   combineMass,
   computeMass,

@@ -8,6 +8,7 @@
  *
  * Layout, MAX_POLYGON_VERTICES slots per block: [SHIFTED_X | SHIFTED_Y | NORMAL_X | NORMAL_Y |
  * VERTEX_X | VERTEX_Y]. Capsules and segments are two-vertex polygons; circles get an empty array.
+ * A chain segment also keeps its ghost vertices, at vertex slots 2 (ghost1) and 3 (ghost2).
  */
 import { MAX_POLYGON_VERTICES } from '../constants.ts'
 import type { Shape } from './shapes.ts'
@@ -44,6 +45,12 @@ export function polygonGeometry(shape: Shape): Float64Array {
     g[NORMAL_Y + i] = ns[i].y
     g[VERTEX_X + i] = vs[i].x
     g[VERTEX_Y + i] = vs[i].y
+  }
+  if (shape.type === 'chainSegment') {
+    g[VERTEX_X + 2] = shape.ghost1.x
+    g[VERTEX_Y + 2] = shape.ghost1.y
+    g[VERTEX_X + 3] = shape.ghost2.x
+    g[VERTEX_Y + 3] = shape.ghost2.y
   }
   return g
 }

@@ -23,7 +23,13 @@
  * (`combineMass`).
  */
 
-import { MAX_POLYGON_VERTICES, MAX_SHAPE_EXTENT, MIN_SHAPE_EXTENT } from '../constants.ts'
+import {
+  LINEAR_SLOP,
+  MAX_CHAIN_POINTS,
+  MAX_POLYGON_VERTICES,
+  MAX_SHAPE_EXTENT,
+  MIN_SHAPE_EXTENT,
+} from '../constants.ts'
 import { atan2, cos, PI, sin, TRIG_LIMIT, type Vec2 } from '../math.ts'
 import { computeHull, MAX_HULL_INPUT } from './hull.ts'
 
@@ -45,6 +51,9 @@ export interface CircleShape {
   /** The circle's centre in the body frame (m); the origin unless given. */
   readonly centroid: Vec2
   readonly box: null
+  /** Always null: only chain segments have ghost vertices (uniform layout). */
+  readonly ghost1: null
+  readonly ghost2: null
 }
 
 /** A convex polygon in the body frame, counter-clockwise, with outward unit edge normals. */
@@ -65,6 +74,9 @@ export interface PolygonShape {
    * compact encoding and drawing; null for every other polygon.
    */
   readonly box: { readonly halfWidth: number; readonly halfHeight: number } | null
+  /** Always null (uniform layout). */
+  readonly ghost1: null
+  readonly ghost2: null
 }
 
 /**
@@ -82,6 +94,9 @@ export interface CapsuleShape {
   /** Midpoint of the two centres (m). */
   readonly centroid: Vec2
   readonly box: null
+  /** Always null (uniform layout). */
+  readonly ghost1: null
+  readonly ghost2: null
 }
 
 /** A two-sided segment of zero thickness and zero mass, laid out as a capsule of radius 0. */
@@ -97,13 +112,53 @@ export interface SegmentShape {
   /** Midpoint (m). */
   readonly centroid: Vec2
   readonly box: null
+  /** Always null (uniform layout). */
+  readonly ghost1: null
+  readonly ghost2: null
+}
+
+/**
+ * One segment of a chain (Box2D v3's b2ChainSegment): one-sided, zero thickness, zero mass, laid
+ * out as a segment. vertices [point1, point2]; normals [n, -n] with n the right-hand normal of
+ * point1 -> point2, the side that collides; ghost1 and ghost2 are the chain's points before point1
+ * and after point2, which smooth the joins (chain-collide.ts). Made by chain(), never alone.
+ */
+export interface ChainSegmentShape {
+  readonly type: 'chainSegment'
+  /** Always 0. */
+  readonly radius: number
+  /** Always 2. */
+  readonly count: 2
+  readonly vertices: readonly Vec2[]
+  readonly normals: readonly Vec2[]
+  /** Midpoint (m). */
+  readonly centroid: Vec2
+  readonly box: null
+  /** The chain's point before point1 (m, body frame). */
+  readonly ghost1: Vec2
+  /** The chain's point after point2 (m, body frame). */
+  readonly ghost2: Vec2
 }
 
 /** Every shape kind a body can have. */
-export type Shape = CircleShape | PolygonShape | CapsuleShape | SegmentShape
+export type Shape = CircleShape | PolygonShape | CapsuleShape | SegmentShape | ChainSegmentShape
 
-/** The shapes the narrowphase treats as polygons (a capsule and a segment have two vertices). */
-export type PolygonalShape = PolygonShape | CapsuleShape | SegmentShape
+/** The shapes the narrowphase treats as polygons (capsules and segments have two vertices). */
+export type PolygonalShape = PolygonShape | CapsuleShape | SegmentShape | ChainSegmentShape
+
+/**
+ * A chain (Box2D v3's b2ChainDef): made by chain(), attached to a static body as one
+ * ChainSegmentShape per segment (each its own ShapeId, in order along the chain).
+ */
+export interface ChainShape {
+  readonly type: 'chain'
+  /** Whether the last point joins the first. */
+  readonly loop: boolean
+  /** The points as given (m, body frame). */
+  readonly points: readonly Vec2[]
+  /** The segments in order: points.length of them for a loop, points.length - 3 for an open chain. */
+  readonly segments: readonly ChainSegmentShape[]
+}
 
 /** Mass properties of a shape at a density. */
 export interface MassData {
@@ -140,7 +195,17 @@ export function circle(radius: number, center?: Vec2): CircleShape {
   if (Math.abs(c.x) + radius > MAX_SHAPE_EXTENT || Math.abs(c.y) + radius > MAX_SHAPE_EXTENT) {
     throw new RangeError(`circle reaches more than ${MAX_SHAPE_EXTENT} m from the body origin`)
   }
-  return { type: 'circle', radius, count: 0, vertices: [], normals: [], centroid: c, box: null }
+  return {
+    type: 'circle',
+    radius,
+    count: 0,
+    vertices: [],
+    normals: [],
+    centroid: c,
+    box: null,
+    ghost1: null,
+    ghost2: null,
+  }
 }
 
 /**
@@ -173,6 +238,8 @@ export function box(halfWidth: number, halfHeight: number, center?: Vec2, angle?
     normals,
     centroid: { x: 0, y: 0 },
     box: { halfWidth, halfHeight },
+    ghost1: null,
+    ghost2: null,
   }
 }
 
@@ -263,7 +330,17 @@ export function convexPolygon(points: readonly Vec2[], radius = 0): PolygonShape
       throw new RangeError(`rounded polygon reaches more than ${MAX_SHAPE_EXTENT} m from the body origin`)
     }
   }
-  return { type: 'polygon', radius, count: n, vertices: ccw, normals, centroid: mass.center, box: null }
+  return {
+    type: 'polygon',
+    radius,
+    count: n,
+    vertices: ccw,
+    normals,
+    centroid: mass.center,
+    box: null,
+    ghost1: null,
+    ghost2: null,
+  }
 }
 
 /** Throws a RangeError naming the first point that is not finite or lies too far from the body origin. */
@@ -341,7 +418,17 @@ function twoPointShape<T extends 'capsule' | 'segment'>(
   p1: Vec2,
   p2: Vec2,
   radius: number,
-): { type: T; radius: number; count: 2; vertices: Vec2[]; normals: Vec2[]; centroid: Vec2; box: null } {
+): {
+  type: T
+  radius: number
+  count: 2
+  vertices: Vec2[]
+  normals: Vec2[]
+  centroid: Vec2
+  box: null
+  ghost1: null
+  ghost2: null
+} {
   const dx = p2.x - p1.x
   const dy = p2.y - p1.y
   const length = Math.sqrt(dx * dx + dy * dy)
@@ -368,6 +455,8 @@ function twoPointShape<T extends 'capsule' | 'segment'>(
     ],
     centroid: { x: 0.5 * (p1.x + p2.x), y: 0.5 * (p1.y + p2.y) },
     box: null,
+    ghost1: null,
+    ghost2: null,
   }
 }
 
@@ -390,6 +479,89 @@ export function segment(point1: Vec2, point2: Vec2): SegmentShape {
   const p1 = checkPoint('segment point1', point1)
   const p2 = checkPoint('segment point2', point2)
   return twoPointShape('segment', p1, p2, 0)
+}
+
+/**
+ * A one-sided chain of segments through `points` (body frame, m) for terrain and tracks (Box2D v3's
+ * b2CreateChain), for static bodies only. Each segment collides on its right (the side of its
+ * normal, the right of the direction of travel from one point to the next) and lets shapes on its
+ * left pass through: a counter-clockwise loop is a solid outline (hit from outside), a clockwise
+ * loop a container (hit from inside), and a floor runs from right to left (x decreasing).
+ *
+ * An open chain needs at least 4 points: the first and the last are ghost vertices only (they shape
+ * the joins at the ends and are not collided), so it has points.length - 3 segments. A loop
+ * (`loop: true`) needs at least 3 and has points.length segments (the last point joins the first;
+ * do not repeat it). At most MAX_CHAIN_POINTS points; each finite, within MAX_SHAPE_EXTENT of the
+ * body origin, and at least LINEAR_SLOP (5 mm) from the next one. Throws a RangeError naming the
+ * problem otherwise.
+ */
+export function chain(points: readonly Vec2[], options: { loop?: boolean } = {}): ChainShape {
+  if (options === null || typeof options !== 'object')
+    throw new RangeError(
+      `chain options must be an object like { loop: true }, got ${JSON.stringify(options)}`,
+    )
+  const loop = options.loop ?? false
+  if (typeof loop !== 'boolean')
+    throw new RangeError(`chain loop must be true or false, got ${JSON.stringify(loop)}`)
+  if (!Array.isArray(points))
+    throw new RangeError(`chain points must be an array, got ${JSON.stringify(points)}`)
+  const n = points.length
+  const least = loop ? 3 : 4
+  if (n < least || n > MAX_CHAIN_POINTS) {
+    throw new RangeError(
+      `${loop ? 'a chain loop' : 'an open chain'} needs ${least} to ${MAX_CHAIN_POINTS} points, got ${n}` +
+        (loop ? '' : ' (its first and last points are ghost vertices)'),
+    )
+  }
+  const ps: Vec2[] = []
+  for (let i = 0; i < n; i++) ps.push(checkPoint(`chain point ${i}`, points[i]))
+  const edges = loop ? n : n - 1
+  for (let i = 0; i < edges; i++) {
+    const a = ps[i]
+    const b = ps[i + 1 < n ? i + 1 : 0]
+    const dx = b.x - a.x
+    const dy = b.y - a.y
+    if (!(Math.sqrt(dx * dx + dy * dy) >= LINEAR_SLOP)) {
+      const which =
+        i + 1 < n ? `points ${i} and ${i + 1}` : `the last point and the first (a loop closes itself)`
+      throw new RangeError(
+        `chain ${which} (${a.x}, ${a.y}) and (${b.x}, ${b.y}) are closer than ${LINEAR_SLOP} m: a zero-length or near-duplicate segment`,
+      )
+    }
+  }
+  const segments: ChainSegmentShape[] = []
+  if (loop) {
+    for (let i = 0; i < n; i++) {
+      segments.push(chainSegment(ps[(i + n - 1) % n], ps[i], ps[(i + 1) % n], ps[(i + 2) % n]))
+    }
+  } else {
+    for (let i = 0; i + 3 < n; i++) segments.push(chainSegment(ps[i], ps[i + 1], ps[i + 2], ps[i + 3]))
+  }
+  return { type: 'chain', loop, points: ps, segments }
+}
+
+/** One chain segment point1 -> point2 with its ghost vertices (already checked by chain()). */
+function chainSegment(ghost1: Vec2, point1: Vec2, point2: Vec2, ghost2: Vec2): ChainSegmentShape {
+  const s = twoPointShape('segment', point1, point2, 0)
+  return {
+    type: 'chainSegment',
+    radius: 0,
+    count: 2,
+    vertices: s.vertices,
+    normals: s.normals,
+    centroid: s.centroid,
+    box: null,
+    ghost1: { x: ghost1.x, y: ghost1.y },
+    ghost2: { x: ghost2.x, y: ghost2.y },
+  }
+}
+
+/**
+ * A lone chain segment with its ghost vertices, as a saved world stores it: the same checks as
+ * chain() (finite points within reach, each edge at least LINEAR_SLOP long).
+ */
+export function chainSegmentShape(ghost1: Vec2, point1: Vec2, point2: Vec2, ghost2: Vec2): ChainSegmentShape {
+  return chain([ghost1, point1, point2, ghost2]).segments[0]
 }
 
 /** Mass properties of a convex polygon at a density (kg/m^2), by a triangle fan from vertex 0. */
@@ -511,7 +683,7 @@ export function computeMass(shape: Shape, density: number): MassData {
     const mass = density * PI * r * r
     return { mass, center: { x: shape.centroid.x, y: shape.centroid.y }, inertia: 0.5 * mass * r * r }
   }
-  if (shape.type === 'segment')
+  if (shape.type === 'segment' || shape.type === 'chainSegment')
     return { mass: 0, center: { x: shape.centroid.x, y: shape.centroid.y }, inertia: 0 }
   if (shape.type === 'capsule') return capsuleMass(shape, density)
   if (shape.radius > 0) return roundedPolygonMass(shape, density)

@@ -9,7 +9,13 @@
  * inherits the impulses of the old point with the same feature id (Box2D's b2UpdateContact).
  */
 
-import { collideGeometry, Manifold, type ManifoldPoint, type Shape } from '../collision/index.ts'
+import {
+  collideChainSegmentAt,
+  collideGeometry,
+  Manifold,
+  type ManifoldPoint,
+  type Shape,
+} from '../collision/index.ts'
 import type { Body } from './body.ts'
 import type { BodyShape } from './body-shape.ts'
 import {
@@ -271,22 +277,26 @@ export function clearContact(c: Contact): void {
 export function updateContact(c: Contact, speculativeDistance: number): boolean {
   const a = c.bodyA
   const b = c.bodyB
-  collideGeometry(
-    c.geomA,
-    c.layoutA,
-    a.x,
-    a.y,
-    a.c,
-    a.s,
-    c.geomB,
-    c.layoutB,
-    b.x,
-    b.y,
-    b.c,
-    b.s,
-    speculativeDistance,
-    scratch,
-  )
+  if (c.geomA.type === 'chainSegment' || c.geomB.type === 'chainSegment') {
+    // Chain pairs go through their own entry, with poses read from the bodies (see collide.ts).
+    collideChainSegmentAt(c.geomA, c.layoutA, a, c.geomB, c.layoutB, b, scratch)
+  } else
+    collideGeometry(
+      c.geomA,
+      c.layoutA,
+      a.x,
+      a.y,
+      a.c,
+      a.s,
+      c.geomB,
+      c.layoutB,
+      b.x,
+      b.y,
+      b.c,
+      b.s,
+      speculativeDistance,
+      scratch,
+    )
   const d = c.store.data
   const o = c.base
   const p0 = o + POINT_0

@@ -24,6 +24,10 @@
  * which exists by then and stops the approach speculatively; only the fast body's core (a small
  * circle at its centre of mass) is swept for it, so its centre can never cross (see timeOfImpact).
  *
+ * A chain segment is swept against only by a shape whose centre crosses its line from the front to
+ * the back during the step (Box2D v3's rule, per shape): one that starts behind passes through
+ * (one-sided), one that ends in front is left to its contacts (see skipsChain).
+ *
  * What remains is in engine/README.md: kinematic bodies are never swept against, a non-bullet
  * fast body passes through thin dynamic bodies, and a rotation over ~half a turn in one step is
  * swept along the shorter arc.
@@ -88,6 +92,33 @@ function advanceTo(b: Body): void {
   // baseline tier (a heap number per intermediate double) instead of being inlined.
   b.cx = b.x + (b.c * b.localCenterX - b.s * b.localCenterY)
   b.cy = b.y + (b.s * b.localCenterX + b.c * b.localCenterY)
+}
+
+/**
+ * Whether the sweep of shape `bs` of body b against chain segment `chain` is skipped (Box2D v3's
+ * continuous rule for chain segments, applied to the shape's centre rather than the body's so that
+ * each wheel of a car counts): when the shape's centre started the step behind the segment's line
+ * (on its left, the side that does not collide: it passes through) or ends the step in front of it
+ * (it did not cross: its contact handles it, and sweeping would hold back a body that rolls or
+ * slides along a chain, whose next segment's end lies on the body's path).
+ */
+function skipsChain(b: Body, bs: BodyShape, chain: BodyShape): boolean {
+  const o = chain.body
+  const v = chain.shape.vertices
+  const p1x = o.x + o.c * v[0].x - o.s * v[0].y
+  const p1y = o.y + o.s * v[0].x + o.c * v[0].y
+  const p2x = o.x + o.c * v[1].x - o.s * v[1].y
+  const p2y = o.y + o.s * v[1].x + o.c * v[1].y
+  const ex = p2x - p1x
+  const ey = p2y - p1y
+  // The shape's centre relative to the centre of mass, at the start and at the end of the step.
+  const rx = bs.shape.centroid.x - b.localCenterX
+  const ry = bs.shape.centroid.y - b.localCenterY
+  const x0 = b.c0x + b.q0c * rx - b.q0s * ry
+  const y0 = b.c0y + b.q0s * rx + b.q0c * ry
+  const x1 = b.cx + b.c * rx - b.s * ry
+  const y1 = b.cy + b.s * rx + b.c * ry
+  return ey * (x0 - p1x) - ex * (y0 - p1y) < 0 || ey * (x1 - p1x) - ex * (y1 - p1y) > 0
 }
 
 /** How far a body's surface moved this step at most (m): centre travel plus the rotation's chord. */
@@ -236,6 +267,7 @@ export class ContinuousSolver {
     canCollide: (a: BodyShape, b: BodyShape) => boolean,
   ): void {
     if (!canCollide(bs, os)) return
+    if (os.shape.type === 'chainSegment' && skipsChain(b, bs, os)) return
     this.coreHit = false
     this.timeOfImpact(b, bs, other, os)
     const t = this.search[IMPACT]

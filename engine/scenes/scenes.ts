@@ -8,23 +8,29 @@
  * blueprint's `bodies` (null is the fixed world frame), resolved to ids when the scene is built.
  */
 
-import { box, circle, polygon, type Shape } from '../collision/index.ts'
+import { box, capsule, chain, circle, polygon, type Shape } from '../collision/index.ts'
 import { cos, PI, sin, type Vec2 } from '../math.ts'
 import { Prng } from '../prng.ts'
-import type { BodyDef, BodyId, JointDef, JointId } from '../types.ts'
+import type { BodyDef, BodyId, CompoundBodyDef, JointDef, JointId } from '../types.ts'
 
 /** A scene as data: gravity, body definitions in creation order, and joints between them. */
 export interface SceneBlueprint {
   name: string
   gravity: Vec2
   bodies: BodyDef[]
+  /**
+   * Bodies of several shapes or with a chain, created after `bodies` (their indices continue
+   * `bodies`' for joints); engines that only take one shape per body (the benchmark's peers) never
+   * see a scene with them.
+   */
+  compoundBodies?: CompoundBodyDef[]
   /** Joints created after the bodies; their body fields are indices into `bodies` (null: the world). */
   joints?: JointDef[]
 }
 
 /** Anything that can create bodies (Concord's World); createJoint is needed for scenes with joints. */
 export interface BodyFactory {
-  createBody(def: BodyDef): BodyId
+  createBody(def: BodyDef | CompoundBodyDef): BodyId
   setGravity(g: Vec2): void
   createJoint?(def: JointDef): JointId
 }
@@ -299,11 +305,113 @@ export function cardHouseScene(storeys = 4): SceneBlueprint {
   return { name: 'card-house', gravity: { x: 0, y: -10 }, bodies }
 }
 
+/*
+ * The "marble run" (issue 27): balls and capsules roll and slide down four zig-zag chain tracks into
+ * a bin whose floor is a sensor that counts arrivals. Each track is one open chain on its own static
+ * body: a straight ramp of 0.5 m segments falling 15 degrees toward its open end, and at its high end
+ * a curved wall (a quarter circle of radius 2 m, then 4 m straight up) that catches the marbles
+ * falling off the track above and turns them around. The chains run so that their collision side
+ * (the right of travel) faces the marbles: the ramp's top and the wall's inside. Track 0's wall is
+ * on the left, track 1's on the right, and so on; the last track drops the marbles into the bin.
+ */
+
+/** Where the marble run puts things (m). */
+export const MARBLE_RUN_LAYOUT = {
+  /** Height of track k's high end: HIGH_END - k * TRACK_SPACING. */
+  highEnd: 22,
+  trackSpacing: 5,
+  tracks: 4,
+  /** Half the horizontal length of a ramp. */
+  rampHalfLength: 7,
+  /** The sensor box in the bin: x from binLeft to binRight, y from 0 to sensorTop. */
+  binLeft: -20,
+  binRight: -6,
+  sensorTop: 2,
+} as const
+
+/** Marbles in the scene: balls then capsules. */
+export const MARBLE_RUN_BALLS = 12
+export const MARBLE_RUN_CAPSULES = 6
+
+/** Ramp slope (rad): 15 degrees. */
+const SLOPE = PI / 12
+
+/**
+ * The points of a track whose wall is on the left (x < 0), high end at (-L, h), right to left so
+ * that the collision side is up (and inside the wall); the first and last points are ghosts.
+ */
+function leftWallTrack(h: number, L: number): Vec2[] {
+  const drop = (2 * L * sin(SLOPE)) / cos(SLOPE)
+  const points: Vec2[] = []
+  // Ghost beyond the open (low) end, then the ramp from x = L to x = -L.
+  const step = 0.5
+  const n = Math.round((2 * L) / step)
+  points.push({ x: L + step, y: h - drop - (step * drop) / (2 * L) })
+  for (let i = 0; i <= n; i++) {
+    const x = L - i * step
+    points.push({ x, y: h - (drop * (x + L)) / (2 * L) })
+  }
+  // The wall: a quarter circle of radius 2 about (-L, h + 2) from its bottom to its left point,
+  // starting tangent to the ramp's direction, then straight up.
+  const r = 2
+  for (let k = 1; k <= 12; k++) {
+    const a = -PI / 2 - (k * PI) / 24
+    points.push({ x: -L + r * cos(a), y: h + r + r * sin(a) })
+  }
+  for (let k = 1; k <= 4; k++) points.push({ x: -L - r, y: h + r + k })
+  // Ghost above the wall's top.
+  points.push({ x: -L - r, y: h + r + 5 })
+  return points
+}
+
+/** Marbles rolling down four chain tracks into a bin whose floor sensor counts them. */
+export function marbleRunScene(): SceneBlueprint {
+  const M = MARBLE_RUN_LAYOUT
+  const bodies: BodyDef[] = [groundDef()]
+  const compoundBodies: CompoundBodyDef[] = []
+  for (let k = 0; k < M.tracks; k++) {
+    const points = leftWallTrack(M.highEnd - k * M.trackSpacing, M.rampHalfLength)
+    // Odd tracks are mirrored (wall on the right): mirror x and reverse the order, so the
+    // collision side stays on the right of travel.
+    const track = k % 2 === 0 ? points : points.map((p) => ({ x: -p.x, y: p.y })).reverse()
+    compoundBodies.push({ type: 'static', shapes: [{ shape: chain(track), friction: 0.4 }] })
+  }
+  // The bin: two walls and the sensor on one static body.
+  const binWidth = M.binRight - M.binLeft
+  compoundBodies.push({
+    type: 'static',
+    position: { x: 0.5 * (M.binLeft + M.binRight), y: 0 },
+    shapes: [
+      { shape: box(0.25, 1.5, { x: -0.5 * binWidth - 0.25, y: 1.5 }) },
+      { shape: box(0.25, 1, { x: 0.5 * binWidth + 0.25, y: 1 }) },
+      { shape: box(0.5 * binWidth, 0.5 * M.sensorTop, { x: 0, y: 0.5 * M.sensorTop }), sensor: true },
+    ],
+  })
+  // The marbles, in a column above track 0's wall end.
+  const startX = -M.rampHalfLength + 1
+  const startY = M.highEnd + 1
+  for (let i = 0; i < MARBLE_RUN_BALLS + MARBLE_RUN_CAPSULES; i++) {
+    const position = { x: startX + 0.3 * (i % 3), y: startY + 0.9 * i }
+    if (i % 3 === 2 && i < 3 * MARBLE_RUN_CAPSULES) {
+      bodies.push({
+        position,
+        shape: capsule({ x: -0.3, y: 0 }, { x: 0.3, y: 0 }, 0.2),
+        friction: 0.1,
+        angle: 0.3,
+      })
+    } else {
+      bodies.push({ position, shape: circle(0.25), friction: 0.6, restitution: 0.1 })
+    }
+  }
+  return { name: 'marble-run', gravity: { x: 0, y: -10 }, bodies, compoundBodies }
+}
+
 /** Builds a blueprint in a world (bodies, then joints); returns the created body ids in blueprint order. */
 export function buildScene(world: BodyFactory, scene: SceneBlueprint): BodyId[] {
   world.setGravity(scene.gravity)
   const ids: BodyId[] = []
   for (const def of scene.bodies) ids.push(world.createBody(def))
+  for (const def of scene.compoundBodies ?? []) ids.push(world.createBody(def))
   for (const def of scene.joints ?? []) {
     if (world.createJoint === undefined)
       throw new Error(`scene ${scene.name} has joints; the factory cannot make them`)
@@ -346,4 +454,8 @@ export const SCENES: Readonly<Record<string, { description: string; make: () => 
     make: chainBridgeScene,
   },
   'card-house': { description: 'A four-storey house of leaning cards', make: cardHouseScene },
+  'marble-run': {
+    description: 'Balls and capsules run down four chain tracks into a bin whose sensor counts them',
+    make: marbleRunScene,
+  },
 }

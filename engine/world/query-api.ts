@@ -150,6 +150,21 @@ function toQueryGeometry(shape: Shape): QueryGeometry {
       )
     case 'segment':
       return geometry('segment', 0, 2, NO_POINTS, NO_POINTS, ORIGIN, point(vs[0]), point(vs[1]))
+    case 'chainSegment':
+      // One-sided: a ray from behind passes through (rayCastChainSegment); overlaps and shape casts
+      // treat it as its two-sided segment, as Box2D's b2MakeProxy of a chain segment does.
+      return geometry(
+        'chainSegment',
+        0,
+        2,
+        NO_POINTS,
+        NO_POINTS,
+        ORIGIN,
+        point(vs[0]),
+        point(vs[1]),
+        shape.ghost1,
+        shape.ghost2,
+      )
   }
   throw new RangeError(`the queries do not know shape kind ${String((shape as { type?: unknown }).type)}`)
 }
@@ -167,6 +182,8 @@ function geometry(
   center: Vec2,
   a: Vec2,
   b: Vec2,
+  ghost1: Vec2 = ORIGIN,
+  ghost2: Vec2 = ORIGIN,
 ): QueryGeometry {
   const g = {
     type,
@@ -179,6 +196,9 @@ function geometry(
     center2: b,
     point1: a,
     point2: b,
+    ghost1: point(ghost1),
+    segment: { point1: a, point2: b },
+    ghost2: point(ghost2),
   }
   g.radius = radius
   return g as QueryGeometry

@@ -5,7 +5,7 @@
  * a player's command) can never put a NaN, an infinity or a dangling id into the simulation.
  */
 
-import type { Shape } from '../collision/index.ts'
+import type { ChainShape, Shape } from '../collision/index.ts'
 import { MAX_LINEAR_SPEED, MAX_ROTATION, STEP_SECONDS } from '../constants.ts'
 import { angle as checkAngle, position as checkPosition, finite, finiteVec, inRange } from '../def-checks.ts'
 import {
@@ -72,13 +72,41 @@ export const POSE_AWAKE = 5
 /** The POSE_TYPE value of a static body. */
 export const POSE_STATIC = 0
 
-const SHAPE_TYPES: readonly string[] = ['circle', 'polygon', 'capsule', 'segment']
+const SHAPE_TYPES: readonly string[] = ['circle', 'polygon', 'capsule', 'segment', 'chainSegment']
 
 function checkShape(shape: Shape): Shape {
   if (shape === null || typeof shape !== 'object' || !SHAPE_TYPES.includes(shape?.type)) {
-    throw new RangeError('body shape must be made by circle(), box(), polygon(), capsule() or segment()')
+    throw new RangeError(
+      'body shape must be made by circle(), box(), polygon(), capsule(), segment() or chain()',
+    )
   }
   return shape
+}
+
+/** Whether any of the shapes is a chain segment (they are for static bodies only). */
+function hasChain(shapes: readonly BodyShape[]): boolean {
+  return shapes.some((s) => s.shape.type === 'chainSegment')
+}
+
+/** The RangeError for a chain on a body that is not static. */
+function chainNotStatic(what: string, type: string): RangeError {
+  return new RangeError(`chain shapes are for static bodies only: ${what} is ${type}`)
+}
+
+/**
+ * A shape definition as the shape definitions it makes: a chain() gives one per segment (the same
+ * material, filter and flags), any other shape itself.
+ */
+function expandChain(sd: ShapeDef): ShapeDef[] {
+  if (sd === null || typeof sd !== 'object')
+    throw new RangeError(`shape definition must be an object, got ${sd}`)
+  const shape = sd.shape as Shape | ChainShape
+  if (shape === null || typeof shape !== 'object' || shape.type !== 'chain') return [sd]
+  if (!Array.isArray(shape.segments) || shape.segments.length === 0)
+    throw new RangeError('a chain shape must be made by chain()')
+  if (sd.sensor === true)
+    throw new RangeError('a chain cannot be a sensor (its segments are one-sided lines)')
+  return shape.segments.map((segment) => ({ ...sd, shape: segment }))
 }
 
 /** Public methods of a world. */
@@ -109,6 +137,7 @@ export class WorldApi extends WorldStore {
     if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${def.type}`)
     const body = new Body(this.nextBodyId, typeIndex)
     const shapes = shapeDefs.map((sd, i) => buildShape(sd, this.nextShapeId + i, body, def))
+    if (typeIndex !== STATIC && hasChain(shapes)) throw chainNotStatic('the body', BODY_TYPES[typeIndex])
     if (typeIndex === DYNAMIC && !shapes.some((s) => s.shape.type !== 'segment')) {
       throw new RangeError(
         'a dynamic body needs a shape with mass: a segment has none (use it on static or kinematic bodies, or add a shape with area)',
@@ -150,20 +179,24 @@ export class WorldApi extends WorldStore {
   /**
    * Attaches a shape to a body and returns its id (handed out after every id so far, never
    * reused). The body's mass, centre of mass and inertia are recomputed (its origin stays put, and
-   * its centre's velocity follows the body's rotation); the body wakes.
+   * its centre's velocity follows the body's rotation); the body wakes. A chain() (static bodies
+   * only) attaches one shape per segment, with consecutive ids; the first one's is returned.
    */
   createShape(bodyId: BodyId, def: ShapeDef): ShapeId {
-    this.revision++
     const body = this.body(bodyId)
-    const s = buildShape(def, this.nextShapeId, body, {})
-    this.nextShapeId++
-    body.shapes.push(s)
+    const defs = expandChain(def)
+    const shapes = defs.map((sd, i) => buildShape(sd, this.nextShapeId + i, body, {}))
+    if (body.type !== STATIC && hasChain(shapes))
+      throw chainNotStatic(`body ${bodyId}`, BODY_TYPES[body.type])
+    this.revision++
+    this.nextShapeId += shapes.length
+    for (const s of shapes) body.shapes.push(s)
     this.remass(body)
-    this.addShape(s)
+    for (const s of shapes) this.addShape(s)
     body.syncShapes()
     this.islands.wake(body)
     if (body.type === STATIC) this.wakeTouching(body)
-    return s.id
+    return shapes[0].id
   }
 
   /**
@@ -590,6 +623,8 @@ export class WorldApi extends WorldStore {
     const typeIndex = BODY_TYPES.indexOf(type)
     if (typeIndex < 0) throw new RangeError(`body type must be static, kinematic or dynamic, got ${type}`)
     if (typeIndex === b.type) return
+    if (typeIndex !== STATIC && hasChain(b.shapes))
+      throw chainNotStatic(`body ${id}, which has a chain,`, type)
     if (typeIndex === DYNAMIC && !b.shapes.some((s) => s.shape.type !== 'segment')) {
       throw new RangeError(`body ${id} has no shape with mass and cannot be dynamic`)
     }
@@ -875,10 +910,16 @@ function bodyShapeDefs(def: BodyDef | CompoundBodyDef): ShapeDef[] {
     if (!Array.isArray(def.shapes) || def.shapes.length === 0 || def.shapes.length > MAX_BODY_SHAPES) {
       throw new RangeError(`body shapes must be an array of 1 to ${MAX_BODY_SHAPES} shape definitions`)
     }
-    return def.shapes
+    const defs = def.shapes.flatMap(expandChain)
+    if (defs.length > MAX_BODY_SEGMENTS)
+      throw new RangeError(`a body definition makes at most ${MAX_BODY_SEGMENTS} shapes, got ${defs.length}`)
+    return defs
   }
-  return [{ shape: (def as BodyDef).shape }]
+  return expandChain({ shape: (def as BodyDef).shape })
 }
+
+/** Most shapes one body definition may make, chain segments included: 16,384. */
+const MAX_BODY_SEGMENTS = 16384
 
 /** Most shapes one body definition may give at once (m): 1,024. */
 const MAX_BODY_SHAPES = 1024
@@ -892,7 +933,9 @@ function buildShape(
 ): BodyShape {
   if (sd === null || typeof sd !== 'object')
     throw new RangeError(`shape definition must be an object, got ${sd}`)
-  const s = new BodyShape(id, body, checkShape(sd.shape))
+  const s = new BodyShape(id, body, checkShape(sd.shape as Shape))
+  if (sd.sensor === true && s.shape.type === 'chainSegment')
+    throw new RangeError('a chain cannot be a sensor (its segments are one-sided lines)')
   s.density = inRange('density', sd.density ?? bodyDef.density ?? 1, 1e-6, 1e6)
   s.friction = inRange('friction', sd.friction ?? bodyDef.friction ?? 0.6, 0, 100)
   s.restitution = inRange('restitution', sd.restitution ?? bodyDef.restitution ?? 0, 0, 1)

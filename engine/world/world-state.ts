@@ -13,7 +13,7 @@
  * The hash is FNV-1a of the payload: it covers exactly the state that a save captures.
  */
 
-import { box, capsule, circle, polygon, type Shape, segment } from '../collision/index.ts'
+import { box, capsule, chainSegmentShape, circle, polygon, type Shape, segment } from '../collision/index.ts'
 import {
   Body,
   BodyShape,
@@ -49,7 +49,10 @@ const staged = new Float64Array(32)
 /**
  * Writes a shape: a kind byte, then its numbers. Kinds: 0 circle at the origin (radius), 1 box
  * (half extents), 2 polygon (count, vertices), 3 circle off the origin (radius, centre), 4 rounded
- * polygon (count, vertices, radius), 5 capsule (centres, radius), 6 segment (points).
+ * polygon (count, vertices, radius), 5 capsule (centres, radius), 6 segment (points), 7 chain
+ * segment (ghost1, point1, point2, ghost2). Kind 7 came with chains inside format 3: a save without
+ * chains is byte for byte what it was, and an engine from before chains refuses one with a chain
+ * ("unknown shape kind 7").
  */
 function writeShape(w: ByteWriter, shape: Shape): void {
   const n = staged
@@ -61,6 +64,17 @@ function writeShape(w: ByteWriter, shape: Shape): void {
     n[1] = c.x
     n[2] = c.y
     w.f64s(n, 0, centred ? 1 : 3)
+  } else if (shape.type === 'chainSegment') {
+    w.u8(7)
+    n[0] = shape.ghost1.x
+    n[1] = shape.ghost1.y
+    n[2] = shape.vertices[0].x
+    n[3] = shape.vertices[0].y
+    n[4] = shape.vertices[1].x
+    n[5] = shape.vertices[1].y
+    n[6] = shape.ghost2.x
+    n[7] = shape.ghost2.y
+    w.f64s(n, 0, 8)
   } else if (shape.type === 'capsule' || shape.type === 'segment') {
     const capsule = shape.type === 'capsule'
     w.u8(capsule ? 5 : 6)
@@ -115,6 +129,12 @@ function readShape(r: ByteReader): Shape {
       const p1 = { x: r.num('segment point'), y: r.num('segment point') }
       const p2 = { x: r.num('segment point'), y: r.num('segment point') }
       return kind === 5 ? capsule(p1, p2, r.num('capsule radius')) : segment(p1, p2)
+    }
+    if (kind === 7) {
+      const points = []
+      for (let i = 0; i < 4; i++)
+        points.push({ x: r.num('chain segment point'), y: r.num('chain segment point') })
+      return chainSegmentShape(points[0], points[1], points[2], points[3])
     }
   } catch (e) {
     if (e instanceof WorldLoadError) throw e
@@ -289,6 +309,8 @@ function readBodyShape(r: ByteReader, body: Body): BodyShape {
   s.enableSensorEvents = (flags & 2) !== 0
   s.enableContactEvents = (flags & 4) !== 0
   s.enableHitEvents = (flags & 8) !== 0
+  if (s.sensor && s.shape.type === 'chainSegment')
+    throw new WorldLoadError(`saved world has chain segment ${id} as a sensor`)
   return s
 }
 
@@ -606,6 +628,8 @@ function readBodies(r: ByteReader, world: WorldStore): void {
     b.syncShapes()
     if (b.type === DYNAMIC && !b.shapes.some((s) => s.shape.type !== 'segment'))
       throw new WorldLoadError(`saved world has dynamic body ${b.id} without a shape with mass`)
+    if (b.type !== STATIC && b.shapes.some((s) => s.shape.type === 'chainSegment'))
+      throw new WorldLoadError(`saved world has a chain on body ${b.id}, which is not static`)
     updateMassData(b)
     if (b.fx !== 0 || b.fy !== 0 || b.torque !== 0) world.forced.push(b)
     world.bodies.push(b)

@@ -23,6 +23,11 @@
  *   every step reads the contact and sensor event lists as a game would. The two floor segments are
  *   conveyors (tangent speed 0.5 m/s) and every other body's shapes have
  *   rolling resistance 0.1, so the solver's tangent-speed and rolling-resistance paths run.
+ * - chains: the marble run (marbleRunScene: four one-sided chain tracks, balls and capsules, a bin
+ *   whose floor is a sensor), sleeping off, with the marbles recycled: each step the next marble
+ *   lying in the bin is put back at the top (setTransform and setLinearVelocity with reused
+ *   values), so marbles keep running down the chains, meeting new segments, and the sensor's events
+ *   are read every step.
  */
 import {
   type BodyId,
@@ -32,7 +37,9 @@ import {
   circle,
   createWorld,
   type JointId,
+  MARBLE_RUN_LAYOUT,
   machinesScene,
+  marbleRunScene,
   Prng,
   pileScene,
   polygon,
@@ -198,6 +205,31 @@ function buildCompoundPile(world: World): void {
   }
 }
 
+/** The marble run's recycler (see the file comment): allocation-free once built. */
+class MarbleRecycler {
+  private readonly top: Vec2 = { x: -5, y: MARBLE_RUN_LAYOUT.highEnd + 2 }
+  private readonly still: Vec2 = { x: 0, y: 0 }
+  private readonly position = { x: 0, y: 0 }
+  private next = 0
+
+  constructor(
+    private readonly world: World,
+    private readonly marbles: BodyId[],
+  ) {}
+
+  /** Puts the next marble back at the top if it lies in the bin (one per step at most). */
+  recycle(): void {
+    const world = this.world
+    const id = this.marbles[this.next]
+    this.next = (this.next + 1) % this.marbles.length
+    const p = world.getPosition(id, this.position)
+    if (p.y < 1.2 && p.x < MARBLE_RUN_LAYOUT.binRight) {
+      world.setTransform(id, this.top, 0)
+      world.setLinearVelocity(id, this.still)
+    }
+  }
+}
+
 /** Steps between the room's regrabs in the warm-up (the measured rounds regrab once, first). */
 const REGRAB_STEPS = 600
 
@@ -206,17 +238,22 @@ export class AllocationScene {
   readonly world: World
   private readonly schedule: RoomSchedule | null
   private readonly machines: MachineSchedule | null = null
+  private readonly marbles: MarbleRecycler | null = null
   private tick = 0
   /** Events read in the compound scene (so the reads cannot be optimized away). */
   eventCount = 0
 
-  constructor(readonly name: 'pile' | 'room' | 'machines' | 'compound') {
+  constructor(readonly name: 'pile' | 'room' | 'machines' | 'compound' | 'chains') {
     this.world = createWorld(name === 'room' ? {} : { enableSleep: false })
     if (name === 'machines') {
       buildScene(this.world, machinesScene())
       this.machines = new MachineSchedule(this.world)
     } else if (name === 'compound') {
       buildCompoundPile(this.world)
+    } else if (name === 'chains') {
+      const scene = marbleRunScene()
+      const ids = buildScene(this.world, scene)
+      this.marbles = new MarbleRecycler(this.world, ids.slice(1, scene.bodies.length))
     } else if (name === 'pile') {
       buildScene(this.world, pileScene(300))
       for (const [x, height] of [
@@ -240,8 +277,9 @@ export class AllocationScene {
   step(): void {
     this.schedule?.drag(this.tick)
     this.machines?.drive(this.tick)
+    this.marbles?.recycle()
     this.world.step()
-    if (this.name === 'compound') {
+    if (this.name === 'compound' || this.name === 'chains') {
       // Read the events as a game would: the arrays and records are the world's, reused.
       const c = this.world.contactEvents()
       const s = this.world.sensorEvents()
