@@ -11,7 +11,7 @@
 
 import {
   collideChainSegmentAt,
-  collideGeometry,
+  collideGeometryAt,
   Manifold,
   type ManifoldPoint,
   type Shape,
@@ -280,23 +280,7 @@ export function updateContact(c: Contact, speculativeDistance: number): boolean 
   if (c.geomA.type === 'chainSegment' || c.geomB.type === 'chainSegment') {
     // Chain pairs go through their own entry, with poses read from the bodies (see collide.ts).
     collideChainSegmentAt(c.geomA, c.layoutA, a, c.geomB, c.layoutB, b, scratch)
-  } else
-    collideGeometry(
-      c.geomA,
-      c.layoutA,
-      a.x,
-      a.y,
-      a.c,
-      a.s,
-      c.geomB,
-      c.layoutB,
-      b.x,
-      b.y,
-      b.c,
-      b.s,
-      speculativeDistance,
-      scratch,
-    )
+  } else collideGeometryAt(c.geomA, c.layoutA, a, c.geomB, c.layoutB, b, scratch, speculativeDistance)
   const d = c.store.data
   const o = c.base
   const p0 = o + POINT_0
