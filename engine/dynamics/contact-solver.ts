@@ -235,6 +235,7 @@ export function prepareContacts(
   out.count = count
   const d = out.data
   const surface = out.surface
+  const hasSurface = out.hasSurface
   for (let i = 0; i < count; i++) {
     const c = contacts[i]
     const a = c.bodyA
@@ -266,12 +267,12 @@ export function prepareContacts(
     const rollingResistance = cd[cb + CONTACT_ROLLING_RESISTANCE]
     if (rollingResistance > 0 || !Object.is(tangentSpeed, 0)) {
       const s = i * SURFACE_STRIDE
-      out.hasSurface[i] = 1
+      hasSurface[i] = 1
       surface[s + TANGENT_SPEED] = tangentSpeed
       surface[s + ROLLING_RESISTANCE] = rollingResistance
       surface[s + ROLLING_IMPULSE] = rollingResistance > 0 ? cd[cb + CONTACT_ROLLING_IMPULSE] : 0
       surface[s + ROLLING_MASS] = iA + iB > 0 ? 1 / (iA + iB) : 0
-    } else out.hasSurface[i] = 0
+    } else hasSurface[i] = 0
     preparePoint(d, o, o + POINTS, c, cb + POINT_0)
     if (c.pointCount > 1) preparePoint(d, o, o + POINTS + POINT_STRIDE, c, cb + POINT_0 + POINT_FIELDS)
     // A dynamic body touching one more than PINCH_MASS_RATIO times heavier is pinched.
@@ -285,6 +286,8 @@ export function prepareContacts(
 /** Applies the accumulated impulses (each sub-step). */
 export function warmStartContacts(k: ContactConstraints, state: Float64Array): void {
   const d = k.data
+  const hasSurface = k.hasSurface
+  const surface = k.surface
   for (let i = 0; i < k.count; i++) {
     const o = i * CONSTRAINT_STRIDE
     const sa = k.stateA[i]
@@ -316,8 +319,8 @@ export function warmStartContacts(k: ContactConstraints, state: Float64Array): v
       vBx += mB * px
       vBy += mB * py
     }
-    if (k.hasSurface[i] !== 0) {
-      const rolling = k.surface[i * SURFACE_STRIDE + ROLLING_IMPULSE]
+    if (hasSurface[i] !== 0) {
+      const rolling = surface[i * SURFACE_STRIDE + ROLLING_IMPULSE]
       if (rolling !== 0) {
         wA -= iA * rolling
         wB += iB * rolling
@@ -358,6 +361,8 @@ function solveContactRange(
   const invH = ctx.invH
   const maxPushSpeed = ctx.maxPushSpeed
   const d = k.data
+  const hasSurface = k.hasSurface
+  const surface = k.surface
   for (let q = 0; q < count; q++) {
     const i = indices[q]
     const o = i * CONSTRAINT_STRIDE
@@ -382,7 +387,7 @@ function solveContactRange(
     const nx = d[o + NX]
     const ny = d[o + NY]
     const end = o + POINTS + k.pointCount[i] * POINT_STRIDE
-    const surfaced = k.hasSurface[i] !== 0
+    const surfaced = hasSurface[i] !== 0
 
     // Non-penetration
     for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
@@ -425,7 +430,7 @@ function solveContactRange(
 
     // Friction (Coulomb cone), tangent = (ny, -nx), towards the surfaces' relative speed (conveyors)
     const friction = d[o + FRICTION]
-    const tangentSpeed = surfaced ? k.surface[i * SURFACE_STRIDE + TANGENT_SPEED] : 0
+    const tangentSpeed = surfaced ? surface[i * SURFACE_STRIDE + TANGENT_SPEED] : 0
     for (let p = o + POINTS; p < end; p += POINT_STRIDE) {
       const rAx = d[p + RAX]
       const rAy = d[p + RAY]
@@ -452,16 +457,15 @@ function solveContactRange(
     }
 
     // Rolling resistance (Box2D v3.1): an angular impulse against the relative spin, at most
-    // resistance (m) x the normal impulse.
-    const sr = i * SURFACE_STRIDE
-    if (surfaced && k.surface[sr + ROLLING_RESISTANCE] > 0) {
-      const sd = k.surface
+    // resistance (m) x the normal impulse (the sum of the points' accumulated normal impulses).
+    if (surfaced && surface[i * SURFACE_STRIDE + ROLLING_RESISTANCE] > 0) {
+      const sr = i * SURFACE_STRIDE
       let totalNormalImpulse = 0
       for (let p = o + POINTS; p < end; p += POINT_STRIDE) totalNormalImpulse += d[p + NORMAL_IMPULSE]
-      const lambda = sd[sr + ROLLING_IMPULSE]
-      const maxLambda = sd[sr + ROLLING_RESISTANCE] * totalNormalImpulse
-      const next = Math.max(-maxLambda, Math.min(lambda - sd[sr + ROLLING_MASS] * (wB - wA), maxLambda))
-      sd[sr + ROLLING_IMPULSE] = next
+      const lambda = surface[sr + ROLLING_IMPULSE]
+      const maxLambda = surface[sr + ROLLING_RESISTANCE] * totalNormalImpulse
+      const next = Math.max(-maxLambda, Math.min(lambda - surface[sr + ROLLING_MASS] * (wB - wA), maxLambda))
+      surface[sr + ROLLING_IMPULSE] = next
       wA -= iA * (next - lambda)
       wB += iB * (next - lambda)
     }
@@ -534,13 +538,15 @@ export function applyRestitution(k: ContactConstraints, state: Float64Array, ctx
 /** Copies the accumulated impulses back to the contacts (warm starting and read-back). */
 export function storeImpulses(k: ContactConstraints, contacts: Contact[]): void {
   const d = k.data
+  const hasSurface = k.hasSurface
+  const surface = k.surface
   for (let i = 0; i < k.count; i++) {
     const c = contacts[i]
     const cd = c.store.data
     const cp = c.base + POINT_0
     const p = i * CONSTRAINT_STRIDE + POINTS
     cd[c.base + CONTACT_ROLLING_IMPULSE] =
-      k.hasSurface[i] !== 0 ? k.surface[i * SURFACE_STRIDE + ROLLING_IMPULSE] : 0
+      hasSurface[i] !== 0 ? surface[i * SURFACE_STRIDE + ROLLING_IMPULSE] : 0
     cd[cp + CONTACT_NORMAL_IMPULSE] = d[p + NORMAL_IMPULSE]
     cd[cp + CONTACT_TANGENT_IMPULSE] = d[p + TANGENT_IMPULSE]
     cd[cp + CONTACT_TOTAL_NORMAL] = d[p + TOTAL_NORMAL]
