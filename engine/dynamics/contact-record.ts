@@ -52,21 +52,32 @@ export const ROLLING_RESISTANCE = 28
 export const TANGENT_SPEED = 29
 /** Accumulated rolling (angular) impulse, warm started across steps (N m s); kept while the pair touches. */
 export const ROLLING_IMPULSE = 30
+/** Numbers per contact record (31 used; 32 keeps records on 64-byte boundaries). */
+export const CONTACT_STRIDE = 32
 /**
  * For hit events, set by the narrowphase pass of the step for contacts that ask for them: the
  * fastest approach speed along the normal of the manifold's points at the step start (m/s) and that
- * point (world, m). Not saved: recomputed before every use.
+ * point (world, m). Not saved: recomputed before every use. They live in a side record of HIT_STRIDE
+ * numbers per contact (ContactStore.hits, at hitOffset(base)), not in the contact record, so that the
+ * contact record stays 32 numbers (four cache lines) for the passes every contact takes.
  */
-export const APPROACH = 31
-export const HIT_X = 32
-export const HIT_Y = 33
-/** Numbers per contact record (34 used; 40 keeps records on 64-byte boundaries). */
-export const CONTACT_STRIDE = 40
+export const APPROACH = 0
+export const HIT_X = 1
+export const HIT_Y = 2
+/** Numbers per hit record (3 used). */
+export const HIT_STRIDE = 4
+
+/** Offset in ContactStore.hits of the hit record of the contact whose record starts at `base`. */
+export function hitOffset(base: number): number {
+  return (base / CONTACT_STRIDE) * HIT_STRIDE
+}
 
 /** The contact records of one world. */
 export class ContactStore {
   /** The records: contact k's fields at [k * CONTACT_STRIDE, (k + 1) * CONTACT_STRIDE). */
   data = new Float64Array(64 * CONTACT_STRIDE)
+  /** The hit records (APPROACH, HIT_X, HIT_Y): contact k's at [k * HIT_STRIDE, (k + 1) * HIT_STRIDE). */
+  hits = new Float64Array(64 * HIT_STRIDE)
   /** Records handed out. */
   count = 0
 
@@ -77,6 +88,9 @@ export class ContactStore {
       const grown = new Float64Array(2 * this.data.length)
       grown.set(this.data)
       this.data = grown
+      const hits = new Float64Array(2 * this.hits.length)
+      hits.set(this.hits)
+      this.hits = hits
     }
     this.count++
     return offset

@@ -28,6 +28,7 @@ import {
   FRICTION,
   HIT_X,
   HIT_Y,
+  hitOffset,
   ID,
   NORMAL_IMPULSE,
   NORMAL_X,
@@ -328,6 +329,8 @@ export function measureApproach(c: Contact): void {
   const b = c.bodyB
   const d = c.store.data
   const o = c.base
+  const h = c.store.hits
+  const ho = hitOffset(o)
   const nx = d[o + NORMAL_X]
   const ny = d[o + NORMAL_Y]
   let best = Number.NEGATIVE_INFINITY
@@ -342,9 +345,9 @@ export function measureApproach(c: Contact): void {
     const approach = -(dvx * nx + dvy * ny)
     if (approach > best) {
       best = approach
-      d[o + HIT_X] = d[p + PX]
-      d[o + HIT_Y] = d[p + PY]
+      h[ho + HIT_X] = d[p + PX]
+      h[ho + HIT_Y] = d[p + PY]
     }
   }
-  d[o + APPROACH] = best
+  h[ho + APPROACH] = best
 }

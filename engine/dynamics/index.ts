@@ -37,6 +37,7 @@ export {
   ContactStore,
   HIT_X,
   HIT_Y,
+  hitOffset,
   NORMAL_X,
   NORMAL_Y,
   POINT_0,

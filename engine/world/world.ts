@@ -52,6 +52,7 @@ import {
   HIT_EVENTS,
   HIT_X,
   HIT_Y,
+  hitOffset,
   integratePositions,
   integrateVelocities,
   limitBodyVelocity,
@@ -481,7 +482,9 @@ export class World extends QueryApi {
       if ((c.events & HIT_EVENTS) === 0 || !c.touching || (!c.bodyA.awake && !c.bodyB.awake)) continue
       const d = c.store.data
       const o = c.base
-      if (!(d[o + APPROACH] > HIT_EVENT_SPEED)) continue
+      const h = c.store.hits
+      const ho = hitOffset(o)
+      if (!(h[ho + APPROACH] > HIT_EVENT_SPEED)) continue
       const pushed =
         d[o + POINT_0 + TOTAL_NORMAL] > 0 ||
         (c.pointCount > 1 && d[o + POINT_0 + POINT_FIELDS + TOTAL_NORMAL] > 0)
@@ -489,11 +492,11 @@ export class World extends QueryApi {
       const e = events.hit.next()
       e.shapeA = c.shapeA.id
       e.shapeB = c.shapeB.id
-      e.point.x = d[o + HIT_X]
-      e.point.y = d[o + HIT_Y]
+      e.point.x = h[ho + HIT_X]
+      e.point.y = h[ho + HIT_Y]
       e.normal.x = d[o + RECORD_NORMAL_X]
       e.normal.y = d[o + RECORD_NORMAL_Y]
-      e.approachSpeed = d[o + APPROACH]
+      e.approachSpeed = h[ho + APPROACH]
     }
   }
 

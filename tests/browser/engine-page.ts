@@ -12,6 +12,7 @@ import {
   driveMachines,
   GOLDEN_STEPS,
   runMixedScene,
+  runVocabulary,
   trigInputs,
   trigResults,
 } from '../engine/determinism-fixtures.ts'
@@ -55,15 +56,26 @@ export function trigReport() {
   }
 }
 
+/**
+ * The vocabulary scene (compound, capsule, segment, rounded and decompose()d shapes, filters,
+ * sensors, rolling resistance, conveyors, events and queries): the world's hash and the hash of the
+ * events and query results of every step, every 500 steps (determinism-fixtures.ts runVocabulary).
+ */
+export function runVocabularyScene(): number[] {
+  return runVocabulary()
+}
+
 /** The handle the test calls through page.evaluate. */
 export interface EngineCheck {
   runGolden: typeof runGolden
   runMachines: typeof runMachines
+  runVocabularyScene: typeof runVocabularyScene
   trigReport: typeof trigReport
 }
 
 ;(globalThis as unknown as { concordEngineCheck: EngineCheck }).concordEngineCheck = {
   runGolden,
   runMachines,
+  runVocabularyScene,
   trigReport,
 }

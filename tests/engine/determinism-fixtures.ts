@@ -16,10 +16,15 @@
 import {
   box,
   buildScene,
+  capsule,
   circle,
+  cos,
+  createWorld,
+  decompose,
   machinesScene,
   pileScene,
   polygon,
+  segment,
   sin,
   type World,
 } from '../../engine/index.ts'
@@ -227,4 +232,261 @@ export function digest(values: Float64Array): number {
     h = Math.imul(h, 0x01000193)
   }
   return h >>> 0
+}
+
+/** Steps of the vocabulary scene's cross-engine run (50 s). */
+export const VOCABULARY_STEPS = 3000
+
+/** Where the vocabulary scene's setup takes its sines from (the engine's; a deliberate break passes Math.sin). */
+export type Sine = (x: number) => number
+
+/** Ids the vocabulary scene's inputs need. */
+export interface VocabularyHandles {
+  /** Shapes of the bodies whose filter changes at step 1000 (start colliding with the "ghost" category). */
+  refiltered: number[]
+  /** A rolling disc pushed at step 500. */
+  disc: number
+}
+
+/**
+ * The vocabulary scene (issue 27): every shape kind the engine has beyond circles, boxes and convex
+ * polygons, with their settings, in one container:
+ * - static: a V of two conveyor segments (tangent speed +0.8 and -0.5 m/s), box walls, a sensor box
+ *   in the middle and a kinematic body spinning a capsule sensor;
+ * - 36 dynamic bodies in six kinds: dumbbells (two circles on a box: compound), capsules,
+ *   rounded triangles, decompose()d L outlines, decompose()d 5-pointed stars and a compound of a
+ *   capsule and a rounded box; every other body has rolling resistance 0.08, every third asks for
+ *   hit events, the sixth kind is sensor-blind (enableSensorEvents false);
+ * - filters: dumbbells share the negative group -3 (they never touch each other); capsules are in
+ *   category 2 and do not collide with category 4 ("ghosts": the decompose()d stars) until step
+ *   1000, when setFilter gives them every mask bit.
+ * Initial angles come from `sine` (the engine's sin: the same bits everywhere; V8's Math.sin differs
+ * from it by an ulp on one of the 36 arguments, i = 31, so a setup that used Math.sin is caught).
+ */
+export function buildVocabularyScene(world: World, sine: Sine = sin): VocabularyHandles {
+  world.createBody({
+    type: 'static',
+    shapes: [
+      { shape: segment({ x: -10, y: 3 }, { x: 0, y: 0 }), tangentSpeed: 0.8 },
+      { shape: segment({ x: 0, y: 0 }, { x: 10, y: 3 }), tangentSpeed: -0.5 },
+      { shape: box(0.25, 8, { x: -10.25, y: 10 }) },
+      { shape: box(0.25, 8, { x: 10.25, y: 10 }) },
+      { shape: box(2, 1, { x: -3, y: 4 }), sensor: true },
+    ],
+  })
+  world.createBody({
+    type: 'kinematic',
+    position: { x: 4, y: 5 },
+    angularVelocity: 0.7,
+    shapes: [{ shape: capsule({ x: -1.5, y: 0 }, { x: 1.5, y: 0 }, 0.3), sensor: true }],
+  })
+  const outlineL = [
+    { x: -0.4, y: -0.4 },
+    { x: 0.4, y: -0.4 },
+    { x: 0.4, y: -0.15 },
+    { x: -0.15, y: -0.15 },
+    { x: -0.15, y: 0.4 },
+    { x: -0.4, y: 0.4 },
+  ]
+  const star: { x: number; y: number }[] = []
+  for (let k = 0; k < 10; k++) {
+    // Exact corners: the engine's trig on a fixed grid of angles.
+    const r = k % 2 === 0 ? 0.5 : 0.22
+    star.push({ x: r * cos((k * Math.PI) / 5 + 0.1), y: r * sin((k * Math.PI) / 5 + 0.1) })
+  }
+  const lPieces = decompose(outlineL)
+  const starPieces = decompose(star)
+  const handles: VocabularyHandles = { refiltered: [], disc: 0 }
+  for (let i = 0; i < 36; i++) {
+    const kind = i % 6
+    const position = { x: -8 + (i % 9) * 2, y: 7 + Math.floor(i / 9) * 1.6 }
+    const angle = 3 * sine(0.37 * i + 0.3)
+    const rollingResistance = i % 2 === 1 ? 0.08 : 0
+    const enableHitEvents = i % 3 === 0
+    const shapes =
+      kind === 0
+        ? [
+            {
+              shape: circle(0.25, { x: -0.5, y: 0 }),
+              filter: { categoryBits: 1, maskBits: 0xffffffff, groupIndex: -3 },
+            },
+            { shape: box(0.5, 0.08), filter: { categoryBits: 1, maskBits: 0xffffffff, groupIndex: -3 } },
+            {
+              shape: circle(0.25, { x: 0.5, y: 0 }),
+              filter: { categoryBits: 1, maskBits: 0xffffffff, groupIndex: -3 },
+            },
+          ]
+        : kind === 1
+          ? [
+              {
+                shape: capsule({ x: -0.35, y: 0 }, { x: 0.35, y: 0 }, 0.2),
+                filter: { categoryBits: 2, maskBits: 0xfffffffb, groupIndex: 0 },
+              },
+            ]
+          : kind === 2
+            ? [
+                {
+                  shape: polygon(
+                    [
+                      { x: -0.3, y: -0.25 },
+                      { x: 0.3, y: -0.25 },
+                      { x: 0, y: 0.3 },
+                    ],
+                    0.06,
+                  ),
+                },
+              ]
+            : kind === 3
+              ? lPieces.map((shape) => ({ shape }))
+              : kind === 4
+                ? starPieces.map((shape) => ({
+                    shape,
+                    filter: { categoryBits: 4, maskBits: 0xffffffff, groupIndex: 0 },
+                  }))
+                : [
+                    { shape: capsule({ x: 0, y: -0.3 }, { x: 0, y: 0.3 }, 0.15), enableSensorEvents: false },
+                    { shape: polygon(hexagon(0.25), 0.04), enableSensorEvents: false },
+                  ]
+    const body = world.createBody({
+      position,
+      angle,
+      shapes: shapes.map((d) => ({
+        ...d,
+        rollingResistance,
+        enableHitEvents,
+        restitution: i % 4 === 0 ? 0.3 : 0,
+      })),
+    })
+    if (kind === 1) handles.refiltered.push(...world.bodyShapes(body))
+  }
+  handles.disc = world.createBody({
+    position: { x: 8, y: 6 },
+    shapes: [{ shape: circle(0.35), rollingResistance: 0.05 }],
+  })
+  return handles
+}
+
+/** Folds numbers into a 32-bit FNV-1a hash by their exact bits (as world.hash() folds the state). */
+export class HashStream {
+  private readonly f = new Float64Array(1)
+  private readonly u = new Uint32Array(this.f.buffer)
+  hash = 0x811c9dc5
+
+  /** Folds one number's 64 bits. */
+  add(x: number): void {
+    this.f[0] = x
+    this.word(this.u[0])
+    this.word(this.u[1])
+  }
+
+  private word(w: number): void {
+    let h = this.hash
+    for (let k = 0; k < 32; k += 8) {
+      h ^= (w >>> k) & 0xff
+      h = Math.imul(h, 0x01000193)
+    }
+    this.hash = h >>> 0
+  }
+}
+
+/** The vocabulary scene's inputs before the step (world.tick steps taken). */
+export function driveVocabularyScene(world: World, h: VocabularyHandles): void {
+  const t = world.tick
+  if (t === 500) world.applyLinearImpulse(h.disc, { x: -2, y: 0 }, world.getWorldCenter(h.disc))
+  if (t === 1000)
+    for (const s of h.refiltered) world.setFilter(s, { categoryBits: 2, maskBits: 0xffffffff, groupIndex: 0 })
+  if (t === 1500 || t === 2500)
+    world.explode({ position: { x: 0, y: 0.5 }, radius: 3, falloff: 4, impulsePerLength: 6 })
+}
+
+/**
+ * Folds the step's events and the scene's queries into `stream`: contact begin/end/hit and sensor
+ * begin/end (in the engine's order), then a closest ray cast and an all-hits ray cast sweeping across
+ * the container, a capsule cast falling from above, overlapAABB, overlapPoint and overlapShape (a
+ * rounded hexagon) at points moving with the step, one of them filtered to category 2.
+ */
+export function foldVocabularyStep(world: World, stream: HashStream): void {
+  const t = world.tick
+  const contacts = world.contactEvents()
+  stream.add(contacts.begin.length)
+  for (const e of contacts.begin) stream.add(e.shapeA * 65536 + e.shapeB)
+  stream.add(contacts.end.length)
+  for (const e of contacts.end) stream.add(e.shapeA * 65536 + e.shapeB)
+  stream.add(contacts.hit.length)
+  for (const e of contacts.hit) {
+    stream.add(e.shapeA * 65536 + e.shapeB)
+    stream.add(e.point.x)
+    stream.add(e.point.y)
+    stream.add(e.normal.x)
+    stream.add(e.normal.y)
+    stream.add(e.approachSpeed)
+  }
+  const sensors = world.sensorEvents()
+  stream.add(sensors.begin.length)
+  for (const e of sensors.begin) stream.add(e.sensor * 65536 + e.visitor)
+  stream.add(sensors.end.length)
+  for (const e of sensors.end) stream.add(e.sensor * 65536 + e.visitor)
+  const u = (t % 200) / 200
+  const closest = world.castRayClosest({ x: -9.5, y: 12 }, { x: 19, y: -12 + 10 * u })
+  if (closest === null) stream.add(-1)
+  else foldHit(stream, closest)
+  const all = world.castRay({ x: -9.9 + 19.8 * u, y: 14 }, { x: 0.5, y: -14 }, { maskBits: 0xfffffffb })
+  stream.add(all.length)
+  for (const hit of all) foldHit(stream, hit)
+  const cast = world.castShape(
+    capsule({ x: -0.3, y: 0 }, { x: 0.3, y: 0 }, 0.15),
+    { position: { x: 9 - 18 * u, y: 13 }, angle: u },
+    { x: 0, y: -13 },
+  )
+  if (cast === null) stream.add(-1)
+  else foldHit(stream, cast)
+  const x = -8 + 16 * u
+  for (const id of world.overlapAABB({ minX: x - 1, minY: 0, maxX: x + 1, maxY: 3 })) stream.add(id)
+  for (const id of world.overlapPoint({ x, y: 1 + u })) stream.add(id)
+  const hexShape = VOCABULARY_HEXAGON
+  for (const id of world.overlapShape(
+    hexShape,
+    { position: { x: -x, y: 1.5 }, angle: 2 * u },
+    { categoryBits: 2, maskBits: 0xffffffff },
+  ))
+    stream.add(id)
+}
+
+const VOCABULARY_HEXAGON = polygon(hexagon(0.6), 0.1)
+
+function foldHit(
+  stream: HashStream,
+  hit: {
+    shape: number
+    body: number
+    point: { x: number; y: number }
+    normal: { x: number; y: number }
+    fraction: number
+  },
+): void {
+  stream.add(hit.shape)
+  stream.add(hit.body)
+  stream.add(hit.point.x)
+  stream.add(hit.point.y)
+  stream.add(hit.normal.x)
+  stream.add(hit.normal.y)
+  stream.add(hit.fraction)
+}
+
+/**
+ * Runs the vocabulary scene VOCABULARY_STEPS steps; every 500 steps returns the world's hash and the
+ * stream's (events and queries of every step so far).
+ */
+export function runVocabulary(sine: Sine = sin): number[] {
+  const world = createWorld()
+  const handles = buildVocabularyScene(world, sine)
+  const stream = new HashStream()
+  const out: number[] = []
+  for (let i = 1; i <= VOCABULARY_STEPS; i++) {
+    driveVocabularyScene(world, handles)
+    world.step()
+    foldVocabularyStep(world, stream)
+    if (i % 500 === 0) out.push(world.hash(), stream.hash)
+  }
+  return out
 }
