@@ -17,6 +17,7 @@ import {
   box,
   buildScene,
   capsule,
+  chain,
   circle,
   cos,
   createWorld,
@@ -252,7 +253,7 @@ export interface VocabularyHandles {
  * The vocabulary scene (issue 27): every shape kind the engine has beyond circles, boxes and convex
  * polygons, with their settings, in one container:
  * - static: a V of two conveyor segments (tangent speed +0.8 and -0.5 m/s), box walls, a sensor box
- *   in the middle and a kinematic body spinning a capsule sensor;
+ *   in the middle, a one-sided chain ramp (3 segments) and a kinematic body spinning a capsule sensor;
  * - 36 dynamic bodies in six kinds: dumbbells (two circles on a box: compound), capsules,
  *   rounded triangles, decompose()d L outlines, decompose()d 5-pointed stars and a compound of a
  *   capsule and a rounded box; every other body has rolling resistance 0.08, every third asks for
@@ -272,6 +273,17 @@ export function buildVocabularyScene(world: World, sine: Sine = sin): Vocabulary
       { shape: box(0.25, 8, { x: -10.25, y: 10 }) },
       { shape: box(0.25, 8, { x: 10.25, y: 10 }) },
       { shape: box(2, 1, { x: -3, y: 4 }), sensor: true },
+      // A one-sided chain ramp, run right to left so its solid side faces up, ghosts at both ends.
+      {
+        shape: chain([
+          { x: 9.5, y: 7.4 },
+          { x: 9, y: 7 },
+          { x: 7, y: 6.2 },
+          { x: 5, y: 5.7 },
+          { x: 3, y: 5.5 },
+          { x: 2.5, y: 5.6 },
+        ]),
+      },
     ],
   })
   world.createBody({
