@@ -72,17 +72,21 @@ export function benchCommands(sim: RoomSimulation, player: number): GameCommand[
 }
 
 /**
- * A tower builder: a block every `every` ticks, its kind and offset drawn from a script PRNG
- * seeded by the player id (`spread` m either side of the lane centre).
+ * A tower builder: a block every `every` ticks, its kind and offset (`spread` m either side of the
+ * lane centre) drawn from a script PRNG seeded by the player and the tick, so the script keeps no
+ * state and any copy of a room gets the same commands.
  */
-export function builderScript(player: number, every: number, spread: number) {
-  const rng = new Prng(0x9e3779b1 ^ player)
-  const kinds = ['square', 'slab', 'post'] as const
-  return (sim: RoomSimulation): GameCommand[] => {
-    const state = sim.gameState as TowerState
-    if (state.phase === 'over') return []
-    if (sim.tick % every !== 0) return []
-    const kind = kinds[rng.int(3)]
-    return [cmd('block', { kind, x: rng.range(-spread, spread) })]
-  }
+export function builderCommands(
+  sim: RoomSimulation,
+  player: number,
+  every: number,
+  spread: number,
+): GameCommand[] {
+  const state = sim.gameState as TowerState
+  if (state.phase === 'over' || sim.tick % every !== 0) return []
+  const rng = new Prng((Math.imul(player, 0x9e3779b1) ^ sim.tick) >>> 0)
+  const kind = BLOCK_KINDS[rng.int(BLOCK_KINDS.length)]
+  return [cmd('block', { kind, x: rng.range(-spread, spread) })]
 }
+
+const BLOCK_KINDS = ['square', 'slab', 'post'] as const
