@@ -13,10 +13,10 @@ const cmd = (kind: string, a: GameCommand['a']): GameCommand => ({ k: 'cmd', kin
 
 /**
  * A goal striker: runs to the spot behind the ball on the line from the goal it attacks, then
- * through the ball, kicking at full power when in reach. Sends `run` every 4th tick (a real
- * client's input rate) and `kick` when it would land.
+ * through the ball, kicking at full power when in reach. Sends `run` every `runEvery`th tick (4:
+ * a real client's input rate; 1 for a script called at its own pace) and `kick` when it would land.
  */
-export function strikerCommands(sim: RoomSimulation, player: number): GameCommand[] {
+export function strikerCommands(sim: RoomSimulation, player: number, runEvery = 4): GameCommand[] {
   const state = sim.gameState as GoalState
   const me = state.players[player]
   if (!me || state.phase === 'over' || !sim.world.hasBody(me.disc)) return []
@@ -48,7 +48,7 @@ export function strikerCommands(sim: RoomSimulation, player: number): GameComman
   if (gap < 0.08 && (bx * ux + by * uy) / (gap + BALL_RADIUS + PLAYER_RADIUS) > 0.9) {
     if (me.lastKick < 0 || sim.tick - me.lastKick >= 30) out.push(cmd('kick', { power: 1 }))
   }
-  if (sim.tick % 4 === 0) {
+  if (sim.tick % runEvery === 0) {
     // Far from the spot behind the ball: go there (slowing down near it); on it: go through the ball.
     const speed = miss > 0.3 ? Math.min(6, 1 + 4 * miss) : 6
     const vx = miss > 0.3 ? ex / miss : ux
@@ -58,11 +58,11 @@ export function strikerCommands(sim: RoomSimulation, player: number): GameComman
   return out
 }
 
-/** A goal player who keeps to a corner of its own half (out of the ball's way). */
-export function benchCommands(sim: RoomSimulation, player: number): GameCommand[] {
+/** A goal player who keeps to a corner of its own half (out of the ball's way); `run` every `every`th tick. */
+export function benchCommands(sim: RoomSimulation, player: number, every = 30): GameCommand[] {
   const state = sim.gameState as GoalState
   const me = state.players[player]
-  if (!me || state.phase === 'over' || sim.tick % 30 !== 0) return []
+  if (!me || state.phase === 'over' || sim.tick % every !== 0) return []
   const d = sim.world.getPosition(me.disc)
   const cx = me.team === 'red' ? -8 : 8
   const dx = cx - d.x
