@@ -15,6 +15,7 @@ export interface MatchReport {
   player: number
   tick: number
   score: { red: number; blue: number } | null
+  phase: string | null
   team: string | null
   desyncs: number
   resyncs: number
@@ -37,7 +38,7 @@ const sandbox = (): PageSandbox =>
 
 let sent = 0
 let seq = 1000
-/** [tick, score as JSON] each time the page's confirmed simulation was seen at a new tick. */
+/** [tick, [score, phase] as JSON] each time the page's confirmed simulation was seen at a new tick. */
 const history: Array<[number, string]> = []
 
 /** Note the page's score at its confirmed tick, every 5 ms (a frame may step several ticks). */
@@ -45,7 +46,8 @@ function watch(): void {
   setInterval(() => {
     const sim = sandbox().runner.sim
     if (!sim || history[history.length - 1]?.[0] === sim.tick) return
-    history.push([sim.tick, JSON.stringify((sim.gameState as GoalState).score)])
+    const state = sim.gameState as GoalState
+    history.push([sim.tick, JSON.stringify([state.score, state.phase])])
   }, 5)
 }
 
@@ -70,6 +72,7 @@ function report(): MatchReport {
     player: s.runner.playerId,
     tick: s.runner.sim?.tick ?? 0,
     score: state ? { ...state.score } : null,
+    phase: state?.phase ?? null,
     team: state?.players[s.runner.playerId]?.team ?? null,
     desyncs: s.runner.stats.desyncs,
     resyncs: s.runner.stats.resyncs,

@@ -4,15 +4,20 @@
  * simulation), one page joined with `?game=goal&mode=lockstep` (red, the first to join) and one
  * with `&mode=predict` (blue). Each page plays its player with a script (game-match-page.ts: the
  * red page a striker, the blue page keeps out of the way) computed from its own simulation and
- * sent over its own connection as `cmd` messages. Until red has scored twice, then: at every tick
- * a page was seen at (every 5 ms through the match), its score equals the one the server's room held at that tick (recorded by
- * an observer on the room); no page reported a desync (the server's concord_desyncs_total is 0
- * and each page's own count is 0 after at least two checkpoints each).
+ * sent over its own connection as `cmd` messages, until the match ends (red wins 5-0). Then: at
+ * every tick a page was seen at (every 5 ms through the match), its score and phase equal what
+ * the server's room held at that tick (recorded by an observer on the room); no page reported a
+ * desync (the server's concord_desyncs_total is 0 and each page's own count is 0 after at least
+ * two checkpoints each); and the room's recorded log verifies with `npm run replay -- --verify`.
  */
+import { spawnSync } from 'node:child_process'
+import { mkdtemp } from 'node:fs/promises'
+import { tmpdir } from 'node:os'
+import { join as joinPath } from 'node:path'
 import { build } from 'esbuild'
 import type { Browser, BrowserContext, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
-import type { GoalState } from '../../games/index.ts'
+import { type GoalState, WIN_SCORE } from '../../games/index.ts'
 import { buildClient } from '../../scripts/build-client.mjs'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from '../support/chromium.ts'
@@ -22,16 +27,17 @@ import type { MatchReport } from './game-match-page.ts'
 
 const DIST = 'test-results/browser-game-match/dist'
 const ROOM = 'goal-match'
-const GOALS = 2
 
 let server: RunningServer
 let browser: Browser
 let code = ''
+let replayDir = ''
 const contexts: BrowserContext[] = []
 
 beforeAll(async () => {
   await buildClient(DIST)
-  server = await serveClient(DIST, { workers: 0 })
+  replayDir = await mkdtemp(joinPath(tmpdir(), 'concord-game-match-'))
+  server = await serveClient(DIST, { workers: 0, record: true, replayDir })
   const bundle = await build({
     entryPoints: [new URL('./game-match-page.ts', import.meta.url).pathname],
     bundle: true,
@@ -71,14 +77,14 @@ async function join(mode: 'lockstep' | 'predict'): Promise<{ page: Page; errors:
 }
 
 describe('a goal match between a lockstep page and a predicting page', () => {
-  it(`red scores ${GOALS}; both pages see the server's score at every tick they simulate, with no desync`, async () => {
+  it(`red wins ${WIN_SCORE}-0; both pages see the server's score at every tick they simulate, with no desync; the log replays`, async () => {
     const lockstep = await join('lockstep')
     const room = server.rooms.get(ROOM)
     if (!room) throw new Error(`no room ${ROOM} on the server`)
     // The server room's score at every tick from now on.
     const scores = new Map<number, string>()
     const state = () => room.sim.gameState as GoalState
-    const record = (tick: number) => scores.set(tick, JSON.stringify(state().score))
+    const record = (tick: number) => scores.set(tick, JSON.stringify([state().score, state().phase]))
     record(room.sim.tick)
     room.sim.observers.push({
       command: () => {},
@@ -100,7 +106,8 @@ describe('a goal match between a lockstep page and a predicting page', () => {
     await predict.page.evaluate(() =>
       (window as unknown as { concordGameMatch: { start(r: string): void } }).concordGameMatch.start('bench'),
     )
-    await until(() => state().score.red >= GOALS, `${GOALS} red goals on the server`, 180_000)
+    await until(() => state().phase === 'over', 'the end of the match on the server', 240_000)
+    expect(state()).toMatchObject({ winner: 'red', score: { red: WIN_SCORE, blue: 0 } })
     const serverTick = room.sim.tick
     console.log(`server: ${JSON.stringify(state().score)} at tick ${serverTick}`)
 
@@ -128,9 +135,10 @@ describe('a goal match between a lockstep page and a predicting page', () => {
       console.log(
         `${label} page: ${JSON.stringify(r)}; scores compared at ${compared.length} ticks: ${[...seen].join(' ')}`,
       )
-      // The page saw the match go 0-0, 1-0, 2-0.
-      expect(seen.size).toBeGreaterThanOrEqual(GOALS + 1)
-      expect(r.score?.red).toBeGreaterThanOrEqual(GOALS)
+      // The page saw the match go 0-0, 1-0, ... 5-0 and end.
+      expect(seen.size).toBeGreaterThanOrEqual(WIN_SCORE + 1)
+      expect(seen).toContain(JSON.stringify([{ red: WIN_SCORE, blue: 0 }, 'over']))
+      expect([r.score, r.phase]).toEqual([{ red: WIN_SCORE, blue: 0 }, 'over'])
       expect([r.desyncs, r.resyncs]).toEqual([0, 0])
     }
     expect((await report(lockstep.page)).sent).toBeGreaterThan(0)
@@ -139,5 +147,24 @@ describe('a goal match between a lockstep page and a predicting page', () => {
     expect(metrics).toMatch(/^concord_desyncs_total 0$/m)
     expect(lockstep.errors).toEqual([])
     expect(predict.errors).toEqual([])
-  }, 300_000)
+
+    // The match's log, as recorded so far (flushed, not closed), replays with every hash matching.
+    const recorder = server.recordings.recorders.get(ROOM)
+    if (!recorder) throw new Error('the room is not recorded')
+    await recorder.flush()
+    const run = spawnSync(
+      'npx',
+      ['tsx', 'server/replay/replay-cli.ts', joinPath(replayDir, recorder.name), '--verify', '--json'],
+      {
+        encoding: 'utf8',
+        timeout: 180_000,
+      },
+    )
+    expect(run.status, run.stderr).toBe(0)
+    const replay = JSON.parse(run.stdout) as { hashesChecked: number; divergence: unknown; lastTick: number }
+    console.log(`replay: ${replay.hashesChecked} hashes checked to tick ${replay.lastTick}`)
+    expect(replay.divergence).toBeNull()
+    expect(replay.lastTick).toBeGreaterThanOrEqual(serverTick)
+    expect(replay.hashesChecked).toBeGreaterThan(10)
+  }, 400_000)
 })
