@@ -250,6 +250,15 @@ export class RoomSimulation {
     return null
   }
 
+  /**
+   * Put a player back from a saved room (a sync payload, a clone) without telling anyone; players
+   * must be restored in join order, which is the order ctx.players gives the game.
+   */
+  restorePlayer(playerId: number, player: SimPlayer): void {
+    this.players.set(playerId, player)
+    this.playerIds = Object.freeze([...this.players.keys()])
+  }
+
   /** Remove a player, releasing its grab. */
   leave(playerId: number): void {
     const player = this.players.get(playerId)

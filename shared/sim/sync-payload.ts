@@ -112,7 +112,7 @@ export function restoreSyncPayload(bytes: Uint8Array, options: RestoreOptions): 
   sim.lastLoadTick = p.lastLoad ?? Number.NEGATIVE_INFINITY
   for (let i = 0; i < p.players.length; i += 5) {
     const [id, joint, body, cursorX, cursorY] = p.players.slice(i, i + 5)
-    sim.players.set(id, { grab: joint === 0 ? null : { joint, body }, cursorX, cursorY })
+    sim.restorePlayer(id, { grab: joint === 0 ? null : { joint, body }, cursorX, cursorY })
     if (joint !== 0) sim.grabCounts.set(body, (sim.grabCounts.get(body) ?? 0) + 1)
   }
   for (const j of p.joints) {
@@ -145,7 +145,7 @@ export function cloneSimulation(sim: RoomSimulation, options: Omit<RestoreOption
   copy.stepRequested = sim.stepRequested
   copy.lastLoadTick = sim.lastLoadTick
   for (const [id, p] of sim.players)
-    copy.players.set(id, { grab: p.grab && { ...p.grab }, cursorX: p.cursorX, cursorY: p.cursorY })
+    copy.restorePlayer(id, { grab: p.grab && { ...p.grab }, cursorX: p.cursorX, cursorY: p.cursorY })
   for (const [id, j] of sim.userJoints) copy.userJoints.set(id, j)
   for (const [id, n] of sim.grabCounts) copy.grabCounts.set(id, n)
   return copy

@@ -126,7 +126,7 @@ describe('a game room over real sockets', { timeout: 60_000 }, () => {
     const error = await bot.nextMessage(isError)
     expect([error.code, error.reason]).toEqual([
       'invalid',
-      'unknown game "nope"; this server has sandbox, ball-drop',
+      'unknown game "nope"; this server has sandbox, ball-drop, goal, tower',
     ])
     await bot.close()
   })

@@ -1,0 +1,72 @@
+/*
+ * A goal match between two client pages in headless Chromium (game-match-harness.ts: a real
+ * server on 127.0.0.1 serving the client, rooms on the main thread so the test watches the room's
+ * own simulation, recording on): one page joined with `?game=goal&mode=lockstep` (red, the first
+ * to join) and one with `&mode=predict` (blue). Each page plays its player with a script
+ * (game-match-page.ts: the red page a striker, the blue page keeps out of the way) computed from
+ * its own simulation and sent over its own connection as `cmd` messages, until the match ends
+ * (red wins 5-0). Then: at every tick a page was seen at (every 5 ms through the match), its score
+ * and phase equal what the server's room held at that tick; neither page reported a desync (each
+ * page's count is 0 after at least two checkpoints, the server's concord_desyncs_total is 0); and
+ * the room's recorded log verifies with `npm run replay -- FILE --verify`.
+ */
+import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { type GoalState, WIN_SCORE } from '../../games/index.ts'
+import { until } from '../support/wait.ts'
+import {
+  closeMatchSetup,
+  expectPageFollowed,
+  expectServerClean,
+  joinMatch,
+  type MatchSetup,
+  report,
+  startMatchSetup,
+  startScript,
+  watchRoom,
+} from './game-match-harness.ts'
+
+const ROOM = 'goal-match'
+let setup: MatchSetup
+
+beforeAll(async () => {
+  setup = await startMatchSetup('test-results/browser-game-match/dist')
+}, 180_000)
+
+afterAll(async () => {
+  await closeMatchSetup(setup)
+})
+
+describe('a goal match between a lockstep page and a predicting page', () => {
+  it(`red wins ${WIN_SCORE}-0; both pages see the server's score at every tick they simulate, with no desync; the log replays`, async () => {
+    const lockstep = await joinMatch(setup, ROOM, 'goal', 'lockstep')
+    const room = setup.server.rooms.get(ROOM)
+    if (!room) throw new Error(`no room ${ROOM} on the server`)
+    expect(room.game.name).toBe('goal')
+    const summaries = watchRoom(room)
+    const predict = await joinMatch(setup, ROOM, 'goal', 'predict')
+    const state = () => room.sim.gameState as GoalState
+    expect(state().players[(await report(lockstep.page)).player].team).toBe('red')
+    expect(state().players[(await report(predict.page)).player].team).toBe('blue')
+
+    await startScript(lockstep.page, 'striker')
+    await startScript(predict.page, 'bench')
+    await until(() => state().phase === 'over', 'the end of the match on the server', 240_000)
+    expect(state()).toMatchObject({ winner: 'red', score: { red: WIN_SCORE, blue: 0 } })
+    const serverTick = room.sim.tick
+    console.log(`server: ${JSON.stringify(state().score)} at tick ${serverTick}`)
+
+    const end = JSON.stringify([{ red: WIN_SCORE, blue: 0 }, 'over'])
+    for (const [label, { page, errors }] of [
+      ['lockstep', lockstep],
+      ['predict', predict],
+    ] as const) {
+      const { seen, last } = await expectPageFollowed(label, page, summaries, serverTick)
+      // The page saw the match go 0-0, 1-0, ... 5-0 and end.
+      expect(seen.size).toBeGreaterThanOrEqual(WIN_SCORE + 1)
+      expect(seen).toContain(end)
+      expect(last.summary).toBe(end)
+      expect(errors).toEqual([])
+    }
+    await expectServerClean(setup, ROOM, serverTick)
+  }, 400_000)
+})
