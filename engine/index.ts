@@ -69,6 +69,7 @@ export type {
   JointBreakDef,
   JointDef,
   JointEvents,
+  JointFrames,
   JointId,
   JointInfo,
   JointReaction,

@@ -20,6 +20,19 @@ export {
   type GameDefinition,
 } from './game-api.ts'
 export { MIN_TICKS_BETWEEN_LOADS, sandbox, sandboxCommands } from './sandbox/index.ts'
+export {
+  type BuiltScene,
+  buildScene,
+  checkScene,
+  type ParsedScene,
+  parseScene,
+  SCENE_FORMAT_VERSION,
+  SCENE_LIMITS,
+  SCENE_SCHEMA,
+  type SceneFile,
+  saveScene,
+  sceneText,
+} from './scenes/index.ts'
 
 /** The games this build ships, by name. */
 export const GAMES: Readonly<Record<string, Game>> = Object.freeze({ sandbox, 'ball-drop': ballDrop })
