@@ -82,7 +82,13 @@ export class RoomScenes {
     if (sim.tick - this.lastSaveTick < MIN_TICKS_BETWEEN_SAVES)
       return { error: 'scene saves are limited to one per second per room' }
     const text = sceneText(saveScene(sim.world, { name: roomName }))
-    const stored = this.store.save(text, false)
+    let stored: ReturnType<SceneStore['save']>
+    try {
+      stored = this.store.save(text, false)
+    } catch (e) {
+      // A directory that cannot be made or written (EACCES, ENOSPC): refuse, never fail the tick.
+      return { error: `the scene could not be written on the server: ${(e as Error).message}` }
+    }
     if (!stored.ok) return { error: stored.error }
     this.lastSaveTick = sim.tick
     return { id: stored.id }
