@@ -70,8 +70,8 @@ export class SceneFiles {
   /** Ask the room to save its world; update() downloads it when the server answers. */
   save(): void {
     const seq = this.sandbox.roomCommand?.('saveScene', {}) ?? null
-    if (seq === null) return this.notify('Saving needs a connection to the server.')
-    this.pendingSave = seq
+    if (seq === null) this.notify('Saving needs a connection to the server.')
+    else this.pendingSave = seq
   }
 
   /** Check a scene file here, keep it on the server, and open it in this room. */
