@@ -31,6 +31,7 @@ import {
 } from './input/index.ts'
 import { cleanRoomName, offlineLink, replaysLink, roomLink, showLobby } from './lobby.ts'
 import type { Sandbox, ViewBody } from './modes/index.ts'
+import { SceneFiles } from './scene-files.ts'
 
 /** Shortest time between two changes of the hovered body whose contacts are drawn online (ms). */
 const HOVER_MS = 150
@@ -73,10 +74,15 @@ export class App {
   private toastShownAt = Number.NEGATIVE_INFINITY
   private frameHandle = 0
 
+  /** Save, open and share scene files (scene-files.ts). */
+  readonly sceneFiles: SceneFiles
+
   constructor(
     readonly sandbox: Sandbox,
     private readonly httpBase: string,
     private readonly room: string,
+    /** A shared scene's id (`?scene=ID`) to open in this room once joined, or null. */
+    sharedScene: string | null = null,
   ) {
     const canvas = $<HTMLCanvasElement>('view')
     this.renderer = new Renderer(canvas, this.camera)
@@ -90,6 +96,7 @@ export class App {
     window.addEventListener('blur', () => this.tools.cancel())
     window.addEventListener('keydown', (e) => this.key(e))
     this.wireToolbar()
+    this.sceneFiles = new SceneFiles(sandbox, httpBase, room, (text) => this.notify(text), sharedScene)
     $('help-rows').innerHTML = helpRows(touchLayout())
     $('help-intro').textContent = helpIntro(touchLayout())
     this.setTool('grab')
@@ -338,6 +345,7 @@ export class App {
     this.fps.frame(now)
     const s = this.sandbox
     s.update(now)
+    this.sceneFiles.update()
     const scene = s.scene()
     if (scene && scene !== this.fittedScene && s.bodies().length > 0) {
       this.fittedScene = scene
@@ -428,7 +436,9 @@ export class App {
     const controls = s.rules()?.controls ?? true
     for (const id of ['scene', 'pause', 'step', 'reset', 'gravity']) {
       const control = $(id) as HTMLButtonElement
-      control.dataset.title ??= control.title
+      // The scene picker's own title names the current scene (syncScenePicker): read it afresh.
+      if (id === 'scene') control.dataset.title = `Scene: ${sceneDescription(s.scene())}`
+      else control.dataset.title ??= control.title
       control.disabled = !controls
       control.title = controls
         ? control.dataset.title
@@ -478,6 +488,12 @@ export class App {
         if (line !== last) this.toastQueue.push(line)
       }
     }
+    this.showNextToast()
+  }
+
+  /** Show the player a notice of the page's own (queued like the sandbox's). */
+  notify(text: string): void {
+    this.toastQueue.push(text)
     this.showNextToast()
   }
 

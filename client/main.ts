@@ -3,6 +3,7 @@
  *   ?room=NAME      join that room on the server that served this page (a link invites a friend)
  *   ?offline        run the engine in the page, no server (&scene=NAME picks the scene); the
  *                   static build (npm run build:static) always runs offline
+ *   ?scene=ID       open a saved scene (a share link) in a new room of its own
  *   ?replay[=NAME]  play a recorded log: the server's log NAME, or pick one (list, file, drop)
  *   &key=KEY        access key of a server with join or admin tokens (sent on to the WebSocket,
  *                   and to GET /replays, which a server with a join token refuses without it)
@@ -20,6 +21,15 @@ import { ReplayPage } from './replay/index.ts'
 function boot(): App {
   const params = new URLSearchParams(location.search)
   const httpBase = `${location.protocol}//${location.host}`
+  // A share link (?scene=ID, no room) opens the saved scene in a new room of its own.
+  const shared =
+    /^[0-9a-f]{16}$/.test(params.get('scene') ?? '') && !params.has('offline') ? params.get('scene') : null
+  if (shared && !params.has('room')) {
+    params.set('room', `s-${shared.slice(0, 8)}-${Math.floor(Math.random() * 9000 + 1000)}`)
+    // A reload stays in that room and does not open the scene again.
+    params.delete('scene')
+    history.replaceState(null, '', `?${params.toString()}`)
+  }
   const room = params.get('room') || 'lobby'
   let sandbox: Sandbox
   // The static build (npm run build:static) marks its page: a static host has no game server.
@@ -41,7 +51,7 @@ function boot(): App {
         ? new LockstepSandbox({ url: ws, room, name, mode, key, game })
         : new OnlineSandbox({ url: ws, room, name, key, game })
   }
-  return new App(sandbox, httpBase, room)
+  return new App(sandbox, httpBase, room, shared)
 }
 
 declare global {

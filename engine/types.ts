@@ -104,6 +104,12 @@ export interface BodyDef {
   position?: Vec2
   /** Rotation (rad). */
   angle?: number
+  /**
+   * The rotation as its exact (cos, sin) pair, which wins over `angle` (Box2D v3.1's b2Rot in
+   * b2BodyDef): getBodyDef reads it back, so a body saved and recreated has the very same rotation
+   * (atan2 and cos/sin do not round-trip bit for bit). Its length must be 1 within 1e-6.
+   */
+  rotation?: { c: number; s: number }
   /** Velocity of the centre of mass (m/s). */
   linearVelocity?: Vec2
   /** Angular velocity (rad/s). */
@@ -130,6 +136,22 @@ export interface BodyDef {
   enableSleep?: boolean
   /** Never rotates (infinite inertia), usually false. */
   fixedRotation?: boolean
+}
+
+/**
+ * A joint's frames exactly as the engine keeps them: each anchor in its body's frame (m, from the
+ * body origin; the world frame for a null body), angleB - angleA at creation (rad), and for
+ * prismatic and wheel joints the axis in A's frame (unit). Given in a definition, they win over the
+ * world anchors, the current angle and the world axis, so getJointDef's read-back recreates a joint
+ * bit for bit on bodies posed as they are now, whatever has moved since the joint was made.
+ */
+export interface JointFrames {
+  localAnchorA: Vec2
+  localAnchorB: Vec2
+  /** Revolute, weld, prismatic, wheel; 0 (ignored) for distance joints. */
+  referenceAngle: number
+  /** Prismatic, wheel: the axis in body A's frame, unit length within 1e-6. */
+  localAxisA?: Vec2
 }
 
 /** Settings every joint definition has. */
@@ -170,6 +192,8 @@ export interface RevoluteJointDef extends JointBreakDef {
   /** First body, or null for the fixed world frame. */
   bodyA: BodyId | null
   bodyB: BodyId
+  /** Exact frames (getJointDef's read-back); when given they win over the world anchors and axis. */
+  frames?: JointFrames
   /** World anchor at creation (m). */
   anchor: Vec2
   /** Whether the two bodies collide with each other, usually false (the pin lies inside both). */
@@ -197,6 +221,8 @@ export interface DistanceJointDef extends JointBreakDef {
   type: 'distance'
   bodyA: BodyId | null
   bodyB: BodyId
+  /** Exact frames (getJointDef's read-back); when given they win over the world anchors and axis. */
+  frames?: JointFrames
   /** World anchors at creation (m). */
   anchorA: Vec2
   anchorB: Vec2
@@ -240,6 +266,8 @@ export interface WeldJointDef extends JointBreakDef {
   type: 'weld'
   bodyA: BodyId | null
   bodyB: BodyId
+  /** Exact frames (getJointDef's read-back); when given they win over the world anchors and axis. */
+  frames?: JointFrames
   /** World anchor at creation (m). */
   anchor: Vec2
   /** Usually false. */
@@ -257,6 +285,8 @@ export interface PrismaticJointDef extends JointBreakDef {
   type: 'prismatic'
   bodyA: BodyId | null
   bodyB: BodyId
+  /** Exact frames (getJointDef's read-back); when given they win over the world anchors and axis. */
+  frames?: JointFrames
   /** World anchor at creation (m): translation 0 is where the bodies are now. */
   anchor: Vec2
   /** World direction of the axis at creation (any length but zero); fixed in A's frame. */
@@ -286,6 +316,8 @@ export interface WheelJointDef extends JointBreakDef {
   type: 'wheel'
   bodyA: BodyId | null
   bodyB: BodyId
+  /** Exact frames (getJointDef's read-back); when given they win over the world anchors and axis. */
+  frames?: JointFrames
   /** World anchor at creation (m), usually the wheel's centre. */
   anchor: Vec2
   /** World direction of the suspension axis at creation, usually up (0, 1). */

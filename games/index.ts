@@ -44,6 +44,19 @@ export {
 } from './goal/index.ts'
 export { MIN_TICKS_BETWEEN_LOADS, sandbox, sandboxCommands } from './sandbox/index.ts'
 export {
+  type BuiltScene,
+  buildScene,
+  checkScene,
+  type ParsedScene,
+  parseScene,
+  SCENE_FORMAT_VERSION,
+  SCENE_LIMITS,
+  SCENE_SCHEMA,
+  type SceneFile,
+  saveScene,
+  sceneText,
+} from './scenes/index.ts'
+export {
   BLOCKS,
   DROP_CLEARANCE,
   DROP_COOLDOWN,

@@ -34,6 +34,7 @@ import {
 import { Transport } from './net/index.ts'
 import { Recordings } from './replay/index.ts'
 import { LocalRoomHost, type RoomHost, RoomManager } from './rooms/index.ts'
+import { SceneStore } from './scenes/index.ts'
 import { WorkerPool } from './workers/index.ts'
 
 /** A running server. */
@@ -113,6 +114,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     staticDir: config.staticDir,
     rooms: host,
     recordings,
+    scenes: new SceneStore(config.sceneDir, config.maxSavedScenes),
     keyAccess: (url, what) => checkKeyedRoute(config, url, what),
     metricsAccess: (req) => checkMetricsAccess(config, req),
     wsAccess: (req, url) => {

@@ -15,6 +15,7 @@ import {
   type ContactsMessage,
   type JoinMessage,
   type MirrorBody,
+  type PlainData,
   PROTOCOL_VERSION,
   ROOM_NAME_PATTERN,
   type RoomRules,
@@ -91,6 +92,8 @@ export class OnlineSandbox implements Sandbox {
   /** This page asked for a scene load or reset: the next new world is its own doing. */
   private ownLoad = false
   private seq = 0
+  /** Scene ids answering this page's saveScene commands, by seq. */
+  private readonly saved = new Map<number, string>()
   private pingId = 0
   private lastPing = 0
   private rttMs: number | null = null
@@ -162,6 +165,7 @@ export class OnlineSandbox implements Sandbox {
       this.rttMs = now - message.time
       return
     }
+    if (message.t === 'scene') this.saved.set(message.seq, message.id)
     if (message.t === 'error' && message.code === 'refused') this.tell(message.reason)
     if (message.t === 'error' && message.seq !== undefined) {
       if (message.code === 'input-budget') this.outbox.dropped(message.seq)
@@ -395,6 +399,18 @@ export class OnlineSandbox implements Sandbox {
     if (cmd.k === 'scene' || cmd.k === 'reset') this.ownLoad = true
     this.outbox.push(cmd)
     this.drainOutbox(now)
+  }
+
+  roomCommand(kind: string, args: { [key: string]: PlainData }): number | null {
+    if (!this.connection?.isJoined) return null
+    const seq = ++this.seq
+    if (kind === 'openScene') this.ownLoad = true
+    this.up.add(this.connection.send({ t: 'cmd', seq, k: kind, a: args }), performance.now())
+    return seq
+  }
+
+  savedScenes(): ReadonlyMap<number, string> {
+    return this.saved
   }
 
   /** One notice for the inputs the server dropped since the last frame, and the spawns sent again. */

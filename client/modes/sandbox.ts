@@ -7,6 +7,7 @@
 import type { Vec2 } from '../../engine/index.ts'
 import type {
   Command,
+  PlainData,
   RoomRules,
   WireJoint,
   WireJointForceKind,
@@ -164,6 +165,13 @@ export interface Sandbox {
    * (where a mode keeps them) the last few, oldest first, so two in quick succession both show.
    */
   notices(): { count: number; latest: string | null; recent?: readonly string[] }
+  /**
+   * Send a room or game command (`cmd`: e.g. the room commands openScene and saveScene); its seq,
+   * or null where there is no server (offline, replay). Absent in modes without a server.
+   */
+  roomCommand?(kind: string, args: { [key: string]: PlainData }): number | null
+  /** The scene ids the server answered this page's saveScene commands with, by the command's seq. */
+  savedScenes?(): ReadonlyMap<number, string>
   /** Reconnect now instead of waiting for the backoff (no-op offline). */
   retry(): void
   /** Close sockets and timers. */

@@ -9,6 +9,7 @@ export {
   buildJoint,
   exceedsBreak,
   jointAngle,
+  jointDef,
   jointInfo,
   jointReaction,
   jointSpeed,

@@ -7,7 +7,7 @@
 import { angle, finite, finiteVec, inRange } from '../def-checks.ts'
 import type { Body } from '../dynamics/index.ts'
 import { atan2, type Vec2 } from '../math.ts'
-import type { BodyId, JointDef, JointInfo, JointReaction } from '../types.ts'
+import type { BodyId, JointDef, JointFrames, JointInfo, JointReaction } from '../types.ts'
 import { Joint } from './joint.ts'
 import {
   DISTANCE,
@@ -80,7 +80,154 @@ export function buildJoint(
   else if (def.type === 'distance') configureDistance(joint, def, anchorA, anchorB)
   else if (def.type === 'weld') configureWeld(joint, def)
   else configureSlider(joint, def)
+  if (def.frames !== undefined) applyFrames(joint, def.frames, a, b)
   return joint
+}
+
+/** Exact frames from a definition (JointFrames: getJointDef's read-back) over the computed ones. */
+function applyFrames(joint: Joint, frames: JointFrames, a: Body, b: Body): void {
+  if (frames === null || typeof frames !== 'object')
+    throw new RangeError(`frames must be an object, got ${frames}`)
+  const la = reach('frames.localAnchorA', a, finiteVec('frames.localAnchorA', frames.localAnchorA))
+  const lb = reach('frames.localAnchorB', b, finiteVec('frames.localAnchorB', frames.localAnchorB))
+  joint.localAnchorAx = la.x
+  joint.localAnchorAy = la.y
+  joint.localAnchorBx = lb.x
+  joint.localAnchorBy = lb.y
+  if (joint.type !== DISTANCE) joint.referenceAngle = angle('frames.referenceAngle', frames.referenceAngle)
+  if (joint.type !== PRISMATIC && joint.type !== WHEEL) return
+  if (frames.localAxisA === undefined) return
+  const axis = finiteVec('frames.localAxisA', frames.localAxisA)
+  if (!(Math.abs(axis.x * axis.x + axis.y * axis.y - 1) <= 1e-6))
+    throw new RangeError(`frames.localAxisA must be a unit vector, got (${axis.x}, ${axis.y})`)
+  joint.localAxisAx = axis.x
+  joint.localAxisAy = axis.y
+}
+
+/**
+ * A joint's definition as it stands (settings changed since creation included), with its exact
+ * frames: createJoint of it, on bodies posed as they are now, makes the same joint bit for bit.
+ * Break thresholds that never break (Infinity) are left out.
+ */
+export function jointDef(j: Joint): JointDef {
+  const type = JOINT_TYPE_NAMES[j.type] as JointDef['type']
+  const bodyA = j.bodyA.id === 0 ? null : j.bodyA.id
+  const bodyB = j.bodyB.id
+  const anchorA = worldPoint(j.bodyA, j.localAnchorAx, j.localAnchorAy)
+  const anchorB = worldPoint(j.bodyB, j.localAnchorBx, j.localAnchorBy)
+  const frames: JointFrames = {
+    localAnchorA: { x: j.localAnchorAx, y: j.localAnchorAy },
+    localAnchorB: { x: j.localAnchorBx, y: j.localAnchorBy },
+    referenceAngle: j.referenceAngle,
+  }
+  const brk: { breakForce?: number; breakTorque?: number } = {}
+  if (j.breakForce !== Number.POSITIVE_INFINITY) brk.breakForce = j.breakForce
+  if (j.breakTorque !== Number.POSITIVE_INFINITY) brk.breakTorque = j.breakTorque
+  const collideConnected = j.collideConnected
+  switch (type) {
+    case 'revolute':
+      return {
+        type,
+        bodyA,
+        bodyB,
+        anchor: anchorB,
+        frames,
+        collideConnected,
+        enableLimit: j.enableLimit,
+        lowerAngle: j.lowerAngle,
+        upperAngle: j.upperAngle,
+        enableMotor: j.enableMotor,
+        motorSpeed: j.motorSpeed,
+        maxMotorTorque: j.maxMotorTorque,
+        enableSpring: j.enableSpring,
+        hertz: j.hertz,
+        dampingRatio: j.dampingRatio,
+        targetAngle: j.springTarget,
+        ...brk,
+      }
+    case 'distance':
+      return {
+        type,
+        bodyA,
+        bodyB,
+        anchorA,
+        anchorB,
+        frames,
+        collideConnected,
+        length: j.length,
+        minLength: j.minLength,
+        maxLength: j.maxLength,
+        hertz: j.hertz,
+        dampingRatio: j.dampingRatio,
+        enableMotor: j.enableMotor,
+        motorSpeed: j.motorSpeed,
+        maxMotorForce: j.maxMotorForce,
+        ...brk,
+      }
+    case 'weld':
+      return {
+        type,
+        bodyA,
+        bodyB,
+        anchor: anchorB,
+        frames,
+        collideConnected,
+        linearHertz: j.hertz,
+        angularHertz: j.angularHertz,
+        linearDampingRatio: j.dampingRatio,
+        angularDampingRatio: j.angularDampingRatio,
+        ...brk,
+      }
+    case 'prismatic':
+    case 'wheel': {
+      frames.localAxisA = { x: j.localAxisAx, y: j.localAxisAy }
+      const axis = worldAxis(j)
+      const common = {
+        bodyA,
+        bodyB,
+        anchor: anchorB,
+        axis,
+        frames,
+        collideConnected,
+        enableLimit: j.enableLimit,
+        lower: j.lowerTranslation,
+        upper: j.upperTranslation,
+        enableMotor: j.enableMotor,
+        motorSpeed: j.motorSpeed,
+        enableSpring: j.enableSpring,
+        hertz: j.hertz,
+        dampingRatio: j.dampingRatio,
+        ...brk,
+      }
+      return type === 'wheel'
+        ? { type, ...common, maxMotorTorque: j.maxMotorTorque }
+        : { type, ...common, maxMotorForce: j.maxMotorForce, targetTranslation: j.springTarget }
+    }
+    case 'motor':
+      return {
+        type,
+        bodyA,
+        bodyB,
+        collideConnected,
+        linearOffset: { x: j.linearOffsetX, y: j.linearOffsetY },
+        angularOffset: j.angularOffset,
+        maxForce: j.maxForce,
+        maxTorque: j.maxTorque,
+        correctionFactor: j.correctionFactor,
+        ...brk,
+      }
+    default:
+      return {
+        type: 'mouse',
+        body: bodyB,
+        target: { x: j.targetX, y: j.targetY },
+        localAnchor: { x: j.localAnchorBx, y: j.localAnchorBy },
+        maxForce: j.maxForce,
+        hertz: j.hertz,
+        dampingRatio: j.dampingRatio,
+        ...brk,
+      }
+  }
 }
 
 const KIND_CODES = {

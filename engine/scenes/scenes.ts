@@ -431,31 +431,3 @@ function resolveJoint(def: JointDef, ids: BodyId[]): JointDef {
   if (def.type === 'mouse') return { ...def, body: id(def.body) }
   return { ...def, bodyA: def.bodyA === null ? null : id(def.bodyA), bodyB: id(def.bodyB) }
 }
-
-/** Scenes a user can pick by name, with the parameters the sandbox uses. */
-export const SCENES: Readonly<Record<string, { description: string; make: () => SceneBlueprint }>> = {
-  empty: { description: 'Only the ground', make: emptyScene },
-  pyramid: { description: 'A 20-row pyramid of 210 boxes', make: () => pyramidScene(20) },
-  pile: { description: '300 mixed shapes in a container', make: () => pileScene(300) },
-  tower: { description: 'A staggered tower of 20 boxes', make: () => towerScene(20, true) },
-  ramp: { description: 'A box resting on a 20 degree ramp', make: () => rampScene() },
-  'heavy-on-light': { description: 'A 400:1 mass ratio stack', make: heavyOnLightScene },
-  joints: {
-    description: 'A motor-driven paddle, a hinged arm stopping at its limits, a ball on a spring',
-    make: jointsScene,
-  },
-  'wrecking-ball': {
-    description: 'A heavy ball on a rope swings into a tower of boxes',
-    make: wreckingBallScene,
-  },
-  'newtons-cradle': { description: "Newton's cradle: five elastic balls on rods", make: newtonsCradleScene },
-  'chain-bridge': {
-    description: 'A bridge of 20 planks pinned end to end, with boxes dropped on it',
-    make: chainBridgeScene,
-  },
-  'card-house': { description: 'A four-storey house of leaning cards', make: cardHouseScene },
-  'marble-run': {
-    description: 'Balls and capsules run down four chain tracks into a bin whose sensor counts them',
-    make: marbleRunScene,
-  },
-}

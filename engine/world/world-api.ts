@@ -24,6 +24,7 @@ import {
   JOINT_TYPE_NAMES,
   type Joint,
   jointAngle,
+  jointDef,
   jointInfo,
   jointReaction,
   jointSpeed,
@@ -157,8 +158,9 @@ export class WorldApi extends WorldStore {
     updateMassData(body)
     body.x = position.x
     body.y = position.y
-    body.c = cos(angle)
-    body.s = sin(angle)
+    const rotation = def.rotation === undefined ? null : checkRotation(def.rotation)
+    body.c = rotation ? rotation.c : cos(angle)
+    body.s = rotation ? rotation.s : sin(angle)
     body.updateCenter()
     if (typeIndex !== STATIC) {
       const v = finiteVec('linearVelocity', def.linearVelocity ?? { x: 0, y: 0 })
@@ -238,6 +240,52 @@ export class WorldApi extends WorldStore {
   /** A shape's geometry (shared, immutable), in its body's frame. */
   getShapeGeometry(id: ShapeId): Shape {
     return this.bodyShape(id).shape
+  }
+
+  /**
+   * A shape's definition as it stands: geometry, material, filter and flags (every field given),
+   * so createShape or createBody with it makes the same shape.
+   */
+  getShapeDef(id: ShapeId): ShapeDef {
+    const s = this.bodyShape(id)
+    return {
+      shape: s.shape,
+      density: s.density,
+      friction: s.friction,
+      restitution: s.restitution,
+      rollingResistance: s.rollingResistance,
+      tangentSpeed: s.tangentSpeed,
+      filter: { categoryBits: s.categoryBits, maskBits: s.maskBits, groupIndex: s.groupIndex },
+      sensor: s.sensor,
+      enableSensorEvents: s.enableSensorEvents,
+      enableContactEvents: s.enableContactEvents,
+      enableHitEvents: s.enableHitEvents,
+    }
+  }
+
+  /**
+   * A body's definition as it stands: type, pose (the exact `rotation` besides `angle`),
+   * velocities, settings and its shapes' definitions in creation order. createBody of it, in a
+   * world with the same gravity, makes a body in the same state (sleep timer and contacts aside).
+   */
+  getBodyDef(id: BodyId): CompoundBodyDef {
+    const b = this.body(id)
+    return {
+      type: BODY_TYPES[b.type],
+      position: { x: b.x, y: b.y },
+      angle: atan2(b.s, b.c),
+      rotation: { c: b.c, s: b.s },
+      linearVelocity: { x: b.vx, y: b.vy },
+      angularVelocity: b.w,
+      linearDamping: b.linearDamping,
+      angularDamping: b.angularDamping,
+      gravityScale: b.gravityScale,
+      bullet: b.bullet,
+      awake: b.awake,
+      enableSleep: b.enableSleep,
+      fixedRotation: b.fixedRotation,
+      shapes: b.shapes.map((s) => this.getShapeDef(s.id)),
+    }
   }
 
   /** A shape's collision filter (a copy). */
@@ -895,6 +943,14 @@ export class WorldApi extends WorldStore {
     return this.jointList.map((j) => jointInfo(j, scale))
   }
 
+  /**
+   * A joint's definition as it stands (settings changed since creation included), with its exact
+   * frames (JointFrames): createJoint of it, with the bodies posed as now, makes the same joint.
+   */
+  getJointDef(id: JointId): JointDef {
+    return jointDef(this.joint(id))
+  }
+
   /** The force (N) and torque (N m) a joint applied to body B over the last step; A gets the opposite. */
   getJointReaction(id: JointId): JointReaction {
     // Joint impulses accumulate per sub-step, so force = impulse / h.
@@ -920,6 +976,16 @@ function bodyShapeDefs(def: BodyDef | CompoundBodyDef): ShapeDef[] {
 
 /** Most shapes one body definition may make, chain segments included: 16,384. */
 const MAX_BODY_SEGMENTS = 16384
+
+/** A body definition's exact rotation: finite, unit length within 1e-6. */
+function checkRotation(r: { c: number; s: number }): { c: number; s: number } {
+  if (r === null || typeof r !== 'object') throw new RangeError(`rotation must be a {c, s} pair, got ${r}`)
+  finite('rotation.c', r.c)
+  finite('rotation.s', r.s)
+  if (!(Math.abs(r.c * r.c + r.s * r.s - 1) <= 1e-6))
+    throw new RangeError(`rotation must have length 1 (c^2 + s^2 = 1 within 1e-6), got (${r.c}, ${r.s})`)
+  return r
+}
 
 /** Most shapes one body definition may give at once (m): 1,024. */
 const MAX_BODY_SHAPES = 1024

@@ -36,6 +36,8 @@ export interface ServerConfig {
   keyframeBudget: number
   replayMaxBytes: number
   replayKeep: number
+  sceneDir: string
+  maxSavedScenes: number
   recover: boolean
   requireRecording: boolean
   logLevel: string
@@ -364,6 +366,24 @@ export const SETTINGS: readonly Setting[] = [
     fallback: 200,
     min: 1,
     help: 'logs kept in the replay directory; the oldest closed ones are deleted',
+  },
+  {
+    key: 'sceneDir',
+    flag: '--scene-dir',
+    env: 'SCENE_DIR',
+    kind: 'string',
+    fallback: 'scenes',
+    help: 'where saved scene files are kept (docs/scene-format.md)',
+  },
+  {
+    key: 'maxSavedScenes',
+    flag: '--max-saved-scenes',
+    env: 'MAX_SAVED_SCENES',
+    kind: 'int',
+    fallback: 1000,
+    min: 0,
+    max: 1000000,
+    help: 'saved scene files kept (4 MiB each at most); 0 turns saving off',
   },
   {
     key: 'recover',

@@ -69,7 +69,7 @@ export interface RouteRefusal {
 export function checkKeyedRoute(
   config: ServerConfig,
   url: URL,
-  what: 'rooms' | 'replays',
+  what: 'rooms' | 'replays' | 'scenes',
 ): RouteRefusal | null {
   const role = keyRole(config, url.searchParams.get('key') ?? '')
   if (role === 'forged')
@@ -84,7 +84,7 @@ export function checkKeyedRoute(
   if (config.joinToken === '' || role !== 'none') return null
   return {
     status: 401,
-    text: `the ${what === 'rooms' ? 'room list' : 'replays'} of this server need its join or admin key: add key=KEY to the URL`,
+    text: `the ${what === 'rooms' ? 'room list' : what === 'scenes' ? 'saved scenes' : 'replays'} of this server need its join or admin key: add key=KEY to the URL`,
     reason: 'no-key',
   }
 }

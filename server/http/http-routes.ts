@@ -9,7 +9,7 @@
  * room list and the replay routes need the join or admin key in the URL, as a join does
  * (http-access.ts checkKeyedRoute); 401 without one, 403 for a wrong one. With a metrics token,
  * /metrics needs it (`Authorization: Bearer TOKEN`, checkMetricsAccess). Every answer carries the
- * security headers of http-headers.ts. GET and HEAD only.
+ * security headers of http-headers.ts. GET and HEAD only, but for POST /scenes (http-scenes.ts).
  * A request target that does not parse (`//%`) is answered 400 (http-request-url.ts).
  */
 import { createReadStream } from 'node:fs'
@@ -20,10 +20,12 @@ import type { Logger } from 'pino'
 import type { ServerMetrics } from '../hosting/index.ts'
 import type { Recordings } from '../replay/index.ts'
 import type { RoomHost } from '../rooms/index.ts'
+import type { SceneStore } from '../scenes/index.ts'
 import type { RoomSummary } from '../workers/index.ts'
 import type { RouteRefusal } from './http-access.ts'
 import { BENCH_PAGE, BENCH_SECURITY_HEADERS, SECURITY_HEADERS } from './http-headers.ts'
 import { parseRequestTarget } from './http-request-url.ts'
+import { serveScenes } from './http-scenes.ts'
 
 const TYPES: Record<string, string> = {
   '.html': 'text/html; charset=utf-8',
@@ -44,11 +46,13 @@ export interface RouteContext {
   staticDir: string
   rooms: RoomHost
   recordings?: Recordings
+  /** The saved scenes (POST /scenes, GET /scenes/ID); absent: those routes are 404. */
+  scenes?: SceneStore
   /**
    * Null when a request for a keyed route (`/rooms`, `/replays`, `/replays/NAME`) may be
    * answered, else its refusal (checkKeyedRoute).
    */
-  keyAccess: (url: URL, what: 'rooms' | 'replays') => RouteRefusal | null
+  keyAccess: (url: URL, what: 'rooms' | 'replays' | 'scenes') => RouteRefusal | null
   /** Null when a request for /metrics may be answered, else its refusal (checkMetricsAccess). */
   metricsAccess: (req: IncomingMessage) => RouteRefusal | null
   /**
@@ -104,6 +108,11 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
     res.on('error', () => {})
     const url = parseRequestTarget(req.url)
     if (!url) return send(res, 400, 'text/plain', 'bad request target\n')
+    if (ctx.scenes && (url.pathname === '/scenes' || url.pathname.startsWith('/scenes/'))) {
+      const refusal = ctx.keyAccess(url, 'scenes')
+      if (refusal) return refuse(res, refusal)
+      return serveScenes(ctx.scenes, url.pathname, req, res)
+    }
     if (req.method !== 'GET' && req.method !== 'HEAD')
       return send(res, 405, 'text/plain', 'method not allowed\n')
     switch (url.pathname) {

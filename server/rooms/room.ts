@@ -57,6 +57,7 @@ import { LockstepFeed } from './lockstep-feed.ts'
 import type { PlayerConnection } from './player-connection.ts'
 import { RoomPlayer } from './room-player.ts'
 import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
+import { isRoomCommand, RoomScenes, roomCommandArgs } from './room-scenes.ts'
 import { RoomSnapshots } from './room-snapshots.ts'
 import { fillFrame, fullState, refreshPose, wireBody } from './room-wire.ts'
 
@@ -97,6 +98,8 @@ export class Room {
   private spareQueue: QueuedInput[] = []
   /** The input being applied, so a body it spawns names its player and seq in `events`. */
   private applying: QueuedInput | null = null
+  /** The room commands openScene and saveScene (room-scenes.ts). */
+  private readonly sceneFiles: RoomScenes
   private events = {
     add: [] as WireBody[],
     remove: [] as number[],
@@ -139,6 +142,7 @@ export class Room {
       listener: this.listener(),
     })
     this.sim.tick = spread.startTick
+    this.sceneFiles = new RoomScenes(config.sceneDir, config.maxSavedScenes, this.sim)
     this.feed = new LockstepFeed(this.sim, name, metrics, log)
     this.snapshots = new RoomSnapshots(name, this.sim, this.players, config, metrics, log)
     this.rules = {
@@ -307,6 +311,12 @@ export class Room {
     kind: string,
     args: PlainData,
   ): { code: 'invalid' | 'input-budget'; reason: string } | null {
+    if (isRoomCommand(kind)) {
+      const invalid = roomCommandArgs(kind, args)
+      if (invalid !== null) return { code: 'invalid', reason: `${kind} refused: ${invalid}` }
+      const error = this.queueInput(player, seq, { k: 'cmd', kind, a: args })
+      return error === null ? null : { code: 'input-budget', reason: error }
+    }
     const def = Object.hasOwn(this.game.commands, kind) ? this.game.commands[kind] : undefined
     if (!def || def.builtin)
       return { code: 'invalid', reason: `game ${this.game.name} has no ${kind} command` }
@@ -383,6 +393,7 @@ export class Room {
   }
 
   private apply(player: RoomPlayer, cmd: SimCommand): string | null {
+    if (cmd.k === 'cmd' && isRoomCommand(cmd.kind)) return this.applyRoomCommand(player, cmd.kind, cmd.a)
     if (cmd.k !== 'inspect') {
       const refused = this.sim.apply(player.id, cmd)
       if (refused === null) this.touched = true
@@ -392,6 +403,24 @@ export class Room {
     if (cmd.body !== 0 && !isMovable(this.world, cmd.body))
       return `body ${cmd.body} does not exist or is static`
     player.inspect = cmd.body
+    return null
+  }
+
+  /** A room command (room-scenes.ts): open a saved scene, or save the world and tell the sender its id. */
+  private applyRoomCommand(player: RoomPlayer, kind: string, args: PlainData): string | null {
+    if (kind === 'openScene') {
+      const id = (args as { id: string }).id
+      const refused = this.sceneFiles.open(
+        id,
+        this.config.roomControls,
+        Object.hasOwn(this.game.commands, 'scene'),
+      )
+      if (refused === null) this.touched = true
+      return refused
+    }
+    const saved = this.sceneFiles.save(this.name)
+    if ('error' in saved) return saved.error
+    player.conn.send({ t: 'scene', seq: this.applying?.seq ?? 0, id: saved.id })
     return null
   }
 

@@ -480,8 +480,16 @@ export interface TicksMessage {
   hash?: number
 }
 
+/** The room saved its world as scene file `id` (GET /scenes/ID) for the `saveScene` command `seq`. */
+export interface SceneSavedMessage {
+  t: 'scene'
+  seq: number
+  id: string
+}
+
 /** Every message the server sends. */
 export type ServerMessage =
+  | SceneSavedMessage
   | GameEventsMessage
   | SyncMessage
   | TicksMessage

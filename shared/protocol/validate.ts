@@ -420,6 +420,7 @@ const SERVER_FIELDS: Record<ServerMessage['t'], readonly string[]> = {
   error: ['code', 'reason'],
   moved: ['room', 'url'],
   contacts: ['tick', 'body', 'mass', 'total', 'contacts'],
+  scene: ['seq', 'id'],
 }
 
 /** Check a decoded server message's type tag and required fields. */
