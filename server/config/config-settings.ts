@@ -29,6 +29,7 @@ export interface ServerConfig {
   defaultScene: string
   roomControls: boolean
   staticDir: string
+  gamesDir: string
   replayDir: string
   record: boolean
   replayFsync: string
@@ -300,6 +301,14 @@ export const SETTINGS: readonly Setting[] = [
     kind: 'string',
     fallback: 'dist/client',
     help: 'directory of the built browser client',
+  },
+  {
+    key: 'gamesDir',
+    flag: '--games',
+    env: 'GAMES_DIR',
+    kind: 'string',
+    fallback: '',
+    help: 'load the game modules in DIR/NAME/index.ts at start, beside the built-in games (docs/games.md)',
   },
   {
     key: 'replayDir',

@@ -19,6 +19,7 @@ import { AggregatorRegistry } from 'prom-client'
 import type { SceneBlueprint } from '../../engine/index.ts'
 import { CLOSE_CODES } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
+import type { GameBundle } from '../games/index.ts'
 import type { ServerMetrics, TickHealth } from '../hosting/index.ts'
 import type { Recordings } from '../replay/index.ts'
 import type { JoinRequest, RoomHost, RoomSeat } from '../rooms/index.ts'
@@ -83,6 +84,8 @@ export class WorkerPool implements RoomHost {
     private readonly health: TickHealth,
     private readonly recordings: Recordings,
     readonly size: number,
+    /** Games loaded from --games DIR: each worker imports the same bundles at boot. */
+    private readonly games: readonly GameBundle[] = [],
   ) {
     this.ready = new Promise((resolve, reject) => {
       this.startup = { resolve, reject }
@@ -246,7 +249,7 @@ export class WorkerPool implements RoomHost {
   private spawn(slot: number): WorkerLink {
     const id = this.nextId++
     const phase = slot / this.size
-    const init: WorkerInit = { id, config: this.config, phase }
+    const init: WorkerInit = { id, config: this.config, phase, games: [...this.games] }
     const here = import.meta.url
     // From source (tests, tsx) the worker loads TypeScript through tsx; the build ships dist/room-worker.js.
     const worker = here.endsWith('.ts')

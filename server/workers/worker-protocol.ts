@@ -10,6 +10,7 @@ import type { MetricObjectWithValues, MetricValue } from 'prom-client'
 import type { SceneBlueprint } from '../../engine/index.ts'
 import type { JoinMode } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
+import type { GameBundle } from '../games/index.ts'
 import type { RoomMessage } from '../rooms/index.ts'
 
 /** What a worker starts with. */
@@ -18,6 +19,8 @@ export interface WorkerInit {
   config: ServerConfig
   /** The worker's tick phase, a fraction of a tick (TickClock.start): workers take turns on the cores. */
   phase: number
+  /** The games loaded from --games DIR (their bundles): the worker imports them before any room opens. */
+  games: GameBundle[]
 }
 
 /** A test-only fault to inject into a worker (never reachable from the network). */

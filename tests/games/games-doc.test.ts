@@ -7,7 +7,7 @@
  */
 import { readFileSync } from 'node:fs'
 import { describe, expect, it } from 'vitest'
-import { checkGameSources } from '../../server/games/index.ts'
+import { checkGameSources } from '../../server/games/determinism-check.ts'
 
 const doc = readFileSync('docs/games.md', 'utf8')
 const game = readFileSync('games/ball-drop/ball-drop-game.ts', 'utf8')

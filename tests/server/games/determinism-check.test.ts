@@ -13,7 +13,7 @@ import {
   type DeterminismRule,
   formatViolation,
   gameModuleFiles,
-} from '../../../server/games/index.ts'
+} from '../../../server/games/determinism-check.ts'
 
 /** A fixture: its source, and the rule broken on each line marked `// <-`. */
 const FIXTURES: Array<[string, DeterminismRule, string]> = [
