@@ -10,9 +10,9 @@
  * over it, the join gets `full` naming the limit, counted and logged (rate-limited) as refused.
  */
 import type { Logger } from 'pino'
-import { findServerGame, serverGameNames } from '../games/index.ts'
 import { CLOSE_CODES, type ClientMessage } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
+import { findServerGame, serverGameNames } from '../games/index.ts'
 import type { LogLimiter, RoomDirectory, ServerMetrics } from '../hosting/index.ts'
 import { addressKey } from '../http/index.ts'
 import type { RoomHost } from '../rooms/index.ts'

@@ -8,8 +8,8 @@
 import { truncate } from 'node:fs/promises'
 import { join } from 'node:path'
 import { inflateSync } from 'node:zlib'
-import { findServerGame } from '../games/index.ts'
 import { hex, type KeyframeRecord, type ReplayRecord, ReplayRunner } from '../../shared/index.ts'
+import { findServerGame } from '../games/index.ts'
 import { scanLog } from './replay-files.ts'
 
 /** A room rebuilt from its log. */
