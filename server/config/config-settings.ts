@@ -12,6 +12,7 @@ export interface ServerConfig {
   maxRooms: number
   maxNewRoomsPerIp: number
   maxClientsPerRoom: number
+  maxSpectatorsPerRoom: number
   maxConnections: number
   maxBodies: number
   snapshotRate: number
@@ -139,6 +140,16 @@ export const SETTINGS: readonly Setting[] = [
     min: 1,
     max: 1000,
     help: 'players per room',
+  },
+  {
+    key: 'maxSpectatorsPerRoom',
+    flag: '--max-spectators',
+    env: 'MAX_SPECTATORS_PER_ROOM',
+    kind: 'int',
+    fallback: 64,
+    min: 0,
+    max: 1000,
+    help: 'spectators per room besides its players (join.spectate; 0 = none)',
   },
   {
     key: 'maxConnections',

@@ -172,6 +172,7 @@ export class JoinFlow {
       mode: message.mode,
       controls: peer.access.controls,
       game: message.game,
+      spectate: message.spectate === true,
       strike: (code, reason, tick, seq) => this.actions.roomStrike(peer, code, reason, tick, seq),
       refused: (error, reason) => {
         session.seat = null

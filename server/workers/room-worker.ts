@@ -140,7 +140,7 @@ function handle(op: ToWorker): void {
         outbox.push({ k: 'refused', conn: op.conn, error, reason: 'too many rooms' })
         return
       }
-      const joined = room.join(conn, op.name, op.token, op.mode, op.controls, op.game)
+      const joined = room.join(conn, op.name, op.token, op.mode, op.controls, op.game, op.spectate)
       if (typeof joined === 'string') {
         outbox.push({ k: 'refused', conn: op.conn, error: joined, reason: joined })
         return

@@ -107,11 +107,12 @@ export class WorkerPool implements RoomHost {
     }
     const conn = this.nextConn++
     const seat = new WorkerSeat(conn, request.room, request.conn, link, request.strike, request.refused)
+    seat.spectator = request.spectate
     link.seats.set(conn, seat)
     link.pendingJoins.set(request.room, (link.pendingJoins.get(request.room) ?? 0) + 1)
     link.unanswered.set(conn, request.room)
-    const { room, name, token, mode, controls, game } = request
-    link.post({ op: 'join', conn, room, name, token, mode, controls, game })
+    const { room, name, token, mode, controls, game, spectate } = request
+    link.post({ op: 'join', conn, room, name, token, mode, controls, game, spectate })
     return seat
   }
 
@@ -138,7 +139,9 @@ export class WorkerPool implements RoomHost {
     for (const [name, link] of this.roomLinks) {
       const known = link.summaries.find((s) => s.name === name)
       let players = 0
-      for (const seat of link.seats.values()) if (seat.room === name && seat.playerId > 0) players++
+      let spectators = 0
+      for (const seat of link.seats.values())
+        if (seat.room === name && seat.playerId > 0) seat.spectator ? spectators++ : players++
       out.push({
         name,
         players,
@@ -146,6 +149,7 @@ export class WorkerPool implements RoomHost {
         scene: known?.scene ?? '',
         tick: known?.tick ?? 0,
         game: known?.game ?? '',
+        spectators,
       })
     }
     return out

@@ -43,6 +43,8 @@ export type ToWorker =
       controls: boolean
       /** The game the join asks for (a new room runs it; an open room must already). */
       game: string | undefined
+      /** A spectator's join. */
+      spectate: boolean
     }
   | { op: 'msg'; conn: number; message: RoomMessage }
   | { op: 'leave'; conn: number }
@@ -94,6 +96,8 @@ export interface RoomSummary {
   tick: number
   /** The game the room runs. */
   game: string
+  /** Spectators watching (join.spectate), not counted in `players`. */
+  spectators: number
 }
 
 /** Worker to main thread. */
