@@ -23,6 +23,7 @@ export {
   polygon,
   regularPolygon,
   type SensorEvent,
+  type SensorEvents,
   type ShapeDef,
   STEP_SECONDS,
   segment,

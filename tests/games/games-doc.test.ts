@@ -39,6 +39,15 @@ describe('docs/games.md', () => {
     },
   )
 
+  it('"Games in their own directory": the command block is in examples/games/hoops', () => {
+    const at = doc.indexOf('## Games in their own directory')
+    const section = doc.slice(at, doc.indexOf('\n## ', at + 1))
+    const [block] = [...section.matchAll(/```ts\n([\s\S]*?)```/g)].map((m) => m[1])
+    expect(block).toBeDefined()
+    const example = readFileSync('examples/games/hoops/index.ts', 'utf8')
+    expect(squash(example)).toContain(squash(block).replace(/,$/, ''))
+  })
+
   it('lists exactly the rules the determinism check reports', () => {
     const listed = [...doc.matchAll(/`(no-[a-z]+|inexact-math|module-state)`/g)].map((m) => m[1])
     const rules = new Set(listed)
