@@ -58,6 +58,12 @@ describe('--games DIR refuses a bad module with one error naming its file', () =
     })
     expect(await loadError(dir)).toBe('DIR/broken/index.ts:3:1: Expected "}" but found end of file')
   })
+  it('an import esbuild cannot resolve: file, line, column and the import', async () => {
+    const dir = gamesDir('unresolved', {
+      'g/index.ts': game('g', "import { x } from './missing.ts'\nexport const y = x"),
+    })
+    expect(await loadError(dir)).toBe('DIR/g/index.ts:2:19: Could not resolve "./missing.ts"')
+  })
   it('no default export, or one that is not a game', async () => {
     const none = gamesDir('none', { 'g/index.ts': game('g').replace('export default', 'export const g =') })
     expect(await loadError(none)).toBe(
