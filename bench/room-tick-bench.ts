@@ -17,6 +17,14 @@
  *
  * Compare versions in interleaved runs (CPU time still varies with the machine's load).
  * Flags: --rooms N, --ticks N (measured, default 1800), --warmup N (default 300), --no-record.
+ *
+ * A game's tick cost: --game NAME runs every room with that game (default sandbox; any game in
+ * games/index.ts's catalogue) over the same 100-body pile, so the difference
+ * from a sandbox run is what the game's rules cost (its tick hook, its state in the hashes);
+ * --game-world keeps the game's own world (its setup) instead of the pile. The players' commands
+ * that the game does not list are refused, so compare games with --idle (players join and send
+ * nothing) unless both list the bots' commands (spawn, grab, move, release). Saved to
+ * bench/results/room-tick-GAME[-world][-idle].json unless it is the default run.
  */
 import { mkdirSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs'
 import { loadavg, tmpdir } from 'node:os'
@@ -25,6 +33,7 @@ import { MessageChannel } from 'node:worker_threads'
 import pino from 'pino'
 import { botCommand } from '../bots/index.ts'
 import { Prng } from '../engine/index.ts'
+import { findGame, GAMES } from '../games/index.ts'
 import {
   createMetrics,
   handleRoomMessage,
@@ -52,6 +61,15 @@ const TICKS = flag('--ticks', 1800)
 const WARMUP = flag('--warmup', 300)
 const RECORD = !argv.includes('--no-record')
 const PLAYERS = 5
+const option = (name: string): string | undefined => {
+  const i = argv.indexOf(name)
+  return i >= 0 ? argv[i + 1] : undefined
+}
+const GAME = option('--game') ?? 'sandbox'
+const GAME_WORLD = argv.includes('--game-world')
+const IDLE = argv.includes('--idle')
+if (!findGame(GAME))
+  throw new Error(`--game ${GAME}: no such game (this build has ${Object.keys(GAMES).join(', ')})`)
 
 const replayDir = mkdtempSync(join(tmpdir(), 'concord-room-tick-'))
 const config = loadConfig(
@@ -101,9 +119,10 @@ interface Player {
 const blueprint = awakePile(100)
 const players: Player[] = []
 for (let r = 1; r <= ROOMS; r++) {
-  const room = rooms.getOrCreate(`bench-${r}`)
+  const room = rooms.getOrCreate(`bench-${r}`, GAME)
   if (!room) throw new Error(`room bench-${r} was refused`)
-  room.loadBlueprint(blueprint.name, blueprint)
+  if (GAME_WORLD) room.touched = true
+  else room.loadBlueprint(blueprint.name, blueprint)
   for (let p = 1; p <= PLAYERS; p++) {
     const conn = new AckingConnection(players.length + 1, outbox)
     const joined = room.join(conn, `player ${p}`, undefined)
@@ -113,10 +132,12 @@ for (let r = 1; r <= ROOMS; r++) {
   }
 }
 
+let sent = 0
 function send(player: Player, cmd: Command): void {
   const room = rooms.get(player.room)
   const joined = player.conn.player
   if (!room || !joined) throw new Error(`player ${player.conn.id} lost its room`)
+  sent++
   handleRoomMessage(room, joined, { t: 'input', seq: ++player.seq, cmd }, 0, () => {})
 }
 
@@ -140,7 +161,7 @@ const first = rooms.get('bench-1')
 if (!first) throw new Error('room bench-1 is missing')
 for (loopTick = 0; loopTick < WARMUP + TICKS; loopTick++) {
   // The players' 20 Hz loops, spread over the ticks.
-  for (let i = 0; i < players.length; i++) if ((loopTick + i) % 3 === 0) drive(players[i])
+  if (!IDLE) for (let i = 0; i < players.length; i++) if ((loopTick + i) % 3 === 0) drive(players[i])
   let kept = 0
   for (const s of unacked) {
     if (s.due <= loopTick) s.player.encoder.ack(s.tick)
@@ -173,6 +194,10 @@ const round = (x: number): number => Number(x.toFixed(3))
 const mean = (xs: number[]): number => xs.reduce((a, b) => a + b, 0) / Math.max(1, xs.length)
 const meanOf = (kind: string): number => round(mean(cpu.filter((_, i) => kinds[i] === kind)))
 const summary = {
+  game: GAME,
+  world: GAME_WORLD ? `${GAME}'s setup` : blueprint.name,
+  idle: IDLE,
+  commandsSent: sent,
   rooms: ROOMS,
   playersPerRoom: PLAYERS,
   record: RECORD,
@@ -188,14 +213,17 @@ const summary = {
   load1: loadavg()[0],
 }
 console.log(
-  `room tick, ${ROOMS} rooms x ${PLAYERS} players (${summary.bodiesPerRoom} bodies/room), recorder ${RECORD ? 'on' : 'off'}: ` +
+  `room tick, game ${GAME} on ${summary.world}, ${ROOMS} rooms x ${PLAYERS} ${IDLE ? 'idle ' : ''}players (${summary.bodiesPerRoom} bodies/room), recorder ${RECORD ? 'on' : 'off'}: ` +
     `CPU p50 ${summary.cpuMsP50} ms, p99 ${summary.cpuMsP99} ms, max ${summary.cpuMsMax} ms, mean ${summary.cpuMsMean} ms; ` +
     `mean by tick: room 1's snapshot ticks ${summary.cpuMsMeanByTick.snapshot} ms, others ${summary.cpuMsMeanByTick.other} ms, ` +
     `checkpoints ${summary.cpuMsMeanByTick.checkpoint} ms; wall p50 ${summary.wallMsP50} ms, p99 ${summary.wallMsP99} ms; ` +
     `${summary.bytesOutPerTick} bytes out per tick; load ${summary.load1.toFixed(2)}`,
 )
 mkdirSync('bench/results', { recursive: true })
-const file = 'bench/results/room-tick.json'
+const file =
+  GAME === 'sandbox' && !IDLE && !GAME_WORLD
+    ? 'bench/results/room-tick.json'
+    : `bench/results/room-tick-${GAME}${GAME_WORLD ? '-world' : ''}${IDLE ? '-idle' : ''}.json`
 writeFileSync(
   file,
   `${JSON.stringify({ started: new Date().toISOString(), node: process.version, warmupTicks: WARMUP, ticks: TICKS, summary }, null, 2)}\n`,

@@ -37,6 +37,8 @@ export interface BotOptions {
   hold?: number
   /** join.game: the game a room this join creates runs (docs/games.md). */
   game?: string
+  /** join.spectate: watch without a player slot (every command refused). */
+  spectate?: boolean
 }
 
 /** A connected protocol client. */
@@ -121,6 +123,7 @@ export class BotClient {
     if (this.options.token) join.token = this.options.token
     if (hold !== undefined && join.mode !== 'snapshot') join.hold = hold
     if (this.options.game !== undefined) join.game = this.options.game
+    if (this.options.spectate) join.spectate = true
     this.send(join)
   }
 

@@ -5,7 +5,7 @@
  */
 import { performance } from 'node:perf_hooks'
 import { findGame } from '../games/index.ts'
-import { LockstepClient, PredictClient } from '../shared/index.ts'
+import { type GameCatalog, LockstepClient, PredictClient } from '../shared/index.ts'
 import { BotClient, type BotOptions } from './bot-client.ts'
 
 /** A lockstep client over a real socket. */
@@ -17,31 +17,35 @@ export class LockstepBot {
     readonly bot: BotClient,
     mode: 'lockstep' | 'predict',
     hold: number | undefined,
+    games: GameCatalog,
   ) {
     const send = bot.send.bind(bot)
     this.runner =
       mode === 'predict'
         ? new PredictClient({
             send,
-            games: findGame,
+            games,
             clock: () => performance.now(),
             ...(hold === undefined ? {} : { hold }),
           })
-        : new LockstepClient({ send, games: findGame, ...(hold === undefined ? {} : { hold }) })
+        : new LockstepClient({ send, games, ...(hold === undefined ? {} : { hold }) })
     bot.onServerMessage = (message) => this.runner.handle(message, performance.now())
   }
 
   /**
    * Connect, join and start stepping every `frameMs` (16 ms: a 60 Hz page). The join's hold is
-   * `options.hold` when given, else the runner's own (lockstep 2, predict 30).
+   * `options.hold` when given, else the runner's own (lockstep 2, predict 30). `games` finds the
+   * room's game by name (default: the games this build ships; a test of a game loaded with --games
+   * passes its bundle's game).
    */
   static async connect(
     options: Omit<BotOptions, 'mode'>,
     mode: 'lockstep' | 'predict' = 'lockstep',
     frameMs = 16,
+    games: GameCatalog = findGame,
   ): Promise<LockstepBot> {
     const bot = new BotClient({ ...options, mode })
-    const client = new LockstepBot(bot, mode, options.hold)
+    const client = new LockstepBot(bot, mode, options.hold, games)
     await bot.opened
     bot.join(undefined, client.runner.hold)
     await bot.waitFor(() => client.runner.playerId !== 0, 'welcome')

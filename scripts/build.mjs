@@ -1,5 +1,6 @@
 // Build with esbuild: the server (server/main.ts -> dist/server.js, and server/workers/room-worker.ts ->
-// dist/room-worker.js for --workers; Node, runtime packages left external), the bots, the container health check, and, when the browser client exists, the minified client
+// dist/room-worker.js for --workers, server/games/game-loader.ts -> dist/game-loader.js for --games;
+// Node, runtime packages left external), the bots, the container health check, and, when the browser client exists, the minified client
 // (scripts/build-client.mjs) and the benchmark page (scripts/build-bench-page.mjs, served as /bench.html). Usage: node scripts/build.mjs
 import { stat } from 'node:fs/promises'
 import { build } from 'esbuild'
@@ -32,6 +33,20 @@ for (const [entry, outfile] of Object.entries(OUTPUTS)) {
     logLevel: 'warning',
   })
 }
+
+// The game loader (--games DIR), loaded by dist/server.js only when that flag is set: it uses
+// esbuild and the TypeScript compiler, development packages that the server bundle never holds.
+await build({
+  entryPoints: ['server/games/game-loader.ts'],
+  outfile: 'dist/game-loader.js',
+  bundle: true,
+  platform: 'node',
+  target: 'node20',
+  format: 'esm',
+  sourcemap: true,
+  external: ['esbuild', 'typescript'],
+  logLevel: 'warning',
+})
 
 if (await exists('client/main.ts')) await buildClient()
 if (await exists('bench/page/bench-page.ts')) await buildBenchPage()

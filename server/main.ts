@@ -71,8 +71,11 @@ async function main(): Promise<void> {
 }
 
 main().catch((error) => {
-  // A listen failure is a bad setting, named in the message; anything else is worth its stack.
-  const text = error instanceof ListenError ? error.message : ((error as Error).stack ?? error)
+  // A listen failure or a refused game module (--games) is a bad setting or file, named in the
+  // message; anything else is worth its stack. (The loader is a bundle of its own in dist/, so its
+  // GameLoadError is recognised by name.)
+  const named = error instanceof ListenError || (error as Error)?.name === 'GameLoadError'
+  const text = named ? (error as Error).message : ((error as Error).stack ?? error)
   process.stderr.write(`concord: ${text}\n`)
   process.exit(1)
 })

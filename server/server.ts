@@ -10,8 +10,16 @@ import { createServer, type Server } from 'node:http'
 import type { AddressInfo } from 'node:net'
 import { hostname } from 'node:os'
 import pino, { type Logger } from 'pino'
+import type { Game } from '../games/index.ts'
 import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
 import type { ServerConfig } from './config/index.ts'
+import {
+  addLoadedGames,
+  type GameBundle,
+  GameLoadError,
+  loadedGameBundle,
+  loadedGameBundles,
+} from './games/index.ts'
 import {
   AgonesLink,
   agonesPresent,
@@ -82,12 +90,20 @@ const AGONES_SHUTDOWN_WAIT_MS = 1000
 /** Start a server; resolves once it listens. */
 export async function startServer(config: ServerConfig, options: StartOptions = {}): Promise<RunningServer> {
   const log = options.logger ?? pino({ level: config.logLevel })
+  // Games from --games DIR first: a bad module stops the start before anything opens.
+  if (config.gamesDir) {
+    const loaded = await loadGames(config.gamesDir)
+    addLoadedGames(loaded)
+    log.info({ dir: config.gamesDir, games: loaded.map((g) => g.game.name) }, 'games loaded')
+  }
   const metrics = createMetrics(options.processMetrics ?? true)
   const rooms = new RoomManager(config, metrics, log)
   const recordings = new Recordings(config, metrics, log)
   const health = new TickHealth(config.stallSeconds * 1000)
   const pool =
-    config.workers > 0 ? new WorkerPool(config, metrics, log, health, recordings, config.workers) : null
+    config.workers > 0
+      ? new WorkerPool(config, metrics, log, health, recordings, config.workers, loadedGameBundles())
+      : null
   const host: RoomHost = pool ?? new LocalRoomHost(rooms, config.maxRooms)
   // Listen only once every worker runs its loop: a booting worker is neither joinable nor healthy.
   await pool?.ready.catch(async (error: Error) => {
@@ -112,6 +128,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   transport.policy.onFlood = (address) => guard.penalize(address)
   const routes = createRequestHandler({
     staticDir: config.staticDir,
+    gameBundle: (name) => loadedGameBundle(name)?.code,
     rooms: host,
     recordings,
     scenes: new SceneStore(config.sceneDir, config.maxSavedScenes),
@@ -267,6 +284,26 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
  * address of this machine, a --port in use): the command line prints its one-line message.
  */
 export class ListenError extends Error {}
+
+/**
+ * Load the game modules of --games DIR with server/games/game-loader.ts, imported by its URL so
+ * that the server's bundle holds neither esbuild nor the TypeScript compiler (development
+ * packages); the build ships the loader as dist/game-loader.js. Throws a GameLoadError naming the
+ * file of a bad module, or saying which package is missing.
+ */
+async function loadGames(dir: string): Promise<{ game: Game; bundle: GameBundle }[]> {
+  const here = import.meta.url
+  const url = new URL(here.endsWith('.ts') ? './games/game-loader.ts' : './game-loader.js', here)
+  let loader: { loadGameDirectory(dir: string): Promise<{ game: Game; bundle: GameBundle }[]> }
+  try {
+    loader = await import(url.href)
+  } catch (error) {
+    throw new GameLoadError(
+      `--games needs the game loader and its packages (esbuild, typescript: npm install without --omit=dev): ${(error as Error).message}`,
+    )
+  }
+  return loader.loadGameDirectory(dir)
+}
 
 /** The URL other servers send this server's players to: --public-url, else ws://HOST:PORT. */
 function publicUrl(config: ServerConfig, port: number): string {

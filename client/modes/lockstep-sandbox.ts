@@ -10,7 +10,6 @@
  */
 
 import type { Vec2 } from '../../engine/index.ts'
-import { findGame } from '../../games/index.ts'
 import {
   type Command,
   type JoinMessage,
@@ -27,6 +26,7 @@ import {
 } from '../../shared/index.ts'
 import { labFromWorld, viewJoints } from '../draw/index.ts'
 import { Connection } from '../net/index.ts'
+import { findClientGame, loadGameModule } from './game-modules.ts'
 import { CorrectionSmoother } from './predict-smoothing.ts'
 import type {
   LabContact,
@@ -70,6 +70,8 @@ export class LockstepSandbox implements Sandbox {
   private seq = 0
   private downWindow = { start: Number.NaN, bytes: 0, value: 0 }
   private contactCache: { tick: number; contacts: LabContact[] } | null = null
+  /** Messages held while the room's game module loads (see receive), else null. */
+  private held: Array<[ServerMessage, number]> | null = null
   /** Players whose cursor has left the origin (a new player's cursor starts there). */
   private readonly movedCursors = new Set<number>()
 
@@ -81,11 +83,11 @@ export class LockstepSandbox implements Sandbox {
       options.mode === 'predict'
         ? new PredictClient({
             send,
-            games: findGame,
+            games: findClientGame,
             clock: () => performance.now(),
             onRollback: (before, after) => this.smoother.correct(before, after),
           })
-        : new LockstepClient({ send, games: findGame })
+        : new LockstepClient({ send, games: findClientGame })
     const key = options.key ? `&key=${encodeURIComponent(options.key)}` : ''
     this.connection = new Connection(
       `${options.url}?room=${encodeURIComponent(options.room)}${key}`,
@@ -115,6 +117,27 @@ export class LockstepSandbox implements Sandbox {
   }
 
   private receive(message: ServerMessage, bytes: number): void {
+    // A room of a game this build does not ship (--games on the server): hold the room's messages
+    // until the page has imported the game's module (game-modules.ts), then take them in order.
+    if (this.held) {
+      this.held.push([message, bytes])
+      return
+    }
+    if (message.t === 'welcome' && message.rules.game && !findClientGame(message.rules.game)) {
+      this.held = [[message, bytes]]
+      loadGameModule(this.options.url, message.rules.game).then(
+        () => {
+          const held = this.held ?? []
+          this.held = null
+          for (const [m, b] of held) this.receive(m, b)
+        },
+        (error: Error) => {
+          this.held = null
+          this.statusValue = { state: 'error', message: error.message, retrying: false }
+        },
+      )
+      return
+    }
     const now = performance.now()
     this.downWindow.bytes += bytes
     if (message.t === 'pong') this.rttMs = now - message.time
@@ -238,6 +261,17 @@ export class LockstepSandbox implements Sandbox {
   send(cmd: Command): void {
     if (this.runner instanceof PredictClient) this.runner.input(cmd, performance.now())
     else this.connection.send({ t: 'input', seq: ++this.seq, cmd })
+  }
+
+  /** Send a game command (`cmd`: kind and arguments, docs/games.md); returns its seq. */
+  sendGame(kind: string, args: Record<string, unknown>): number {
+    this.connection.send({ t: 'cmd', seq: ++this.seq, k: kind, a: args })
+    return this.seq
+  }
+
+  /** The game state of the simulation drawn (null before the sync or for a game without state). */
+  gameState(): unknown {
+    return this.drawn()?.gameState ?? null
   }
 
   color(): string {

@@ -12,6 +12,7 @@ export interface ServerConfig {
   maxRooms: number
   maxNewRoomsPerIp: number
   maxClientsPerRoom: number
+  maxSpectatorsPerRoom: number
   maxConnections: number
   maxBodies: number
   snapshotRate: number
@@ -29,6 +30,7 @@ export interface ServerConfig {
   defaultScene: string
   roomControls: boolean
   staticDir: string
+  gamesDir: string
   replayDir: string
   record: boolean
   replayFsync: string
@@ -140,6 +142,16 @@ export const SETTINGS: readonly Setting[] = [
     min: 1,
     max: 1000,
     help: 'players per room',
+  },
+  {
+    key: 'maxSpectatorsPerRoom',
+    flag: '--max-spectators',
+    env: 'MAX_SPECTATORS_PER_ROOM',
+    kind: 'int',
+    fallback: 64,
+    min: 0,
+    max: 1000,
+    help: 'spectators per room besides its players (join.spectate; 0 = none)',
   },
   {
     key: 'maxConnections',
@@ -302,6 +314,14 @@ export const SETTINGS: readonly Setting[] = [
     kind: 'string',
     fallback: 'dist/client',
     help: 'directory of the built browser client',
+  },
+  {
+    key: 'gamesDir',
+    flag: '--games',
+    env: 'GAMES_DIR',
+    kind: 'string',
+    fallback: '',
+    help: 'load the game modules in DIR/NAME/index.ts at start, beside the built-in games (docs/games.md)',
   },
   {
     key: 'replayDir',

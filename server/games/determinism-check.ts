@@ -16,7 +16,7 @@
  *   module-state   let or var at module level; assigning to, deleting from or calling a mutating
  *                  method (push, set, sort, ...) on a module-level binding or an import
  *   no-io          fetch, XMLHttpRequest, WebSocket, require, process, globalThis, window, document,
- *                  storage, dynamic import(), and imports of anything but relative modules
+ *                  storage, dynamic import(), and imports of anything but relative modules and concord/game
  *   no-eval        eval, Function (new Function, Function())
  *   no-locale      Intl, localeCompare, toLocaleString and friends (they follow the machine's locale)
  *   no-this        `this` outside a class
@@ -29,6 +29,9 @@
 import { readdirSync, readFileSync } from 'node:fs'
 import { join } from 'node:path'
 import ts from 'typescript'
+
+/** The one package name a game module may import: the game SDK (games/sdk.ts). */
+export const GAME_SDK = 'concord/game'
 
 /** A rule a game module broke. */
 export type DeterminismRule =
@@ -248,14 +251,14 @@ function checkSourceFile(source: ts.SourceFile, checker: ts.TypeChecker): Determ
           `${flags & ts.NodeFlags.Let ? 'let' : 'var'} at module level: rooms share the module; keep room data in ctx.state`,
         )
     }
-    // Imports: relative modules only.
+    // Imports: relative modules and the game SDK only.
     if (ts.isImportDeclaration(node) || ts.isExportDeclaration(node)) {
       const spec = node.moduleSpecifier
-      if (spec && ts.isStringLiteral(spec) && !spec.text.startsWith('.'))
+      if (spec && ts.isStringLiteral(spec) && !spec.text.startsWith('.') && spec.text !== GAME_SDK)
         report(
           node,
           'no-io',
-          `imports '${spec.text}': game code imports only engine/, shared/ and games/ modules`,
+          `imports '${spec.text}': game code imports only its own files, '${GAME_SDK}', and engine/, shared/ and games/ modules`,
         )
     }
     if (ts.isCallExpression(node) && node.expression.kind === ts.SyntaxKind.ImportKeyword)

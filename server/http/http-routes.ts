@@ -1,7 +1,8 @@
 /*
  * Plain HTTP on the same port as the WebSocket endpoint: the built browser client as static files,
  * health and readiness probes, Prometheus metrics, the open rooms as JSON for the lobby, and the
- * replay logs (GET /replays lists them, GET /replays/NAME downloads one), and for a plain GET /ws the
+ * replay logs (GET /replays lists them, GET /replays/NAME downloads one), the browser bundle of each
+ * game loaded with --games (GET /games/NAME.js, from memory), and for a plain GET /ws the
  * answer its upgrade would get (401/403 with the reason, else 200 saying whether the room controls
  * are allowed). Static paths are resolved
  * inside the static directory only (no traversal); a replay name must match the log name pattern
@@ -44,6 +45,8 @@ const TYPES: Record<string, string> = {
 /** What the routes need to answer. */
 export interface RouteContext {
   staticDir: string
+  /** The browser bundle of a game loaded with --games (GET /games/NAME.js), or undefined. */
+  gameBundle?: (name: string) => string | undefined
   rooms: RoomHost
   recordings?: Recordings
   /** The saved scenes (POST /scenes, GET /scenes/ID); absent: those routes are 404. */
@@ -164,6 +167,11 @@ export function createRequestHandler(ctx: RouteContext): (req: IncomingMessage, 
         return
       }
       default:
+        if (url.pathname.startsWith('/games/') && ctx.gameBundle) {
+          const name = /^\/games\/([a-z][a-z0-9-]{0,31})\.js$/.exec(url.pathname)?.[1]
+          const code = name === undefined ? undefined : ctx.gameBundle(name)
+          if (code !== undefined) return send(res, 200, TYPES['.js'], code, { 'cache-control': 'no-cache' })
+        }
         if (url.pathname.startsWith('/replays/') && ctx.recordings) {
           const refusal = ctx.keyAccess(url, 'replays')
           if (refusal) return refuse(res, refusal)

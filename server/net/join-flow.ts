@@ -10,9 +10,9 @@
  * over it, the join gets `full` naming the limit, counted and logged (rate-limited) as refused.
  */
 import type { Logger } from 'pino'
-import { findGame, GAMES } from '../../games/index.ts'
 import { CLOSE_CODES, type ClientMessage } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
+import { findServerGame, serverGameNames } from '../games/index.ts'
 import type { LogLimiter, RoomDirectory, ServerMetrics } from '../hosting/index.ts'
 import { addressKey } from '../http/index.ts'
 import type { RoomHost } from '../rooms/index.ts'
@@ -62,11 +62,11 @@ export class JoinFlow {
       )
       return
     }
-    if (message.game !== undefined && !findGame(message.game)) {
+    if (message.game !== undefined && !findServerGame(message.game)) {
       this.actions.reject(
         peer,
         'invalid',
-        `unknown game "${message.game}"; this server has ${Object.keys(GAMES).join(', ')}`,
+        `unknown game "${message.game}"; this server has ${serverGameNames().join(', ')}`,
       )
       return
     }
@@ -172,6 +172,7 @@ export class JoinFlow {
       mode: message.mode,
       controls: peer.access.controls,
       game: message.game,
+      spectate: message.spectate === true,
       strike: (code, reason, tick, seq) => this.actions.roomStrike(peer, code, reason, tick, seq),
       refused: (error, reason) => {
         session.seat = null

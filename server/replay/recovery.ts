@@ -8,8 +8,8 @@
 import { truncate } from 'node:fs/promises'
 import { join } from 'node:path'
 import { inflateSync } from 'node:zlib'
-import { findGame } from '../../games/index.ts'
 import { hex, type KeyframeRecord, type ReplayRecord, ReplayRunner } from '../../shared/index.ts'
+import { findServerGame } from '../games/index.ts'
 import { scanLog } from './replay-files.ts'
 
 /** A room rebuilt from its log. */
@@ -62,7 +62,7 @@ export async function recoverLog(dir: string, name: string): Promise<RecoveredRo
   if (scan.status.closed) throw new Error(`${name} was closed cleanly; nothing to recover`)
   const runner = await ReplayRunner.start(scan.preamble, scan.header, {
     inflate: inflateNode,
-    games: findGame,
+    games: findServerGame,
   })
   if (chain.length > 0) await runner.restore(chain[0].z === 2 ? [scan.header, ...chain] : chain)
   for (const r of since) await runner.apply(r)

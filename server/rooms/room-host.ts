@@ -37,6 +37,8 @@ export interface JoinRequest {
   controls: boolean
   /** The game the join asks for (join.game), checked against the catalogue by the transport. */
   game: string | undefined
+  /** A spectator's join (join.spectate): no player slot, every command refused. */
+  spectate: boolean
   /** Strikes the room reports against this client. */
   strike: Strike
   /** The join was refused: `error` for the error message, `reason` for the close. */
@@ -63,7 +65,8 @@ export interface RoomHost {
 export function roomSummary(room: Room): RoomSummary {
   return {
     name: room.name,
-    players: room.players.size,
+    players: room.playerCount,
+    spectators: room.players.size - room.playerCount,
     bodies: room.world.bodyCount,
     scene: room.scene,
     tick: room.tick,
@@ -125,6 +128,7 @@ export class LocalRoomHost implements RoomHost {
       request.mode,
       request.controls,
       request.game,
+      request.spectate,
     )
     if (typeof joined === 'string') {
       request.refused(joined, joined)

@@ -6,9 +6,9 @@
 import { performance } from 'node:perf_hooks'
 import type { Logger } from 'pino'
 import { STEP_SECONDS } from '../../engine/index.ts'
-import { findGame } from '../../games/index.ts'
 import { CLOSE_CODES, TICK_RATE } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
+import { findServerGame } from '../games/index.ts'
 import { LogLimiter, type ServerMetrics } from '../hosting/index.ts'
 import { Room } from './room.ts'
 import { TickClock } from './tick-clock.ts'
@@ -84,7 +84,7 @@ export class RoomManager {
       this.metrics,
       this.log,
       this.spread(),
-      findGame(game ?? 'sandbox'),
+      findServerGame(game ?? 'sandbox'),
     )
     this.rooms.set(name, room)
     this.metrics.rooms.set(this.rooms.size)

@@ -38,6 +38,10 @@ export function handleRoomMessage(
   clockFraction: number,
   strike: Strike,
 ): void {
+  if (player.spectator && (message.t === 'input' || message.t === 'cmd')) {
+    player.conn.sendError('refused', 'spectators send no commands', message.seq)
+    return
+  }
   switch (message.t) {
     case 'input': {
       const error = room.queueInput(player, message.seq, message.cmd)

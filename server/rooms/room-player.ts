@@ -10,6 +10,12 @@ import type { PlayerConnection } from './player-connection.ts'
 export class RoomPlayer {
   /** Whether it is still in the room. */
   joined = true
+  /**
+   * A spectator (join.spectate): it gets what players get (snapshots or the tick stream, events,
+   * hashes) but holds no player slot, is not in the simulation or the roster, and every input
+   * and game command it sends is refused.
+   */
+  spectator = false
   /** A lockstep or predict player: it gets the tick stream (lockstep-feed.ts), not snapshots. */
   lockstep = false
   /** Cursor or grab changed since the last snapshot. */

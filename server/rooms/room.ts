@@ -74,8 +74,10 @@ interface QueuedInput {
 /** One room: a simulation, its players, input queue, events and snapshots. */
 export class Room {
   readonly sim: RoomSimulation
-  /** Joined players by id. */
+  /** Joined players by id, spectators included (RoomPlayer.spectator; playerCount counts the others). */
   readonly players = new Map<number, RoomPlayer>()
+  /** Players in `players` that are not spectators. */
+  playerCount = 0
   readonly departed = new Map<string, DepartedPlayer>()
   nextPlayerId = 1
   /** Room tick at which the last player left (for disposal), or -1 while occupied. */
@@ -158,6 +160,7 @@ export class Room {
       commands: Object.keys(game.commands)
         .filter((k) => !game.commands[k].builtin)
         .sort(),
+      maxSpectators: config.maxSpectatorsPerRoom,
     }
   }
 
@@ -198,11 +201,13 @@ export class Room {
     mode: JoinMode = 'snapshot',
     controls = true,
     game?: string,
+    spectate = false,
   ): RoomPlayer | string {
     if (game !== undefined && game !== this.game.name)
       return `room ${this.name} runs the game ${this.game.name}, not ${game}`
-    if (this.players.size >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
-    if (this.players.size >= this.game.maxPlayers)
+    if (spectate) return this.joinSpectator(conn, name, mode, controls)
+    if (this.playerCount >= this.config.maxClientsPerRoom) return `room ${this.name} is full`
+    if (this.playerCount >= this.game.maxPlayers)
       return `room ${this.name} is full (${this.game.name} admits ${this.game.maxPlayers} players)`
     const identity = assignIdentity(this, token)
     if (identity.replaced) identity.replaced.conn.close(4000, 'replaced by a reconnect with the same token')
@@ -216,8 +221,43 @@ export class Room {
     )
     player.lockstep = mode !== 'snapshot'
     this.players.set(player.id, player)
+    this.playerCount++
     this.sim.join(player.id, player.name, player.color)
-    // A lockstep player's sync follows at the end of this tick; the welcome's state is for its view.
+    this.welcome(player, controls)
+    this.broadcast({ t: 'players', players: this.roster() })
+    // The newcomer learns every cursor from the next snapshot.
+    for (const p of this.players.values()) p.cursorDirty = true
+    this.log.info({ room: this.name, player: player.id, name: player.name }, 'player joined')
+    return player
+  }
+
+  /**
+   * A spectator's join: an id of its own (from the players' sequence, so ids stay unique in the
+   * room; never a player's, never reused by a reconnect), no simulation player, no roster entry,
+   * no cursor; within --max-spectators. It is sent what a player in its mode is sent.
+   */
+  private joinSpectator(
+    conn: PlayerConnection,
+    name: string,
+    mode: JoinMode,
+    controls: boolean,
+  ): RoomPlayer | string {
+    const watching = this.players.size - this.playerCount
+    if (watching >= this.config.maxSpectatorsPerRoom)
+      return `room ${this.name} has its ${this.config.maxSpectatorsPerRoom} spectators (--max-spectators)`
+    const id = this.nextPlayerId++
+    const spectator = new RoomPlayer(id, name.trim() || `spectator ${id}`, '#808080', '', this.name, conn)
+    spectator.spectator = true
+    spectator.lockstep = mode !== 'snapshot'
+    this.players.set(id, spectator)
+    this.welcome(spectator, controls)
+    this.log.info({ room: this.name, spectator: id, name: spectator.name }, 'spectator joined')
+    return spectator
+  }
+
+  /** Send a newcomer its welcome (a lockstep one's sync follows at the end of this tick). */
+  private welcome(player: RoomPlayer, controls: boolean): void {
+    const conn = player.conn
     if (player.lockstep) this.feed.add(player.id, conn)
     this.emptySince = -1
     this.visited = true
@@ -234,16 +274,20 @@ export class Room {
       players: this.roster(),
       state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
     })
-    this.broadcast({ t: 'players', players: this.roster() })
-    // The newcomer learns every cursor from the next snapshot.
-    for (const p of this.players.values()) p.cursorDirty = true
-    this.log.info({ room: this.name, player: player.id, name: player.name }, 'player joined')
-    return player
   }
 
   /** Remove a player: release its grab, keep its identity for the reconnect window. */
   leave(player: RoomPlayer): void {
     if (this.players.get(player.id) !== player) return
+    if (player.spectator) {
+      this.feed.remove(player.id)
+      player.joined = false
+      this.players.delete(player.id)
+      if (this.players.size === 0) this.emptySince = this.tick
+      this.log.info({ room: this.name, spectator: player.id }, 'spectator left')
+      return
+    }
+    this.playerCount--
     this.sim.leave(player.id)
     this.feed.remove(player.id)
     player.joined = false
@@ -262,7 +306,10 @@ export class Room {
 
   /** The roster for welcome and players messages. */
   roster(): Array<{ id: number; name: string; color: string }> {
-    return [...this.players.values()].map((p) => ({ id: p.id, name: p.name, color: p.color }))
+    const roster: Array<{ id: number; name: string; color: string }> = []
+    for (const p of this.players.values())
+      if (!p.spectator) roster.push({ id: p.id, name: p.name, color: p.color })
+    return roster
   }
 
   /**

@@ -11,6 +11,7 @@ import { parentPort, workerData } from 'node:worker_threads'
 import pino from 'pino'
 import { Counter } from 'prom-client'
 import { TICK_RATE } from '../../shared/index.ts'
+import { importGameBundles } from '../games/index.ts'
 import { createMetrics } from '../hosting/index.ts'
 import { Recordings } from '../replay/index.ts'
 import { handleRoomMessage, RoomManager, roomSummary } from '../rooms/index.ts'
@@ -20,7 +21,9 @@ import type { FromWorker, ToWorker, WorkerFault, WorkerInit } from './worker-pro
 
 const port = parentPort
 if (!port) throw new Error('room-worker.ts runs only as a worker thread')
-const { id, config, phase } = workerData as WorkerInit
+const { id, config, phase, games } = workerData as WorkerInit
+// The games loaded from --games DIR, before any room can open (the main thread checked them).
+await importGameBundles(games ?? [])
 const log = pino({ level: config.logLevel }).child({ worker: id })
 const metrics = createMetrics(false)
 metrics.registry.setDefaultLabels({ worker: String(id) })
@@ -137,7 +140,7 @@ function handle(op: ToWorker): void {
         outbox.push({ k: 'refused', conn: op.conn, error, reason: 'too many rooms' })
         return
       }
-      const joined = room.join(conn, op.name, op.token, op.mode, op.controls, op.game)
+      const joined = room.join(conn, op.name, op.token, op.mode, op.controls, op.game, op.spectate)
       if (typeof joined === 'string') {
         outbox.push({ k: 'refused', conn: op.conn, error: joined, reason: joined })
         return

@@ -27,6 +27,8 @@ export type Metrics = MetricObjectWithValues<MetricValue<string>>[]
 export class WorkerSeat implements RoomSeat {
   playerId = 0
   open = true
+  /** A spectator's seat (join.spectate): not counted as a player in /rooms. */
+  spectator = false
 
   constructor(
     readonly conn: number,

@@ -19,6 +19,7 @@ import { AggregatorRegistry } from 'prom-client'
 import type { SceneBlueprint } from '../../engine/index.ts'
 import { CLOSE_CODES } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
+import type { GameBundle } from '../games/index.ts'
 import type { ServerMetrics, TickHealth } from '../hosting/index.ts'
 import type { Recordings } from '../replay/index.ts'
 import type { JoinRequest, RoomHost, RoomSeat } from '../rooms/index.ts'
@@ -83,6 +84,8 @@ export class WorkerPool implements RoomHost {
     private readonly health: TickHealth,
     private readonly recordings: Recordings,
     readonly size: number,
+    /** Games loaded from --games DIR: each worker imports the same bundles at boot. */
+    private readonly games: readonly GameBundle[] = [],
   ) {
     this.ready = new Promise((resolve, reject) => {
       this.startup = { resolve, reject }
@@ -104,11 +107,12 @@ export class WorkerPool implements RoomHost {
     }
     const conn = this.nextConn++
     const seat = new WorkerSeat(conn, request.room, request.conn, link, request.strike, request.refused)
+    seat.spectator = request.spectate
     link.seats.set(conn, seat)
     link.pendingJoins.set(request.room, (link.pendingJoins.get(request.room) ?? 0) + 1)
     link.unanswered.set(conn, request.room)
-    const { room, name, token, mode, controls, game } = request
-    link.post({ op: 'join', conn, room, name, token, mode, controls, game })
+    const { room, name, token, mode, controls, game, spectate } = request
+    link.post({ op: 'join', conn, room, name, token, mode, controls, game, spectate })
     return seat
   }
 
@@ -135,7 +139,9 @@ export class WorkerPool implements RoomHost {
     for (const [name, link] of this.roomLinks) {
       const known = link.summaries.find((s) => s.name === name)
       let players = 0
-      for (const seat of link.seats.values()) if (seat.room === name && seat.playerId > 0) players++
+      let spectators = 0
+      for (const seat of link.seats.values())
+        if (seat.room === name && seat.playerId > 0) seat.spectator ? spectators++ : players++
       out.push({
         name,
         players,
@@ -143,6 +149,7 @@ export class WorkerPool implements RoomHost {
         scene: known?.scene ?? '',
         tick: known?.tick ?? 0,
         game: known?.game ?? '',
+        spectators,
       })
     }
     return out
@@ -246,7 +253,7 @@ export class WorkerPool implements RoomHost {
   private spawn(slot: number): WorkerLink {
     const id = this.nextId++
     const phase = slot / this.size
-    const init: WorkerInit = { id, config: this.config, phase }
+    const init: WorkerInit = { id, config: this.config, phase, games: [...this.games] }
     const here = import.meta.url
     // From source (tests, tsx) the worker loads TypeScript through tsx; the build ships dist/room-worker.js.
     const worker = here.endsWith('.ts')

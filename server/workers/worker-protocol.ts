@@ -10,6 +10,7 @@ import type { MetricObjectWithValues, MetricValue } from 'prom-client'
 import type { SceneBlueprint } from '../../engine/index.ts'
 import type { JoinMode } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
+import type { GameBundle } from '../games/index.ts'
 import type { RoomMessage } from '../rooms/index.ts'
 
 /** What a worker starts with. */
@@ -18,6 +19,8 @@ export interface WorkerInit {
   config: ServerConfig
   /** The worker's tick phase, a fraction of a tick (TickClock.start): workers take turns on the cores. */
   phase: number
+  /** The games loaded from --games DIR (their bundles): the worker imports them before any room opens. */
+  games: GameBundle[]
 }
 
 /** A test-only fault to inject into a worker (never reachable from the network). */
@@ -40,6 +43,8 @@ export type ToWorker =
       controls: boolean
       /** The game the join asks for (a new room runs it; an open room must already). */
       game: string | undefined
+      /** A spectator's join. */
+      spectate: boolean
     }
   | { op: 'msg'; conn: number; message: RoomMessage }
   | { op: 'leave'; conn: number }
@@ -91,6 +96,8 @@ export interface RoomSummary {
   tick: number
   /** The game the room runs. */
   game: string
+  /** Spectators watching (join.spectate), not counted in `players`. */
+  spectators: number
 }
 
 /** Worker to main thread. */

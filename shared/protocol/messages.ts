@@ -109,6 +109,8 @@ export interface RoomRules {
   game: string
   /** The game's own command kinds (`cmd` messages), sorted; the built-in ones it accepts go by `input`. */
   commands: string[]
+  /** Spectators the room admits besides its players (join.spectate). */
+  maxSpectators: number
 }
 
 // ---------------------------------------------------------------- client -> server
@@ -247,6 +249,11 @@ export interface JoinMessage {
    * `ticks` message (DEFAULT_HOLD when absent); ignored in snapshot mode.
    */
   hold?: number
+  /**
+   * Join as a spectator: no player slot (not counted against maxClients or the game's players,
+   * limited by rules.maxSpectators), no cursor, not in the roster; every input and cmd refused.
+   */
+  spectate?: boolean
   /**
    * The game the room should run (docs/games.md) when this join creates it; a join that names
    * another game than an open room runs is refused. Absent: whatever the room runs (a new room

@@ -279,7 +279,7 @@ function validateJoin(value: unknown): ClientMessage {
   const m = fields(
     value,
     'join',
-    ['t', 'v', 'room', 'name', 'mode', 'token', 'hold', 'game'],
+    ['t', 'v', 'room', 'name', 'mode', 'token', 'hold', 'game', 'spectate'],
     ['t', 'v', 'room', 'name', 'mode'],
   )
   const room = str(m.room, 'room', 32)
@@ -299,6 +299,9 @@ function validateJoin(value: unknown): ClientMessage {
       throw new SchemaError('game must be 1-32 lowercase letters, digits or "-", starting with a letter')
     join.game = game
   }
+  if (m.spectate !== undefined && m.spectate !== null) {
+    if (bool(m.spectate, 'spectate')) join.spectate = true
+  }
   return join
 }
 
@@ -315,6 +318,7 @@ function validateClient(value: unknown): ClientMessage {
       'token',
       'hold',
       'game',
+      'spectate',
       'seq',
       'cmd',
       'k',

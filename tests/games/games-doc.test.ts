@@ -7,7 +7,7 @@
  */
 import { readFileSync } from 'node:fs'
 import { describe, expect, it } from 'vitest'
-import { checkGameSources } from '../../server/games/index.ts'
+import { checkGameSources } from '../../server/games/determinism-check.ts'
 
 const doc = readFileSync('docs/games.md', 'utf8')
 const game = readFileSync('games/ball-drop/ball-drop-game.ts', 'utf8')
@@ -38,6 +38,15 @@ describe('docs/games.md', () => {
       expect(squash(game)).toContain(body)
     },
   )
+
+  it('"Games in their own directory": the command block is in examples/games/hoops', () => {
+    const at = doc.indexOf('## Games in their own directory')
+    const section = doc.slice(at, doc.indexOf('\n## ', at + 1))
+    const [block] = [...section.matchAll(/```ts\n([\s\S]*?)```/g)].map((m) => m[1])
+    expect(block).toBeDefined()
+    const example = readFileSync('examples/games/hoops/index.ts', 'utf8')
+    expect(squash(example)).toContain(squash(block).replace(/,$/, ''))
+  })
 
   it('lists exactly the rules the determinism check reports', () => {
     const listed = [...doc.matchAll(/`(no-[a-z]+|inexact-math|module-state)`/g)].map((m) => m[1])

@@ -6,7 +6,7 @@
  * hashes, and the module passes the determinism check.
  */
 import { describe, expect, it } from 'vitest'
-import { checkGameDirectory, formatViolation } from '../../server/games/index.ts'
+import { checkGameDirectory, formatViolation } from '../../server/games/determinism-check.ts'
 import { cloneSimulation, type PlainData, RoomSimulation } from '../../shared/index.ts'
 import { TARGET, tug } from './examples/tug/tug-game.ts'
 

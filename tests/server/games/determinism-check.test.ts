@@ -13,7 +13,7 @@ import {
   type DeterminismRule,
   formatViolation,
   gameModuleFiles,
-} from '../../../server/games/index.ts'
+} from '../../../server/games/determinism-check.ts'
 
 /** A fixture: its source, and the rule broken on each line marked `// <-`. */
 const FIXTURES: Array<[string, DeterminismRule, string]> = [
@@ -167,5 +167,15 @@ describe('the determinism check of game modules', () => {
     )
     const found = checkGameSources(new Map([['games/sandbox/sandbox-game.ts', broken]]))
     expect(found.map((v) => v.rule)).toEqual(['inexact-math'])
+  })
+
+  it('every example game in examples/games/ and the loaded test game pass (and may import concord/game)', () => {
+    expect(gameModuleFiles('examples/games')).toContain('examples/games/hoops/index.ts')
+    expect(checkGameDirectory('examples/games').map(formatViolation)).toEqual([])
+    expect(checkGameDirectory('tests/server/games/loaded').map(formatViolation)).toEqual([])
+    const other = checkGameSources(new Map([['g.ts', "import { box } from 'concord/games'\n"]]))
+    expect(other.map(formatViolation)).toEqual([
+      "g.ts:1:1 no-io: imports 'concord/games': game code imports only its own files, 'concord/game', and engine/, shared/ and games/ modules",
+    ])
   })
 })

@@ -26,6 +26,7 @@ const RULES: RoomRules = {
   worldHalfExtent: 500,
   game: 'sandbox',
   commands: [],
+  maxSpectators: 64,
 }
 
 /** A room in process: simulation, feed, players with scripted activity, followers. */

@@ -46,6 +46,7 @@ describe('client mirror', () => {
         worldHalfExtent: 500,
         game: 'sandbox',
         commands: [],
+        maxSpectators: 64,
       },
       players: [],
       state,

@@ -1,0 +1,40 @@
+/*
+ * Games the page runs that this build does not ship: a server started with --games DIR serves
+ * each loaded game as one self-contained ES module at GET /games/NAME.js (server/games/
+ * game-bundle.ts), the very text its rooms run. A lockstep or predicting page that joins a room
+ * of such a game imports that module before it simulates anything (the page's CSP allows scripts
+ * from its own origin, so the server that served the page must serve the game), and the hash
+ * checkpoints prove the page runs the same rules as the room. Snapshot pages need no game code.
+ */
+import { findGame, type Game } from '../../games/index.ts'
+
+const loaded = new Map<string, Game>()
+const GAME_NAME = /^[a-z][a-z0-9-]{0,31}$/
+
+/** A game by name: one this build ships, or one imported by loadGameModule; else undefined. */
+export function findClientGame(name: string): Game | undefined {
+  return findGame(name) ?? loaded.get(name)
+}
+
+/**
+ * Import the game module `name` from the game server at `wsUrl` (its /games/NAME.js) unless the
+ * page has it already. Rejects with an error naming the game when the module cannot be loaded or
+ * is not a game.
+ */
+export async function loadGameModule(wsUrl: string, name: string): Promise<void> {
+  if (findClientGame(name)) return
+  if (!GAME_NAME.test(name)) throw new Error(`game name ${JSON.stringify(name)} is not a game name`)
+  const origin = new URL(wsUrl)
+  origin.protocol = origin.protocol === 'wss:' ? 'https:' : 'http:'
+  const url = `${origin.origin}/games/${name}.js`
+  let module: { default?: Partial<Game> }
+  try {
+    module = await import(/* @vite-ignore */ url)
+  } catch (error) {
+    throw new Error(`cannot load game ${name} from ${url}: ${(error as Error).message}`)
+  }
+  const game = module.default
+  if (typeof game?.initialState !== 'function' || game.name !== name || typeof game.commands !== 'object')
+    throw new Error(`${url} is not the game ${name}`)
+  loaded.set(name, game as Game)
+}

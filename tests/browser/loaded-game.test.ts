@@ -1,0 +1,68 @@
+/*
+ * A game loaded with --games, played by a lockstep page in headless Chromium: the server loads
+ * tests/server/games/loaded/ (the marbles game, written against the SDK only); the page, opened
+ * with ?mode=lockstep&game=marbles, does not ship that game, so it imports /games/marbles.js from
+ * the server (same origin, under the page's CSP) before it simulates. The page itself sends the
+ * game's commands; its simulation must reach the hand-worked state (five marbles dropped, the
+ * three dropped at x = -5 resting left of 0) and every hash checkpoint past it must match the
+ * server's (the state hash covers the game state), with no page error.
+ */
+import type { Browser } from 'playwright-core'
+import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { buildClient } from '../../scripts/build-client.mjs'
+import type { RunningServer } from '../../server/server.ts'
+import { launchBrowser } from '../support/chromium.ts'
+import { openSandbox, serveClient } from '../support/client-harness.ts'
+
+const DIST = 'test-results/browser-client/dist-loaded-game'
+
+let server: RunningServer
+let browser: Browser
+
+beforeAll(async () => {
+  await buildClient(DIST)
+  server = await serveClient(DIST, { gamesDir: 'tests/server/games/loaded' })
+  browser = await launchBrowser()
+}, 180_000)
+
+afterAll(async () => {
+  await browser?.close()
+  await server?.close()
+})
+
+interface GamePage {
+  sendGame(kind: string, args: Record<string, unknown>): number
+  gameState(): { dropped: number; left: number } | null
+  stats(): { tick: number; lockstep: { verifiedTick: number; desyncs: number; resyncs: number } | null }
+}
+
+describe('a game loaded from a directory, in a lockstep page', () => {
+  it('the page loads the game from the server, plays it, and matches every server hash', async () => {
+    const { page, errors, context } = await openSandbox(
+      browser,
+      `${server.url}/?room=loaded-game&mode=lockstep&game=marbles`,
+    )
+    try {
+      const sandbox = (): Promise<GamePage['stats'] extends () => infer R ? R : never> =>
+        page.evaluate(() => (window.concord.sandbox as unknown as GamePage).stats())
+      for (const x of [-5, -5, 5, -5, 5])
+        await page.evaluate((x) => (window.concord.sandbox as unknown as GamePage).sendGame('drop', { x }), x)
+      await page.waitForFunction(() => {
+        const s = (window.concord.sandbox as unknown as GamePage).gameState()
+        return s !== null && s.dropped === 5 && s.left === 3
+      })
+      const settled = (await sandbox()).tick
+      // Past the settled state by two hash checkpoints, or stopped by a desync (reported below).
+      await page.waitForFunction((t) => {
+        const l = (window.concord.sandbox as unknown as GamePage).stats().lockstep
+        return l !== null && (l.verifiedTick > t + 120 || l.desyncs > 0)
+      }, settled)
+      const stats = await sandbox()
+      expect(stats.lockstep).toMatchObject({ desyncs: 0, resyncs: 0 })
+      expect(await page.evaluate(() => window.concord.sandbox.rules()?.game)).toBe('marbles')
+      expect(errors).toEqual([])
+    } finally {
+      await context.close()
+    }
+  })
+})
