@@ -18,12 +18,12 @@ import {
   Renderer,
 } from './draw/index.ts'
 import {
+  bodyRadius,
   helpIntro,
   helpRows,
   pickBody,
   type ShortcutAction,
   SpawnPanel,
-  shapeRadius,
   shortcutFor,
   TOOLS,
   ToolController,
@@ -278,7 +278,7 @@ export class App {
     const held = new Set(cursors.map((c) => c.body))
     for (const c of cursors) people.push({ x: c.x, y: c.y, r: 0.5 })
     for (const b of this.sandbox.bodies()) {
-      const r = shapeRadius(b.shape)
+      const r = bodyRadius(b)
       if (b.kind === 0 && r > 50) continue // the ground: frame what stands on it instead
       if (held.has(b.id)) people.push({ x: b.x, y: b.y, r })
       else if (b.kind !== 0 && b.y + r < -1)
@@ -505,7 +505,7 @@ export class App {
     const lab = $('lab').getBoundingClientRect()
     const bottom = lab.height > 0 ? lab.top : this.camera.height
     const p = this.camera.toScreen(body.x, body.y)
-    const r = shapeRadius(body.shape) * this.camera.scale
+    const r = bodyRadius(body) * this.camera.scale
     if (p.y - r >= top && p.y + r <= bottom) return
     if (bottom - top < 2 * r) return
     // Centre the body in the free band between them.

@@ -45,7 +45,8 @@ const isSpawnTool = (tool: ToolName): boolean => tool === 'circle' || tool === '
 const GHOST: ViewBody = {
   id: 0,
   kind: 2,
-  shape: { type: 'circle', radius: 0.5 },
+  shapes: [{ type: 'circle', radius: 0.5 }],
+  color: null,
   x: 0,
   y: 0,
   angle: 0,
@@ -63,7 +64,7 @@ export class ToolController {
   private cursor: Vec2 | null = null
   private lastHover = 0
   private polygonSides = 3
-  private preview: { key: string; shape: WireShape } | null = null
+  private preview: { key: string; shapes: WireShape[] } | null = null
 
   constructor(
     private readonly canvas: HTMLCanvasElement,
@@ -309,11 +310,11 @@ export class ToolController {
       if (body) o.grabAnchor = toWorld(body, a.lx, a.ly)
       else this.action = { kind: 'none' }
     } else if (a.kind === 'spawn') {
-      o.ghost = { ...GHOST, shape: a.shape, x: a.at.x, y: a.at.y }
+      o.ghost = { ...GHOST, shapes: [a.shape], x: a.at.x, y: a.at.y }
       o.throwTo = this.cursor
     } else if (a.kind === 'none' && this.cursor && isSpawnTool(this.tool)) {
       // Hovering with a spawn tool: the shape the next click drops, faint, at the pointer.
-      o.ghost = { ...GHOST, shape: this.previewShape(), x: this.cursor.x, y: this.cursor.y }
+      o.ghost = { ...GHOST, shapes: this.previewShapes(), x: this.cursor.x, y: this.cursor.y }
       o.ghostAlpha = 0.25
     } else if (a.kind === 'rope') o.ropeFrom = a.anchor
     else if (this.tool === 'cut' && this.cursor) o.cutJoint = this.jointAt(this.cursor)
@@ -321,10 +322,10 @@ export class ToolController {
   }
 
   /** The next spawn shape, rebuilt only when it changes (the preview is drawn every frame). */
-  private previewShape(): WireShape {
+  private previewShapes(): WireShape[] {
     const key = `${this.tool}:${this.polygonSides}:${this.spawn.size}`
-    if (this.preview?.key !== key) this.preview = { key, shape: this.spawnShape() }
-    return this.preview.shape
+    if (this.preview?.key !== key) this.preview = { key, shapes: [this.spawnShape()] }
+    return this.preview.shapes
   }
 
   /** Where the pointer is (world m), null when it is not over the canvas. */

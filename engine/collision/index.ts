@@ -6,6 +6,7 @@
  */
 export { BroadPhase, IdBuffer, PairBuffer, sortKeys } from './broad-phase.ts'
 export { collideGeometry, collideGeometryAt, type Pose } from './collide.ts'
+export { DECOMPOSE_MIN_WIDTH, decompose, MAX_OUTLINE_POINTS } from './decompose.ts'
 export { type DynamicTree, NULL_NODE } from './dynamic-tree.ts'
 export { Manifold, type ManifoldPoint } from './manifold.ts'
 export { PairMap } from './pair-map.ts'

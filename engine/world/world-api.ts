@@ -207,6 +207,27 @@ export class WorldApi extends WorldStore {
     return this.bodyShape(id).shape
   }
 
+  /**
+   * A shape's whole definition as it stands (a fresh object): geometry, material, filter, sensor
+   * flag and event flags; createShape with it builds an equal shape.
+   */
+  getShapeDef(id: ShapeId): Required<ShapeDef> {
+    const s = this.bodyShape(id)
+    return {
+      shape: s.shape,
+      density: s.density,
+      friction: s.friction,
+      restitution: s.restitution,
+      rollingResistance: s.rollingResistance,
+      tangentSpeed: s.tangentSpeed,
+      filter: { categoryBits: s.categoryBits, maskBits: s.maskBits, groupIndex: s.groupIndex },
+      sensor: s.sensor,
+      enableSensorEvents: s.enableSensorEvents,
+      enableContactEvents: s.enableContactEvents,
+      enableHitEvents: s.enableHitEvents,
+    }
+  }
+
   /** A shape's collision filter (a copy). */
   getFilter(id: ShapeId): Filter {
     const s = this.bodyShape(id)

@@ -281,8 +281,9 @@ describe('on a phone', () => {
       await page.waitForFunction(() => window.concord.sandbox.bodies().some((b) => b.kind === 2))
       const width = await page.evaluate(() => {
         const box = window.concord.sandbox.bodies().find((b) => b.kind === 2)!
-        if (box.shape.type !== 'box') throw new Error(`dropped a ${box.shape.type}`)
-        return 2 * box.shape.hw * window.concord.camera.scale
+        const shape = box.shapes[0]
+        if (shape.type !== 'box') throw new Error(`dropped a ${shape.type}`)
+        return 2 * shape.hw * window.concord.camera.scale
       })
       expect(width).toBeGreaterThanOrEqual(40)
       // The ground line stays in view.
