@@ -82,6 +82,7 @@ export class App {
     this.renderer = new Renderer(canvas, this.camera)
     this.spawnPanel = new SpawnPanel($('spawn-panel'))
     this.tools = new ToolController(canvas, this.camera, () => this.sandbox, this.spawnPanel.settings)
+    this.tools.onNotice = (text) => this.toast(text)
     this.renderer.resize()
     window.addEventListener('resize', () => {
       this.renderer.resize()
@@ -99,7 +100,7 @@ export class App {
 
   private wireToolbar(): void {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
-      b.addEventListener('click', () => this.setTool(b.dataset.tool as ToolName))
+      b.addEventListener('click', () => this.act(`tool:${b.dataset.tool}` as ShortcutAction))
     }
     const scene = $<HTMLSelectElement>('scene')
     scene.addEventListener('change', () => {
@@ -121,6 +122,7 @@ export class App {
     click('rooms', 'lobby')
     click('lobby-close', 'lobby')
     click('fit', 'fit')
+    click('static', 'static')
     // Debug opens the layer buttons; each layer is its own toggle (touch-sized, showing on/off).
     $('layers').addEventListener('click', () => {
       $('layers-panel').hidden = !$('layers-panel').hidden
@@ -193,6 +195,22 @@ export class App {
     return top > 0 ? Math.max(0, window.innerHeight - top) : 0
   }
 
+  /** The Draw tool's next form, named on its button's title and in a notice. */
+  private cycleDrawForm(): void {
+    const form = this.tools.cycleDrawForm()
+    const name = { outline: 'outline', rect: 'rectangle', circle: 'circle', capsule: 'capsule' }[form]
+    const how = form === 'outline' ? 'drag freehand or click corners' : 'drag'
+    const button = document.querySelector<HTMLButtonElement>('[data-tool="draw"]')
+    if (button) button.dataset.title = `Draw: ${name} (W; again: the next form)`
+    this.toast(`Draw: ${name} (${how})`)
+  }
+
+  /** Show the player a notice (queued behind the one shown). */
+  toast(text: string): void {
+    this.toastQueue.push(text)
+    this.showNextToast()
+  }
+
   /** Switch the active tool. */
   setTool(tool: ToolName): void {
     this.tools.cancel()
@@ -202,7 +220,7 @@ export class App {
       b.classList.toggle('active', b.dataset.tool === tool)
     }
     // A replay spawns nothing: its keys may pick a tool, but the spawn sliders stay closed.
-    const spawns = tool === 'circle' || tool === 'box' || tool === 'polygon'
+    const spawns = tool === 'circle' || tool === 'box' || tool === 'polygon' || tool === 'draw'
     this.spawnPanel.show(spawns && this.sandbox.mode !== 'replay')
     this.placePanels()
   }
@@ -219,7 +237,10 @@ export class App {
   act(action: ShortcutAction): void {
     const s = this.sandbox
     if (action.startsWith('tool:')) {
-      this.setTool(action.slice(5) as ToolName)
+      const tool = action.slice(5) as ToolName
+      // Draw again: its next form (outline, rectangle, circle, capsule).
+      if (tool === 'draw' && this.tools.tool === 'draw') this.cycleDrawForm()
+      else this.setTool(tool)
       return
     }
     if (action.startsWith('layer:')) {
@@ -245,6 +266,14 @@ export class App {
       }
       case 'fit':
         this.fit()
+        break
+      case 'static':
+        this.tools.makeStatic = !this.tools.makeStatic
+        $('static').setAttribute('aria-pressed', String(this.tools.makeStatic))
+        $('static').classList.toggle('active', this.tools.makeStatic)
+        break
+      case 'finish':
+        this.tools.finishPending()
         break
       case 'help':
         $('help').hidden = !$('help').hidden

@@ -36,6 +36,9 @@ export interface ToolOverlay {
   ropeFrom: Vec2 | null
   /** The joint the cut tool would remove here, marked. */
   cutJoint: ViewJoint | null
+  /** Draw and Ground preview: the points so far (world m), closed for an outline. */
+  stroke: readonly Vec2[] | null
+  strokeClosed: boolean
 }
 
 /** Everything one frame shows. */
@@ -421,6 +424,19 @@ export class Renderer {
         ctx.lineTo(o.throwTo.x, o.throwTo.y)
         ctx.stroke()
       }
+    }
+    if (o.stroke && o.stroke.length > 1) {
+      ctx.beginPath()
+      ctx.moveTo(o.stroke[0].x, o.stroke[0].y)
+      for (const p of o.stroke) ctx.lineTo(p.x, p.y)
+      if (o.strokeClosed) {
+        ctx.closePath()
+        ctx.globalAlpha = 0.25
+        ctx.fillStyle = o.color
+        ctx.fill()
+        ctx.globalAlpha = 1
+      }
+      ctx.stroke()
     }
     if (o.ropeFrom && o.cursor) {
       ctx.setLineDash([this.lineWidth(6), this.lineWidth(4)])
