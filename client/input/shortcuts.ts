@@ -54,12 +54,12 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
   {
     keys: ['w', '0'],
     action: 'tool:draw',
-    help: 'Draw: drag an outline freehand, or click its corners and then the first again; press again for rectangle, circle or capsule (drag)',
+    help: 'Draw: drag a shape (or click corners); again: box, circle, capsule',
   },
   {
     keys: ['t'],
     action: 'tool:ground',
-    help: 'Ground: drag a static line, or click its points and then the last again',
+    help: 'Ground: drag a static line (or click points)',
   },
   { keys: ['m'], action: 'static', help: 'Static: what you draw or drop stays put (on / off)' },
   { keys: ['enter'], action: 'finish', help: 'Finish the outline or line you are clicking' },
@@ -91,7 +91,6 @@ const BUTTONS: Partial<Record<ShortcutAction, string>> = {
   reset: 'Reset',
   gravity: 'Gravity',
   fit: 'Fit',
-  static: 'Static',
 }
 
 /**

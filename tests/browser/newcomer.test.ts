@@ -322,6 +322,8 @@ describe('on a phone', () => {
           'Rope',
           'Cut',
           'Lab',
+          'Draw',
+          'Ground',
           'Pause',
           'Step',
           'Reset',
