@@ -245,4 +245,54 @@ describe('Draw and Ground tools', { timeout: 300_000 }, () => {
     expect(tri.shapes.reduce((sum, s) => sum + area(s.v ?? []), 0)).toBeCloseTo(6, 0)
     await close()
   })
+
+  it('lockstep and predict pages draw the same compound, capsule and outline bodies, in the same colours', async () => {
+    const { page, close } = await emptyRoom('draw-modes')
+    const before = (await bodies(page)).length
+    await page.evaluate(() => {
+      const s = window.concord.sandbox
+      s.send({
+        k: 'spawn',
+        shapes: [
+          { type: 'box', hw: 1, hh: 0.25 },
+          { type: 'circle', radius: 0.4, x: -1, y: -0.5 },
+          { type: 'capsule', v: [0.5, 0.5, 1.5, 0.5], radius: 0.2 },
+        ],
+        x: -4,
+        y: 4,
+        color: 0x33cc66,
+      })
+      s.send({ k: 'spawn', outline: [0, 0, 3, 0, 3, 3, 2, 3, 2, 1, 1, 1, 1, 3, 0, 3], x: 2, y: 3 })
+    })
+    await made(page, before)
+    await page.waitForFunction((n) => window.concord.sandbox.bodies().length >= n + 2, before)
+    const shown = (await bodies(page))
+      .sort((a, b) => a.id - b.id)
+      .map((b) => [b.id, b.kind, b.shapes, b.color])
+    for (const mode of ['lockstep', 'predict']) {
+      const other = await openSandbox(
+        browser,
+        `http://127.0.0.1:${server.port}/?room=draw-modes&mode=${mode}`,
+      )
+      await other.page.waitForFunction((n) => window.concord.sandbox.bodies().length >= n, shown.length)
+      const there = (await bodies(other.page))
+        .sort((a, b) => a.id - b.id)
+        .map((b) => [b.id, b.kind, b.shapes, b.color])
+      expect(there, mode).toEqual(shown)
+      // The compound's box, on the canvas, in its colour.
+      await other.page.evaluate(() => {
+        const c = window.concord.camera
+        c.x = 0
+        c.y = 5
+        c.scale = 40
+      })
+      await other.page.waitForFunction(() => new Promise((r) => requestAnimationFrame(() => r(true))))
+      const at = await screenOf(other.page, -3.5, 4)
+      const [r, g, b] = await pixelAt(other.page, at.x, at.y)
+      expect(Math.abs(r - 0x33) + Math.abs(g - 0xcc) + Math.abs(b - 0x66), mode).toBeLessThan(30)
+      expect(other.errors, mode).toEqual([])
+      await other.context.close()
+    }
+    await close()
+  })
 })
