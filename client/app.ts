@@ -18,12 +18,12 @@ import {
   Renderer,
 } from './draw/index.ts'
 import {
+  bodyRadius,
   helpIntro,
   helpRows,
   pickBody,
   type ShortcutAction,
   SpawnPanel,
-  shapeRadius,
   shortcutFor,
   TOOLS,
   ToolController,
@@ -88,6 +88,7 @@ export class App {
     this.renderer = new Renderer(canvas, this.camera)
     this.spawnPanel = new SpawnPanel($('spawn-panel'))
     this.tools = new ToolController(canvas, this.camera, () => this.sandbox, this.spawnPanel.settings)
+    this.tools.onNotice = (text) => this.toast(text)
     this.renderer.resize()
     window.addEventListener('resize', () => {
       this.renderer.resize()
@@ -106,7 +107,7 @@ export class App {
 
   private wireToolbar(): void {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
-      b.addEventListener('click', () => this.setTool(b.dataset.tool as ToolName))
+      b.addEventListener('click', () => this.act(`tool:${b.dataset.tool}` as ShortcutAction))
     }
     const scene = $<HTMLSelectElement>('scene')
     scene.addEventListener('change', () => {
@@ -128,6 +129,7 @@ export class App {
     click('rooms', 'lobby')
     click('lobby-close', 'lobby')
     click('fit', 'fit')
+    click('static', 'static')
     // Debug opens the layer buttons; each layer is its own toggle (touch-sized, showing on/off).
     $('layers').addEventListener('click', () => {
       $('layers-panel').hidden = !$('layers-panel').hidden
@@ -200,6 +202,22 @@ export class App {
     return top > 0 ? Math.max(0, window.innerHeight - top) : 0
   }
 
+  /** The Draw tool's next form, named on its button's title and in a notice. */
+  private cycleDrawForm(): void {
+    const form = this.tools.cycleDrawForm()
+    const name = { outline: 'outline', rect: 'rectangle', circle: 'circle', capsule: 'capsule' }[form]
+    const how = form === 'outline' ? 'drag freehand or click corners' : 'drag'
+    const button = document.querySelector<HTMLButtonElement>('[data-tool="draw"]')
+    if (button) button.dataset.title = `Draw: ${name} (W; again: the next form)`
+    this.toast(`Draw: ${name} (${how})`)
+  }
+
+  /** Show the player a notice (queued behind the one shown). */
+  toast(text: string): void {
+    this.toastQueue.push(text)
+    this.showNextToast()
+  }
+
   /** Switch the active tool. */
   setTool(tool: ToolName): void {
     this.tools.cancel()
@@ -209,7 +227,7 @@ export class App {
       b.classList.toggle('active', b.dataset.tool === tool)
     }
     // A replay spawns nothing: its keys may pick a tool, but the spawn sliders stay closed.
-    const spawns = tool === 'circle' || tool === 'box' || tool === 'polygon'
+    const spawns = tool === 'circle' || tool === 'box' || tool === 'polygon' || tool === 'draw'
     this.spawnPanel.show(spawns && this.sandbox.mode !== 'replay')
     this.placePanels()
   }
@@ -226,7 +244,10 @@ export class App {
   act(action: ShortcutAction): void {
     const s = this.sandbox
     if (action.startsWith('tool:')) {
-      this.setTool(action.slice(5) as ToolName)
+      const tool = action.slice(5) as ToolName
+      // Draw again: its next form (outline, rectangle, circle, capsule).
+      if (tool === 'draw' && this.tools.tool === 'draw') this.cycleDrawForm()
+      else this.setTool(tool)
       return
     }
     if (action.startsWith('layer:')) {
@@ -252,6 +273,14 @@ export class App {
       }
       case 'fit':
         this.fit()
+        break
+      case 'static':
+        this.tools.makeStatic = !this.tools.makeStatic
+        $('static').setAttribute('aria-pressed', String(this.tools.makeStatic))
+        $('static').classList.toggle('active', this.tools.makeStatic)
+        break
+      case 'finish':
+        this.tools.finishPending()
         break
       case 'help':
         $('help').hidden = !$('help').hidden
@@ -285,7 +314,7 @@ export class App {
     const held = new Set(cursors.map((c) => c.body))
     for (const c of cursors) people.push({ x: c.x, y: c.y, r: 0.5 })
     for (const b of this.sandbox.bodies()) {
-      const r = shapeRadius(b.shape)
+      const r = bodyRadius(b)
       if (b.kind === 0 && r > 50) continue // the ground: frame what stands on it instead
       if (held.has(b.id)) people.push({ x: b.x, y: b.y, r })
       else if (b.kind !== 0 && b.y + r < -1)
@@ -521,7 +550,7 @@ export class App {
     const lab = $('lab').getBoundingClientRect()
     const bottom = lab.height > 0 ? lab.top : this.camera.height
     const p = this.camera.toScreen(body.x, body.y)
-    const r = shapeRadius(body.shape) * this.camera.scale
+    const r = bodyRadius(body) * this.camera.scale
     if (p.y - r >= top && p.y + r <= bottom) return
     if (bottom - top < 2 * r) return
     // Centre the body in the free band between them.

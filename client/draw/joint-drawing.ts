@@ -50,8 +50,9 @@ export interface Floor {
 export function floorsOf(bodies: readonly ViewBody[], out: Floor[] = []): Floor[] {
   out.length = 0
   for (const b of bodies) {
-    if (b.kind !== 0 || b.shape.type !== 'box' || Math.abs(b.angle) > 1e-3) continue
-    out.push({ x0: b.x - b.shape.hw, x1: b.x + b.shape.hw, top: b.y + b.shape.hh })
+    const shape = b.shapes.length === 1 ? b.shapes[0] : null
+    if (b.kind !== 0 || shape?.type !== 'box' || Math.abs(b.angle) > 1e-3) continue
+    out.push({ x0: b.x - shape.hw, x1: b.x + shape.hw, top: b.y + shape.hh })
   }
   return out
 }

@@ -7,7 +7,8 @@
  * in screen space so it is never mirrored by the y-up transform.
  */
 import type { Vec2 } from '../../engine/index.ts'
-import { shapeRadius, shapeVertices, toWorld } from '../input/index.ts'
+import type { WireShape } from '../../shared/index.ts'
+import { bodyRadius, shapeVertices, toWorld } from '../input/index.ts'
 import type { LabContact, ViewBody, ViewCursor, ViewJoint } from '../modes/index.ts'
 import type { Camera } from './camera.ts'
 import { drawJoints, type Floor, floorsOf } from './joint-drawing.ts'
@@ -35,6 +36,9 @@ export interface ToolOverlay {
   ropeFrom: Vec2 | null
   /** The joint the cut tool would remove here, marked. */
   cutJoint: ViewJoint | null
+  /** Draw and Ground preview: the points so far (world m), closed for an outline. */
+  stroke: readonly Vec2[] | null
+  strokeClosed: boolean
 }
 
 /** Everything one frame shows. */
@@ -58,6 +62,9 @@ const STYLE = {
   kinematic: ['#7a5cc4', '#b7a0f0'],
 } as const
 
+/** Segment shapes (lines, drawn ground) are stroked in this colour. */
+const SEGMENT_COLOR = '#8a94a8'
+
 /** The mark on the joint the cut tool points at. */
 export const CUT_MARK = '#ff3b30'
 
@@ -79,6 +86,8 @@ export class Renderer {
   readonly ctx: CanvasRenderingContext2D
   private dpr = 1
   private readonly byId = new Map<number, ViewBody>()
+  /** Coloured bodies by colour for this frame (reused). */
+  private readonly coloured = new Map<string, ViewBody[]>()
   /** Level static box tops for this frame (ropes lie on them), reused. */
   private readonly floors: Floor[] = []
 
@@ -181,10 +190,10 @@ export class Renderer {
   private drawBodies(bodies: readonly ViewBody[]): void {
     const b = this.camera.visibleBounds()
     const groups: Array<[readonly [string, string], (v: ViewBody) => boolean]> = [
-      [STYLE.static, (v) => v.kind === 0],
-      [STYLE.kinematic, (v) => v.kind === 1],
-      [STYLE.asleep, (v) => v.kind === 2 && !v.awake],
-      [STYLE.awake, (v) => v.kind === 2 && v.awake],
+      [STYLE.static, (v) => v.kind === 0 && v.color === null],
+      [STYLE.kinematic, (v) => v.kind === 1 && v.color === null],
+      [STYLE.asleep, (v) => v.kind === 2 && !v.awake && v.color === null],
+      [STYLE.awake, (v) => v.kind === 2 && v.awake && v.color === null],
     ]
     const ctx = this.ctx
     ctx.lineWidth = this.lineWidth(1.25)
@@ -193,14 +202,17 @@ export class Renderer {
     // are filled shrunk by one pixel instead, so the background shows between touching bodies.
     const outline = this.camera.scale >= 40 || bodies.length < 400
     const inset = outline ? 0 : 1 / this.camera.scale
+    const visible = (v: ViewBody): boolean => {
+      const r = bodyRadius(v)
+      return !(v.x + r < b.minX || v.x - r > b.maxX || v.y + r < b.minY || v.y - r > b.maxY)
+    }
+    const shrinkOf = (v: ViewBody): number => (inset > 0 ? Math.max(0.2, 1 - inset / bodyRadius(v)) : 1)
     for (const [style, accept] of groups) {
       ctx.beginPath()
       let any = false
       for (const v of bodies) {
-        if (v.grabColor || !accept(v)) continue
-        const r = shapeRadius(v.shape)
-        if (v.x + r < b.minX || v.x - r > b.maxX || v.y + r < b.minY || v.y - r > b.maxY) continue
-        this.traceBody(v, inset > 0 ? Math.max(0.2, 1 - inset / r) : 1)
+        if (v.grabColor || !accept(v) || !visible(v)) continue
+        this.traceBody(v, shrinkOf(v))
         any = true
       }
       if (!any) continue
@@ -208,6 +220,28 @@ export class Renderer {
       ctx.fill()
       if (!outline) continue
       ctx.strokeStyle = style[1]
+      ctx.stroke()
+    }
+    // Coloured bodies (players' own), one path per colour and state: asleep ones darker.
+    const coloured = this.coloured
+    coloured.clear()
+    for (const v of bodies) {
+      if (v.grabColor || v.color === null || !visible(v)) continue
+      const key = v.kind === 2 && !v.awake ? `${v.color}.` : v.color
+      const list = coloured.get(key)
+      if (list) list.push(v)
+      else coloured.set(key, [v])
+    }
+    for (const [key, list] of coloured) {
+      ctx.beginPath()
+      for (const v of list) this.traceBody(v, shrinkOf(v))
+      const asleep = key.endsWith('.')
+      ctx.globalAlpha = asleep ? 0.55 : 1
+      ctx.fillStyle = asleep ? key.slice(0, -1) : key
+      ctx.fill()
+      ctx.globalAlpha = 1
+      if (!outline) continue
+      ctx.strokeStyle = asleep ? '#5a6272' : '#e8edf5'
       ctx.stroke()
     }
     for (const v of bodies) {
@@ -219,32 +253,79 @@ export class Renderer {
       ctx.strokeStyle = '#ffffff'
       ctx.stroke()
     }
+    // Segments have no area: stroke them (lines and drawn ground) at least 3 px wide, always.
+    ctx.beginPath()
+    let segments = false
+    for (const v of bodies) {
+      if (!visible(v)) continue
+      for (const shape of v.shapes) {
+        if (shape.type !== 'segment') continue
+        const [p, q] = shapeVertices(shape)
+        const a = toWorld(v, p.x, p.y)
+        const c = toWorld(v, q.x, q.y)
+        ctx.moveTo(a.x, a.y)
+        ctx.lineTo(c.x, c.y)
+        segments = true
+      }
+    }
+    if (segments) {
+      ctx.lineWidth = this.lineWidth(3)
+      ctx.lineCap = 'round'
+      ctx.strokeStyle = SEGMENT_COLOR
+      ctx.stroke()
+      ctx.lineCap = 'butt'
+    }
   }
 
   /**
-   * Add a body's outline to the current path, scaled by `shrink` about its origin; circles get a
-   * radius line to show rotation.
+   * Add a body's outline (every shape) to the current path, scaled by `shrink` about its origin;
+   * circles get a radius line to show rotation. Segments add nothing (drawBodies strokes them).
    */
   private traceBody(v: ViewBody, shrink = 1): void {
+    for (const shape of v.shapes) this.traceShape(v, shape, shrink)
+  }
+
+  private traceShape(v: ViewBody, shape: WireShape, shrink: number): void {
     const ctx = this.ctx
-    if (v.shape.type === 'circle') {
-      const r = v.shape.radius * shrink
-      const c = Math.cos(v.angle)
-      const s = Math.sin(v.angle)
-      ctx.moveTo(v.x + r * c, v.y + r * s)
-      ctx.arc(v.x, v.y, r, v.angle, v.angle + 2 * Math.PI)
-      ctx.lineTo(v.x, v.y)
-      return
-    }
-    const verts = shapeVertices(v.shape)
     const c = Math.cos(v.angle) * shrink
     const s = Math.sin(v.angle) * shrink
-    for (let i = 0; i < verts.length; i++) {
+    const wx = (x: number, y: number): number => v.x + c * x - s * y
+    const wy = (x: number, y: number): number => v.y + s * x + c * y
+    if (shape.type === 'segment') return
+    if (shape.type === 'circle') {
+      const r = shape.radius * shrink
+      const cx = wx(shape.x ?? 0, shape.y ?? 0)
+      const cy = wy(shape.x ?? 0, shape.y ?? 0)
+      ctx.moveTo(cx + r * Math.cos(v.angle), cy + r * Math.sin(v.angle))
+      ctx.arc(cx, cy, r, v.angle, v.angle + 2 * Math.PI)
+      ctx.lineTo(cx, cy)
+      return
+    }
+    const verts = shapeVertices(shape)
+    const r = (shape.type === 'polygon' || shape.type === 'capsule' ? (shape.radius ?? 0) : 0) * shrink
+    if (r === 0) {
+      for (let i = 0; i < verts.length; i++) {
+        const p = verts[i]
+        if (i === 0) ctx.moveTo(wx(p.x, p.y), wy(p.x, p.y))
+        else ctx.lineTo(wx(p.x, p.y), wy(p.x, p.y))
+      }
+      ctx.closePath()
+      return
+    }
+    // Rounded (a capsule is a two-vertex polygon): around each vertex, an arc of radius r from the
+    // outward normal of the edge before it to that of the edge after it (counter-clockwise).
+    const n = verts.length
+    for (let i = 0; i < n; i++) {
+      const prev = verts[(i + n - 1) % n]
       const p = verts[i]
-      const x = v.x + c * p.x - s * p.y
-      const y = v.y + s * p.x + c * p.y
-      if (i === 0) ctx.moveTo(x, y)
-      else ctx.lineTo(x, y)
+      const next = verts[(i + 1) % n]
+      const from = Math.atan2(-(p.x - prev.x), p.y - prev.y) + v.angle
+      let to = Math.atan2(-(next.x - p.x), next.y - p.y) + v.angle
+      if (to < from) to += 2 * Math.PI
+      const x = wx(p.x, p.y)
+      const y = wy(p.x, p.y)
+      if (i === 0) ctx.moveTo(x + r * Math.cos(from), y + r * Math.sin(from))
+      ctx.arc(x, y, r, from, to)
     }
     ctx.closePath()
   }
@@ -259,16 +340,18 @@ export class Renderer {
       let minY = Infinity
       let maxX = -Infinity
       let maxY = -Infinity
-      if (v.shape.type === 'circle') {
-        const r = v.shape.radius
-        ;[minX, minY, maxX, maxY] = [v.x - r, v.y - r, v.x + r, v.y + r]
-      } else {
-        for (const p of shapeVertices(v.shape)) {
+      for (const shape of v.shapes) {
+        const r =
+          shape.type === 'circle' || shape.type === 'capsule' || shape.type === 'polygon'
+            ? (shape.radius ?? 0)
+            : 0
+        const points = shape.type === 'circle' ? [{ x: shape.x ?? 0, y: shape.y ?? 0 }] : shapeVertices(shape)
+        for (const p of points) {
           const w = toWorld(v, p.x, p.y)
-          minX = Math.min(minX, w.x)
-          minY = Math.min(minY, w.y)
-          maxX = Math.max(maxX, w.x)
-          maxY = Math.max(maxY, w.y)
+          minX = Math.min(minX, w.x - r)
+          minY = Math.min(minY, w.y - r)
+          maxX = Math.max(maxX, w.x + r)
+          maxY = Math.max(maxY, w.y + r)
         }
       }
       ctx.rect(minX, minY, maxX - minX, maxY - minY)
@@ -341,6 +424,19 @@ export class Renderer {
         ctx.lineTo(o.throwTo.x, o.throwTo.y)
         ctx.stroke()
       }
+    }
+    if (o.stroke && o.stroke.length > 1) {
+      ctx.beginPath()
+      ctx.moveTo(o.stroke[0].x, o.stroke[0].y)
+      for (const p of o.stroke) ctx.lineTo(p.x, p.y)
+      if (o.strokeClosed) {
+        ctx.closePath()
+        ctx.globalAlpha = 0.25
+        ctx.fillStyle = o.color
+        ctx.fill()
+        ctx.globalAlpha = 1
+      }
+      ctx.stroke()
     }
     if (o.ropeFrom && o.cursor) {
       ctx.setLineDash([this.lineWidth(6), this.lineWidth(4)])

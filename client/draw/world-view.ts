@@ -4,7 +4,7 @@
  * drawn between the last two steps (alpha 0 is the previous pose, 1 the current one).
  */
 import type { World } from '../../engine/index.ts'
-import { toWireShape, type WireShape } from '../../shared/index.ts'
+import { cssColor, type WireShape, wireShapesOf } from '../../shared/index.ts'
 import type { ViewBody } from '../modes/index.ts'
 
 const KIND = { static: 0, kinematic: 1, dynamic: 2 } as const
@@ -18,7 +18,9 @@ interface StepViewBody extends ViewBody {
 
 /** The drawn bodies of one world (see the file comment). */
 export class WorldView {
-  private readonly shapes = new Map<number, WireShape>()
+  private readonly shapes = new Map<number, WireShape[]>()
+  /** A body's colour (0xRRGGBB; RoomSimulation.bodyColors) when the world belongs to a room. */
+  colorOf: (id: number) => number | undefined = () => undefined
   private readonly view: StepViewBody[] = []
   private readonly byId = new Map<number, StepViewBody>()
   private readonly scratch = { x: 0, y: 0 }
@@ -86,17 +88,18 @@ export class WorldView {
   private body(world: World, id: number): StepViewBody {
     let v = this.byId.get(id)
     if (!v) {
-      let shape = this.shapes.get(id)
-      if (!shape) {
-        shape = toWireShape(world.getShape(id))
-        this.shapes.set(id, shape)
+      let shapes = this.shapes.get(id)
+      if (!shapes) {
+        shapes = wireShapesOf(world, id)
+        this.shapes.set(id, shapes)
       }
       const p = world.getPosition(id)
       const angle = world.getAngle(id)
       v = {
         id,
         kind: KIND[world.getBodyType(id)],
-        shape,
+        shapes,
+        color: cssColor(this.colorOf(id)),
         x: p.x,
         y: p.y,
         angle,

@@ -2,7 +2,7 @@
  * Input: the pointer tools (mouse, pen and touch through Pointer Events), hit testing of bodies,
  * the keyboard shortcuts table, and what the spawn tools drop.
  */
-export { pickBody, shapeRadius, shapeVertices, toWorld } from './picking.ts'
+export { bodyRadius, pickBody, shapeRadius, shapeVertices, toWorld } from './picking.ts'
 export { helpIntro, helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
 export { SpawnPanel } from './spawn-settings.ts'
 export { TOOLS, ToolController, type ToolName } from './tools.ts'

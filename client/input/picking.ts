@@ -1,7 +1,9 @@
 /*
  * Hit testing: which body is under a world point. Shapes are tested in the body frame (rotate the
  * point by -angle): a circle by distance, a convex polygon by the sign of every edge's cross
- * product (counter-clockwise vertices, as the engine and the wire store them).
+ * product (counter-clockwise vertices, as the engine and the wire store them), a rounded polygon
+ * or capsule by distance to its core, a segment within SEGMENT_PICK_DISTANCE; a body is hit when
+ * any of its shapes is.
  */
 import type { Vec2 } from '../../engine/index.ts'
 import { type WireShape, wireShapeVertices } from '../../shared/index.ts'
@@ -19,12 +21,48 @@ export function shapeVertices(shape: WireShape): Vec2[] {
   return v
 }
 
-/** Largest distance of the shape's outline from the body origin (m). */
+/** Largest distance of the shape's outline (rounding included) from the body origin (m). */
 export function shapeRadius(shape: WireShape): number {
-  if (shape.type === 'circle') return shape.radius
+  if (shape.type === 'circle') return Math.sqrt((shape.x ?? 0) ** 2 + (shape.y ?? 0) ** 2) + shape.radius
   let r = 0
   for (const v of shapeVertices(shape)) r = Math.max(r, Math.sqrt(v.x * v.x + v.y * v.y))
+  return r + (shape.type === 'box' || shape.type === 'segment' ? 0 : (shape.radius ?? 0))
+}
+
+/** Largest distance of a body's outline, over all its shapes, from its origin (m). */
+export function bodyRadius(body: { shapes: readonly WireShape[] }): number {
+  let r = 0
+  for (const shape of body.shapes) r = Math.max(r, shapeRadius(shape))
   return r
+}
+
+/** How close (m) a point must come to a segment shape to pick it: segments have no inside. */
+const SEGMENT_PICK_DISTANCE = 0.15
+
+/** True when the body-frame point lies inside (or on) the shape. */
+function shapeContains(shape: WireShape, l: Vec2): boolean {
+  if (shape.type === 'circle')
+    return (l.x - (shape.x ?? 0)) ** 2 + (l.y - (shape.y ?? 0)) ** 2 <= shape.radius ** 2
+  const v = shapeVertices(shape)
+  if (shape.type === 'segment' || shape.type === 'capsule') {
+    const r = shape.type === 'capsule' ? shape.radius : SEGMENT_PICK_DISTANCE
+    return distanceToSegment(l, v[0].x, v[0].y, v[1].x, v[1].y) <= r
+  }
+  const r = shape.type === 'polygon' ? (shape.radius ?? 0) : 0
+  let inside = true
+  for (let i = 0; i < v.length; i++) {
+    const a = v[i]
+    const b = v[(i + 1) % v.length]
+    if ((b.x - a.x) * (l.y - a.y) - (b.y - a.y) * (l.x - a.x) < 0) inside = false
+  }
+  if (inside || r === 0) return inside
+  // A rounded polygon: within the radius of its core's outline.
+  for (let i = 0; i < v.length; i++) {
+    const a = v[i]
+    const b = v[(i + 1) % v.length]
+    if (distanceToSegment(l, a.x, a.y, b.x, b.y) <= r) return true
+  }
+  return false
 }
 
 /** A world point in the body's frame. */
@@ -43,17 +81,11 @@ export function toWorld(body: { x: number; y: number; angle: number }, lx: numbe
   return { x: body.x + c * lx - s * ly, y: body.y + s * lx + c * ly }
 }
 
-/** True when the world point lies inside the body's shape. */
+/** True when the world point lies inside one of the body's shapes. */
 export function containsPoint(body: ViewBody, p: Vec2): boolean {
   const l = toLocal(body, p)
-  if (body.shape.type === 'circle') return l.x * l.x + l.y * l.y <= body.shape.radius ** 2
-  const v = shapeVertices(body.shape)
-  for (let i = 0; i < v.length; i++) {
-    const a = v[i]
-    const b = v[(i + 1) % v.length]
-    if ((b.x - a.x) * (l.y - a.y) - (b.y - a.y) * (l.x - a.x) < 0) return false
-  }
-  return true
+  for (const shape of body.shapes) if (shapeContains(shape, l)) return true
+  return false
 }
 
 /** The topmost body under a point (drawn last = on top) that passes `accept`, or null. */
@@ -66,7 +98,7 @@ export function pickBody(
   for (let i = bodies.length - 1; i >= 0; i--) {
     const b = bodies[i]
     if (b.id === skip || !accept(b)) continue
-    const r = shapeRadius(b.shape)
+    const r = bodyRadius(b) + SEGMENT_PICK_DISTANCE
     if (Math.abs(p.x - b.x) > r || Math.abs(p.y - b.y) > r) continue
     if (containsPoint(b, p)) return b
   }

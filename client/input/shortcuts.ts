@@ -15,6 +15,10 @@ export type ShortcutAction =
   | 'tool:rope'
   | 'tool:cut'
   | 'tool:inspect'
+  | 'tool:draw'
+  | 'tool:ground'
+  | 'static'
+  | 'finish'
   | 'pause'
   | 'step'
   | 'reset'
@@ -47,6 +51,18 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
   { keys: ['l', '7'], action: 'tool:rope', help: 'Rope: drag from one body (or space) to another' },
   { keys: ['u', '8'], action: 'tool:cut', help: 'Cut: click a pin, rope, rod or spring to remove it' },
   { keys: ['i', '9'], action: 'tool:inspect', help: 'Lab: click a body to see its free-body diagram' },
+  {
+    keys: ['w', '0'],
+    action: 'tool:draw',
+    help: 'Draw: drag a shape (or click corners); again: box, circle, capsule',
+  },
+  {
+    keys: ['t'],
+    action: 'tool:ground',
+    help: 'Ground: drag a static line (or click points)',
+  },
+  { keys: ['m'], action: 'static', help: 'Static: what you draw or drop stays put (on / off)' },
+  { keys: ['enter'], action: 'finish', help: 'Finish the outline or line you are clicking' },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
   { keys: ['r'], action: 'reset', help: 'Reset the scene' },

@@ -10,14 +10,27 @@
  * tool never feels late even though the body follows the server a few ticks behind.
  */
 import type { Vec2 } from '../../engine/index.ts'
-import type { WireShape } from '../../shared/index.ts'
+import type { SpawnCommand, WireShape } from '../../shared/index.ts'
 import type { Camera, ToolOverlay } from '../draw/index.ts'
 import type { Sandbox, ViewBody, ViewJoint } from '../modes/index.ts'
+import { DRAW_FORMS, type DrawForm, type Drawn, dragBody, groundBodies, outlineBody } from './drawing.ts'
 import { pickBody, pickJoint, toLocal, toWorld } from './picking.ts'
 import { SPAWN_DEFAULTS, type SpawnSettings } from './spawn-settings.ts'
 
 /** The tools, in toolbar order. */
-export const TOOLS = ['grab', 'circle', 'box', 'polygon', 'delete', 'pin', 'rope', 'cut', 'inspect'] as const
+export const TOOLS = [
+  'grab',
+  'circle',
+  'box',
+  'polygon',
+  'delete',
+  'pin',
+  'rope',
+  'cut',
+  'inspect',
+  'draw',
+  'ground',
+] as const
 /** A tool name. */
 export type ToolName = (typeof TOOLS)[number]
 
@@ -28,6 +41,10 @@ const MAX_THROW = 40
 const CLICK_SLOP = 6
 /** The cut tool takes the joint within this distance of the pointer (CSS px). */
 const CUT_REACH = 12
+/** A drawn stroke takes a point every this many CSS px, and is simplified to within half that. */
+const STROKE_STEP = 4
+/** A click this close (CSS px) to the first point closes a clicked outline (the last point: ends a clicked ground line). */
+const CLOSE_REACH = 12
 /** Cursor updates while not grabbing are sent at most this often (ms). */
 const HOVER_INTERVAL = 50
 
@@ -38,6 +55,8 @@ type Action =
   | { kind: 'spawn'; at: Vec2; shape: WireShape }
   | { kind: 'rope'; a: number; anchor: Vec2 }
   | { kind: 'pinch'; distance: number; mid: Vec2 }
+  | { kind: 'stroke'; points: Vec2[]; moved: number }
+  | { kind: 'drag'; from: Vec2 }
 
 const dynamic = (b: ViewBody): boolean => b.kind === 2
 const isSpawnTool = (tool: ToolName): boolean => tool === 'circle' || tool === 'box' || tool === 'polygon'
@@ -45,7 +64,8 @@ const isSpawnTool = (tool: ToolName): boolean => tool === 'circle' || tool === '
 const GHOST: ViewBody = {
   id: 0,
   kind: 2,
-  shape: { type: 'circle', radius: 0.5 },
+  shapes: [{ type: 'circle', radius: 0.5 }],
+  color: null,
   x: 0,
   y: 0,
   angle: 0,
@@ -63,7 +83,15 @@ export class ToolController {
   private cursor: Vec2 | null = null
   private lastHover = 0
   private polygonSides = 3
-  private preview: { key: string; shape: WireShape } | null = null
+  private preview: { key: string; shapes: WireShape[] } | null = null
+  /** What a drag with the Draw tool makes. */
+  drawForm: DrawForm = 'outline'
+  /** The static toggle: what the Draw and spawn tools make is static. */
+  makeStatic = false
+  /** Points clicked one by one for an outline (Draw) or a ground line (Ground), world m. */
+  private pending: Vec2[] = []
+  /** Tells the player why a drawing was refused (the page's notice). */
+  onNotice: (text: string) => void = () => {}
 
   constructor(
     private readonly canvas: HTMLCanvasElement,
@@ -153,6 +181,13 @@ export class ToolController {
       case 'inspect':
         this.action = { kind: 'pan', moved: 0, clickBody: hit ?? pickBody(bodies, w) }
         return
+      case 'draw':
+        this.action =
+          this.drawForm === 'outline' ? { kind: 'stroke', points: [w], moved: 0 } : { kind: 'drag', from: w }
+        return
+      case 'ground':
+        this.action = { kind: 'stroke', points: [w], moved: 0 }
+        return
     }
     this.action = { kind: 'pan', moved: 0, clickBody: null }
   }
@@ -203,6 +238,11 @@ export class ToolController {
     }
     const w = this.camera.toWorld(p.x, p.y)
     this.cursor = w
+    if (a.kind === 'stroke' && previous) {
+      a.moved += Math.hypot(p.x - previous.x, p.y - previous.y)
+      const last = a.points[a.points.length - 1]
+      if (Math.hypot(w.x - last.x, w.y - last.y) * this.camera.scale >= STROKE_STEP) a.points.push(w)
+    }
     const now = performance.now()
     if (a.kind === 'grab') this.sandbox().send({ k: 'move', x: w.x, y: w.y })
     else if (this.sandbox().mode === 'online' && now - this.lastHover > HOVER_INTERVAL) {
@@ -247,8 +287,12 @@ export class ToolController {
         density,
         friction,
         restitution,
+        ...(this.makeStatic ? { static: true } : {}),
       })
       if (a.shape.type === 'polygon') this.polygonSides = this.polygonSides >= 8 ? 3 : this.polygonSides + 1
+    } else if (a.kind === 'stroke') this.finishStroke(a, w)
+    else if (a.kind === 'drag' && this.drawForm !== 'outline') {
+      this.commit(dragBody(this.drawForm, a.from, w, this.capsuleRadius()))
     } else if (a.kind === 'rope') this.tieRope(a, w)
     else if (a.kind === 'pan' && a.moved < CLICK_SLOP && this.tool === 'inspect') {
       this.selected = a.clickBody && a.clickBody.kind === 2 ? a.clickBody.id : 0
@@ -277,10 +321,69 @@ export class ToolController {
     })
   }
 
+  /**
+   * A stroke ended: a drag is a freehand outline (Draw) or line (Ground); a click adds a point to
+   * the one being clicked, and a click on its first point (Draw) or its last (Ground) finishes it.
+   */
+  private finishStroke(a: { points: Vec2[]; moved: number }, w: Vec2): void {
+    if (a.moved >= CLICK_SLOP) {
+      this.pending = []
+      a.points.push(w)
+      this.commitStroke(a.points)
+      return
+    }
+    const near = (p: Vec2 | undefined): boolean =>
+      p !== undefined && Math.hypot(p.x - w.x, p.y - w.y) * this.camera.scale <= CLOSE_REACH
+    const ends =
+      this.tool === 'draw'
+        ? this.pending.length >= 3 && near(this.pending[0])
+        : this.pending.length >= 2 && near(this.pending.at(-1))
+    if (ends) this.finishPending()
+    else this.pending.push(w)
+  }
+
+  /** Finish the outline or ground line clicked point by point (Enter, or a click on its end). */
+  finishPending(): void {
+    const points = this.pending
+    this.pending = []
+    if (points.length >= 2) this.commitStroke(points)
+  }
+
+  private commitStroke(points: Vec2[]): void {
+    const tolerance = STROKE_STEP / 2 / this.camera.scale
+    this.commit(this.tool === 'ground' ? groundBodies(points, tolerance) : outlineBody(points, tolerance))
+  }
+
+  /** Send what was drawn (static when the toggle is on; with the spawn panel's material), or say why not. */
+  private commit(drawn: Drawn): void {
+    if (!drawn.ok) {
+      this.onNotice(drawn.reason)
+      return
+    }
+    const { density, friction, restitution } = this.spawn
+    for (const cmd of drawn.commands) {
+      const out: SpawnCommand = cmd.static ? cmd : { ...cmd, density, friction, restitution }
+      if (this.makeStatic) out.static = true
+      this.sandbox().send(out)
+    }
+  }
+
+  /** A dragged capsule's radius (m): a quarter of the spawn size's 1 m. */
+  private capsuleRadius(): number {
+    return Math.round(250 * this.spawn.size) / 1000
+  }
+
+  /** The Draw tool's next form (outline, rectangle, circle, capsule, outline ...). */
+  cycleDrawForm(): DrawForm {
+    this.drawForm = DRAW_FORMS[(DRAW_FORMS.indexOf(this.drawForm) + 1) % DRAW_FORMS.length]
+    return this.drawForm
+  }
+
   /** Abandon the current action (a second finger arrived, the tool changed, focus was lost). */
   cancel(): void {
     if (this.action.kind === 'grab') this.sandbox().send({ k: 'release' })
     this.action = { kind: 'none' }
+    this.pending = []
   }
 
   private wheel(e: WheelEvent): void {
@@ -301,6 +404,8 @@ export class ToolController {
       ropeFrom: null,
       cutJoint: null,
       ghostAlpha: 0.5,
+      stroke: null,
+      strokeClosed: false,
     }
     if (a.kind === 'grab') {
       const body = this.sandbox()
@@ -309,22 +414,36 @@ export class ToolController {
       if (body) o.grabAnchor = toWorld(body, a.lx, a.ly)
       else this.action = { kind: 'none' }
     } else if (a.kind === 'spawn') {
-      o.ghost = { ...GHOST, shape: a.shape, x: a.at.x, y: a.at.y }
+      o.ghost = { ...GHOST, shapes: [a.shape], x: a.at.x, y: a.at.y }
       o.throwTo = this.cursor
     } else if (a.kind === 'none' && this.cursor && isSpawnTool(this.tool)) {
       // Hovering with a spawn tool: the shape the next click drops, faint, at the pointer.
-      o.ghost = { ...GHOST, shape: this.previewShape(), x: this.cursor.x, y: this.cursor.y }
+      o.ghost = { ...GHOST, shapes: this.previewShapes(), x: this.cursor.x, y: this.cursor.y }
       o.ghostAlpha = 0.25
+    } else if (a.kind === 'drag' && this.cursor && this.drawForm !== 'outline') {
+      // Dragging out a rectangle, circle or capsule: the body it will be, where it will be.
+      const drawn = dragBody(this.drawForm, a.from, this.cursor, this.capsuleRadius())
+      const cmd = drawn.ok ? drawn.commands[0] : null
+      if (cmd?.shape) o.ghost = { ...GHOST, shapes: [cmd.shape], x: cmd.x, y: cmd.y }
+    } else if (
+      (a.kind === 'stroke' || this.pending.length > 0) &&
+      (this.tool === 'draw' || this.tool === 'ground')
+    ) {
+      // The outline or line so far: clicked points, the stroke being drawn, and the pointer.
+      const points = [...this.pending, ...(a.kind === 'stroke' ? a.points : [])]
+      if (this.cursor) points.push(this.cursor)
+      o.stroke = points
+      o.strokeClosed = this.tool === 'draw'
     } else if (a.kind === 'rope') o.ropeFrom = a.anchor
     else if (this.tool === 'cut' && this.cursor) o.cutJoint = this.jointAt(this.cursor)
     return o
   }
 
   /** The next spawn shape, rebuilt only when it changes (the preview is drawn every frame). */
-  private previewShape(): WireShape {
+  private previewShapes(): WireShape[] {
     const key = `${this.tool}:${this.polygonSides}:${this.spawn.size}`
-    if (this.preview?.key !== key) this.preview = { key, shape: this.spawnShape() }
-    return this.preview.shape
+    if (this.preview?.key !== key) this.preview = { key, shapes: [this.spawnShape()] }
+    return this.preview.shapes
   }
 
   /** Where the pointer is (world m), null when it is not over the canvas. */

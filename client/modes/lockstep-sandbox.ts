@@ -12,6 +12,7 @@
 import type { Vec2 } from '../../engine/index.ts'
 import {
   type Command,
+  cssColor,
   type JoinMessage,
   LockstepClient,
   PROTOCOL_VERSION,
@@ -20,9 +21,9 @@ import {
   type RoomSimulation,
   type ServerMessage,
   TICK_RATE,
-  toWireShape,
   type WirePlayer,
   type WireShape,
+  wireShapesOf,
 } from '../../shared/index.ts'
 import { labFromWorld, viewJoints } from '../draw/index.ts'
 import { Connection } from '../net/index.ts'
@@ -60,7 +61,7 @@ export class LockstepSandbox implements Sandbox {
   private readonly connection: Connection
   private readonly smoother = new CorrectionSmoother()
   private readonly view: ViewBody[] = []
-  private readonly shapes = new Map<number, WireShape>()
+  private readonly shapes = new Map<number, WireShape[]>()
   private players: WirePlayer[] = []
   private statusValue: SandboxStatus = { state: 'connecting' }
   private readonly notice = { count: 0, latest: null as string | null }
@@ -182,17 +183,18 @@ export class LockstepSandbox implements Sandbox {
     for (const [id, p] of sim.players) if (p.grab) grabbed.set(p.grab.body, this.playerColor(id))
     const p = { x: 0, y: 0 }
     for (const id of world.bodyIds()) {
-      let shape = this.shapes.get(id)
-      if (!shape) {
-        shape = toWireShape(world.getShape(id))
-        this.shapes.set(id, shape)
+      let shapes = this.shapes.get(id)
+      if (!shapes) {
+        shapes = wireShapesOf(world, id)
+        this.shapes.set(id, shapes)
       }
       world.getPosition(id, p)
       const o = this.smoother.offset(id)
       this.view.push({
         id,
         kind: KIND[world.getBodyType(id)],
-        shape,
+        shapes,
+        color: cssColor(sim.bodyColors.get(id)),
         x: p.x + (o?.x ?? 0),
         y: p.y + (o?.y ?? 0),
         angle: world.getAngle(id) + (o?.a ?? 0),

@@ -23,6 +23,7 @@ import {
   grabBody,
   grabRefusal,
   moveGrab,
+  playerBodyColor,
   type RoomRules,
   removeJoint,
   setWorldGravity,
@@ -54,12 +55,15 @@ export class OfflineSandbox implements Sandbox {
   private readonly stepper = new FixedStepper()
   private lastNow = Number.NaN
   private readonly view = new WorldView()
+  /** Colours of the bodies spawned here (the offline player is player 1), as a room keeps them. */
+  private readonly colors = new Map<number, number>()
   private readonly joints_ = new Map<JointId, WireJoint>()
   private grab: { joint: JointId; body: number } | null = null
   private stepMs = 0
   private contactCache: ContactInfo[] | null = null
 
   constructor(scene = 'pyramid') {
+    this.view.colorOf = (id) => this.colors.get(id)
     this.sceneName = Object.hasOwn(SCENES, scene) ? scene : 'pyramid'
     this.world = this.build(this.sceneName)
   }
@@ -68,6 +72,7 @@ export class OfflineSandbox implements Sandbox {
     const world = createWorld()
     const joints = buildSceneJoints(world, SCENES[scene].make())
     this.view.clear()
+    this.colors?.clear()
     this.joints_.clear()
     for (const j of joints) this.joints_.set(j.id, j)
     this.grab = null
@@ -132,9 +137,11 @@ export class OfflineSandbox implements Sandbox {
   private apply(cmd: Command): void {
     const w = this.world
     switch (cmd.k) {
-      case 'spawn':
-        spawnBody(w, cmd)
+      case 'spawn': {
+        const spawned = spawnBody(w, cmd)
+        if (spawned.ok) this.colors.set(spawned.value, cmd.color ?? playerBodyColor(1))
         return
+      }
       case 'grab': {
         if (grabRefusal(w, cmd.body)) return
         this.release()
@@ -149,7 +156,10 @@ export class OfflineSandbox implements Sandbox {
         this.release()
         return
       case 'delete':
-        if (deleteBody(w, cmd.body)) return
+        // As in a room: static bodies drawn here (they have a colour) may be deleted too.
+        if (this.colors.has(cmd.body) && w.hasBody(cmd.body)) w.destroyBody(cmd.body)
+        else if (deleteBody(w, cmd.body)) return
+        this.colors.delete(cmd.body)
         if (this.grab?.body === cmd.body) this.grab = null
         for (const [id, j] of this.joints_) if (j.a === cmd.body || j.b === cmd.body) this.joints_.delete(id)
         this.view.remove(cmd.body)

@@ -13,6 +13,7 @@ import {
   ClientMirror,
   type Command,
   type ContactsMessage,
+  cssColor,
   type JoinMessage,
   type MirrorBody,
   type PlainData,
@@ -312,7 +313,7 @@ export class OnlineSandbox implements Sandbox {
     const alive = new Set<number>()
     for (const m of this.mirror.bodies.values()) {
       let v = this.viewById.get(m.id)
-      if (!v || v.shape !== m.shape) v = this.makeView(m)
+      if (!v || v.shapes !== m.shapes) v = this.makeView(m)
       this.view.push(v)
       alive.add(m.id)
     }
@@ -322,7 +323,7 @@ export class OnlineSandbox implements Sandbox {
   }
 
   private makeView(m: MirrorBody): ViewBody {
-    const v: ViewBody = { ...m, grabColor: null }
+    const v: ViewBody = { ...m, color: cssColor(m.color), grabColor: null }
     this.viewById.set(m.id, v)
     return v
   }

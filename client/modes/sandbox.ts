@@ -20,7 +20,10 @@ export interface ViewBody {
   id: number
   /** 0 static, 1 kinematic, 2 dynamic. */
   kind: 0 | 1 | 2
-  shape: WireShape
+  /** Its shapes in the body frame (at least one). */
+  shapes: WireShape[]
+  /** Its colour as CSS '#rrggbb' (bodies players made), or null: drawn in its kind's colour. */
+  color: string | null
   x: number
   y: number
   angle: number

@@ -41,7 +41,9 @@ export class ReplaySandbox implements Sandbox {
   private notice: string | null = null
   private noticeCount = 0
 
-  private constructor(readonly player: ReplayPlayer) {}
+  private constructor(readonly player: ReplayPlayer) {
+    this.view.colorOf = (id) => this.player.sim.bodyColors.get(id)
+  }
 
   /** Open a loaded log at its first tick. */
   static async open(log: LoadedLog, inflate: Inflate): Promise<ReplaySandbox> {

@@ -246,7 +246,7 @@ export class WorldApi extends WorldStore {
    * A shape's definition as it stands: geometry, material, filter and flags (every field given),
    * so createShape or createBody with it makes the same shape.
    */
-  getShapeDef(id: ShapeId): ShapeDef {
+  getShapeDef(id: ShapeId): Required<ShapeDef> {
     const s = this.bodyShape(id)
     return {
       shape: s.shape,

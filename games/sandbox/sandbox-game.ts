@@ -22,15 +22,17 @@ function loadTooSoon(tick: number, lastLoadTick: number): string | null {
 
 /** The sandbox's commands, one per built-in kind. */
 export const sandboxCommands = {
-  spawn: builtin('spawn', (ctx, _player, cmd) => {
-    const spawned = ctx.spawn(cmd)
+  spawn: builtin('spawn', (ctx, player, cmd) => {
+    const spawned = ctx.spawn(cmd, player)
     return typeof spawned === 'string' ? spawned : null
   }),
   grab: builtin('grab', (ctx, player, cmd) => ctx.grab(player, cmd.body, cmd.lx, cmd.ly)),
   move: builtin('move', (ctx, player, cmd) => ctx.moveCursor(player, cmd.x, cmd.y)),
   release: builtin('release', (ctx, player) => ctx.release(player)),
   delete: builtin('delete', (ctx, _player, cmd) => {
-    if (!isMovable(ctx.world, cmd.body)) return `body ${cmd.body} does not exist or is static`
+    // Static bodies players drew (they have a colour) may be deleted; the scene's may not.
+    if (!isMovable(ctx.world, cmd.body) && !(ctx.world.hasBody(cmd.body) && ctx.bodyColor(cmd.body) !== null))
+      return `body ${cmd.body} does not exist or is static`
     ctx.destroyBody(cmd.body)
     return null
   }),

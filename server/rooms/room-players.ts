@@ -5,6 +5,7 @@
  * yet detected), that socket is replaced.
  */
 import { randomBytes } from 'node:crypto'
+import { PLAYER_PALETTE } from '../../shared/index.ts'
 import type { RoomPlayer } from './room-player.ts'
 
 /** A player who left, remembered for the reconnect window. */
@@ -15,24 +16,9 @@ export interface DepartedPlayer {
   leftTick: number
 }
 
-const PALETTE = [
-  '#e6194b',
-  '#3cb44b',
-  '#4363d8',
-  '#f58231',
-  '#911eb4',
-  '#42d4f4',
-  '#f032e6',
-  '#bfef45',
-  '#fabed4',
-  '#469990',
-  '#dcbeff',
-  '#9a6324',
-]
-
 /** A player's colour from its id. */
 export function playerColor(id: number): string {
-  return PALETTE[(id - 1) % PALETTE.length]
+  return PLAYER_PALETTE[(id - 1) % PLAYER_PALETTE.length]
 }
 
 /** What a join resolves to. */

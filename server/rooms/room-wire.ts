@@ -26,12 +26,12 @@ import {
   type QuantizedFrame,
   quantizeAngle,
   quantizePosition,
-  toWireShape,
   type WireBody,
   type WireBodyType,
   type WireJoint,
   type WireJointForce,
   type WireJointForceKind,
+  wireShapesOf,
 } from '../../shared/index.ts'
 
 const KIND: Record<string, WireBodyType> = { static: 0, kinematic: 1, dynamic: 2 }
@@ -58,18 +58,21 @@ export function fillFrame(world: World, frame: QuantizedFrame): void {
   }
 }
 
-/** A body as it travels in events and full states. */
-export function wireBody(world: World, id: number): WireBody {
+/** A body as it travels in events and full states, with its colour from `colors` when it has one. */
+export function wireBody(world: World, id: number, colors?: ReadonlyMap<number, number>): WireBody {
   const p = world.getPosition(id, scratch)
-  return {
+  const body: WireBody = {
     id,
     kind: KIND[world.getBodyType(id)],
-    shape: toWireShape(world.getShape(id)),
+    shapes: wireShapesOf(world, id),
     x: quantizePosition(p.x),
     y: quantizePosition(p.y),
     a: quantizeAngle(world.getAngle(id)),
     awake: world.isAwake(id) ? 1 : 0,
   }
+  const color = colors?.get(id)
+  if (color !== undefined) body.color = color
+  return body
 }
 
 /**
@@ -92,6 +95,7 @@ export function fullState(
   scene: string,
   paused: boolean,
   joints: Iterable<WireJoint>,
+  colors?: ReadonlyMap<number, number>,
 ): FullState {
   const g = world.getGravity()
   return {
@@ -99,7 +103,7 @@ export function fullState(
     scene,
     paused,
     gravity: [g.x, g.y],
-    bodies: world.bodyIds().map((id) => wireBody(world, id)),
+    bodies: world.bodyIds().map((id) => wireBody(world, id, colors)),
     joints: [...joints],
   }
 }

@@ -272,7 +272,14 @@ export class Room {
       room: this.name,
       rules: controls || !this.rules.controls ? this.rules : { ...this.rules, controls: false },
       players: this.roster(),
-      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
+      state: fullState(
+        this.world,
+        this.tick,
+        this.scene,
+        this.sim.paused,
+        this.sim.userJoints.values(),
+        this.sim.bodyColors,
+      ),
     })
   }
 
@@ -475,7 +482,7 @@ export class Room {
   private listener(): SimulationListener {
     return {
       bodyAdded: (id) => {
-        const body = wireBody(this.sim.world, id)
+        const body = wireBody(this.sim.world, id, this.sim.bodyColors)
         const input = this.applying
         if (input?.cmd.k === 'spawn') {
           body.player = input.player.id
@@ -513,7 +520,14 @@ export class Room {
     fillFrame(this.world, frame)
     const bytes = encodeMessage({
       t: 'state',
-      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
+      state: fullState(
+        this.world,
+        this.tick,
+        this.scene,
+        this.sim.paused,
+        this.sim.userJoints.values(),
+        this.sim.bodyColors,
+      ),
     })
     for (const p of this.players.values()) {
       p.inspect = 0

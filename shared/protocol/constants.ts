@@ -39,7 +39,46 @@ export const MAX_ROOM_NAME_LENGTH = 32
 /** Allowed room names: letters, digits, dash and underscore. */
 export const ROOM_NAME_PATTERN = /^[A-Za-z0-9_-]{1,32}$/
 
-/** Largest spawned shape extent (m): circle radius, box half size, polygon vertex distance. */
+/** Players' colours by id ('#rrggbb'): player id i has PLAYER_PALETTE[(i - 1) % 12], its cursor and its bodies' default. */
+export const PLAYER_PALETTE: readonly string[] = [
+  '#e6194b',
+  '#3cb44b',
+  '#4363d8',
+  '#f58231',
+  '#911eb4',
+  '#42d4f4',
+  '#f032e6',
+  '#bfef45',
+  '#fabed4',
+  '#469990',
+  '#dcbeff',
+  '#9a6324',
+]
+
+/** The default colour (0xRRGGBB) of the bodies a player spawns: its roster colour. */
+export function playerBodyColor(playerId: number): number {
+  const n = PLAYER_PALETTE.length
+  return Number.parseInt(PLAYER_PALETTE[(((playerId - 1) % n) + n) % n].slice(1), 16)
+}
+
+/** A 0xRRGGBB colour as CSS '#rrggbb'; null for none. */
+export function cssColor(rgb: number | undefined | null): string | null {
+  return typeof rgb === 'number' ? `#${(rgb & 0xffffff).toString(16).padStart(6, '0')}` : null
+}
+
+/** Most shapes a `spawn` may list in `shapes` (an `outline` may decompose into more pieces). */
+export const MAX_BODY_SHAPES = 16
+
+/** Ranges of a shape's rolling resistance (dimensionless) and tangent speed (m/s) on the wire, [min, max]. */
+export const SHAPE_SETTINGS = {
+  rolling: [0, 10],
+  tangent: [-100, 100],
+} as const
+
+/**
+ * Largest spawned shape extent (m): a circle's, capsule's or rounded polygon's radius, a box's half
+ * size, and every coordinate of a vertex, end or centre in the body frame (|x|, |y|).
+ */
 export const MAX_SHAPE_EXTENT = 10
 
 /** Smallest spawned shape extent (m). */

@@ -33,7 +33,15 @@ export {
   quantizePosition,
 } from './quantize.ts'
 export { FRAME_AWAKE, FRAME_PRESENT, QuantizedFrame } from './quantized-frame.ts'
-export { fromWireShape, toWireShape, wireShapeVertices } from './shape-wire.ts'
+export {
+  fromWireShape,
+  fromWireShapeDef,
+  spawnShapeDefs,
+  toWireShape,
+  wireShapeOf,
+  wireShapesOf,
+  wireShapeVertices,
+} from './shape-wire.ts'
 export { readUpdates, UPDATE_ABSOLUTE, UPDATE_AWAKE, updateSize, writeUpdates } from './snapshot-codec.ts'
 export { type EncodeStats, SnapshotEncoder } from './snapshot-encoder.ts'
 export { type AppliedSnapshot, SnapshotHistory } from './snapshot-history.ts'

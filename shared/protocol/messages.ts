@@ -9,11 +9,38 @@
  * within one world epoch (a scene load or reset starts a new epoch with a `state` message).
  */
 
-/** A shape as it travels: circle radius, box half extents, or polygon vertices flat [x0, y0, ...]. */
-export type WireShape =
-  | { type: 'circle'; radius: number }
-  | { type: 'box'; hw: number; hh: number }
-  | { type: 'polygon'; v: number[] }
+/**
+ * A shape's settings besides its geometry, present only when not the default: density (kg/m^2,
+ * default 1), friction (0.6), restitution (0), rolling resistance (0), tangent speed (m/s, 0: a
+ * conveyor surface), collision filter [categoryBits, maskBits, groupIndex] ([1, 0xffffffff, 0]) and
+ * sensor (false). In a `spawn`, an absent one takes the spawn's own `density`, `friction` or
+ * `restitution`, else the default.
+ */
+export interface WireShapeSettings {
+  density?: number
+  friction?: number
+  restitution?: number
+  rolling?: number
+  tangent?: number
+  filter?: [number, number, number]
+  sensor?: boolean
+}
+
+/**
+ * A shape as it travels, in its body's frame (m): a circle (radius, centre x, y when not the
+ * origin), a box (half extents; in a `spawn` also an optional centre x, y and angle, rad; bodies
+ * list an offset or turned box as a polygon), a polygon (vertices flat [x0, y0, ...], 3-8 of them,
+ * counter-clockwise convex; `radius` > 0 rounds it), a capsule (centres [x1, y1, x2, y2] and
+ * radius) or a segment (ends [x1, y1, x2, y2]); each with its non-default settings.
+ */
+export type WireShape = WireShapeSettings &
+  (
+    | { type: 'circle'; radius: number; x?: number; y?: number }
+    | { type: 'box'; hw: number; hh: number; x?: number; y?: number; angle?: number }
+    | { type: 'polygon'; v: number[]; radius?: number }
+    | { type: 'capsule'; v: number[]; radius: number }
+    | { type: 'segment'; v: number[] }
+  )
 
 /** Body type codes: 0 static, 1 kinematic, 2 dynamic. */
 export type WireBodyType = 0 | 1 | 2
@@ -22,7 +49,10 @@ export type WireBodyType = 0 | 1 | 2
 export interface WireBody {
   id: number
   kind: WireBodyType
-  shape: WireShape
+  /** The body's shapes, in creation order (at least one). */
+  shapes: WireShape[]
+  /** The body's colour as 0xRRGGBB, when it has one (bodies players made); absent: drawn by kind. */
+  color?: number
   /** Quantized x, y (mm) and angle (1/65536 turn). */
   x: number
   y: number
@@ -116,12 +146,18 @@ export interface RoomRules {
 // ---------------------------------------------------------------- client -> server
 
 /**
- * Spawn a dynamic body; position (m), angle (rad), velocities (m/s, rad/s); optional material:
- * density (kg/m^2, default 1), friction (default 0.6), restitution (default 0).
+ * Spawn a body: exactly one of `shape` (one shape), `shapes` (a compound body, 1 to
+ * MAX_BODY_SHAPES shapes) or `outline` (a simple polygon, flat [x0, y0, ...], 3 to 64 points in the
+ * body frame, decomposed into convex pieces by the engine). Position (m), angle (rad), velocities
+ * (m/s, rad/s); optional material for every shape that does not give its own: density (kg/m^2,
+ * default 1), friction (default 0.6), restitution (default 0); `color` 0xRRGGBB (default: the
+ * spawner's, by player id); `static` true makes a static body (no velocities).
  */
 export interface SpawnCommand {
   k: 'spawn'
-  shape: WireShape
+  shape?: WireShape
+  shapes?: WireShape[]
+  outline?: number[]
   x: number
   y: number
   angle?: number
@@ -131,6 +167,8 @@ export interface SpawnCommand {
   density?: number
   friction?: number
   restitution?: number
+  color?: number
+  static?: boolean
 }
 /** Grab a body at a local point (m); the grab target starts at that point's world position. */
 export interface GrabCommand {

@@ -9,8 +9,10 @@
  * a client not to trip over a different server version.
  */
 
+import { MAX_OUTLINE_POINTS, MAX_POLYGON_VERTICES } from '../../engine/index.ts'
 import type { DecodeResult } from './codec.ts'
 import {
+  MAX_BODY_SHAPES,
   MAX_GRAVITY,
   MAX_HOLD,
   MAX_NAME_LENGTH,
@@ -19,9 +21,10 @@ import {
   MIN_SHAPE_EXTENT,
   PROTOCOL_VERSION,
   ROOM_NAME_PATTERN,
+  SHAPE_SETTINGS,
   SPAWN_MATERIAL,
 } from './constants.ts'
-import type { ClientMessage, Command, ServerMessage, WireShape } from './messages.ts'
+import type { ClientMessage, Command, ServerMessage, SpawnCommand, WireShape } from './messages.ts'
 
 /** Largest id, sequence number or tick accepted (2^53 - 1). */
 const MAX_INT = Number.MAX_SAFE_INTEGER
@@ -104,26 +107,138 @@ function bool(value: unknown, what: string): boolean {
   return value
 }
 
-function validateShape(value: unknown): WireShape {
-  const type = fields(value, 'shape', ['type', 'radius', 'hw', 'hh', 'v'], ['type']).type
-  const extent = (v: unknown, what: string): number => range(v, what, [MIN_SHAPE_EXTENT, MAX_SHAPE_EXTENT])
-  if (type === 'circle') {
-    const f = fields(value, 'circle', ['type', 'radius'], ['radius'])
-    return { type, radius: extent(f.radius, 'circle radius') }
+const SHAPE_FIELDS = [
+  'type',
+  'radius',
+  'hw',
+  'hh',
+  'x',
+  'y',
+  'angle',
+  'v',
+  'density',
+  'friction',
+  'restitution',
+  'rolling',
+  'tangent',
+  'filter',
+  'sensor',
+] as const
+const SHAPE_SETTINGS_FIELDS = ['density', 'friction', 'restitution', 'rolling', 'tangent', 'filter', 'sensor']
+
+/** A flat point list [x0, y0, ...] of `min` to `max` points, each coordinate within MAX_SHAPE_EXTENT. */
+function pointList(
+  value: unknown,
+  what: string,
+  min: number,
+  max: number,
+  limit = MAX_SHAPE_EXTENT,
+): number[] {
+  if (!Array.isArray(value) || value.length < 2 * min || value.length > 2 * max || value.length % 2 !== 0) {
+    const count = min === max ? `${min}` : `${min} to ${max}`
+    throw new SchemaError(`${what} must be a flat list of ${count} points [x0, y0, x1, y1, ...]`)
   }
-  if (type === 'box') {
-    const f = fields(value, 'box', ['type', 'hw', 'hh'], ['hw', 'hh'])
-    return { type, hw: extent(f.hw, 'box hw'), hh: extent(f.hh, 'box hh') }
-  }
-  if (type === 'polygon') {
-    const f = fields(value, 'polygon', ['type', 'v'], ['v'])
-    if (!Array.isArray(f.v) || f.v.length < 6 || f.v.length > 16 || f.v.length % 2 !== 0) {
-      throw new SchemaError('polygon v must be a flat list of 3 to 8 points [x0, y0, x1, y1, ...]')
-    }
-    return { type, v: f.v.map((c, i) => num(c, `polygon v[${i}]`, MAX_SHAPE_EXTENT)) }
-  }
-  throw new SchemaError('shape type must be "circle", "box" or "polygon"')
+  return value.map((c, i) => num(c, `${what}[${i}]`, limit))
 }
+
+/**
+ * One shape of a spawn (PROTOCOL.md, Shape): its geometry within MAX_SHAPE_EXTENT of the body
+ * origin, and its optional settings in their ranges; `what` names it in errors ("shape",
+ * "shapes[2]").
+ */
+function validateShape(value: unknown, what: string): WireShape {
+  const type = fields(value, what, SHAPE_FIELDS, ['type']).type
+  // Errors name the field as "circle radius" (a spawn's shape) or "shapes[2] circle radius".
+  const name = `${what === 'shape' ? '' : `${what} `}${String(type).slice(0, 16)}`
+  const extent = (v: unknown, field: string): number =>
+    range(v, `${name} ${field}`, [MIN_SHAPE_EXTENT, MAX_SHAPE_EXTENT])
+  const at = (v: unknown, field: string): number | undefined =>
+    optNum(v, `${name} ${field}`, MAX_SHAPE_EXTENT)
+  const own = (allowed: string[], required: string[]): Fields =>
+    fields(value, name, ['type', ...allowed, ...SHAPE_SETTINGS_FIELDS], required)
+  let shape: WireShape
+  if (type === 'circle') {
+    const f = own(['radius', 'x', 'y'], ['radius'])
+    shape = { type, radius: extent(f.radius, 'radius') }
+    const x = at(f.x, 'x')
+    const y = at(f.y, 'y')
+    if (x !== undefined) shape.x = x
+    if (y !== undefined) shape.y = y
+  } else if (type === 'box') {
+    const f = own(['hw', 'hh', 'x', 'y', 'angle'], ['hw', 'hh'])
+    shape = { type, hw: extent(f.hw, 'hw'), hh: extent(f.hh, 'hh') }
+    const x = at(f.x, 'x')
+    const y = at(f.y, 'y')
+    const angle = optNum(f.angle, `${name} angle`, 1e3)
+    if (x !== undefined) shape.x = x
+    if (y !== undefined) shape.y = y
+    if (angle !== undefined) shape.angle = angle
+  } else if (type === 'polygon') {
+    const f = own(['v', 'radius'], ['v'])
+    shape = { type, v: pointList(f.v, `${name} v`, 3, MAX_POLYGON_VERTICES) }
+    if (f.radius !== undefined && f.radius !== null && f.radius !== 0)
+      shape.radius = extent(f.radius, 'radius')
+  } else if (type === 'capsule') {
+    const f = own(['v', 'radius'], ['v', 'radius'])
+    shape = { type, v: pointList(f.v, `${name} v`, 2, 2), radius: extent(f.radius, 'radius') }
+  } else if (type === 'segment') {
+    const f = own(['v'], ['v'])
+    shape = { type, v: pointList(f.v, `${name} v`, 2, 2) }
+  } else {
+    throw new SchemaError(`${what} type must be "circle", "box", "polygon", "capsule" or "segment"`)
+  }
+  const f = value as Fields
+  for (const key of ['density', 'friction', 'restitution'] as const) {
+    const v = optRange(f[key], `${what} ${key}`, SPAWN_MATERIAL[key])
+    if (v !== undefined) shape[key] = v
+  }
+  for (const key of ['rolling', 'tangent'] as const) {
+    const v = optRange(f[key], `${what} ${key}`, SHAPE_SETTINGS[key])
+    if (v !== undefined) shape[key] = v
+  }
+  if (f.filter !== undefined && f.filter !== null) {
+    if (!Array.isArray(f.filter) || f.filter.length !== 3)
+      throw new SchemaError(`${what} filter must be [categoryBits, maskBits, groupIndex]`)
+    shape.filter = [
+      int(f.filter[0], `${what} filter categoryBits`, 0, 0xffffffff),
+      int(f.filter[1], `${what} filter maskBits`, 0, 0xffffffff),
+      int(f.filter[2], `${what} filter groupIndex`, -0x80000000, 0x7fffffff),
+    ]
+  }
+  if (f.sensor !== undefined && f.sensor !== null && bool(f.sensor, `${what} sensor`)) shape.sensor = true
+  return shape
+}
+
+/** A spawn's geometry: exactly one of `shape`, `shapes` (1 to MAX_BODY_SHAPES) or `outline` (3 to MAX_OUTLINE_POINTS points). */
+function spawnGeometry(c: Fields): Pick<SpawnCommand, 'shape' | 'shapes' | 'outline'> {
+  const given = (['shape', 'shapes', 'outline'] as const).filter(
+    (key) => c[key] !== undefined && c[key] !== null,
+  )
+  if (given.length !== 1) throw new SchemaError('spawn needs exactly one of shape, shapes or outline')
+  if (given[0] === 'shape') return { shape: validateShape(c.shape, 'shape') }
+  if (given[0] === 'outline') return { outline: pointList(c.outline, 'outline', 3, MAX_OUTLINE_POINTS) }
+  if (!Array.isArray(c.shapes) || c.shapes.length < 1 || c.shapes.length > MAX_BODY_SHAPES)
+    throw new SchemaError(`shapes must be a list of 1 to ${MAX_BODY_SHAPES} shapes`)
+  return { shapes: c.shapes.map((s, i) => validateShape(s, `shapes[${i}]`)) }
+}
+
+/** Every field a `spawn` may have besides `k`. */
+const SPAWN_FIELDS = [
+  'shape',
+  'shapes',
+  'outline',
+  'x',
+  'y',
+  'angle',
+  'vx',
+  'vy',
+  'w',
+  'density',
+  'friction',
+  'restitution',
+  'color',
+  'static',
+]
 
 const id = (v: unknown, what: string): number => int(v, what, 1, MAX_INT)
 const bodyOrWorld = (v: unknown, what: string): number => int(v, what, 0, MAX_INT)
@@ -133,31 +248,7 @@ function validateCommand(value: unknown): Command {
   const k = fields(
     value,
     'cmd',
-    [
-      'k',
-      'shape',
-      'x',
-      'y',
-      'angle',
-      'vx',
-      'vy',
-      'w',
-      'density',
-      'friction',
-      'restitution',
-      'body',
-      'lx',
-      'ly',
-      'a',
-      'b',
-      'ax',
-      'ay',
-      'bx',
-      'by',
-      'joint',
-      'name',
-      'paused',
-    ],
+    ['k', ...SPAWN_FIELDS, 'body', 'lx', 'ly', 'a', 'b', 'ax', 'ay', 'bx', 'by', 'joint', 'name', 'paused'],
     ['k'],
   ).k
   const f = (allowed: string[]): Fields =>
@@ -169,8 +260,8 @@ function validateCommand(value: unknown): Command {
     )
   switch (k) {
     case 'spawn': {
-      const c = f(['shape', 'x', 'y', 'angle', 'vx', 'vy', 'w', 'density', 'friction', 'restitution'])
-      const cmd: Command = { k, shape: validateShape(c.shape), x: coord(c.x, 'x'), y: coord(c.y, 'y') }
+      const c = fields(value, 'spawn command', ['k', ...SPAWN_FIELDS], ['k', 'x', 'y'])
+      const cmd: Command = { k, ...spawnGeometry(c), x: coord(c.x, 'x'), y: coord(c.y, 'y') }
       const angle = optNum(c.angle, 'angle', 1e3)
       const vx = optNum(c.vx, 'vx', MAX_COORD)
       const vy = optNum(c.vy, 'vy', MAX_COORD)
@@ -183,6 +274,8 @@ function validateCommand(value: unknown): Command {
         const v = optRange(c[key], key, SPAWN_MATERIAL[key])
         if (v !== undefined) cmd[key] = v
       }
+      if (c.color !== undefined && c.color !== null) cmd.color = int(c.color, 'color', 0, 0xffffff)
+      if (c.static !== undefined && c.static !== null && bool(c.static, 'static')) cmd.static = true
       return cmd
     }
     case 'grab': {

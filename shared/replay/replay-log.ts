@@ -331,7 +331,15 @@ function simState(v: unknown): SimulationState {
     game: m.game === undefined ? 'sandbox' : str(m.game, 'state game'),
     gameState: m.gameState === undefined ? null : plain(m.gameState, 'state gameState'),
     random: m.random === undefined ? DEFAULT_SEED : int(m.random, 'state random'),
+    // Logs from before body colours have none.
+    colors: m.colors === undefined ? [] : colorList(m.colors),
   }
+}
+
+function colorList(v: unknown): number[] {
+  if (!Array.isArray(v) || v.length % 2 !== 0)
+    throw new ReplayFormatError('state colors must be a flat pair list')
+  return v.map((c, i) => int(c, `state colors[${i}]`))
 }
 
 function plain(v: unknown, what: string): PlainData {

@@ -28,7 +28,10 @@ import {
 export interface MirrorBody {
   id: number
   kind: 0 | 1 | 2
-  shape: WireShape
+  /** Its shapes in the body frame (at least one). */
+  shapes: WireShape[]
+  /** 0xRRGGBB when the body has a colour. */
+  color?: number
   x: number
   y: number
   angle: number
@@ -146,13 +149,14 @@ export class ClientMirror {
     const body: MirrorBody = {
       id: b.id,
       kind: b.kind,
-      shape: b.shape,
+      shapes: b.shapes,
       x: dequantizePosition(b.x),
       y: dequantizePosition(b.y),
       angle: dequantizeAngle(b.a),
       awake: b.awake === 1,
       tick: this.tick,
     }
+    if (typeof b.color === 'number') body.color = b.color
     if (typeof b.player === 'number' && typeof b.seq === 'number') {
       body.player = b.player
       body.seq = b.seq

@@ -117,8 +117,13 @@ export interface GameContext<S = PlainData | undefined> {
   requestStep(): void
   /** Create a body and tell clients; refused at the body limit or by an engine precondition. */
   createBody(def: Parameters<World['createBody']>[0]): number | string
-  /** A dynamic body from a spawn command (clamped as PROTOCOL.md says); the id, or a refusal. */
-  spawn(cmd: SpawnCommand): number | string
+  /**
+   * A body from a spawn command (clamped as PROTOCOL.md says), coloured `cmd.color`, else the
+   * player's colour (playerBodyColor) when `player` is given; the id, or a refusal.
+   */
+  spawn(cmd: SpawnCommand, player?: number): number | string
+  /** A body's colour (0xRRGGBB) when a spawn gave it one, else null (scene and game bodies). */
+  bodyColor(id: number): number | null
   /** Destroy a body and what is attached to it (grabs, user joints), telling clients. */
   destroyBody(id: number): void
   /** A player's grab of a dynamic body at a local point (releases its earlier grab); null or a refusal. */
@@ -248,4 +253,13 @@ export function hashPlainData(value: PlainData, seed = FNV_OFFSET): number {
 /** The simulation hash of a game with state: FNV-1a of the world hash, the PRNG position and the state. */
 export function simulationHash(worldHash: number, random: number, state: PlainData): number {
   return hashPlainData(state, mixUint32(mixUint32(FNV_OFFSET, worldHash), random))
+}
+
+/**
+ * A simulation hash with the room's body colours mixed in: FNV-1a of `hash` then of `colors`
+ * (flat [body id, 0xRRGGBB, ...], ascending ids) as plain data. Rooms without coloured bodies keep
+ * their hash unchanged (the caller skips this for an empty list).
+ */
+export function colorsHash(hash: number, colors: number[]): number {
+  return hashPlainData(colors, mixUint32(FNV_OFFSET, hash))
 }

@@ -7,6 +7,7 @@ export { ClientMirror, type MirrorBody, type MirrorCursor } from './client-mirro
 export {
   BUILTIN_KINDS,
   type BuiltinKind,
+  colorsHash,
   copyPlainData,
   type GameCatalog,
   type GameCommand,

@@ -30,12 +30,14 @@ import {
   KILL_DISTANCE,
   KILL_PLANE_Y,
   type PinCommand,
+  playerBodyColor,
   type RopeCommand,
   type SpawnCommand,
   TICK_RATE,
   type WireJoint,
 } from '../protocol/index.ts'
 import {
+  colorsHash,
   copyPlainData,
   type GameContext,
   NO_EVENTS,
@@ -89,6 +91,8 @@ export interface SimulationState {
   game: string
   gameState: PlainData
   random: number
+  /** Body colours, flat [body id, 0xRRGGBB, ...] in ascending ids (absent in states saved before colours). */
+  colors?: number[]
 }
 
 /** World side effects, for the owner to turn into wire events. Called synchronously. */
@@ -188,6 +192,11 @@ export class RoomSimulation {
   readonly userJoints = new Map<number, WireJoint>()
   /** Grabs per body id. */
   readonly grabCounts = new Map<number, number>()
+  /**
+   * Colours (0xRRGGBB) of the bodies players spawned, by body id: saved, synced and hashed with
+   * the world. A static body with a colour was made by a player, and players may delete it.
+   */
+  readonly bodyColors = new Map<number, number>()
   readonly observers: SimulationObserver[] = []
   readonly maxBodies: number
   readonly controls: boolean
@@ -228,8 +237,25 @@ export class RoomSimulation {
   /** The simulation hash: world.hash() for a game without state, else mixed with its state and PRNG. */
   hash(): number {
     const worldHash = this.world.hash()
-    if (this.gameState === undefined) return worldHash
-    return simulationHash(worldHash, this.random.position(), this.gameState)
+    const hash =
+      this.gameState === undefined
+        ? worldHash
+        : simulationHash(worldHash, this.random.position(), this.gameState)
+    return this.bodyColors.size === 0 ? hash : colorsHash(hash, this.colorList())
+  }
+
+  /** Body colours as flat [body id, 0xRRGGBB, ...], ascending ids. */
+  colorList(): number[] {
+    const ids = [...this.bodyColors.keys()].sort((a, b) => a - b)
+    const out: number[] = []
+    for (const id of ids) out.push(id, this.bodyColors.get(id) as number)
+    return out
+  }
+
+  /** Replace the body colours from a flat [body id, 0xRRGGBB, ...] list. */
+  setColors(colors: readonly number[]): void {
+    this.bodyColors.clear()
+    for (let i = 0; i + 1 < colors.length; i += 2) this.bodyColors.set(colors[i], colors[i + 1])
   }
 
   /** Why a player cannot join (the game is full), or null. */
@@ -354,6 +380,7 @@ export class RoomSimulation {
       game: this.game.name,
       gameState: this.gameState === undefined ? null : copyPlainData(this.gameState),
       random: this.random.position(),
+      colors: this.colorList(),
     }
   }
 
@@ -381,6 +408,7 @@ export class RoomSimulation {
     this.userJoints.clear()
     for (const j of state.userJoints) this.userJoints.set(j.id, { ...j })
     this.restoreGame(state.gameState, state.random)
+    this.setColors(state.colors ?? [])
     this.listener.worldReplaced()
     this.listener.roomChanged()
   }
@@ -406,6 +434,7 @@ export class RoomSimulation {
       }
     }
     this.grabCounts.delete(id)
+    this.bodyColors.delete(id)
     this.world.destroyBody(id)
     this.listener.bodyRemoved(id)
   }
@@ -435,6 +464,7 @@ export class RoomSimulation {
       this.listener.cursorChanged(pid)
     }
     this.grabCounts.clear()
+    this.bodyColors.clear()
     this.userJoints.clear()
     for (const j of joints) this.userJoints.set(j.id, j)
     this.scene = scene
@@ -494,7 +524,8 @@ export class RoomSimulation {
         sim.stepRequested = true
       },
       createBody: (def) => sim.createBody(def),
-      spawn: (cmd) => sim.spawn(cmd),
+      spawn: (cmd, player) => sim.spawn(cmd, player),
+      bodyColor: (id) => sim.bodyColors.get(id) ?? null,
       destroyBody: (id) => {
         if (sim.world.hasBody(id)) sim.removeBody(id)
       },
@@ -544,10 +575,12 @@ export class RoomSimulation {
     return id
   }
 
-  private spawn(cmd: SpawnCommand): number | string {
+  private spawn(cmd: SpawnCommand, player?: number): number | string {
     if (this.world.bodyCount >= this.maxBodies) return `body limit reached (${this.maxBodies})`
     const spawned = spawnBody(this.world, cmd)
     if (!spawned.ok) return spawned.reason
+    const color = cmd.color ?? (player === undefined ? undefined : playerBodyColor(player))
+    if (color !== undefined) this.bodyColors.set(spawned.value, color)
     this.listener.bodyAdded(spawned.value)
     return spawned.value
   }

@@ -34,6 +34,8 @@ export interface SyncPayload {
   game: string
   state: PlainData
   random: number
+  /** Body colours, flat [body id, 0xRRGGBB, ...] in ascending ids. */
+  colors: number[]
 }
 
 /** The payload of a room simulation as MessagePack bytes (not yet compressed). */
@@ -54,6 +56,7 @@ export function encodeSyncPayload(sim: RoomSimulation): Uint8Array {
     game: sim.game.name,
     state: sim.gameState ?? null,
     random: sim.random.position(),
+    colors: sim.colorList(),
   }
   return encodeValue(payload)
 }
@@ -95,6 +98,11 @@ export function restoreSyncPayload(bytes: Uint8Array, options: RestoreOptions): 
     return { ok: false, reason: 'sync payload lastLoad must be an integer or nil' }
   if (typeof p.game !== 'string' || !isInt(p.random) || p.random < 0 || p.random > 0xffffffff)
     return { ok: false, reason: 'sync payload lacks game or random' }
+  if (
+    p.colors !== undefined &&
+    (!Array.isArray(p.colors) || p.colors.length % 2 !== 0 || !p.colors.every(isInt))
+  )
+    return { ok: false, reason: 'sync payload colors must be a flat list of [body id, colour] integers' }
   const game = options.games(p.game)
   if (!game) return { ok: false, reason: `sync payload: game ${p.game} is not in this build` }
   let sim: RoomSimulation
@@ -110,6 +118,7 @@ export function restoreSyncPayload(bytes: Uint8Array, options: RestoreOptions): 
   sim.paused = p.paused
   sim.stepRequested = p.step
   sim.lastLoadTick = p.lastLoad ?? Number.NEGATIVE_INFINITY
+  sim.setColors(p.colors ?? [])
   for (let i = 0; i < p.players.length; i += 5) {
     const [id, joint, body, cursorX, cursorY] = p.players.slice(i, i + 5)
     sim.restorePlayer(id, { grab: joint === 0 ? null : { joint, body }, cursorX, cursorY })
@@ -148,5 +157,6 @@ export function cloneSimulation(sim: RoomSimulation, options: Omit<RestoreOption
     copy.restorePlayer(id, { grab: p.grab && { ...p.grab }, cursorX: p.cursorX, cursorY: p.cursorY })
   for (const [id, j] of sim.userJoints) copy.userJoints.set(id, j)
   for (const [id, n] of sim.grabCounts) copy.grabCounts.set(id, n)
+  for (const [id, c] of sim.bodyColors) copy.bodyColors.set(id, c)
   return copy
 }

@@ -11,7 +11,7 @@
  * values the server applied. Decoding checks every argument and never throws: a bad entry comes
  * back as a reason, which a client treats like a desync (it asks for a fresh sync).
  */
-import type { WireShape } from '../protocol/index.ts'
+import { type SpawnCommand, validateClientMessage, type WireShape } from '../protocol/index.ts'
 import { copyPlainData, type SimCommand } from './game.ts'
 
 /** A player joining the simulation (its cursor and grab slot exist from this tick). */
@@ -63,20 +63,27 @@ export function entryArguments(action: StreamAction): unknown[] {
     case 'step':
     case 'reset':
       return []
-    case 'spawn':
-      return [
-        action.shape,
+    case 'spawn': {
+      const args = [
+        // The geometry: the Shape map, the list of Shape maps, or {outline: [x0, y0, ...]}.
+        action.shapes ?? action.shape ?? { outline: action.outline },
         action.x,
         action.y,
         action.angle ?? null,
         action.vx ?? null,
         action.vy ?? null,
         action.w ?? null,
-        // The material only when given, so entries without it keep their 7 arguments.
-        ...(action.density === undefined && action.friction === undefined && action.restitution === undefined
-          ? []
-          : [action.density ?? null, action.friction ?? null, action.restitution ?? null]),
       ]
+      const later = [
+        action.density ?? null,
+        action.friction ?? null,
+        action.restitution ?? null,
+        action.color ?? null,
+        action.static ?? null,
+      ]
+      // The optional rest only when given, so entries without it keep their 7 arguments.
+      return later.every((v) => v === null) ? args : [...args, ...later]
+    }
     case 'grab':
       return [action.body, action.lx, action.ly]
     case 'move':
@@ -125,15 +132,24 @@ const int = (v: unknown, what: string): number => {
 const opt = (v: unknown, what: string): number | undefined =>
   v === null || v === undefined ? undefined : num(v, what)
 
+/**
+ * A spawn's geometry from its entry: a Shape map, a list of them, or {outline}. The room checks
+ * it as the server did (validateClientMessage), so here only its form.
+ */
+function geometry(v: unknown): Pick<SpawnCommand, 'shape' | 'shapes' | 'outline'> {
+  if (Array.isArray(v)) return { shapes: v.map((s) => shape(s)) }
+  if (typeof v !== 'object' || v === null) throw new EntryError('spawn geometry must be a map or a list')
+  const m = v as Record<string, unknown>
+  if (Array.isArray(m.outline)) return { outline: m.outline.map((c, i) => num(c, `outline[${i}]`)) }
+  return { shape: shape(v) }
+}
+
 function shape(v: unknown): WireShape {
-  if (typeof v !== 'object' || v === null) throw new EntryError('spawn shape must be a map')
-  const s = v as Record<string, unknown>
-  if (s.type === 'circle') return { type: 'circle', radius: num(s.radius, 'radius') }
-  if (s.type === 'box') return { type: 'box', hw: num(s.hw, 'hw'), hh: num(s.hh, 'hh') }
-  if (s.type === 'polygon' && Array.isArray(s.v) && s.v.length <= 16) {
-    return { type: 'polygon', v: s.v.map((c, i) => num(c, `polygon v[${i}]`)) }
-  }
-  throw new EntryError('spawn shape must be a circle, box or polygon')
+  const checked = validateClientMessage({ t: 'input', seq: 0, cmd: { k: 'spawn', shape: v, x: 0, y: 0 } })
+  if (!checked.ok) throw new EntryError(`spawn ${checked.reason}`)
+  const cmd = checked.value.t === 'input' ? checked.value.cmd : null
+  if (cmd?.k !== 'spawn' || !cmd.shape) throw new EntryError('spawn shape must be a Shape map')
+  return cmd.shape
 }
 
 function decodeAction(code: Code, a: unknown[]): StreamAction {
@@ -148,21 +164,24 @@ function decodeAction(code: Code, a: unknown[]): StreamAction {
       arity(0)
       return { k: 'leave' }
     case 2: {
-      if (a.length !== 10) arity(7)
-      const cmd: SimCommand = { k: 'spawn', shape: shape(a[0]), x: num(a[1], 'x'), y: num(a[2], 'y') }
+      if (a.length !== 10 && a.length !== 12) arity(7)
+      const cmd: SimCommand = { k: 'spawn', ...geometry(a[0]), x: num(a[1], 'x'), y: num(a[2], 'y') }
       const [angle, vx, vy, w] = [opt(a[3], 'angle'), opt(a[4], 'vx'), opt(a[5], 'vy'), opt(a[6], 'w')]
       if (angle !== undefined) cmd.angle = angle
       if (vx !== undefined) cmd.vx = vx
       if (vy !== undefined) cmd.vy = vy
       if (w !== undefined) cmd.w = w
-      const [density, friction, restitution] = [
+      const [density, friction, restitution, color] = [
         opt(a[7], 'density'),
         opt(a[8], 'friction'),
         opt(a[9], 'restitution'),
+        opt(a[10], 'color'),
       ]
       if (density !== undefined) cmd.density = density
       if (friction !== undefined) cmd.friction = friction
       if (restitution !== undefined) cmd.restitution = restitution
+      if (color !== undefined) cmd.color = color
+      if (a[11] === true) cmd.static = true
       return cmd
     }
     case 3:

@@ -12,12 +12,12 @@
 import type { BodyId, JointId, Vec2, World } from '../../engine/index.ts'
 import {
   ANCHOR_MARGIN,
-  fromWireShape,
   MAX_ROPE_LENGTH,
   MAX_SPAWN_SPEED,
   type PinCommand,
   type RopeCommand,
   type SpawnCommand,
+  spawnShapeDefs,
   type WireJoint,
   type WireJointDef,
   WORLD_HALF_EXTENT,
@@ -61,21 +61,21 @@ function guarded<T>(command: string, create: () => T): WorldResult<T> {
 }
 
 /**
- * Create the dynamic body a spawn command asks for: position and speeds clamped; density 1,
- * friction 0.6 and restitution 0 unless the command gives them (validated in SPAWN_MATERIAL's ranges).
+ * Create the body a spawn command asks for (static when `cmd.static`, else dynamic) with the
+ * shapes of spawnShapeDefs (an outline decomposed by the engine): position and speeds clamped;
+ * density 1, friction 0.6 and restitution 0 for every shape that gives none, unless the command
+ * gives them (validated in SPAWN_MATERIAL's ranges). An engine refusal (a self-intersecting
+ * outline, a dynamic body of segments only) comes back as "spawn refused: <the engine's message>".
  */
 export function spawnBody(world: World, cmd: SpawnCommand): WorldResult<BodyId> {
   return guarded('spawn', () =>
     world.createBody({
-      type: 'dynamic',
-      shape: fromWireShape(cmd.shape),
+      type: cmd.static === true ? 'static' : 'dynamic',
+      shapes: spawnShapeDefs(cmd),
       position: clampToWorld(cmd.x, cmd.y),
       angle: cmd.angle ?? 0,
       linearVelocity: { x: clampTo(cmd.vx ?? 0, MAX_SPAWN_SPEED), y: clampTo(cmd.vy ?? 0, MAX_SPAWN_SPEED) },
       angularVelocity: clampTo(cmd.w ?? 0, MAX_SPAWN_SPEED),
-      density: cmd.density ?? 1,
-      friction: cmd.friction ?? 0.6,
-      restitution: cmd.restitution ?? 0,
     }),
   )
 }
@@ -86,12 +86,18 @@ export function grabRefusal(world: World, body: number): string | null {
   return null
 }
 
-/** Largest distance of the shape's outline from the body origin (m). */
+/** Largest distance of the body's outline (every shape, rounding included) from its origin (m). */
 function shapeReach(world: World, id: BodyId): number {
-  const shape = world.getShape(id)
-  if (shape.type === 'circle') return shape.radius
   let r = 0
-  for (const v of shape.vertices) r = Math.max(r, Math.sqrt(v.x * v.x + v.y * v.y))
+  for (const sid of world.bodyShapes(id)) {
+    const shape = world.getShapeGeometry(sid)
+    if (shape.type === 'circle') {
+      const c = shape.centroid
+      r = Math.max(r, Math.sqrt(c.x * c.x + c.y * c.y) + shape.radius)
+      continue
+    }
+    for (const v of shape.vertices) r = Math.max(r, Math.sqrt(v.x * v.x + v.y * v.y) + shape.radius)
+  }
   return r
 }
 

@@ -86,8 +86,8 @@ describe('online', () => {
     await a.page.mouse.click(drop.x, drop.y)
     await a.page.waitForFunction((n) => window.concord.sandbox.bodies().length > n, before.size)
     const spawned = (await bodies(a.page)).find((v) => !before.has(v.id))!
-    expect(spawned.shape).toMatchObject({ type: 'box', hw: 0.5 })
-    await waitForBody(b.page, spawned.id, "b.shape.type === 'box' && Math.abs(b.x - 14) < 0.6")
+    expect(spawned.shapes[0]).toMatchObject({ type: 'box', hw: 0.5 })
+    await waitForBody(b.page, spawned.id, "b.shapes[0].type === 'box' && Math.abs(b.x - 14) < 0.6")
 
     // Lift it 2.5 m up and 2.5 m to the left with the grab tool; both pages must see it arrive.
     await waitForBody(a.page, spawned.id, 'b.y < 0.6')
@@ -121,7 +121,7 @@ describe('online', () => {
     const drop = await screenOf(t.page, -14, 1)
     await t.page.touchscreen.tap(drop.x, drop.y)
     await t.page.waitForFunction((n) => window.concord.sandbox.bodies().length > n, before)
-    const circle = (await bodies(t.page)).find((v) => v.shape.type === 'circle')!
+    const circle = (await bodies(t.page)).find((v) => v.shapes[0].type === 'circle')!
     expect(Math.abs(circle.x + 14)).toBeLessThan(0.6)
 
     await t.page.tap('[data-tool="grab"]')

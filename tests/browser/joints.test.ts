@@ -138,8 +138,8 @@ describe('joints', { timeout: 300_000 }, () => {
       const boxes = window.concord.sandbox
         .bodies()
         .filter(
-          (v: { kind: number; shape: { type: string; hh?: number } }) =>
-            v.kind === 2 && (v.shape.hh ?? 0) > 0.2,
+          (v: { kind: number; shapes: Array<{ type: string; hh?: number }> }) =>
+            v.kind === 2 && (v.shapes[0].hh ?? 0) > 0.2,
         )
       const t = boxes[boxes.length - 1] as { id: number; x: number; y: number }
       const target = { x: t.x + 1.5, y: t.y + 3 }
@@ -152,7 +152,8 @@ describe('joints', { timeout: 300_000 }, () => {
         window.concord.sandbox
           .bodies()
           .find(
-            (v: { kind: number; shape: { type: string } }) => v.kind === 2 && v.shape.type === 'circle',
+            (v: { kind: number; shapes: Array<{ type: string }> }) =>
+              v.kind === 2 && v.shapes[0].type === 'circle',
           ) as {
           id: number
           x: number

@@ -62,7 +62,10 @@ describe('tools', { timeout: 300_000 }, () => {
       () =>
         window.concord.sandbox
           .bodies()
-          .filter((b: { kind: number; shape: { type: string } }) => b.kind === 2 && b.shape.type === 'box')
+          .filter(
+            (b: { kind: number; shapes: Array<{ type: string }> }) =>
+              b.kind === 2 && b.shapes[0].type === 'box',
+          )
           .sort((a: { y: number }, b: { y: number }) => b.y - a.y)[0] as { id: number; x: number; y: number },
     )
     await page.evaluate((b) => window.concord.sandbox.send({ k: 'pin', a: 0, b: b.id, x: b.x, y: b.y }), box)
@@ -96,8 +99,9 @@ describe('tools', { timeout: 300_000 }, () => {
     const preview = () =>
       page.evaluate(() => {
         const ghost = window.concord.tools.overlay('#fff').ghost
-        return ghost && ghost.shape.type === 'polygon'
-          ? { sides: ghost.shape.v.length / 2, x: ghost.x, y: ghost.y }
+        const shape = ghost?.shapes[0]
+        return ghost && shape?.type === 'polygon'
+          ? { sides: shape.v.length / 2, x: ghost.x, y: ghost.y }
           : null
       })
     const spawnedSides: number[] = []
@@ -120,7 +124,7 @@ describe('tools', { timeout: 300_000 }, () => {
           .bodies()
           .filter((v: { kind: number }) => v.kind === 2)
           .sort((p: { id: number }, q: { id: number }) => q.id - p.id)[0]
-        return b.shape.type === 'polygon' ? b.shape.v.length / 2 : 0
+        return b.shapes[0].type === 'polygon' ? b.shapes[0].v.length / 2 : 0
       })
       expect(sides, `drop ${i}: the preview showed ${shown.sides} sides`).toBe(shown.sides)
       spawnedSides.push(sides)
@@ -149,10 +153,10 @@ describe('tools', { timeout: 300_000 }, () => {
       () =>
         window.concord.sandbox.bodies().find((b: { kind: number }) => b.kind === 2) as {
           id: number
-          shape: { radius: number }
+          shapes: Array<{ radius: number }>
         },
     )
-    expect(ball.shape.radius).toBe(1)
+    expect(ball.shapes[0].radius).toBe(1)
     // It bounces: after touching the ground it rises again by more than 40 % of its fall.
     await page.evaluate((id) => {
       const w = window as unknown as { bounce: { low: boolean; high: boolean } }

@@ -97,7 +97,10 @@ export async function loadScene(page: Page, scene: string, joints: number): Prom
 export interface PageBody {
   id: number
   kind: number
-  shape: { type: string; hw?: number; radius?: number }
+  /** Its shapes (the first is the only one for the toolbar's spawns). */
+  shapes: Array<{ type: string; hw?: number; radius?: number; v?: number[] }>
+  /** CSS colour, or null. */
+  color: string | null
   x: number
   y: number
   angle: number
@@ -106,9 +109,15 @@ export interface PageBody {
 /** The page's bodies this frame. */
 export function bodies(page: Page): Promise<PageBody[]> {
   return page.evaluate(() =>
-    window.concord.sandbox
-      .bodies()
-      .map((b: PageBody) => ({ id: b.id, kind: b.kind, shape: b.shape, x: b.x, y: b.y, angle: b.angle })),
+    window.concord.sandbox.bodies().map((b: PageBody) => ({
+      id: b.id,
+      kind: b.kind,
+      shapes: b.shapes,
+      color: b.color,
+      x: b.x,
+      y: b.y,
+      angle: b.angle,
+    })),
   )
 }
 

@@ -10,7 +10,8 @@ import type { ViewBody } from '../../../client/modes/index.ts'
 const body = (kind: 0 | 2, x: number, y: number, hw: number, hh: number, angle = 0): ViewBody => ({
   id: 1,
   kind,
-  shape: { type: 'box', hw, hh },
+  shapes: [{ type: 'box', hw, hh }],
+  color: null,
   x,
   y,
   angle,

@@ -11,7 +11,7 @@ const circle = (x: number): SpawnCommand => ({ k: 'spawn', shape: { type: 'circl
 const body = (player: number | undefined, seq: number | undefined): WireBody => ({
   id: 7,
   kind: 2,
-  shape: { type: 'circle', radius: 0.3 },
+  shapes: [{ type: 'circle', radius: 0.3 }],
   x: 0,
   y: 2000,
   a: 0,

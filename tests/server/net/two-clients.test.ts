@@ -29,8 +29,8 @@ describe('two clients in one room', { timeout: 20_000 }, () => {
     await a.waitFor(() => spawned() !== undefined, 'spawn on a')
     const id = spawned()!
     await b.waitFor(() => b.mirror.bodies.has(id), 'spawn on b')
-    expect(b.mirror.bodies.get(id)!.shape).toEqual(a.mirror.bodies.get(id)!.shape)
-    expect(a.mirror.bodies.get(id)!.shape.type).toBe('polygon')
+    expect(b.mirror.bodies.get(id)!.shapes).toEqual(a.mirror.bodies.get(id)!.shapes)
+    expect(a.mirror.bodies.get(id)!.shapes[0].type).toBe('polygon')
     // The server's own body is the independent reference for the shape.
     const world = server.rooms.get('shared')!.world
     expect(world.hasBody(id)).toBe(true)

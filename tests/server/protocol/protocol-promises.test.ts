@@ -285,7 +285,9 @@ describe('PROTOCOL.md events and numbers', { timeout: 30_000 }, () => {
     spawn(3, [0, 0, 0.0005, 0, 0.5, 0.5]) // two points 0.5 mm apart
     spawn(4, [0, 0, 1, 0, 0.2, 0.2, 0, 1]) // concave
     await c.waitFor(() => added(c).length + c.all('error').length === 4, 'four answers')
-    expect(added(c).map((b) => [b.seq, b.shape])).toEqual([[1, { type: 'polygon', v: [1, 0, 0, 1, 0, 0] }]])
+    expect(added(c).map((b) => [b.seq, b.shapes])).toEqual([
+      [1, [{ type: 'polygon', v: [1, 0, 0, 1, 0, 0] }]],
+    ])
     expect(c.all('error').map((e) => [e.code, e.seq])).toEqual([
       ['refused', 2],
       ['refused', 3],

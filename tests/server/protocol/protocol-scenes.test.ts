@@ -48,7 +48,7 @@ function sceneContents(state: Decoded['state']): {
   joints: Record<string, number>
 } {
   const s = state as {
-    bodies: Array<{ kind: number; shape: { type: string } }>
+    bodies: Array<{ kind: number; shapes: Array<{ type: string }> }>
     joints: Array<{ kind: string }>
   }
   const types = ['box', 'circle', 'polygon']
@@ -56,7 +56,7 @@ function sceneContents(state: Decoded['state']): {
   for (const j of s.joints) joints[j.kind] = (joints[j.kind] ?? 0) + 1
   return {
     statics: s.bodies.filter((b) => b.kind === 0).length,
-    dynamic: types.map((t) => s.bodies.filter((b) => b.kind === 2 && b.shape.type === t).length),
+    dynamic: types.map((t) => s.bodies.filter((b) => b.kind === 2 && b.shapes[0].type === t).length),
     joints,
   }
 }
@@ -95,7 +95,7 @@ describe('PROTOCOL.md scenes', { timeout: 60_000 }, () => {
       expect(s.gravity, row.name).toEqual([0, -10])
       // The ground: the lowest id, static, 200 m wide, its top at y = 0.
       const ground = s.bodies.reduce((lo, b) => ((b.id as number) < (lo.id as number) ? b : lo))
-      expect(ground, row.name).toMatchObject({ kind: 0, y: -1000, shape: { type: 'box', hw: 100, hh: 1 } })
+      expect(ground, row.name).toMatchObject({ kind: 0, y: -1000, shapes: [{ type: 'box', hw: 100, hh: 1 }] })
     }
     c.end()
   })

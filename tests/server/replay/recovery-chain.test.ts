@@ -50,7 +50,7 @@ beforeAll(async () => {
   recorder.start(0)
   sim.join(1, 'ada', '#e6194b')
   const prng = new Prng(7)
-  live.set(0, sim.world.hash())
+  live.set(0, sim.hash())
   while (sim.tick < TICKS) {
     const t = sim.tick
     if (t === 0) {
@@ -64,7 +64,7 @@ beforeAll(async () => {
       sim.apply(1, { k: 'spawn', shape: { type: 'box', hw: 0.3, hh: 0.3 }, x, y: 2, vx: 0, vy: 0 })
     }
     sim.runTick()
-    live.set(sim.tick, sim.world.hash())
+    live.set(sim.tick, sim.hash())
     if (sim.tick % 25 === 0) await recorder.flush()
   }
   await recorder.flush()

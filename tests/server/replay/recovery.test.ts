@@ -18,6 +18,7 @@ import { BotClient } from '../../../bots/bot-client.ts'
 import { loadWorld, Prng } from '../../../engine/index.ts'
 import { listLogNames } from '../../../server/replay/replay-files.ts'
 import { replayLog } from '../../../server/replay/replay-tool.ts'
+import { colorsHash } from '../../../shared/index.ts'
 import { decodeByteDelta } from '../../../shared/replay/byte-delta.ts'
 import type { StoredWorld } from '../../../shared/replay/replay-log.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
@@ -74,7 +75,11 @@ async function lastCheckpoint(
     if (r.type === 'hash') checkpoint = { tick: r.tick, hash: r.hash }
     else if (r.type === 'header' || r.type === 'keyframe') {
       base = savedBytes(r, base)
-      checkpoint = { tick: r.tick, hash: loadWorld(base).hash() }
+      // The state hash (PROTOCOL.md, Lockstep and predict): the world's, continued over the body
+      // colours when there are any (the sandbox keeps no game state).
+      const world = loadWorld(base).hash()
+      const colors = r.state.colors ?? []
+      checkpoint = { tick: r.tick, hash: colors.length === 0 ? world : colorsHash(world, colors) }
     }
     // Records of one block share its end: lastRecord is the last frame's size.
     if (end > before) lastRecord = end - before

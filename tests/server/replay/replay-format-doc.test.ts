@@ -72,6 +72,7 @@ const STATE_KEYS = [
   'game',
   'gameState',
   'random',
+  'colors',
 ]
 
 /** Throws unless `v` is a state map as the document's State table says. */

@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest'
-import { circle } from '../../../engine/index.ts'
+import { circle, loadWorld } from '../../../engine/index.ts'
 import { sandbox } from '../../../games/index.ts'
 import { type Command, KILL_PLANE_Y, type SimCommand } from '../../../shared/index.ts'
 import { RoomSimulation, type SimulationObserver } from '../../../shared/sim/room-simulation.ts'
@@ -260,5 +260,39 @@ describe('RoomSimulation', { timeout: 60_000 }, () => {
     expect(removed.sort()).toEqual([far, lost, fallen].sort())
     expect(sim.world.hasBody(near)).toBe(true)
     expect(sim.world.hasBody(above)).toBe(true)
+  })
+})
+
+describe('body colours are part of the simulation', () => {
+  const spawnIn = (color?: number): RoomSimulation => {
+    const sim = new RoomSimulation({ ...options, scene: 'empty' })
+    sim.join(1, 'a', '#e6194b')
+    const cmd: Command = { k: 'spawn', shape: { type: 'box', hw: 0.5, hh: 0.5 }, x: 0, y: 3 }
+    expect(sim.apply(1, color === undefined ? cmd : { ...cmd, color })).toBeNull()
+    return sim
+  }
+
+  it("a spawn takes its player's roster colour, or its own; another colour changes the hash, not the world", () => {
+    const mine = spawnIn()
+    const red = spawnIn(0xe6194b)
+    const blue = spawnIn(0x0000ff)
+    // Player 1's roster colour is #e6194b (the palette's first).
+    expect(mine.colorList()).toEqual([2, 0xe6194b])
+    expect(red.hash()).toBe(mine.hash())
+    expect(blue.world.hash()).toBe(mine.world.hash())
+    expect(blue.hash()).not.toBe(mine.hash())
+    // A room without coloured bodies keeps the world's hash.
+    const none = new RoomSimulation({ ...options, scene: 'empty' })
+    expect(none.hash()).toBe(none.world.hash())
+  })
+
+  it('saveState and restoreState keep the colours, so the hash continues', () => {
+    const a = spawnIn(0x123456)
+    const b = new RoomSimulation({ ...options, scene: 'empty' })
+    b.restoreState(a.saveState(), loadWorld(a.world.save()))
+    expect(b.colorList()).toEqual([2, 0x123456])
+    expect(b.hash()).toBe(a.hash())
+    a.removeBody(2)
+    expect(a.colorList()).toEqual([])
   })
 })

@@ -33,7 +33,55 @@ const ACTIONS: Array<[StreamAction, unknown[]]> = [
   [{ k: 'gravity', x: 0, y: -9.81 }, [14, 0, -9.81]],
   [
     { k: 'spawn', shape: { type: 'circle', radius: 0.5 }, x: 0, y: 3, friction: 0.1, restitution: 0.9 },
-    [2, { type: 'circle', radius: 0.5 }, 0, 3, null, null, null, null, null, 0.1, 0.9],
+    [2, { type: 'circle', radius: 0.5 }, 0, 3, null, null, null, null, null, 0.1, 0.9, null, null],
+  ],
+  [
+    {
+      k: 'spawn',
+      shapes: [
+        { type: 'capsule', v: [-0.5, 0, 0.5, 0], radius: 0.2, friction: 0.1 },
+        { type: 'circle', radius: 0.3, x: 0, y: 0.4, sensor: true },
+      ],
+      x: 1,
+      y: 4,
+      color: 0x3cb44b,
+    },
+    [
+      2,
+      [
+        { type: 'capsule', v: [-0.5, 0, 0.5, 0], radius: 0.2, friction: 0.1 },
+        { type: 'circle', radius: 0.3, x: 0, y: 0.4, sensor: true },
+      ],
+      1,
+      4,
+      null,
+      null,
+      null,
+      null,
+      null,
+      null,
+      null,
+      0x3cb44b,
+      null,
+    ],
+  ],
+  [
+    { k: 'spawn', outline: [0, 0, 2, 0, 2, 2, 1, 0.5, 0, 2], x: 0, y: 1, static: true },
+    [
+      2,
+      { outline: [0, 0, 2, 0, 2, 2, 1, 0.5, 0, 2] },
+      0,
+      1,
+      null,
+      null,
+      null,
+      null,
+      null,
+      null,
+      null,
+      null,
+      true,
+    ],
   ],
 ]
 
@@ -48,7 +96,7 @@ describe('tick stream entries', () => {
     const list = ACTIONS.map(([action], i) => encodeEntry({ tick: 10 + (i >> 2), player: i + 1, action }, 10))
     const decoded = decodeValue(encodeValue(list))
     expect(decoded.ok).toBe(true)
-    const result = decodeEntries(decoded.ok ? decoded.value : null, 10, 4)
+    const result = decodeEntries(decoded.ok ? decoded.value : null, 10, 5)
     expect(result.ok).toBe(true)
     if (!result.ok) return
     expect(result.entries.map((e) => e.action)).toEqual(ACTIONS.map(([a]) => a))
@@ -74,7 +122,10 @@ describe('tick stream entries', () => {
       [[[0, 1, 4, 1, Number.NaN]], /finite/],
       [[[0, -1, 5]], /player/],
       [[[0, 1, 3, 1.5, 0, 0]], /body/],
-      [[[0, 1, 2, { type: 'blob' }, 0, 0, null, null, null, null]], /circle, box or polygon/],
+      [
+        [[0, 1, 2, { type: 'blob' }, 0, 0, null, null, null, null]],
+        /"circle", "box", "polygon", "capsule" or "segment"/,
+      ],
       [[[0, 1, 11, 'yes']], /true or false/],
     ]
     for (const [list, reason] of bad) {
