@@ -19,7 +19,13 @@ export {
   type GameCommandDefinition,
   type GameDefinition,
 } from './game-api.ts'
-export { MIN_TICKS_BETWEEN_LOADS, sandbox, sandboxCommands } from './sandbox/index.ts'
+export {
+  jointCommands,
+  MAX_JOINT_MOTOR_SPEED,
+  MIN_TICKS_BETWEEN_LOADS,
+  sandbox,
+  sandboxCommands,
+} from './sandbox/index.ts'
 
 /** The games this build ships, by name. */
 export const GAMES: Readonly<Record<string, Game>> = Object.freeze({ sandbox, 'ball-drop': ballDrop })

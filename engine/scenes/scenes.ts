@@ -12,6 +12,8 @@ import { box, circle, polygon, type Shape } from '../collision/index.ts'
 import { cos, PI, sin, type Vec2 } from '../math.ts'
 import { Prng } from '../prng.ts'
 import type { BodyDef, BodyId, JointDef, JointId } from '../types.ts'
+import { groundDef } from './ground.ts'
+import { machinesScene } from './machine-scenes.ts'
 
 /** A scene as data: gravity, body definitions in creation order, and joints between them. */
 export interface SceneBlueprint {
@@ -29,10 +31,7 @@ export interface BodyFactory {
   createJoint?(def: JointDef): JointId
 }
 
-/** Ground: a static box whose top surface is y = 0, 200 m wide. */
-export function groundDef(halfWidth = 100): BodyDef {
-  return { type: 'static', position: { x: 0, y: -1 }, shape: box(halfWidth, 1), friction: 0.6 }
-}
+export { groundDef }
 
 /** Only the ground. */
 export function emptyScene(): SceneBlueprint {
@@ -346,4 +345,8 @@ export const SCENES: Readonly<Record<string, { description: string; make: () => 
     make: chainBridgeScene,
   },
   'card-house': { description: 'A four-storey house of leaning cards', make: cardHouseScene },
+  machines: {
+    description: 'A car on bumps, a piston, a welded crane, a bridge that breaks, a driven platform',
+    make: machinesScene,
+  },
 }

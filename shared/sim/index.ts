@@ -55,6 +55,7 @@ export {
   addUserJoint,
   type CreatedGrab,
   clampToWorld,
+  createUserJoint,
   deleteBody,
   GRAB_FORCE_PER_KG,
   grabBody,
