@@ -11,8 +11,8 @@
  * fields. Anchors are clamped to the world square like a pin's; each must lie within its body's
  * reach plus ANCHOR_MARGIN (shared/sim's createUserJoint).
  */
-import type { Vec2 } from '../../engine/index.ts'
-import { clampToWorld, MAX_ROPE_LENGTH, type WireJointDef } from '../../shared/index.ts'
+import { circle, type Vec2 } from '../../engine/index.ts'
+import { anchorRefusal, clampToWorld, MAX_ROPE_LENGTH, type WireJointDef } from '../../shared/index.ts'
 import type { GameCommandDefinition } from '../game-api.ts'
 
 /** Fastest motor a player may ask for: rad/s for hinges and wheels, m/s for sliders. */
@@ -89,7 +89,12 @@ interface SliderArgs extends PointArgs {
   hz?: number
   damping?: number
 }
-interface WheelArgs extends JointArgs {
+interface WheelArgs {
+  a: number
+  b?: number
+  radius?: number
+  breakForce?: number
+  breakTorque?: number
   x?: number
   y?: number
   dx?: number
@@ -103,7 +108,7 @@ interface WheelArgs extends JointArgs {
 }
 
 /** Bodies and breaking thresholds of a definition (a = 0: the world). */
-const common = (c: JointArgs) => ({
+const common = (c: JointArgs | (WheelArgs & { b: number })) => ({
   bodyA: c.a === 0 ? null : c.a,
   bodyB: c.b,
   breakForce: c.breakForce,
@@ -257,7 +262,9 @@ export const jointCommands: Record<string, GameCommandDefinition<undefined>> = {
   wheel: {
     args: args(
       {
-        ...bodies,
+        a: bodies.a,
+        b: bodies.b,
+        radius: { type: 'number', minimum: 0.05, maximum: 10 },
         x: coordinate,
         y: coordinate,
         dx: coordinate,
@@ -269,22 +276,48 @@ export const jointCommands: Record<string, GameCommandDefinition<undefined>> = {
         torque: effort,
         ...breaking,
       },
-      ['a', 'b'],
+      ['a'],
     ),
     apply(ctx, player, c: WheelArgs) {
-      if (!ctx.world.hasBody(c.b)) return `body ${c.b} does not exist or is static`
+      // The wheel is an existing body (b) or one this command makes (radius, at x, y).
+      if ((c.b === undefined) === (c.radius === undefined))
+        return 'wheel refused: give b (the wheel body) or radius (a new wheel at x, y), not both'
+      if (c.radius !== undefined && (c.x === undefined || c.y === undefined))
+        return 'wheel refused: a new wheel (radius) needs x and y'
       const axis = axisOf(c.dx ?? 0, c.dy ?? 1)
       if (typeof axis === 'string') return `wheel refused: ${axis}`
       const limit = limits(c)
       if (typeof limit === 'string') return `wheel refused: ${limit}`
-      // The anchor is the wheel's centre unless given: the wheel spins about it.
-      const at =
-        c.x === undefined && c.y === undefined ? ctx.world.getPosition(c.b) : { x: c.x ?? 0, y: c.y ?? 0 }
+      let at: Vec2
+      if (c.b !== undefined) {
+        if (!ctx.world.hasBody(c.b)) return `body ${c.b} does not exist or is static`
+        // The anchor is the wheel's centre unless given: the wheel spins about it.
+        at =
+          c.x === undefined && c.y === undefined ? ctx.world.getPosition(c.b) : { x: c.x ?? 0, y: c.y ?? 0 }
+      } else at = { x: c.x ?? 0, y: c.y ?? 0 }
+      const anchor = clampToWorld(at.x, at.y)
+      let b = c.b ?? 0
+      if (c.b === undefined) {
+        // A new wheel: everything the joint needs is checked before the body is made, so a
+        // refusal changes nothing (a joint refused after it would throw: applied everywhere alike).
+        if (c.a !== 0 && !ctx.world.hasBody(c.a)) return `body ${c.a} does not exist`
+        const far = c.a === 0 ? null : anchorRefusal(ctx.world, c.a, anchor, 'wheel anchor')
+        if (far) return far
+        const made = ctx.createBody({
+          type: 'dynamic',
+          position: anchor,
+          shape: circle(c.radius ?? 0.5),
+          density: 1,
+          friction: 0.9,
+        })
+        if (typeof made === 'string') return made
+        b = made
+      }
       const hz = c.hz ?? 4
       const def: WireJointDef = {
         type: 'wheel',
-        ...common(c),
-        anchor: clampToWorld(at.x, at.y),
+        ...common({ ...c, b }),
+        anchor,
         axis,
         enableSpring: hz > 0,
         hertz: hz,
@@ -296,7 +329,9 @@ export const jointCommands: Record<string, GameCommandDefinition<undefined>> = {
         motorSpeed: c.speed ?? 0,
         maxMotorTorque: c.torque ?? 0,
       }
-      return refusalOf(ctx.createJoint(player, def, 'wheel'))
+      const joined = ctx.createJoint(player, def, 'wheel')
+      if (typeof joined === 'string' && c.b === undefined) throw new Error(joined)
+      return refusalOf(joined)
     },
   },
   jointMotor: {

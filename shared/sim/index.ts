@@ -53,6 +53,7 @@ export {
 } from './tick-stream.ts'
 export {
   addUserJoint,
+  anchorRefusal,
   type CreatedGrab,
   clampToWorld,
   createUserJoint,

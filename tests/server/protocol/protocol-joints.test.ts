@@ -148,6 +148,20 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
       },
       ...{ spring: true, hz: 4, damping: 0.7, motor: true, speed: -3, torque: 20, owner: me },
     })
+    // A new wheel made by the command: a circle at (x, y) joined to the chassis at its centre.
+    const made = await joint(bot, 'wheel', { a: box2, radius: 0.3, x: 2.5, y: 2.5, torque: 5 })
+    const tyre = bot.mirror.bodies.get(made.b)!
+    expect([tyre.kind, tyre.shape, tyre.x, tyre.y]).toEqual([2, { type: 'circle', radius: 0.3 }, 2.5, 2.5])
+    expect(made).toMatchObject({
+      kind: 'wheel',
+      a: box2,
+      ax: 0.5,
+      ay: -0.5,
+      bx: 0,
+      by: 0,
+      motor: true,
+      torque: 5,
+    })
     // A late joiner's welcome lists them all, as made.
     const late = await BotClient.connect({ url: server.url, room: 'jfields', name: 'late' })
     expect([...late.mirror.joints.values()].map((j) => j.kind).sort()).toEqual([
@@ -155,6 +169,7 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
       'slider',
       'spring',
       'weld',
+      'wheel',
       'wheel',
     ])
     expect(late.mirror.joints.get(axle.id)).toEqual(axle)
@@ -227,9 +242,25 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
       ['wheel', { a: 0, b: ground }, 'refused', new RegExp(`^body ${ground} does not exist or is static$`)],
       ['wheel', { a: 0, b: box, hz: 100 }, 'invalid', /^wheel refused: hz must be <= 60/],
       ['wheel', { a: 0, b: 999 }, 'refused', /^body 999 does not exist or is static$/],
+      ['wheel', { a: box }, 'refused', /^wheel refused: give b \(the wheel body\) or radius/],
+      ['wheel', { a: 0, b: box, radius: 1, x: 0, y: 0 }, 'refused', /^wheel refused: give b .* not both$/],
+      [
+        'wheel',
+        { a: box, radius: 0.4, x: 0 },
+        'refused',
+        /^wheel refused: a new wheel \(radius\) needs x and y$/,
+      ],
+      [
+        'wheel',
+        { a: box, radius: 0.4, x: 5, y: 3 },
+        'refused',
+        /^wheel anchor \(5\.00, 3\.00\) is 5\.00 m from body/,
+      ],
+      ['wheel', { a: box, radius: 11, x: 0, y: 3 }, 'invalid', /^wheel refused: radius must be <= 10/],
       ['jointMotor', { joint: 1, speed: 60 }, 'invalid', /^jointMotor refused: speed must be <= 50/],
       ['jointMotor', { joint: 999, speed: 1 }, 'refused', /^joint 999 is not a joint in this room$/],
     ]
+    const bodies = bot.mirror.bodies.size
     for (const [kind, args, code, reason] of cases) {
       const e = await refusal(bot, kind, args)
       expect([kind, e.code, e.reason], JSON.stringify(args)).toEqual([
@@ -239,6 +270,8 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
       ])
     }
     expect(bot.mirror.joints.size).toBe(0)
+    // A refused new wheel made no body either.
+    expect(bot.mirror.bodies.size).toBe(bodies)
     // Motors: only the maker drives them, and only joints that have one.
     const hinge = await joint(bot, 'hinge', { ...point, torque: 10 })
     const weld = await joint(bot, 'weld', point)
