@@ -35,6 +35,8 @@ export interface ToolOverlay {
   ropeFrom: Vec2 | null
   /** The joint the cut tool would remove here, marked. */
   cutJoint: ViewJoint | null
+  /** The joint a joint tool would make here (drawn faint, as the joint will be drawn). */
+  joint: ViewJoint | null
 }
 
 /** Everything one frame shows. */
@@ -349,6 +351,13 @@ export class Renderer {
       ctx.lineTo(o.cursor.x, o.cursor.y)
       ctx.stroke()
       ctx.setLineDash([])
+    }
+    if (o.joint) {
+      ctx.globalAlpha = 0.55
+      drawJoints(ctx, [o.joint], () => undefined, this.lineWidth(1), false)
+      ctx.globalAlpha = 1
+      ctx.lineWidth = this.lineWidth(2)
+      ctx.strokeStyle = o.color
     }
     if (o.cutJoint) {
       const j = o.cutJoint

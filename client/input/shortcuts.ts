@@ -15,6 +15,11 @@ export type ShortcutAction =
   | 'tool:rope'
   | 'tool:cut'
   | 'tool:inspect'
+  | 'tool:weld'
+  | 'tool:hinge'
+  | 'tool:spring'
+  | 'tool:slider'
+  | 'tool:wheel'
   | 'pause'
   | 'step'
   | 'reset'
@@ -47,6 +52,27 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
   { keys: ['l', '7'], action: 'tool:rope', help: 'Rope: drag from one body (or space) to another' },
   { keys: ['u', '8'], action: 'tool:cut', help: 'Cut: click a pin, rope, rod or spring to remove it' },
   { keys: ['i', '9'], action: 'tool:inspect', help: 'Lab: click a body to see its free-body diagram' },
+  {
+    keys: ['w'],
+    action: 'tool:weld',
+    help: 'Weld: click a body to glue it to what is under it (or the background)',
+  },
+  {
+    keys: ['e'],
+    action: 'tool:hinge',
+    help: "Hinge: click a body to hinge it to what is under it, with the panel's motor and limit; ←/→ drive your hinges",
+  },
+  { keys: ['q'], action: 'tool:spring', help: 'Spring: drag from one body (or space) to another' },
+  {
+    keys: ['z'],
+    action: 'tool:slider',
+    help: 'Slider: drag from a body along the way it should slide; ↑/↓ drive your sliders',
+  },
+  {
+    keys: ['t'],
+    action: 'tool:wheel',
+    help: 'Wheel: click a chassis to add a sprung, driven wheel there (or click a circle over a body); ←/→ drive your wheels',
+  },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
   { keys: ['r'], action: 'reset', help: 'Reset the scene' },

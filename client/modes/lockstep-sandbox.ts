@@ -15,6 +15,7 @@ import {
   type Command,
   type JoinMessage,
   LockstepClient,
+  type PlainData,
   PROTOCOL_VERSION,
   PredictClient,
   type RoomRules,
@@ -238,6 +239,15 @@ export class LockstepSandbox implements Sandbox {
   send(cmd: Command): void {
     if (this.runner instanceof PredictClient) this.runner.input(cmd, performance.now())
     else this.connection.send({ t: 'input', seq: ++this.seq, cmd })
+  }
+
+  sendGame(kind: string, args: { [key: string]: PlainData }): void {
+    // Game commands are not predicted (docs/games.md): they take effect when the stream confirms them.
+    this.connection.send({ t: 'cmd', seq: ++this.seq, k: kind, a: args })
+  }
+
+  playerId(): number {
+    return this.runner.playerId
   }
 
   color(): string {

@@ -56,6 +56,8 @@ export class OfflineSandbox implements Sandbox {
   private readonly view = new WorldView()
   private readonly joints_ = new Map<JointId, WireJoint>()
   private grab: { joint: JointId; body: number } | null = null
+  private noticeCount = 0
+  private latestNotice: string | null = null
   private stepMs = 0
   private contactCache: ContactInfo[] | null = null
 
@@ -237,8 +239,18 @@ export class OfflineSandbox implements Sandbox {
     return labFromWorld(w, bodyId, this.contacts(), (id) => this.joints_.get(id)?.kind)
   }
 
+  /** The joint tools are the room's game commands: this page's own world does not run the game. */
+  sendGame(kind: string): void {
+    this.noticeCount++
+    this.latestNotice = `The ${kind} tool needs a room: open the sandbox online to build machines.`
+  }
+
+  playerId(): number {
+    return 0
+  }
+
   notices(): { count: number; latest: string | null } {
-    return { count: 0, latest: null }
+    return { count: this.noticeCount, latest: this.latestNotice }
   }
 
   retry(): void {}
