@@ -57,6 +57,8 @@ export class App {
   readonly spawnPanel: SpawnPanel
   /** Motor, limit, spring and breaking force sliders for the joint tools. */
   readonly jointPanel: JointPanel
+  /** The joint tool the toolbar's Joints button picks: the last one used. */
+  private jointTool: ToolName = 'weld'
   readonly layers: DebugLayers = { contacts: false, joints: false, aabbs: false, ids: false }
   readonly fps = new FpsMeter()
   /** Latest free-body diagram (null when nothing is selected). */
@@ -113,6 +115,7 @@ export class App {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
       b.addEventListener('click', () => this.setTool(b.dataset.tool as ToolName))
     }
+    $('joints').addEventListener('click', () => this.setTool(this.jointTool))
     const scene = $<HTMLSelectElement>('scene')
     scene.addEventListener('change', () => {
       this.sandbox.send({ k: 'scene', name: scene.value })
@@ -220,6 +223,8 @@ export class App {
     const joints =
       tool === 'weld' || tool === 'hinge' || tool === 'spring' || tool === 'slider' || tool === 'wheel'
     this.jointPanel.show(joints && this.sandbox.mode !== 'replay')
+    if (joints) this.jointTool = tool
+    $('joints').classList.toggle('active', joints)
     this.placePanels()
   }
 

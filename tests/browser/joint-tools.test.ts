@@ -161,6 +161,13 @@ describe('joint tools', { timeout: 300_000 }, () => {
     await page.waitForFunction(
       () => window.concord.sandbox.bodies().filter((b: { kind: number }) => b.kind === 2).length === 5,
     )
+    // The toolbar's Joints button opens the joint panel with the five tools and picks one.
+    expect(await page.isHidden('#joint-panel')).toBe(true)
+    await page.click('#joints')
+    expect(await page.evaluate(() => window.concord.tools.tool)).toBe('weld')
+    expect(await page.isVisible('#joint-panel [data-tool="wheel"]')).toBe(true)
+    await page.click('#joint-panel [data-tool="slider"]')
+    expect(await page.evaluate(() => window.concord.tools.tool)).toBe('slider')
     const made: string[] = []
     for (const [key, tool, kind, x] of [
       ['w', 'weld', 'weld', -4],
