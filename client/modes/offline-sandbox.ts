@@ -84,9 +84,9 @@ export class OfflineSandbox implements Sandbox {
     this.stepOnce = false
     if (steps > 0) {
       const start = performance.now()
-      for (let i = 0; i < steps - 1; i++) this.world.step()
+      for (let i = 0; i < steps - 1; i++) this.stepWorld()
       this.view.capturePrevious(this.world)
-      this.world.step()
+      this.stepWorld()
       // Once a second, as a room does: bodies that left the world (below the kill plane) go.
       if (Math.floor(this.world.tick / TICK_RATE) !== Math.floor((this.world.tick - steps) / TICK_RATE)) {
         for (const id of strayBodies(this.world)) this.apply({ k: 'delete', body: id })
@@ -121,6 +121,12 @@ export class OfflineSandbox implements Sandbox {
   contacts(): ContactInfo[] {
     this.contactCache ??= this.world.contacts()
     return this.contactCache
+  }
+
+  /** One step; the joints it broke leave the drawn joints, as they leave a room's. */
+  private stepWorld(): void {
+    this.world.step()
+    for (const id of this.world.jointEvents().broken) this.joints_.delete(id)
   }
 
   /**
