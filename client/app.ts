@@ -19,8 +19,10 @@ import {
 } from './draw/index.ts'
 import {
   bodyRadius,
+  driveSpeed,
   helpIntro,
   helpRows,
+  JointPanel,
   pickBody,
   type ShortcutAction,
   SpawnPanel,
@@ -54,6 +56,10 @@ export class App {
   readonly tools: ToolController
   /** Size and material sliders for the spawn tools. */
   readonly spawnPanel: SpawnPanel
+  /** Motor, limit, spring and breaking force sliders for the joint tools. */
+  readonly jointPanel: JointPanel
+  /** The joint tool the toolbar's Joints button picks: the last one used. */
+  private jointTool: ToolName = 'weld'
   readonly layers: DebugLayers = { contacts: false, joints: false, aabbs: false, ids: false }
   readonly fps = new FpsMeter()
   /** Latest free-body diagram (null when nothing is selected). */
@@ -87,7 +93,14 @@ export class App {
     const canvas = $<HTMLCanvasElement>('view')
     this.renderer = new Renderer(canvas, this.camera)
     this.spawnPanel = new SpawnPanel($('spawn-panel'))
-    this.tools = new ToolController(canvas, this.camera, () => this.sandbox, this.spawnPanel.settings)
+    this.jointPanel = new JointPanel($('joint-panel'))
+    this.tools = new ToolController(
+      canvas,
+      this.camera,
+      () => this.sandbox,
+      this.spawnPanel.settings,
+      this.jointPanel.settings,
+    )
     this.tools.onNotice = (text) => this.toast(text)
     this.renderer.resize()
     window.addEventListener('resize', () => {
@@ -96,6 +109,7 @@ export class App {
     })
     window.addEventListener('blur', () => this.tools.cancel())
     window.addEventListener('keydown', (e) => this.key(e))
+    window.addEventListener('keyup', (e) => this.drive(e, false))
     this.wireToolbar()
     this.sceneFiles = new SceneFiles(sandbox, httpBase, room, (text) => this.notify(text), sharedScene)
     $('help-rows').innerHTML = helpRows(touchLayout())
@@ -109,6 +123,7 @@ export class App {
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
       b.addEventListener('click', () => this.act(`tool:${b.dataset.tool}` as ShortcutAction))
     }
+    $('joints').addEventListener('click', () => this.setTool(this.jointTool))
     const scene = $<HTMLSelectElement>('scene')
     scene.addEventListener('change', () => {
       this.sandbox.send({ k: 'scene', name: scene.value })
@@ -185,6 +200,7 @@ export class App {
     for (const [id, property] of [
       ['layers-panel', '--layers-top'],
       ['spawn-panel', '--spawn-top'],
+      ['joint-panel', '--joint-top'],
     ]) {
       root.setProperty(property, `${Math.round(below)}px`)
       const panel = $(id)
@@ -229,15 +245,42 @@ export class App {
     // A replay spawns nothing: its keys may pick a tool, but the spawn sliders stay closed.
     const spawns = tool === 'circle' || tool === 'box' || tool === 'polygon' || tool === 'draw'
     this.spawnPanel.show(spawns && this.sandbox.mode !== 'replay')
+    const joints =
+      tool === 'weld' || tool === 'hinge' || tool === 'spring' || tool === 'slider' || tool === 'wheel'
+    this.jointPanel.show(joints && this.sandbox.mode !== 'replay')
+    if (joints) this.jointTool = tool
+    $('joints').classList.toggle('active', joints)
     this.placePanels()
   }
 
   private key(e: KeyboardEvent): void {
     if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return
+    if (this.drive(e, true)) return
     const action = shortcutFor(e)
     if (!action) return
     e.preventDefault()
     this.act(action)
+  }
+
+  /**
+   * The arrow keys drive the motors of the joints this player made (the room refuses others'):
+   * pressed, each of your wheels, hinges or sliders with a motor runs at DRIVE_SPEED; released, it
+   * stops. Returns whether the key was a drive key.
+   */
+  private drive(e: KeyboardEvent, down: boolean): boolean {
+    if (!e.key.startsWith('Arrow') || e.ctrlKey || e.altKey || e.metaKey) return false
+    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return false
+    e.preventDefault()
+    if (e.repeat) return true
+    const me = this.sandbox.playerId()
+    if (me === 0) return true
+    for (const j of this.sandbox.joints()) {
+      if (j.spec.owner !== me) continue
+      const speed = driveSpeed(j.spec, e.key)
+      if (speed === undefined) continue
+      this.sandbox.sendGame('jointMotor', { joint: j.id, speed: down ? speed : 0 })
+    }
+    return true
   }
 
   /** Perform one toolbar or keyboard action. */

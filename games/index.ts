@@ -42,7 +42,13 @@ export {
   PLAYER_RADIUS,
   WIN_SCORE,
 } from './goal/index.ts'
-export { MIN_TICKS_BETWEEN_LOADS, sandbox, sandboxCommands } from './sandbox/index.ts'
+export {
+  jointCommands,
+  MAX_JOINT_MOTOR_SPEED,
+  MIN_TICKS_BETWEEN_LOADS,
+  sandbox,
+  sandboxCommands,
+} from './sandbox/index.ts'
 export {
   type BuiltScene,
   buildScene,

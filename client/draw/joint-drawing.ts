@@ -9,6 +9,12 @@
  *   pin     a pivot ring at the anchor and thin arms to both bodies' centres (Box2D's samples draw
  *           revolute joints the same way); a motor adds a curved arrow turning the way it drives;
  *           a limit adds the allowed arc [lower, upper] around the pivot and a tick at the angle
+ *   weld    a small square at the anchor, turned with body b, and thin arms to both centres
+ *   slider  the track along the axis through a's anchor (from lower to upper with stops when
+ *           limited, else 1 m each way), a carriage at b's anchor, a motor arrow along the axis
+ *   wheel   the suspension: the axis from a's anchor through the wheel's travel, a coil from a's
+ *           anchor to the hub, the hub with a spoke turning with the wheel, the motor's arrow
+ *   motor   a dashed line from body b's centre of mass to the pose it is driven to, and a cross there
  * The joints debug layer adds each anchor as a square and the reaction force on body b as an arrow
  * from its anchor (2 m per 100 N, at most 4 m) with its size in newtons.
  */
@@ -21,6 +27,10 @@ export const JOINT_COLORS = {
   rope: '#e0c080',
   spring: '#7fd8a0',
   pin: '#f0f0f0',
+  weld: '#c9a0ff',
+  slider: '#80c8ff',
+  wheel: '#f0f0f0',
+  drive: '#ffd080',
   motor: '#ffb347',
   limit: '#ff7f7f',
   anchor: '#ff40ff',
@@ -112,6 +122,18 @@ export function drawJoints(
         break
       case 'pin':
         drawPin(ctx, j, body, px)
+        break
+      case 'weld':
+        drawWeld(ctx, j, body, px)
+        break
+      case 'slider':
+        drawSlider(ctx, j, px)
+        break
+      case 'wheel':
+        drawWheel(ctx, j, px)
+        break
+      case 'motor':
+        drawDrive(ctx, j, px)
         break
     }
   }
@@ -264,6 +286,152 @@ function drawMotor(ctx: CanvasRenderingContext2D, j: ViewJoint, r: number, px: n
   ctx.moveTo(tip.x + tx * h, tip.y + ty * h)
   ctx.lineTo(tip.x - ty * h * 0.6, tip.y + tx * h * 0.6)
   ctx.lineTo(tip.x + ty * h * 0.6, tip.y - tx * h * 0.6)
+  ctx.closePath()
+  ctx.fill()
+}
+
+function drawWeld(
+  ctx: CanvasRenderingContext2D,
+  j: ViewJoint,
+  body: (id: number) => ViewBody | undefined,
+  px: number,
+): void {
+  const a = j.spec.a ? body(j.spec.a) : undefined
+  const b = body(j.spec.b)
+  ctx.globalAlpha = 0.6
+  if (a) line(ctx, a.x, a.y, j.ax, j.ay, JOINT_COLORS.weld, 1.5 * px)
+  if (b) line(ctx, b.x, b.y, j.bx, j.by, JOINT_COLORS.weld, 1.5 * px)
+  ctx.globalAlpha = 1
+  // A square turned with body b (a + the relative angle + ref = b's angle).
+  const turn = j.angleA + j.spec.ref + j.angle
+  const r = 5 * px
+  ctx.save()
+  ctx.translate(j.bx, j.by)
+  ctx.rotate(turn)
+  ctx.fillStyle = JOINT_COLORS.weld
+  ctx.fillRect(-r, -r, 2 * r, 2 * r)
+  ctx.strokeStyle = '#161a22'
+  ctx.lineWidth = 1.5 * px
+  ctx.beginPath()
+  ctx.moveTo(-r, -r)
+  ctx.lineTo(r, r)
+  ctx.moveTo(-r, r)
+  ctx.lineTo(r, -r)
+  ctx.stroke()
+  ctx.restore()
+}
+
+/** The travel of a slider or wheel along its axis from a's anchor (m): its limits, or `free` each way. */
+function travel(j: ViewJoint, free: number): [number, number] {
+  return j.spec.limit ? [j.spec.lower, j.spec.upper] : [-free, free]
+}
+
+function drawSlider(ctx: CanvasRenderingContext2D, j: ViewJoint, px: number): void {
+  const ux = j.axisX
+  const uy = j.axisY
+  const [lo, hi] = travel(j, Math.max(1, Math.abs(j.translation) + 0.5))
+  line(ctx, j.ax + ux * lo, j.ay + uy * lo, j.ax + ux * hi, j.ay + uy * hi, JOINT_COLORS.slider, 2 * px)
+  if (j.spec.limit) {
+    const s = 6 * px
+    for (const t of [lo, hi])
+      line(
+        ctx,
+        j.ax + ux * t - uy * s,
+        j.ay + uy * t + ux * s,
+        j.ax + ux * t + uy * s,
+        j.ay + uy * t - ux * s,
+        JOINT_COLORS.limit,
+        2 * px,
+      )
+  }
+  // The carriage: a box across the track at b's anchor.
+  const w = 7 * px
+  const h = 4 * px
+  ctx.fillStyle = JOINT_COLORS.slider
+  ctx.beginPath()
+  ctx.moveTo(j.bx + ux * w - uy * h, j.by + uy * w + ux * h)
+  ctx.lineTo(j.bx + ux * w + uy * h, j.by + uy * w - ux * h)
+  ctx.lineTo(j.bx - ux * w + uy * h, j.by - uy * w - ux * h)
+  ctx.lineTo(j.bx - ux * w - uy * h, j.by - uy * w + ux * h)
+  ctx.closePath()
+  ctx.fill()
+  if (j.spec.motor && j.spec.speed !== 0) {
+    const dir = Math.sign(j.spec.speed)
+    arrow(ctx, j.bx, j.by, j.bx + ux * dir * 14 * px, j.by + uy * dir * 14 * px, JOINT_COLORS.motor, px)
+  }
+}
+
+function drawWheel(ctx: CanvasRenderingContext2D, j: ViewJoint, px: number): void {
+  const ux = j.axisX
+  const uy = j.axisY
+  const [lo, hi] = travel(j, Math.max(0.25, Math.abs(j.translation)))
+  ctx.globalAlpha = 0.6
+  line(ctx, j.ax + ux * lo, j.ay + uy * lo, j.ax + ux * hi, j.ay + uy * hi, JOINT_COLORS.slider, 1.5 * px)
+  ctx.globalAlpha = 1
+  // The suspension: a short coil from a's anchor to the hub (straight when the hub is at the anchor).
+  const dx = j.bx - j.ax
+  const dy = j.by - j.ay
+  const len = Math.sqrt(dx * dx + dy * dy)
+  ctx.strokeStyle = JOINT_COLORS.spring
+  ctx.lineWidth = 1.5 * px
+  ctx.beginPath()
+  ctx.moveTo(j.ax, j.ay)
+  if (len > 1e-3) {
+    const n = 8
+    const w = 4 * px
+    for (let i = 1; i < n; i++) {
+      const side = i % 2 === 1 ? w : -w
+      ctx.lineTo(j.ax + (dx * i) / n - (dy / len) * side, j.ay + (dy * i) / n + (dx / len) * side)
+    }
+  }
+  ctx.lineTo(j.bx, j.by)
+  ctx.stroke()
+  const r = 5 * px
+  if (j.spec.motor && j.spec.speed !== 0) drawMotor(ctx, j, 2.6 * r, px)
+  // The hub, with a spoke turning with the wheel.
+  ctx.fillStyle = '#161a22'
+  ctx.strokeStyle = JOINT_COLORS.wheel
+  ctx.lineWidth = 2 * px
+  ctx.beginPath()
+  ctx.arc(j.bx, j.by, r, 0, 2 * Math.PI)
+  ctx.fill()
+  ctx.stroke()
+  const turn = j.angleA + j.spec.ref + j.angle
+  line(ctx, j.bx, j.by, j.bx + Math.cos(turn) * r, j.by + Math.sin(turn) * r, JOINT_COLORS.wheel, 1.5 * px)
+}
+
+function drawDrive(ctx: CanvasRenderingContext2D, j: ViewJoint, px: number): void {
+  ctx.setLineDash([4 * px, 3 * px])
+  line(ctx, j.bx, j.by, j.ax, j.ay, JOINT_COLORS.drive, 1.5 * px)
+  ctx.setLineDash([])
+  const s = 5 * px
+  line(ctx, j.ax - s, j.ay, j.ax + s, j.ay, JOINT_COLORS.drive, 2 * px)
+  line(ctx, j.ax, j.ay - s, j.ax, j.ay + s, JOINT_COLORS.drive, 2 * px)
+}
+
+/** A straight arrow from (x0, y0) to (x1, y1). */
+function arrow(
+  ctx: CanvasRenderingContext2D,
+  x0: number,
+  y0: number,
+  x1: number,
+  y1: number,
+  color: string,
+  px: number,
+): void {
+  line(ctx, x0, y0, x1, y1, color, 2 * px)
+  const dx = x1 - x0
+  const dy = y1 - y0
+  const n = Math.sqrt(dx * dx + dy * dy)
+  if (n < 1e-9) return
+  const ux = dx / n
+  const uy = dy / n
+  const h = 5 * px
+  ctx.fillStyle = color
+  ctx.beginPath()
+  ctx.moveTo(x1 + ux * h, y1 + uy * h)
+  ctx.lineTo(x1 - uy * h * 0.6, y1 + ux * h * 0.6)
+  ctx.lineTo(x1 + uy * h * 0.6, y1 - ux * h * 0.6)
   ctx.closePath()
   ctx.fill()
 }

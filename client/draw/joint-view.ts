@@ -31,6 +31,11 @@ export function viewJoint(
   const pa = a ? toWorld(a, j.ax, j.ay) : { x: j.ax, y: j.ay }
   const pb = toWorld(b, j.bx, j.by)
   const angleA = a ? a.angle : 0
+  // The axis turns with body a; the translation is the anchors' separation along it.
+  const c = Math.cos(angleA)
+  const s = Math.sin(angleA)
+  const axisX = c * j.ux - s * j.uy
+  const axisY = s * j.ux + c * j.uy
   return {
     id: j.id,
     kind: j.kind,
@@ -41,6 +46,9 @@ export function viewJoint(
     by: pb.y,
     angleA,
     angle: wrapPi(b.angle - angleA - j.ref),
+    axisX,
+    axisY,
+    translation: (pb.x - pa.x) * axisX + (pb.y - pa.y) * axisY,
     force,
   }
 }

@@ -39,6 +39,8 @@ export interface ToolOverlay {
   /** Draw and Ground preview: the points so far (world m), closed for an outline. */
   stroke: readonly Vec2[] | null
   strokeClosed: boolean
+  /** The joint a joint tool would make here (drawn faint, as the joint will be drawn). */
+  joint: ViewJoint | null
 }
 
 /** Everything one frame shows. */
@@ -445,6 +447,13 @@ export class Renderer {
       ctx.lineTo(o.cursor.x, o.cursor.y)
       ctx.stroke()
       ctx.setLineDash([])
+    }
+    if (o.joint) {
+      ctx.globalAlpha = 0.55
+      drawJoints(ctx, [o.joint], () => undefined, this.lineWidth(1), false)
+      ctx.globalAlpha = 1
+      ctx.lineWidth = this.lineWidth(2)
+      ctx.strokeStyle = o.color
     }
     if (o.cutJoint) {
       const j = o.cutJoint

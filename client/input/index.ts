@@ -2,6 +2,8 @@
  * Input: the pointer tools (mouse, pen and touch through Pointer Events), hit testing of bodies,
  * the keyboard shortcuts table, and what the spawn tools drop.
  */
+
+export { DRIVE_SPEED, driveSpeed, JOINT_DEFAULTS, JointPanel, type JointSettings } from './joint-settings.ts'
 export { bodyRadius, pickBody, shapeRadius, shapeVertices, toWorld } from './picking.ts'
 export { helpIntro, helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
 export { SpawnPanel } from './spawn-settings.ts'

@@ -19,6 +19,11 @@ export type ShortcutAction =
   | 'tool:ground'
   | 'static'
   | 'finish'
+  | 'tool:weld'
+  | 'tool:hinge'
+  | 'tool:spring'
+  | 'tool:slider'
+  | 'tool:wheel'
   | 'pause'
   | 'step'
   | 'reset'
@@ -63,6 +68,23 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
   },
   { keys: ['m'], action: 'static', help: 'Static: what you draw or drop stays put (on / off)' },
   { keys: ['enter'], action: 'finish', help: 'Finish the outline or line you are clicking' },
+  { keys: ['y'], action: 'tool:weld', help: 'Weld: click a body to glue it to what is under it' },
+  {
+    keys: ['e'],
+    action: 'tool:hinge',
+    help: 'Hinge: click a body to hinge it to what is under it (motor and limit: the panel); ←/→ drive yours',
+  },
+  { keys: ['q'], action: 'tool:spring', help: 'Spring: drag from one body (or space) to another' },
+  {
+    keys: ['z'],
+    action: 'tool:slider',
+    help: 'Slider: drag from a body the way it should slide; ↑/↓ drive yours',
+  },
+  {
+    keys: [','],
+    action: 'tool:wheel',
+    help: 'Wheel: click a chassis to add a driven wheel; ←/→ drive yours',
+  },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
   { keys: ['r'], action: 'reset', help: 'Reset the scene' },
@@ -84,6 +106,15 @@ export function shortcutFor(e: { key: string; ctrlKey: boolean; altKey: boolean;
   return SHORTCUTS.find((s) => s.keys.includes(key))?.action ?? null
 }
 
+/** The joint tools (one row in the touch Help). */
+const JOINT_TOOLS: readonly ShortcutAction[] = [
+  'tool:weld',
+  'tool:hinge',
+  'tool:spring',
+  'tool:slider',
+  'tool:wheel',
+]
+
 /** The toolbar buttons of the room actions (the tools are named by their help's first word). */
 const BUTTONS: Partial<Record<ShortcutAction, string>> = {
   pause: 'Pause',
@@ -101,8 +132,16 @@ export function helpRows(touch = false): string {
   const label = (k: string): string => (k === ' ' ? 'Space' : k === 'escape' ? 'Esc' : k.toUpperCase())
   if (touch) {
     const rows: string[] = []
+    const joints: string[] = []
     for (const s of SHORTCUTS) {
       const tool = s.action.startsWith('tool:')
+      // The joint tools share one row on a phone, so Help still fits its screen.
+      if (JOINT_TOOLS.includes(s.action)) {
+        joints.push(s.help.slice(0, s.help.indexOf(':')))
+        if (joints.length === JOINT_TOOLS.length)
+          rows.push(`<tr><td><b>Joints</b></td><td>${joints.join(', ')}</td></tr>`)
+        continue
+      }
       const button = tool ? s.help.slice(0, s.help.indexOf(':')) : BUTTONS[s.action]
       if (!button) continue
       const text = tool ? s.help.slice(s.help.indexOf(':') + 1).trim() : s.help

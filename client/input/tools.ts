@@ -10,10 +10,11 @@
  * tool never feels late even though the body follows the server a few ticks behind.
  */
 import type { Vec2 } from '../../engine/index.ts'
-import type { SpawnCommand, WireShape } from '../../shared/index.ts'
+import type { PlainData, SpawnCommand, WireJoint, WireJointKind, WireShape } from '../../shared/index.ts'
 import type { Camera, ToolOverlay } from '../draw/index.ts'
 import type { Sandbox, ViewBody, ViewJoint } from '../modes/index.ts'
 import { DRAW_FORMS, type DrawForm, type Drawn, dragBody, groundBodies, outlineBody } from './drawing.ts'
+import { JOINT_DEFAULTS, type JointSettings } from './joint-settings.ts'
 import { pickBody, pickJoint, toLocal, toWorld } from './picking.ts'
 import { SPAWN_DEFAULTS, type SpawnSettings } from './spawn-settings.ts'
 
@@ -30,6 +31,11 @@ export const TOOLS = [
   'inspect',
   'draw',
   'ground',
+  'weld',
+  'hinge',
+  'spring',
+  'slider',
+  'wheel',
 ] as const
 /** A tool name. */
 export type ToolName = (typeof TOOLS)[number]
@@ -54,11 +60,15 @@ type Action =
   | { kind: 'grab'; body: number; lx: number; ly: number }
   | { kind: 'spawn'; at: Vec2; shape: WireShape }
   | { kind: 'rope'; a: number; anchor: Vec2 }
+  | { kind: 'spring'; a: number; anchor: Vec2 }
+  | { kind: 'slider'; a: number; b: number; anchor: Vec2 }
   | { kind: 'pinch'; distance: number; mid: Vec2 }
   | { kind: 'stroke'; points: Vec2[]; moved: number }
   | { kind: 'drag'; from: Vec2 }
 
 const dynamic = (b: ViewBody): boolean => b.kind === 2
+/** A body the wheel tool takes as a wheel: one circle. */
+const isWheel = (b: ViewBody): boolean => b.shapes.length === 1 && b.shapes[0].type === 'circle'
 const isSpawnTool = (tool: ToolName): boolean => tool === 'circle' || tool === 'box' || tool === 'polygon'
 /** The preview body's fixed fields. */
 const GHOST: ViewBody = {
@@ -99,6 +109,8 @@ export class ToolController {
     private readonly sandbox: () => Sandbox,
     /** Size and material of spawned shapes (the spawn panel's sliders). */
     private readonly spawn: SpawnSettings = { ...SPAWN_DEFAULTS },
+    /** Motor, limit, spring and breaking force of the joints made (the joint panel's sliders). */
+    private readonly joints: JointSettings = { ...JOINT_DEFAULTS },
   ) {
     canvas.addEventListener('pointerdown', (e) => this.down(e))
     canvas.addEventListener('pointermove', (e) => this.move(e))
@@ -187,6 +199,26 @@ export class ToolController {
         return
       case 'ground':
         this.action = { kind: 'stroke', points: [w], moved: 0 }
+        return
+      case 'weld':
+      case 'hinge':
+      case 'wheel': {
+        const made = this.clickJoint(this.tool, w)
+        if (!made) break
+        sandbox.sendGame(this.tool, made)
+        return
+      }
+      case 'spring': {
+        const any = pickBody(bodies, w)
+        this.action = { kind: 'spring', a: any ? any.id : 0, anchor: w }
+        return
+      }
+      case 'slider':
+        if (!hit) break
+        {
+          const under = pickBody(bodies, w, () => true, hit.id)
+          this.action = { kind: 'slider', a: under ? under.id : 0, b: hit.id, anchor: w }
+        }
         return
     }
     this.action = { kind: 'pan', moved: 0, clickBody: null }
@@ -294,6 +326,8 @@ export class ToolController {
     else if (a.kind === 'drag' && this.drawForm !== 'outline') {
       this.commit(dragBody(this.drawForm, a.from, w, this.capsuleRadius()))
     } else if (a.kind === 'rope') this.tieRope(a, w)
+    else if (a.kind === 'spring') this.hangSpring(a, w)
+    else if (a.kind === 'slider') this.laySlider(a, w)
     else if (a.kind === 'pan' && a.moved < CLICK_SLOP && this.tool === 'inspect') {
       this.selected = a.clickBody && a.clickBody.kind === 2 ? a.clickBody.id : 0
     }
@@ -379,6 +413,98 @@ export class ToolController {
     return this.drawForm
   }
 
+  /** Breaking force and motor arguments every joint command shares, from the joint settings. */
+  private jointExtras(motor: 'torque' | 'force' | null): { [key: string]: PlainData } {
+    const out: { [key: string]: PlainData } = {}
+    const s = this.joints
+    if (s.breakForce > 0) out.breakForce = s.breakForce
+    if (motor === 'torque' && s.torque > 0) out.torque = s.torque
+    if (motor === 'force' && s.torque > 0) out.force = 10 * s.torque
+    return out
+  }
+
+  /**
+   * The arguments of a weld, hinge or wheel made by a click at `w`, or null when there is nothing
+   * to join: a weld or hinge joins the dynamic body under the pointer to what lies under it (or the
+   * background); the wheel tool joins a circle lying over another body to it as its wheel, and on
+   * any other body (a chassis) makes a new wheel there.
+   */
+  private clickJoint(tool: 'weld' | 'hinge' | 'wheel', w: Vec2): { [key: string]: PlainData } | null {
+    const bodies = this.sandbox().bodies()
+    const hit = pickBody(bodies, w, dynamic)
+    if (!hit) return null
+    const under = pickBody(bodies, w, () => true, hit.id)
+    const s = this.joints
+    if (tool === 'weld')
+      return { a: under ? under.id : 0, b: hit.id, x: w.x, y: w.y, ...this.jointExtras(null) }
+    if (tool === 'hinge') {
+      const limit: { [key: string]: PlainData } =
+        s.limit > 0 ? { lower: (-s.limit * Math.PI) / 180, upper: (s.limit * Math.PI) / 180 } : {}
+      return { a: under ? under.id : 0, b: hit.id, x: w.x, y: w.y, ...limit, ...this.jointExtras('torque') }
+    }
+    const wheel = { hz: s.hz, ...this.jointExtras('torque') }
+    if (isWheel(hit) && under && under.kind === 2) return { a: under.id, b: hit.id, ...wheel }
+    return { a: hit.id, radius: this.wheelRadius(), x: w.x, y: w.y, ...wheel }
+  }
+
+  /** A new wheel's radius (m): a quarter of the box tool's side (0.25 m at the spawn panel's size 1x). */
+  private wheelRadius(): number {
+    return Math.round(250 * this.spawn.size) / 1000
+  }
+
+  private hangSpring(a: { a: number; anchor: Vec2 }, w: Vec2): void {
+    const bodies = this.sandbox().bodies()
+    const end = pickBody(bodies, w)
+    let first = { id: a.a, p: a.anchor }
+    let second = { id: end ? end.id : 0, p: w }
+    const isDynamic = (id: number): boolean => bodies.some((b) => b.id === id && b.kind === 2)
+    if (!isDynamic(second.id)) [first, second] = [second, first]
+    if (!isDynamic(second.id) || first.id === second.id) return
+    if (Math.hypot(w.x - a.anchor.x, w.y - a.anchor.y) < 0.05) return
+    const firstId = first.id && isDynamic(first.id) ? first.id : 0
+    this.sandbox().sendGame('spring', {
+      ...{ a: firstId, b: second.id, ax: first.p.x, ay: first.p.y, bx: second.p.x, by: second.p.y },
+      hz: this.joints.hz,
+      ...this.jointExtras(null),
+    })
+  }
+
+  /** A slider through the press point, along the drag, free to travel the drag's length each way. */
+  private laySlider(a: { a: number; b: number; anchor: Vec2 }, w: Vec2): void {
+    const dx = w.x - a.anchor.x
+    const dy = w.y - a.anchor.y
+    const length = Math.hypot(dx, dy)
+    if (length * this.camera.scale < CLICK_SLOP) return
+    const travel = Math.min(100, Math.round(length * 1000) / 1000)
+    this.sandbox().sendGame('slider', {
+      ...{ a: a.a, b: a.b, x: a.anchor.x, y: a.anchor.y, dx, dy, lower: -travel, upper: travel },
+      ...this.jointExtras('force'),
+    })
+  }
+
+  /** The joint the active joint tool would make now, for the preview (null when none). */
+  private jointPreview(): ViewJoint | null {
+    const a = this.action
+    const at = this.cursor
+    if (!at) return null
+    if (a.kind === 'spring') return previewJoint('spring', a.anchor, at, 0)
+    if (a.kind === 'slider')
+      return previewJoint('slider', a.anchor, at, Math.hypot(at.x - a.anchor.x, at.y - a.anchor.y))
+    if (a.kind !== 'none') return null
+    if (this.tool === 'weld' || this.tool === 'hinge' || this.tool === 'wheel') {
+      if (!pickBody(this.sandbox().bodies(), at, dynamic)) return null
+      const kind = this.tool === 'hinge' ? 'pin' : this.tool
+      const preview = previewJoint(kind, at, at, 0)
+      if (this.tool === 'hinge' && this.joints.limit > 0) {
+        preview.spec.limit = true
+        preview.spec.lower = (-this.joints.limit * Math.PI) / 180
+        preview.spec.upper = -preview.spec.lower
+      }
+      return preview
+    }
+    return null
+  }
+
   /** Abandon the current action (a second finger arrived, the tool changed, focus was lost). */
   cancel(): void {
     if (this.action.kind === 'grab') this.sandbox().send({ k: 'release' })
@@ -406,6 +532,7 @@ export class ToolController {
       ghostAlpha: 0.5,
       stroke: null,
       strokeClosed: false,
+      joint: this.jointPreview(),
     }
     if (a.kind === 'grab') {
       const body = this.sandbox()
@@ -435,7 +562,16 @@ export class ToolController {
       o.stroke = points
       o.strokeClosed = this.tool === 'draw'
     } else if (a.kind === 'rope') o.ropeFrom = a.anchor
-    else if (this.tool === 'cut' && this.cursor) o.cutJoint = this.jointAt(this.cursor)
+    else if (a.kind === 'none' && this.cursor && this.tool === 'wheel' && o.joint) {
+      // The wheel tool over a chassis: the wheel a click makes (a circle already there is used instead).
+      const bodies = this.sandbox().bodies()
+      const hit = pickBody(bodies, this.cursor, dynamic)
+      if (hit && !(isWheel(hit) && pickBody(bodies, this.cursor, dynamic, hit.id))) {
+        const shape: WireShape = { type: 'circle', radius: this.wheelRadius() }
+        o.ghost = { ...GHOST, shapes: [shape], x: this.cursor.x, y: this.cursor.y }
+        o.ghostAlpha = 0.3
+      }
+    } else if (this.tool === 'cut' && this.cursor) o.cutJoint = this.jointAt(this.cursor)
     return o
   }
 
@@ -454,6 +590,46 @@ export class ToolController {
   /** The body grabbed by this player, 0 when none. */
   get grabbing(): number {
     return this.action.kind === 'grab' ? this.action.body : 0
+  }
+}
+
+/** A joint of `kind` from `from` to `to` in world space, as a joint tool's preview draws it. */
+function previewJoint(kind: WireJointKind, from: Vec2, to: Vec2, travel: number): ViewJoint {
+  const dx = to.x - from.x
+  const dy = to.y - from.y
+  const length = Math.hypot(dx, dy)
+  const ux = length > 1e-9 ? dx / length : 0
+  const uy = length > 1e-9 ? dy / length : 1
+  const spec: WireJoint = {
+    ...{ id: 0, kind, a: 0, b: 0, ax: from.x, ay: from.y, bx: to.x, by: to.y },
+    ...{ length, min: length, max: length, hz: 1, damping: 0, ref: 0 },
+    ...{
+      limit: travel > 0,
+      lower: -travel,
+      upper: travel,
+      motor: false,
+      speed: 0,
+      torque: 0,
+      collide: false,
+    },
+    ...{ force: 0, ux, uy, spring: false, target: 0, ahz: 0, adamping: 0, correction: 0 },
+    ...{ breakForce: 0, breakTorque: 0, owner: 0 },
+  }
+  const slider = kind === 'slider'
+  return {
+    id: 0,
+    kind,
+    spec,
+    ax: from.x,
+    ay: from.y,
+    bx: slider ? from.x : to.x,
+    by: slider ? from.y : to.y,
+    angleA: 0,
+    angle: 0,
+    axisX: ux,
+    axisY: uy,
+    translation: 0,
+    force: null,
   }
 }
 

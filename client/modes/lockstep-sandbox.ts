@@ -15,6 +15,7 @@ import {
   cssColor,
   type JoinMessage,
   LockstepClient,
+  type PlainData,
   PROTOCOL_VERSION,
   PredictClient,
   type RoomRules,
@@ -274,6 +275,10 @@ export class LockstepSandbox implements Sandbox {
   /** The game state of the simulation drawn (null before the sync or for a game without state). */
   gameState(): unknown {
     return this.drawn()?.gameState ?? null
+  }
+
+  playerId(): number {
+    return this.runner.playerId
   }
 
   color(): string {

@@ -59,6 +59,8 @@ export class OfflineSandbox implements Sandbox {
   private readonly colors = new Map<number, number>()
   private readonly joints_ = new Map<JointId, WireJoint>()
   private grab: { joint: JointId; body: number } | null = null
+  private noticeCount = 0
+  private latestNotice: string | null = null
   private stepMs = 0
   private contactCache: ContactInfo[] | null = null
 
@@ -87,9 +89,9 @@ export class OfflineSandbox implements Sandbox {
     this.stepOnce = false
     if (steps > 0) {
       const start = performance.now()
-      for (let i = 0; i < steps - 1; i++) this.world.step()
+      for (let i = 0; i < steps - 1; i++) this.stepWorld()
       this.view.capturePrevious(this.world)
-      this.world.step()
+      this.stepWorld()
       // Once a second, as a room does: bodies that left the world (below the kill plane) go.
       if (Math.floor(this.world.tick / TICK_RATE) !== Math.floor((this.world.tick - steps) / TICK_RATE)) {
         for (const id of strayBodies(this.world)) this.apply({ k: 'delete', body: id })
@@ -124,6 +126,12 @@ export class OfflineSandbox implements Sandbox {
   contacts(): ContactInfo[] {
     this.contactCache ??= this.world.contacts()
     return this.contactCache
+  }
+
+  /** One step; the joints it broke leave the drawn joints, as they leave a room's. */
+  private stepWorld(): void {
+    this.world.step()
+    for (const id of this.world.jointEvents().broken) this.joints_.delete(id)
   }
 
   /**
@@ -247,8 +255,18 @@ export class OfflineSandbox implements Sandbox {
     return labFromWorld(w, bodyId, this.contacts(), (id) => this.joints_.get(id)?.kind)
   }
 
+  /** The joint tools are the room's game commands: this page's own world does not run the game. */
+  sendGame(kind: string): void {
+    this.noticeCount++
+    this.latestNotice = `The ${kind} tool needs a room: open the sandbox online to build machines.`
+  }
+
+  playerId(): number {
+    return 0
+  }
+
   notices(): { count: number; latest: string | null } {
-    return { count: 0, latest: null }
+    return { count: this.noticeCount, latest: this.latestNotice }
   }
 
   retry(): void {}

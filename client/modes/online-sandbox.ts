@@ -21,6 +21,7 @@ import {
   ROOM_NAME_PATTERN,
   type RoomRules,
   type ServerMessage,
+  type SimCommand,
   TICK_RATE,
 } from '../../shared/index.ts'
 import { labFromServer, viewJoints } from '../draw/index.ts'
@@ -414,6 +415,20 @@ export class OnlineSandbox implements Sandbox {
     return this.saved
   }
 
+  sendGame(kind: string, args: { [key: string]: PlainData }): void {
+    // In order with the built-in commands: a cursor move made before it goes first.
+    if (this.pendingMove) {
+      this.outbox.push(this.pendingMove)
+      this.pendingMove = null
+    }
+    this.outbox.push({ k: 'cmd', kind, a: args })
+    this.drainOutbox(performance.now())
+  }
+
+  playerId(): number {
+    return this.mirror.clientId
+  }
+
   /** One notice for the inputs the server dropped since the last frame, and the spawns sent again. */
   private reportDropped(): void {
     const resent = this.outbox.takeResent()
@@ -432,8 +447,15 @@ export class OnlineSandbox implements Sandbox {
   }
 
   /** Send one command now; spawns are followed until the world shows them. */
-  private transmit(cmd: Command, now: number): void {
+  private transmit(cmd: SimCommand, now: number): void {
     if (!this.connection) return
+    if (cmd.k === 'cmd') {
+      this.up.add(
+        this.connection.send({ t: 'cmd', seq: ++this.seq, k: cmd.kind, a: cmd.a as Record<string, unknown> }),
+        now,
+      )
+      return
+    }
     this.up.add(this.connection.send({ t: 'input', seq: ++this.seq, cmd }), now)
     if (cmd.k === 'spawn') this.outbox.spawns.sent(this.seq, cmd)
   }

@@ -45,8 +45,12 @@ export interface ViewJoint {
   by: number
   /** Angle of body a (rad), 0 for the world. */
   angleA: number
-  /** Pins: the relative angle (angle b - angle a - ref) in (-pi, pi] (rad). */
+  /** Pins, welds, sliders, wheels: the relative angle (angle b - angle a - ref) in (-pi, pi] (rad). */
   angle: number
+  /** Sliders and wheels: the axis in the world now (unit), and the translation along it (m, 0 when made). */
+  axisX: number
+  axisY: number
+  translation: number
   /** Reaction force on body b at its anchor in the last step (N); body a feels the opposite. Null when unknown. */
   force: Vec2 | null
 }
@@ -151,6 +155,10 @@ export interface Sandbox {
   contacts(): readonly LabContact[] | null
   /** Apply or send one command. */
   send(cmd: Command): void
+  /** Apply or send one game command (the sandbox's joint commands: weld, hinge, ...). */
+  sendGame(kind: string, args: { [key: string]: PlainData }): void
+  /** This player's id in the room (0 offline and in replays: joints made here have owner 0). */
+  playerId(): number
   /** This player's colour. */
   color(): string
   status(): SandboxStatus

@@ -7,21 +7,21 @@
  * answering each by its seq: the spawns among them (SpawnTracker) are queued again, so no
  * clicked spawn is lost.
  */
-import type { Command } from '../../shared/index.ts'
+import type { SimCommand } from '../../shared/index.ts'
 import { SpawnTracker } from './spawn-tracker.ts'
 
 /** Paced, ordered commands for one connection. */
 export class InputOutbox {
   /** Spawns sent and not yet seen added. */
   readonly spawns = new SpawnTracker()
-  private readonly queue: Command[] = []
+  private readonly queue: SimCommand[] = []
   private sentThisFrame = 0
   private queuedNoticeShown = false
   private resent = 0
 
   constructor(
     /** Send one command now (the sender reports spawns to `spawns.sent`). */
-    private readonly transmit: (cmd: Command) => void,
+    private readonly transmit: (cmd: SimCommand) => void,
     /** Show the player a notice. */
     private readonly tell: (text: string) => void,
   ) {}
@@ -32,7 +32,7 @@ export class InputOutbox {
   }
 
   /** Queue one command after the ones already waiting. */
-  push(cmd: Command): void {
+  push(cmd: SimCommand): void {
     this.queue.push(cmd)
   }
 

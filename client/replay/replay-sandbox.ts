@@ -182,6 +182,15 @@ export class ReplaySandbox implements Sandbox {
     this.notice = `a replay is read only: ${cmd.k} is not applied`
   }
 
+  sendGame(kind: string): void {
+    this.noticeCount++
+    this.notice = `a replay is read only: ${kind} is not applied`
+  }
+
+  playerId(): number {
+    return 0
+  }
+
   color(): string {
     return '#ff9f1c'
   }

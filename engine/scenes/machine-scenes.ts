@@ -15,7 +15,8 @@
 import { box, circle } from '../collision/index.ts'
 import { PI } from '../math.ts'
 import type { BodyDef, JointDef } from '../types.ts'
-import { groundDef, type SceneBlueprint } from './scenes.ts'
+import { groundDef } from './ground.ts'
+import type { SceneBlueprint } from './scenes.ts'
 
 /** Where the machines scene puts things (x of each machine's centre, m). */
 export const MACHINES_LAYOUT = { car: -30, piston: -10, crane: 5, bridge: 25, platform: 45 } as const

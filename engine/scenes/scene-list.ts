@@ -2,6 +2,7 @@
  * The scenes a user can pick by name (the sandbox's `scene` command, PROTOCOL.md's Scenes table),
  * each with the parameters the sandbox uses.
  */
+import { machinesScene } from './machine-scenes.ts'
 import { playgroundScene } from './playground-scene.ts'
 import {
   cardHouseScene,
@@ -49,5 +50,9 @@ export const SCENES: Readonly<Record<string, { description: string; make: () => 
   'marble-run': {
     description: 'Balls and capsules run down four chain tracks into a bin whose sensor counts them',
     make: marbleRunScene,
+  },
+  machines: {
+    description: 'A car on bumps, a piston, a welded crane, a bridge that breaks, a driven platform',
+    make: machinesScene,
   },
 }

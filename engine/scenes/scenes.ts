@@ -12,6 +12,7 @@ import { box, capsule, chain, circle, polygon, type Shape } from '../collision/i
 import { cos, PI, sin, type Vec2 } from '../math.ts'
 import { Prng } from '../prng.ts'
 import type { BodyDef, BodyId, CompoundBodyDef, JointDef, JointId } from '../types.ts'
+import { groundDef } from './ground.ts'
 
 /** A scene as data: gravity, body definitions in creation order, and joints between them. */
 export interface SceneBlueprint {
@@ -35,10 +36,7 @@ export interface BodyFactory {
   createJoint?(def: JointDef): JointId
 }
 
-/** Ground: a static box whose top surface is y = 0, 200 m wide. */
-export function groundDef(halfWidth = 100): BodyDef {
-  return { type: 'static', position: { x: 0, y: -1 }, shape: box(halfWidth, 1), friction: 0.6 }
-}
+export { groundDef }
 
 /** Only the ground. */
 export function emptyScene(): SceneBlueprint {

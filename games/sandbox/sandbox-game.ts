@@ -1,6 +1,7 @@
 /*
  * The sandbox: Concord's building game, on the game module API. Its commands are the built-in
- * ones, and each does to the world exactly what docs/games.md ("The sandbox's commands") says;
+ * ones and its joint commands (joint-commands.ts: weld, hinge, spring, slider, wheel, jointMotor),
+ * and each does to the world exactly what docs/games.md ("The sandbox's commands") says;
  * the engine-level parts (clamps, the grab's mouse joint and force cap, anchor and rope rules, the
  * body limit) are shared/sim's primitives that every game's ctx offers. The sandbox keeps no state
  * of its own (its hash is the world's) and never draws from the PRNG.
@@ -11,6 +12,7 @@
 import { SCENES } from '../../engine/index.ts'
 import { isMovable } from '../../shared/index.ts'
 import { builtin, defineGame } from '../game-api.ts'
+import { jointCommands } from './joint-commands.ts'
 
 /** Ticks between scene loads or resets in one room: building a scene is the costliest command. */
 export const MIN_TICKS_BETWEEN_LOADS = 10
@@ -67,5 +69,5 @@ export const sandbox = defineGame({
   setup(ctx, options) {
     ctx.loadScene(options.scene)
   },
-  commands: sandboxCommands,
+  commands: { ...sandboxCommands, ...jointCommands },
 })

@@ -18,6 +18,7 @@ export {
   defaultCollide,
   distanceKind,
   jointForceOn,
+  WIRE_JOINT_KINDS,
   type WireJointDef,
   wireJoint,
 } from './joint-wire.ts'

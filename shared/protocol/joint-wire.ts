@@ -1,28 +1,51 @@
 /*
  * Joints as they travel: a WireJoint is built from the joint definition the world was given (scene
- * joints from a scene's blueprint, players' pins and ropes from their commands), right when the
- * joint is created, so that anchors can be turned into each body's local frame and the pin's
- * reference angle read. The definition's defaults are resolved here exactly as the engine resolves
- * them (engine/joints/joint-defs.ts): a distance joint's length is the anchors' distance, a rope (only
- * maxLength given) has minLength 0, a spring damps at 0.7, and bodies joined by a distance joint
- * collide while pinned bodies do not.
+ * joints from a scene's blueprint, players' joints from their commands), right when the joint is
+ * created, so that anchors and axes can be turned into each body's local frame and the reference
+ * angle read. The definition's defaults are resolved here exactly as the engine resolves them
+ * (engine/joints/joint-defs.ts): a distance joint's length is the anchors' distance, a rope (only
+ * maxLength given) has minLength 0, a spring damps at 0.7, a weld is rigid (damping ratios 1), a
+ * wheel's suspension is on at 1 Hz, a motor joint's offsets are the pose b has now (force and
+ * torque 1, correction 0.3); bodies joined by a distance joint collide while the others do not.
  */
 import {
   buildScene,
   type DistanceJointDef,
   type JointId,
   type JointInfo,
+  type MotorJointDef,
+  type PrismaticJointDef,
   type RevoluteJointDef,
   type SceneBlueprint,
   type Vec2,
+  type WeldJointDef,
+  type WheelJointDef,
   type World,
 } from '../../engine/index.ts'
 import type { WireJoint, WireJointForce, WireJointForceKind, WireJointKind } from './messages.ts'
 
 /** A definition of a joint that travels (mouse joints are grabs: they travel as cursors). */
-export type WireJointDef = RevoluteJointDef | DistanceJointDef
+export type WireJointDef =
+  | RevoluteJointDef
+  | DistanceJointDef
+  | WeldJointDef
+  | PrismaticJointDef
+  | WheelJointDef
+  | MotorJointDef
 
-/** Whether a joint's bodies collide when the definition does not say: distance joints yes, pins no. */
+/** Every joint kind that travels, in PROTOCOL.md's order. */
+export const WIRE_JOINT_KINDS: readonly WireJointKind[] = [
+  'pin',
+  'rod',
+  'rope',
+  'spring',
+  'weld',
+  'slider',
+  'wheel',
+  'motor',
+]
+
+/** Whether a joint's bodies collide when the definition does not say: distance joints yes, the others no. */
 export function defaultCollide(type: WireJointDef['type']): boolean {
   return type === 'distance'
 }
@@ -33,13 +56,32 @@ export function distanceKind(min: number, max: number, hz: number): WireJointKin
   return min >= max ? 'rod' : 'rope'
 }
 
-/** The wire form of joint `id`, just created in `world` from `def` (anchors still at their creation points). */
-export function wireJoint(world: World, id: JointId, def: WireJointDef): WireJoint {
+/** A break threshold as it travels: 0 for never (Infinity, the engine's default, is not sent). */
+const threshold = (value: number | undefined): number =>
+  value !== undefined && Number.isFinite(value) ? value : 0
+
+/** The anchors of a definition (world m): a's and b's (the same point but for distance joints). */
+function anchorsOf(world: World, def: WireJointDef): [Vec2, Vec2] {
+  if (def.type === 'distance') return [def.anchorA, def.anchorB]
+  if (def.type !== 'motor') return [def.anchor, def.anchor]
+  // A motor joint: a's anchor is the offset target (in a's frame), b's its centre of mass.
+  const centre = world.getWorldCenter(def.bodyB)
+  const a = def.bodyA ?? 0
+  const target =
+    def.linearOffset === undefined
+      ? centre
+      : a === 0
+        ? def.linearOffset
+        : world.getWorldPoint(a, def.linearOffset)
+  return [target, centre]
+}
+
+/** The wire form of joint `id`, just created in `world` from `def` by player `owner` (0: a scene). */
+export function wireJoint(world: World, id: JointId, def: WireJointDef, owner = 0): WireJoint {
   const a = def.bodyA ?? 0
   const local = (body: number, p: Vec2): Vec2 =>
     body === 0 ? { x: p.x, y: p.y } : world.getLocalPoint(body, p)
-  const anchorA = def.type === 'revolute' ? def.anchor : def.anchorA
-  const anchorB = def.type === 'revolute' ? def.anchor : def.anchorB
+  const [anchorA, anchorB] = anchorsOf(world, def)
   const la = local(a, anchorA)
   const lb = local(def.bodyB, anchorB)
   const joint: WireJoint = {
@@ -64,23 +106,89 @@ export function wireJoint(world: World, id: JointId, def: WireJointDef): WireJoi
     speed: 0,
     torque: 0,
     collide: def.collideConnected ?? defaultCollide(def.type),
+    force: 0,
+    ux: 0,
+    uy: 0,
+    spring: false,
+    target: 0,
+    ahz: 0,
+    adamping: 0,
+    correction: 0,
+    breakForce: threshold(def.breakForce),
+    breakTorque: threshold(def.breakTorque),
+    owner,
   }
-  if (def.type === 'revolute') {
+  if (def.type !== 'distance' && def.type !== 'motor') {
     let ref = world.getAngle(def.bodyB) - (a === 0 ? 0 : world.getAngle(a))
     if (ref > Math.PI) ref -= 2 * Math.PI
     else if (ref <= -Math.PI) ref += 2 * Math.PI
     joint.ref = ref
-    joint.limit = def.enableLimit === true
-    joint.lower = def.lowerAngle ?? 0
-    joint.upper = def.upperAngle ?? 0
-    joint.motor = def.enableMotor === true
-    joint.speed = def.motorSpeed ?? 0
-    joint.torque = def.maxMotorTorque ?? 0
-    return joint
   }
-  const dx = anchorB.x - anchorA.x
-  const dy = anchorB.y - anchorA.y
-  const length = def.length ?? Math.sqrt(dx * dx + dy * dy)
+  switch (def.type) {
+    case 'revolute':
+      joint.limit = def.enableLimit === true
+      joint.lower = def.lowerAngle ?? 0
+      joint.upper = def.upperAngle ?? 0
+      joint.motor = def.enableMotor === true
+      joint.speed = def.motorSpeed ?? 0
+      joint.torque = def.maxMotorTorque ?? 0
+      joint.spring = def.enableSpring === true
+      joint.hz = def.hertz ?? 0
+      joint.damping = def.dampingRatio ?? (joint.spring ? 0.7 : 0)
+      joint.target = def.targetAngle ?? 0
+      return joint
+    case 'distance':
+      return distanceJoint(joint, def)
+    case 'weld':
+      joint.kind = 'weld'
+      joint.hz = def.linearHertz ?? 0
+      joint.damping = def.linearDampingRatio ?? 1
+      joint.ahz = def.angularHertz ?? 0
+      joint.adamping = def.angularDampingRatio ?? 1
+      return joint
+    case 'prismatic':
+    case 'wheel': {
+      const wheel = def.type === 'wheel'
+      joint.kind = wheel ? 'wheel' : 'slider'
+      const tip = { x: def.anchor.x + def.axis.x, y: def.anchor.y + def.axis.y }
+      const lt = local(a, tip)
+      const dx = lt.x - la.x
+      const dy = lt.y - la.y
+      const n = Math.sqrt(dx * dx + dy * dy)
+      joint.ux = dx / n
+      joint.uy = dy / n
+      joint.limit = def.enableLimit === true
+      joint.lower = def.lower ?? 0
+      joint.upper = def.upper ?? 0
+      joint.motor = def.enableMotor === true
+      joint.speed = def.motorSpeed ?? 0
+      joint.spring = def.enableSpring ?? wheel
+      joint.hz = def.hertz ?? (wheel ? 1 : 0)
+      joint.damping = def.dampingRatio ?? 0.7
+      if (def.type === 'wheel') joint.torque = def.maxMotorTorque ?? 0
+      else {
+        joint.force = def.maxMotorForce ?? 0
+        joint.target = def.targetTranslation ?? 0
+      }
+      return joint
+    }
+    case 'motor': {
+      joint.kind = 'motor'
+      const angleA = a === 0 ? 0 : world.getAngle(a)
+      joint.target = def.angularOffset ?? world.getAngle(def.bodyB) - angleA
+      joint.force = def.maxForce ?? 1
+      joint.torque = def.maxTorque ?? 1
+      joint.correction = def.correctionFactor ?? 0.3
+      return joint
+    }
+  }
+}
+
+/** The distance joint's fields: length, range, spring and motor, and its drawn kind. */
+function distanceJoint(joint: WireJoint, def: DistanceJointDef): WireJoint {
+  const dx = def.anchorB.x - def.anchorA.x
+  const dy = def.anchorB.y - def.anchorA.y
+  const length = def.length ?? Math.max(Math.sqrt(dx * dx + dy * dy), 0.001)
   const ropeDefault = def.maxLength !== undefined && def.hertz === undefined ? 0 : length
   joint.length = length
   joint.min = def.minLength ?? ropeDefault
@@ -88,6 +196,9 @@ export function wireJoint(world: World, id: JointId, def: WireJointDef): WireJoi
   joint.hz = def.hertz ?? 0
   joint.damping = def.dampingRatio ?? (joint.hz > 0 ? 0.7 : 0)
   joint.kind = distanceKind(joint.min, joint.max, joint.hz)
+  joint.motor = def.enableMotor === true
+  joint.speed = def.motorSpeed ?? 0
+  joint.force = def.maxMotorForce ?? 0
   return joint
 }
 
@@ -103,14 +214,10 @@ export function buildSceneJoints(world: World, scene: SceneBlueprint): WireJoint
   const defs = scene.joints ?? []
   for (let i = 0; i < defs.length; i++) {
     const def = defs[i]
-    // The wire carries pins and distance joints (the other kinds are not on the wire yet).
-    if (def.type !== 'revolute' && def.type !== 'distance') continue
-    const body = (index: number): number => ids[index]
-    const resolved: WireJointDef =
-      def.type === 'revolute'
-        ? { ...def, bodyA: def.bodyA === null ? null : body(def.bodyA), bodyB: body(def.bodyB) }
-        : { ...def, bodyA: def.bodyA === null ? null : body(def.bodyA), bodyB: body(def.bodyB) }
-    out.push(wireJoint(world, created[i], resolved))
+    // Mouse joints are grabs: they travel as cursors (no scene has one).
+    if (def.type === 'mouse') continue
+    const bodyA = def.bodyA === null ? null : ids[def.bodyA]
+    out.push(wireJoint(world, created[i], { ...def, bodyA, bodyB: ids[def.bodyB] } as WireJointDef))
   }
   return out
 }

@@ -66,14 +66,16 @@ export interface WireBody {
 }
 
 /**
- * What a joint is, as drawn: a pin (revolute joint, possibly with a motor and angle limits), or one
- * of the distance joints: a rod (fixed length), a rope (pulls only, up to `max`), a spring (`hz` > 0).
+ * What a joint is, as drawn: a pin (revolute joint, possibly with a motor, angle limits and a
+ * spring), one of the distance joints: a rod (fixed length), a rope (pulls only, up to `max`), a
+ * spring (`hz` > 0), or a weld (glued), a slider (prismatic joint along an axis), a wheel (a
+ * wheel joint: suspension along an axis, free spin, motor) or a motor joint (drives b to a pose).
  */
-export type WireJointKind = 'pin' | 'rod' | 'rope' | 'spring'
+export type WireJointKind = 'pin' | 'rod' | 'rope' | 'spring' | 'weld' | 'slider' | 'wheel' | 'motor'
 
 /**
- * A joint as it travels (scene joints and players' pins and ropes alike); anchors in each body's
- * local frame (m). Every field is always present: those that do not apply to the kind are 0/false.
+ * A joint as it travels (scene joints and players' joints alike); anchors in each body's local
+ * frame (m). Every field is always present: those that do not apply to the kind are 0/false.
  */
 export interface WireJoint {
   id: number
@@ -90,21 +92,40 @@ export interface WireJoint {
   length: number
   min: number
   max: number
-  /** Springs: stiffness (Hz) and damping ratio; 0 when rigid. */
+  /** Springs: stiffness (Hz) and damping ratio; 0 when rigid (a weld: its linear part). */
   hz: number
   damping: number
-  /** Pins: angle of b minus angle of a at creation (rad); limits and the drawn angle are relative to it. */
+  /** Pins, welds, sliders, wheels: angle of b minus angle of a at creation (rad); limits and the drawn angle are relative to it. */
   ref: number
-  /** Pins: the relative angle (angle b - angle a - ref) is kept within [lower, upper] (rad) when `limit`. */
+  /** Pins: the relative angle (rad); sliders and wheels: the translation (m); kept within [lower, upper] when `limit`. */
   limit: boolean
   lower: number
   upper: number
-  /** Pins: a motor drives the relative angular speed to `speed` (rad/s) with at most `torque` (N m). */
+  /** Pins, wheels: a motor drives the relative angular speed to `speed` (rad/s) with at most `torque` (N m); sliders and distance joints: the translation or length at `speed` (m/s) with at most `force` (N). */
   motor: boolean
   speed: number
   torque: number
   /** Whether the two bodies collide with each other (Box2D's collideConnected). */
   collide: boolean
+  /** Largest motor force (N): sliders, distance joints, motor joints. */
+  force: number
+  /** Sliders, wheels: the axis in body a's frame (unit; the world frame when a = 0). */
+  ux: number
+  uy: number
+  /** Pins, sliders, wheels: whether the spring (`hz`, `damping`) acts. */
+  spring: boolean
+  /** The spring's target: a pin's angle (rad), a slider's translation (m); a motor joint's angular offset (rad). */
+  target: number
+  /** Welds: the angular spring (Hz, damping ratio); 0 when rigid. */
+  ahz: number
+  adamping: number
+  /** Motor joints: the share of the pose error closed per sub-step (0-1). */
+  correction: number
+  /** The joint breaks above this reaction force (N) or torque (N m); 0 never. */
+  breakForce: number
+  breakTorque: number
+  /** The player who made the joint (who may drive its motor); 0 for a scene's joint. */
+  owner: number
 }
 
 /** A player in the room roster. */

@@ -28,6 +28,7 @@ import {
   inflateZlibSync,
   TICK_RATE,
   validateClientMessage,
+  WIRE_JOINT_KINDS,
   type WireJoint,
 } from '../protocol/index.ts'
 import {
@@ -272,7 +273,7 @@ function storedWorld(m: Fields, delta = false): StoredWorld {
   if (!(m.world instanceof Uint8Array)) throw new ReplayFormatError('world is not a byte array')
   return { z, world: m.world }
 }
-const JOINT_KINDS = ['pin', 'rod', 'rope', 'spring']
+const JOINT_KINDS: readonly string[] = WIRE_JOINT_KINDS
 const JOINT_NUMBERS = [
   'ax',
   'ay',
@@ -290,6 +291,18 @@ const JOINT_NUMBERS = [
   'torque',
 ] as const
 const JOINT_FLAGS = ['limit', 'motor', 'collide'] as const
+/** Fields added with the joints of issue 28: logs written before them lack them (0 or false then). */
+const JOINT_NUMBERS_SINCE_28 = [
+  'force',
+  'ux',
+  'uy',
+  'target',
+  'ahz',
+  'adamping',
+  'correction',
+  'breakForce',
+  'breakTorque',
+] as const
 
 function joint(v: unknown): WireJoint {
   const m = map(v, 'user joint')
@@ -303,6 +316,9 @@ function joint(v: unknown): WireJoint {
   }
   for (const k of JOINT_NUMBERS) out[k] = finite(m[k], `joint ${k}`)
   for (const k of JOINT_FLAGS) out[k] = bool(m[k], `joint ${k}`)
+  for (const k of JOINT_NUMBERS_SINCE_28) out[k] = m[k] === undefined ? 0 : finite(m[k], `joint ${k}`)
+  out.spring = m.spring === undefined ? false : bool(m.spring, 'joint spring')
+  out.owner = m.owner === undefined ? 0 : int(m.owner, 'joint owner')
   return out as unknown as WireJoint
 }
 

@@ -18,7 +18,14 @@
  * data hash equal whatever order their objects' keys were added in.
  */
 import type { Prng, World } from '../../engine/index.ts'
-import type { Command, PinCommand, RopeCommand, SpawnCommand } from '../protocol/index.ts'
+import type {
+  Command,
+  PinCommand,
+  RopeCommand,
+  SpawnCommand,
+  WireJoint,
+  WireJointDef,
+} from '../protocol/index.ts'
 
 /** Plain data: what game state, game command arguments and game events are made of. */
 export type PlainData = null | boolean | number | string | PlainData[] | { [key: string]: PlainData }
@@ -138,6 +145,16 @@ export interface GameContext<S = PlainData | undefined> {
   cursor(player: number): { x: number; y: number }
   /** Add a pin or rope (user joint, listed on the wire); null or a refusal. */
   addJoint(cmd: PinCommand | RopeCommand): string | null
+  /**
+   * Add a joint of any kind that travels (weld, pin, distance, slider, wheel, motor), made by player
+   * `owner` (who alone may drive its motor: setJointMotor), with the same body, anchor and limit
+   * rules as a pin; `what` names the command in refusals. The joint id, or a refusal.
+   */
+  createJoint(owner: number, def: WireJointDef, what: string): number | string
+  /** A joint of the room as it travels (scene and players' joints; not grabs), or undefined. */
+  userJoint(id: number): Readonly<WireJoint> | undefined
+  /** Set the motor speed of a joint with a motor (rad/s for pins and wheels, m/s for sliders and distance joints); null or a refusal. */
+  setJointMotor(id: number, speed: number): string | null
   /** Remove a user joint; null or a refusal naming the id. */
   removeJoint(id: number): string | null
   /** Replace the world with a fresh copy of a named scene (grabs and user joints go); null or a refusal. */

@@ -54,8 +54,10 @@ export {
 } from './tick-stream.ts'
 export {
   addUserJoint,
+  anchorRefusal,
   type CreatedGrab,
   clampToWorld,
+  createUserJoint,
   deleteBody,
   GRAB_FORCE_PER_KG,
   grabBody,

@@ -35,6 +35,7 @@ import {
   type SpawnCommand,
   TICK_RATE,
   type WireJoint,
+  type WireJointDef,
 } from '../protocol/index.ts'
 import {
   colorsHash,
@@ -50,6 +51,7 @@ import {
 } from './game.ts'
 import {
   addUserJoint,
+  createUserJoint,
   grabBody,
   grabRefusal,
   jointRefusal,
@@ -338,7 +340,10 @@ export class RoomSimulation {
   /** Run one tick: step unless paused (or a step was requested), the game's tick, housekeeping. */
   runTick(): void {
     const step = !this.paused || this.stepRequested
-    if (step) this.world.step()
+    if (step) {
+      this.world.step()
+      this.removeBrokenJoints()
+    }
     this.stepRequested = false
     this.tick++
     if (step && this.game.tick) this.runGameTick(this.game.tick)
@@ -437,6 +442,15 @@ export class RoomSimulation {
     this.bodyColors.delete(id)
     this.world.destroyBody(id)
     this.listener.bodyRemoved(id)
+  }
+
+  /** The step's broken joints (world.jointEvents(), ascending ids) leave the user joints, as a removal. */
+  private removeBrokenJoints(): void {
+    const broken = this.world.jointEvents().broken
+    for (let i = 0; i < broken.length; i++) {
+      if (!this.userJoints.delete(broken[i])) continue
+      this.listener.jointRemoved(broken[i])
+    }
   }
 
   private tell(playerId: number, cmd: SimCommand): void {
@@ -544,6 +558,9 @@ export class RoomSimulation {
         return { x: p.cursorX, y: p.cursorY }
       },
       addJoint: (cmd) => sim.joint(cmd),
+      createJoint: (owner, def, what) => sim.createJoint(owner, def, what),
+      userJoint: (id) => sim.userJoints.get(id),
+      setJointMotor: (id, speed) => sim.setJointMotor(id, speed),
       removeJoint: (id) => {
         if (!sim.userJoints.has(id)) return `joint ${id} is not a joint in this room`
         removeJoint(sim.world, id)
@@ -623,6 +640,26 @@ export class RoomSimulation {
     if (!added.ok) return added.reason
     this.userJoints.set(added.value.id, added.value)
     this.listener.jointAdded(added.value)
+    return null
+  }
+
+  private createJoint(owner: number, def: WireJointDef, what: string): number | string {
+    if (this.userJoints.size >= this.maxBodies) return 'joint limit reached'
+    const added = createUserJoint(this.world, def, owner, what)
+    if (!added.ok) return added.reason
+    this.userJoints.set(added.value.id, added.value)
+    this.listener.jointAdded(added.value)
+    return added.value.id
+  }
+
+  private setJointMotor(id: number, speed: number): string | null {
+    const j = this.userJoints.get(id)
+    if (!j) return `joint ${id} is not a joint in this room`
+    if (!j.motor || j.kind === 'weld' || j.kind === 'motor') return `joint ${id} has no motor`
+    if (!Number.isFinite(speed)) return `motor speed ${speed} is not a finite number`
+    this.world.setJointMotorSpeed(id, speed)
+    // A new object: a predicting client's copies share joint objects with the confirmed simulation.
+    this.userJoints.set(id, { ...j, speed })
     return null
   }
 

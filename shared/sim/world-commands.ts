@@ -201,6 +201,39 @@ export function addUserJoint(world: World, cmd: PinCommand | RopeCommand): World
   return guarded('rope', () => wireJoint(world, world.createJoint(def), def))
 }
 
+/** The anchors of a joint definition that must lie near their bodies (world m): [a's, b's]. */
+function definitionAnchors(def: WireJointDef): [Vec2, Vec2] | null {
+  if (def.type === 'distance') return [def.anchorA, def.anchorB]
+  if (def.type === 'motor') return null
+  return [def.anchor, def.anchor]
+}
+
+/**
+ * Create a player's joint of any kind that travels (a weld, hinge, spring, slider or wheel from
+ * a game command) for player `owner`: the bodies as for a pin (b movable, a the world or an
+ * existing body, a != b), each anchor within its body's reach plus ANCHOR_MARGIN (anchorRefusal),
+ * and an engine precondition failure refused as "<kind> refused: MESSAGE". Anchors are taken as
+ * given: the caller clamps them to the world. Returns the joint as it travels.
+ */
+export function createUserJoint(
+  world: World,
+  def: WireJointDef,
+  owner: number,
+  what: string,
+): WorldResult<WireJoint> {
+  const a = def.bodyA ?? 0
+  const refusal = jointRefusal(world, { k: 'pin', a, b: def.bodyB, x: 0, y: 0 })
+  if (refusal) return refused(refusal)
+  const anchors = definitionAnchors(def)
+  if (anchors) {
+    const far =
+      anchorRefusal(world, def.bodyB, anchors[1], `${what} anchor`) ??
+      (a === 0 ? null : anchorRefusal(world, a, anchors[0], `${what} anchor`))
+    if (far) return refused(far)
+  }
+  return guarded(what, () => wireJoint(world, world.createJoint(def), def, owner))
+}
+
 /** Set the world's gravity (m/s^2) and wake every dynamic body so the change is felt at once. */
 export function setWorldGravity(world: World, x: number, y: number): void {
   world.setGravity({ x, y })

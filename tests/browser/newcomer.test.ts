@@ -324,6 +324,7 @@ describe('on a phone', () => {
           'Lab',
           'Draw',
           'Ground',
+          'Joints',
           'Pause',
           'Step',
           'Reset',

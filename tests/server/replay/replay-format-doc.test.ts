@@ -89,8 +89,10 @@ function checkState(v: unknown): void {
   }
   for (const j of v.userJoints as unknown[]) {
     if (!isMap(j)) throw new Error('joint is not a map')
-    expect(['pin', 'rod', 'rope', 'spring']).toContain(j.kind)
+    expect(['pin', 'rod', 'rope', 'spring', 'weld', 'slider', 'wheel', 'motor']).toContain(j.kind)
     for (const k of ['limit', 'motor', 'collide']) expect(typeof j[k]).toBe('boolean')
+    // Joints since issue 28 carry their owner and spring flag (older logs' joints lack them).
+    if (j.owner !== undefined) expect(isInt(j.owner) && typeof j.spring === 'boolean').toBe(true)
   }
 }
 

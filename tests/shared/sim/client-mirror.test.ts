@@ -77,6 +77,8 @@ describe('client mirror', () => {
           ...{ id: 1, kind: 'pin', a: 0, b: 2, ax: 1, ay: 2, bx: 0, by: 0, length: 0, min: 0, max: 0 },
           ...{ hz: 0, damping: 0, ref: 0, limit: false, lower: 0, upper: 0 },
           ...{ motor: false, speed: 0, torque: 0, collide: false },
+          ...{ force: 0, ux: 0, uy: 0, spring: false, target: 0, ahz: 0, adamping: 0, correction: 0 },
+          ...{ breakForce: 0, breakTorque: 0, owner: 0 },
         },
       ],
       jremove: [],

@@ -180,6 +180,8 @@ describe('addUserJoint', () => {
       length: 0,
       ...{ min: 0, max: 0, hz: 0, damping: 0, ref: 0, limit: false, lower: 0, upper: 0 },
       ...{ motor: false, speed: 0, torque: 0, collide: false },
+      ...{ force: 0, ux: 0, uy: 0, spring: false, target: 0, ahz: 0, adamping: 0, correction: 0 },
+      ...{ breakForce: 0, breakTorque: 0, owner: 0 },
     })
     expect(w.hasJoint(pin.id)).toBe(true)
   })
