@@ -15,7 +15,6 @@ import {
   cssColor,
   type JoinMessage,
   LockstepClient,
-  type PlainData,
   PROTOCOL_VERSION,
   PredictClient,
   type RoomRules,

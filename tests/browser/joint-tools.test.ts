@@ -104,7 +104,10 @@ describe('joint tools', { timeout: 300_000 }, () => {
       const o = window.concord.tools.overlay('#fff')
       const g = o.ghost
       return (
-        o.joint?.kind === 'wheel' && g !== null && g.shapes[0].type === 'circle' && g.shapes[0].radius === 0.25
+        o.joint?.kind === 'wheel' &&
+        g !== null &&
+        g.shapes[0].type === 'circle' &&
+        g.shapes[0].radius === 0.25
       )
     })
     await clickAt(page, -0.4, 2.6)

@@ -151,7 +151,12 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
     // A new wheel made by the command: a circle at (x, y) joined to the chassis at its centre.
     const made = await joint(bot, 'wheel', { a: box2, radius: 0.3, x: 2.5, y: 2.5, torque: 5 })
     const tyre = bot.mirror.bodies.get(made.b)!
-    expect([tyre.kind, tyre.shapes, tyre.x, tyre.y]).toEqual([2, [{ type: 'circle', radius: 0.3, friction: 0.9 }], 2.5, 2.5])
+    expect([tyre.kind, tyre.shapes, tyre.x, tyre.y]).toEqual([
+      2,
+      [{ type: 'circle', radius: 0.3, friction: 0.9 }],
+      2.5,
+      2.5,
+    ])
     expect(made).toMatchObject({
       kind: 'wheel',
       a: box2,
