@@ -92,6 +92,7 @@ export function fullState(
   scene: string,
   paused: boolean,
   joints: Iterable<WireJoint>,
+  control: { slow: number; creator: number; locked: boolean } = { slow: 1, creator: 0, locked: false },
 ): FullState {
   const g = world.getGravity()
   return {
@@ -99,6 +100,9 @@ export function fullState(
     scene,
     paused,
     gravity: [g.x, g.y],
+    slow: control.slow,
+    creator: control.creator,
+    locked: control.locked,
     bodies: world.bodyIds().map((id) => wireBody(world, id)),
     joints: [...joints],
   }

@@ -228,7 +228,11 @@ export class Room {
       room: this.name,
       rules: controls || !this.rules.controls ? this.rules : { ...this.rules, controls: false },
       players: this.roster(),
-      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
+      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values(), {
+        slow: this.sim.slowMotion,
+        creator: this.sim.creator,
+        locked: this.sim.controlsLocked,
+      }),
     })
     this.broadcast({ t: 'players', players: this.roster() })
     // The newcomer learns every cursor from the next snapshot.
@@ -437,7 +441,11 @@ export class Room {
     fillFrame(this.world, frame)
     const bytes = encodeMessage({
       t: 'state',
-      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values()),
+      state: fullState(this.world, this.tick, this.scene, this.sim.paused, this.sim.userJoints.values(), {
+        slow: this.sim.slowMotion,
+        creator: this.sim.creator,
+        locked: this.sim.controlsLocked,
+      }),
     })
     for (const p of this.players.values()) {
       p.inspect = 0
@@ -467,6 +475,9 @@ export class Room {
         paused: this.sim.paused,
         gravity: [g.x, g.y],
         scene: this.scene,
+        slow: this.sim.slowMotion,
+        creator: this.sim.creator,
+        locked: this.sim.controlsLocked,
       })
       this.roomChanged = false
     }
