@@ -35,6 +35,8 @@ export interface ToolOverlay {
   ropeFrom: Vec2 | null
   /** The joint the cut tool would remove here, marked. */
   cutJoint: ViewJoint | null
+  /** The explode tool's blast: full within `radius` (m), fading to nothing at twice it. */
+  blast?: { x: number; y: number; radius: number } | null
 }
 
 /** Everything one frame shows. */
@@ -57,6 +59,9 @@ const STYLE = {
   asleep: ['#2c4360', '#4f6a8c'],
   kinematic: ['#7a5cc4', '#b7a0f0'],
 } as const
+
+/** The explode tool's blast preview. */
+const BLAST_COLOR = '#ff5a36'
 
 /** The mark on the joint the cut tool points at. */
 export const CUT_MARK = '#ff3b30'
@@ -341,6 +346,25 @@ export class Renderer {
         ctx.lineTo(o.throwTo.x, o.throwTo.y)
         ctx.stroke()
       }
+    }
+    if (o.blast) {
+      const b = o.blast
+      ctx.globalAlpha = 0.18
+      ctx.fillStyle = BLAST_COLOR
+      ctx.beginPath()
+      ctx.arc(b.x, b.y, b.radius, 0, 2 * Math.PI)
+      ctx.fill()
+      ctx.globalAlpha = 1
+      ctx.strokeStyle = BLAST_COLOR
+      ctx.beginPath()
+      ctx.arc(b.x, b.y, b.radius, 0, 2 * Math.PI)
+      ctx.stroke()
+      ctx.setLineDash([this.lineWidth(6), this.lineWidth(4)])
+      ctx.beginPath()
+      ctx.arc(b.x, b.y, 2 * b.radius, 0, 2 * Math.PI)
+      ctx.stroke()
+      ctx.setLineDash([])
+      ctx.strokeStyle = o.color
     }
     if (o.ropeFrom && o.cursor) {
       ctx.setLineDash([this.lineWidth(6), this.lineWidth(4)])

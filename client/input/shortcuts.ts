@@ -15,6 +15,9 @@ export type ShortcutAction =
   | 'tool:rope'
   | 'tool:cut'
   | 'tool:inspect'
+  | 'tool:explode'
+  | 'slow'
+  | 'lock'
   | 'pause'
   | 'step'
   | 'reset'
@@ -47,10 +50,17 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
   { keys: ['l', '7'], action: 'tool:rope', help: 'Rope: drag from one body (or space) to another' },
   { keys: ['u', '8'], action: 'tool:cut', help: 'Cut: click a pin, rope, rod or spring to remove it' },
   { keys: ['i', '9'], action: 'tool:inspect', help: 'Lab: click a body to see its free-body diagram' },
+  {
+    keys: ['e'],
+    action: 'tool:explode',
+    help: 'Explode: press to see the blast, release to push everything in it away',
+  },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
   { keys: ['r'], action: 'reset', help: 'Reset the scene' },
   { keys: ['v'], action: 'gravity', help: 'Gravity on / off' },
+  { keys: ['m'], action: 'slow', help: 'Slow motion: full, 1/2, 1/4 speed (for everyone in the room)' },
+  { keys: ['y'], action: 'lock', help: "Lock the room controls to yourself (the room's creator only)" },
   { keys: ['f'], action: 'fit', help: 'Fit the scene in view' },
   { keys: ['k'], action: 'layer:contacts', help: 'Debug: contact points and normals' },
   { keys: ['j'], action: 'layer:joints', help: 'Debug: joint anchors' },
@@ -74,6 +84,8 @@ const BUTTONS: Partial<Record<ShortcutAction, string>> = {
   step: 'Step',
   reset: 'Reset',
   gravity: 'Gravity',
+  slow: 'Slow',
+  lock: 'Lock',
   fit: 'Fit',
 }
 

@@ -17,7 +17,18 @@ import { pickBody, pickJoint, toLocal, toWorld } from './picking.ts'
 import { SPAWN_DEFAULTS, type SpawnSettings } from './spawn-settings.ts'
 
 /** The tools, in toolbar order. */
-export const TOOLS = ['grab', 'circle', 'box', 'polygon', 'delete', 'pin', 'rope', 'cut', 'inspect'] as const
+export const TOOLS = [
+  'grab',
+  'circle',
+  'box',
+  'polygon',
+  'delete',
+  'pin',
+  'rope',
+  'cut',
+  'inspect',
+  'explode',
+] as const
 /** A tool name. */
 export type ToolName = (typeof TOOLS)[number]
 
@@ -28,6 +39,9 @@ const MAX_THROW = 40
 const CLICK_SLOP = 6
 /** The cut tool takes the joint within this distance of the pointer (CSS px). */
 const CUT_REACH = 12
+/** The explode tool's blast radius (m; it fades to nothing at twice this) and impulse per metre of width (N s/m). */
+export const EXPLODE_RADIUS = 2
+export const EXPLODE_IMPULSE = 8
 /** Cursor updates while not grabbing are sent at most this often (ms). */
 const HOVER_INTERVAL = 50
 
@@ -38,6 +52,7 @@ type Action =
   | { kind: 'spawn'; at: Vec2; shape: WireShape }
   | { kind: 'rope'; a: number; anchor: Vec2 }
   | { kind: 'pinch'; distance: number; mid: Vec2 }
+  | { kind: 'explode' }
 
 const dynamic = (b: ViewBody): boolean => b.kind === 2
 const isSpawnTool = (tool: ToolName): boolean => tool === 'circle' || tool === 'box' || tool === 'polygon'
@@ -153,6 +168,10 @@ export class ToolController {
       case 'inspect':
         this.action = { kind: 'pan', moved: 0, clickBody: hit ?? pickBody(bodies, w) }
         return
+      case 'explode':
+        // Press to see the blast (a finger too), move to aim, release to explode there.
+        this.action = { kind: 'explode' }
+        return
     }
     this.action = { kind: 'pan', moved: 0, clickBody: null }
   }
@@ -250,6 +269,8 @@ export class ToolController {
       })
       if (a.shape.type === 'polygon') this.polygonSides = this.polygonSides >= 8 ? 3 : this.polygonSides + 1
     } else if (a.kind === 'rope') this.tieRope(a, w)
+    else if (a.kind === 'explode')
+      sandbox.sendGame?.('explode', { x: w.x, y: w.y, radius: EXPLODE_RADIUS, impulse: EXPLODE_IMPULSE })
     else if (a.kind === 'pan' && a.moved < CLICK_SLOP && this.tool === 'inspect') {
       this.selected = a.clickBody && a.clickBody.kind === 2 ? a.clickBody.id : 0
     }
@@ -317,6 +338,8 @@ export class ToolController {
       o.ghostAlpha = 0.25
     } else if (a.kind === 'rope') o.ropeFrom = a.anchor
     else if (this.tool === 'cut' && this.cursor) o.cutJoint = this.jointAt(this.cursor)
+    if (this.tool === 'explode' && this.cursor)
+      o.blast = { x: this.cursor.x, y: this.cursor.y, radius: EXPLODE_RADIUS }
     return o
   }
 

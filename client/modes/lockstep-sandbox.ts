@@ -15,6 +15,7 @@ import {
   type Command,
   type JoinMessage,
   LockstepClient,
+  type PlainData,
   PROTOCOL_VERSION,
   PredictClient,
   type RoomRules,
@@ -31,6 +32,7 @@ import { CorrectionSmoother } from './predict-smoothing.ts'
 import type {
   LabContact,
   LabData,
+  RoomControl,
   Sandbox,
   SandboxStats,
   SandboxStatus,
@@ -238,6 +240,20 @@ export class LockstepSandbox implements Sandbox {
   send(cmd: Command): void {
     if (this.runner instanceof PredictClient) this.runner.input(cmd, performance.now())
     else this.connection.send({ t: 'input', seq: ++this.seq, cmd })
+  }
+
+  sendGame(kind: string, args: { [key: string]: PlainData }): void {
+    this.connection.send({ t: 'cmd', seq: ++this.seq, k: kind, a: args })
+  }
+
+  roomControl(): RoomControl {
+    const sim = this.drawn()
+    return {
+      slow: sim?.slowMotion ?? 1,
+      creator: sim?.creator ?? 0,
+      locked: sim?.controlsLocked ?? false,
+      self: this.runner.playerId,
+    }
   }
 
   color(): string {

@@ -23,6 +23,7 @@ import {
   grabBody,
   grabRefusal,
   moveGrab,
+  type PlainData,
   type RoomRules,
   removeJoint,
   setWorldGravity,
@@ -51,6 +52,9 @@ export class OfflineSandbox implements Sandbox {
   private sceneName: string
   private isPaused = false
   private stepOnce = false
+  /** Slow motion: the world steps on every slow-th fixed step only (1, 2 or 4), as a room does. */
+  private slow = 1
+  private fixedSteps = 0
   private readonly stepper = new FixedStepper()
   private lastNow = Number.NaN
   private readonly view = new WorldView()
@@ -78,6 +82,13 @@ export class OfflineSandbox implements Sandbox {
     const frame = Number.isNaN(this.lastNow) ? 0 : (nowMs - this.lastNow) / 1000
     this.lastNow = nowMs
     let steps = this.stepper.advance(frame)
+    if (this.slow > 1) {
+      const before = this.fixedSteps
+      this.fixedSteps += steps
+      steps =
+        Math.floor((this.fixedSteps + this.slow - 1) / this.slow) -
+        Math.floor((before + this.slow - 1) / this.slow)
+    }
     if (this.isPaused) steps = this.stepOnce ? 1 : 0
     this.stepOnce = false
     if (steps > 0) {
@@ -127,6 +138,21 @@ export class OfflineSandbox implements Sandbox {
    */
   send(cmd: Command): void {
     this.apply(cmd)
+  }
+
+  /** The sandbox's explode and slow commands on the local world (the game's rules; lock needs a room). */
+  sendGame(kind: string, args: { [key: string]: PlainData }): void {
+    if (kind === 'explode') {
+      const { x, y, radius, impulse } = args as { x: number; y: number; radius: number; impulse: number }
+      this.world.explode({ position: { x, y }, radius, falloff: radius, impulsePerLength: impulse })
+    } else if (kind === 'slow' && (args.every === 1 || args.every === 2 || args.every === 4)) {
+      this.slow = args.every
+      this.fixedSteps = 0
+    }
+  }
+
+  roomControl(): { slow: number; creator: number; locked: boolean; self: number } {
+    return { slow: this.slow, creator: 0, locked: false, self: 0 }
   }
 
   private apply(cmd: Command): void {

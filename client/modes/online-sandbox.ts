@@ -15,6 +15,7 @@ import {
   type ContactsMessage,
   type JoinMessage,
   type MirrorBody,
+  type PlainData,
   PROTOCOL_VERSION,
   ROOM_NAME_PATTERN,
   type RoomRules,
@@ -26,6 +27,7 @@ import { Connection, InputOutbox, type Pose, ServerStats, SnapshotTimeline } fro
 import type {
   LabContact,
   LabData,
+  RoomControl,
   Sandbox,
   SandboxStats,
   SandboxStatus,
@@ -395,6 +397,21 @@ export class OnlineSandbox implements Sandbox {
     if (cmd.k === 'scene' || cmd.k === 'reset') this.ownLoad = true
     this.outbox.push(cmd)
     this.drainOutbox(now)
+  }
+
+  sendGame(kind: string, args: { [key: string]: PlainData }): void {
+    // Keep the order of what the player did: a cursor move made before this command goes first.
+    if (this.pendingMove) {
+      this.outbox.push(this.pendingMove)
+      this.pendingMove = null
+      this.drainOutbox(performance.now())
+    }
+    this.connection?.send({ t: 'cmd', seq: ++this.seq, k: kind, a: args })
+  }
+
+  roomControl(): RoomControl {
+    const m = this.mirror
+    return { slow: m.slow, creator: m.creator, locked: m.locked, self: m.clientId }
   }
 
   /** One notice for the inputs the server dropped since the last frame, and the spawns sent again. */

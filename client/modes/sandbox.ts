@@ -7,6 +7,7 @@
 import type { Vec2 } from '../../engine/index.ts'
 import type {
   Command,
+  PlainData,
   RoomRules,
   WireJoint,
   WireJointForceKind,
@@ -125,6 +126,14 @@ export interface LabData {
   source: 'world' | 'server'
 }
 
+/** What the page shows of slow motion and the control lock (PROTOCOL.md `room`). */
+export interface RoomControl {
+  slow: number
+  creator: number
+  locked: boolean
+  self: number
+}
+
 /** Connection status shown to the user. */
 export type SandboxStatus =
   | { state: 'connecting' }
@@ -147,6 +156,10 @@ export interface Sandbox {
   contacts(): readonly LabContact[] | null
   /** Apply or send one command. */
   send(cmd: Command): void
+  /** Apply or send one of the sandbox game's own commands (`cmd`: explode, slow, lock); the replay ignores it. */
+  sendGame?(kind: string, args: { [key: string]: PlainData }): void
+  /** Slow motion (1, 2 or 4), the room's creator and control lock, and this player's id (0 offline). */
+  roomControl?(): RoomControl
   /** This player's colour. */
   color(): string
   status(): SandboxStatus
