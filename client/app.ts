@@ -48,7 +48,7 @@ const $ = <T extends HTMLElement = HTMLElement>(id: string): T => document.getEl
 
 /** The running page. */
 /** How the page names a slow-motion factor. */
-const SLOW_LABEL: Record<number, string> = { 2: '1/2×', 4: '1/4×' }
+const SLOW_LABEL: Record<number, string> = { 1: '1×', 2: '1/2×', 4: '1/4×' }
 
 export class App {
   readonly camera = new Camera()
@@ -454,12 +454,12 @@ export class App {
     $('pause').textContent = s.paused() ? 'Play' : 'Pause'
     const slow = room?.slow ?? 1
     $('slow').hidden = room === null
-    $('slow').textContent = slow === 1 ? 'Slow' : `Slow ${SLOW_LABEL[slow] ?? slow}`
+    $('slow').textContent = SLOW_LABEL[slow] ?? `1/${slow}×`
     $('slow').setAttribute('aria-pressed', String(slow !== 1))
     // Only the room's creator can lock; offline there is nobody to lock out.
     $('lock').hidden = room === null || room.creator === 0 || room.self !== room.creator
     $('lock').setAttribute('aria-pressed', String(room?.locked ?? false))
-    $('lock').textContent = room?.locked ? 'Unlock' : 'Lock'
+    $('lock').textContent = room?.locked ? '🔒' : '🔓'
     // On the view itself, not only on the button (the replay page has its own Play button).
     const banner: string[] = []
     if (s.paused()) banner.push(controls ? '❚❚ Paused: Space or Play resumes' : '❚❚ Paused by the room')
