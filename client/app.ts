@@ -50,6 +50,9 @@ const TOAST_MIN_MS = 1500
 const $ = <T extends HTMLElement = HTMLElement>(id: string): T => document.getElementById(id) as T
 
 /** The running page. */
+/** How the page names a slow-motion factor. */
+const SLOW_LABEL: Record<number, string> = { 1: '1×', 2: '1/2×', 4: '1/4×' }
+
 export class App {
   readonly camera = new Camera()
   readonly renderer: Renderer
@@ -139,6 +142,8 @@ export class App {
     click('step', 'step')
     click('reset', 'reset')
     click('gravity', 'gravity')
+    click('slow', 'slow')
+    click('lock', 'lock')
     click('help-button', 'help')
     click('help-close', 'help')
     click('rooms', 'lobby')
@@ -314,6 +319,14 @@ export class App {
         s.send(g.y !== 0 || g.x !== 0 ? { k: 'gravity', x: 0, y: 0 } : { k: 'gravity', x: 0, y: -10 })
         break
       }
+      case 'slow': {
+        const slow = s.roomControl?.().slow ?? 1
+        s.sendGame?.('slow', { every: slow === 1 ? 2 : slow === 2 ? 4 : 1 })
+        break
+      }
+      case 'lock':
+        s.sendGame?.('lock', { locked: !(s.roomControl?.().locked ?? false) })
+        break
       case 'fit':
         this.fit()
         break
@@ -505,8 +518,10 @@ export class App {
   private refreshPanels(selected: ViewBody | null): void {
     const s = this.sandbox
     $('hud').textContent = hudText(s.stats(), this.fps.value, s.mode, s.scene())
-    const controls = s.rules()?.controls ?? true
-    for (const id of ['scene', 'pause', 'step', 'reset', 'gravity']) {
+    const room = s.roomControl?.() ?? null
+    const lockedOut = room?.locked && room.self !== room.creator
+    const controls = (s.rules()?.controls ?? true) && !lockedOut
+    for (const id of ['scene', 'pause', 'step', 'reset', 'gravity', 'slow', 'lock']) {
       const control = $(id) as HTMLButtonElement
       // The scene picker's own title names the current scene (syncScenePicker): read it afresh.
       if (id === 'scene') control.dataset.title = `Scene: ${sceneDescription(s.scene())}`
@@ -514,12 +529,31 @@ export class App {
       control.disabled = !controls
       control.title = controls
         ? control.dataset.title
-        : `${control.dataset.title}: not open to you in this room (with an admin key, add &key=KEY to the address)`
+        : lockedOut
+          ? `${control.dataset.title}: the room's creator locked the controls`
+          : `${control.dataset.title}: not open to you in this room (with an admin key, add &key=KEY to the address)`
     }
     $('pause').textContent = s.paused() ? 'Play' : 'Pause'
+    const slow = room?.slow ?? 1
+    $('slow').hidden = room === null
+    $('slow').textContent = SLOW_LABEL[slow] ?? `1/${slow}×`
+    $('slow').setAttribute('aria-pressed', String(slow !== 1))
+    // Only the room's creator can lock; offline there is nobody to lock out.
+    $('lock').hidden = room === null || room.creator === 0 || room.self !== room.creator
+    $('lock').setAttribute('aria-pressed', String(room?.locked ?? false))
+    $('lock').textContent = room?.locked ? '🔒' : '🔓'
     // On the view itself, not only on the button (the replay page has its own Play button).
-    $('paused').hidden = !s.paused() || s.mode === 'replay'
-    $('paused').textContent = controls ? '❚❚ Paused: Space or Play resumes' : '❚❚ Paused by the room'
+    const banner: string[] = []
+    if (s.paused()) banner.push(controls ? '❚❚ Paused: Space or Play resumes' : '❚❚ Paused by the room')
+    if (slow !== 1) banner.push(`◷ Slow motion ${SLOW_LABEL[slow] ?? slow}`)
+    if (room?.locked)
+      banner.push(
+        room.self === room.creator
+          ? '🔒 You locked the controls'
+          : "🔒 Controls locked by the room's creator",
+      )
+    $('paused').hidden = banner.length === 0 || s.mode === 'replay'
+    $('paused').textContent = banner.join(' · ')
     this.syncToggles()
     this.placePanels()
     if ($<HTMLSelectElement>('scene').value !== s.scene()) this.syncScenePicker()

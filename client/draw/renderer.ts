@@ -41,6 +41,8 @@ export interface ToolOverlay {
   strokeClosed: boolean
   /** The joint a joint tool would make here (drawn faint, as the joint will be drawn). */
   joint: ViewJoint | null
+  /** The explode tool's blast: full within `radius` (m), fading to nothing at twice it. */
+  blast?: { x: number; y: number; radius: number } | null
 }
 
 /** Everything one frame shows. */
@@ -66,6 +68,8 @@ const STYLE = {
 
 /** Segment shapes (lines, drawn ground) are stroked in this colour. */
 const SEGMENT_COLOR = '#8a94a8'
+/** The explode tool's blast preview. */
+const BLAST_COLOR = '#ff5a36'
 
 /** The mark on the joint the cut tool points at. */
 export const CUT_MARK = '#ff3b30'
@@ -439,6 +443,25 @@ export class Renderer {
         ctx.globalAlpha = 1
       }
       ctx.stroke()
+    }
+    if (o.blast) {
+      const b = o.blast
+      ctx.globalAlpha = 0.18
+      ctx.fillStyle = BLAST_COLOR
+      ctx.beginPath()
+      ctx.arc(b.x, b.y, b.radius, 0, 2 * Math.PI)
+      ctx.fill()
+      ctx.globalAlpha = 1
+      ctx.strokeStyle = BLAST_COLOR
+      ctx.beginPath()
+      ctx.arc(b.x, b.y, b.radius, 0, 2 * Math.PI)
+      ctx.stroke()
+      ctx.setLineDash([this.lineWidth(6), this.lineWidth(4)])
+      ctx.beginPath()
+      ctx.arc(b.x, b.y, 2 * b.radius, 0, 2 * Math.PI)
+      ctx.stroke()
+      ctx.setLineDash([])
+      ctx.strokeStyle = o.color
     }
     if (o.ropeFrom && o.cursor) {
       ctx.setLineDash([this.lineWidth(6), this.lineWidth(4)])

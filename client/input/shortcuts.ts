@@ -24,6 +24,9 @@ export type ShortcutAction =
   | 'tool:spring'
   | 'tool:slider'
   | 'tool:wheel'
+  | 'tool:explode'
+  | 'slow'
+  | 'lock'
   | 'pause'
   | 'step'
   | 'reset'
@@ -85,10 +88,17 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
     action: 'tool:wheel',
     help: 'Wheel: click a chassis to add a driven wheel; ←/→ drive yours',
   },
+  {
+    keys: ['/'],
+    action: 'tool:explode',
+    help: 'Explode: press to see the blast, release to push everything in it away',
+  },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
   { keys: ['r'], action: 'reset', help: 'Reset the scene' },
   { keys: ['v'], action: 'gravity', help: 'Gravity on / off' },
+  { keys: ['-'], action: 'slow', help: 'Slow motion: full, 1/2, 1/4 speed (for everyone in the room)' },
+  { keys: ['='], action: 'lock', help: "Lock the room controls to yourself (the room's creator only)" },
   { keys: ['f'], action: 'fit', help: 'Fit the scene in view' },
   { keys: ['k'], action: 'layer:contacts', help: 'Debug: contact points and normals' },
   { keys: ['j'], action: 'layer:joints', help: 'Debug: joint anchors' },
@@ -121,6 +131,8 @@ const BUTTONS: Partial<Record<ShortcutAction, string>> = {
   step: 'Step',
   reset: 'Reset',
   gravity: 'Gravity',
+  slow: 'Slow',
+  lock: 'Lock',
   fit: 'Fit',
 }
 

@@ -36,6 +36,7 @@ export const TOOLS = [
   'spring',
   'slider',
   'wheel',
+  'explode',
 ] as const
 /** A tool name. */
 export type ToolName = (typeof TOOLS)[number]
@@ -51,6 +52,9 @@ const CUT_REACH = 12
 const STROKE_STEP = 4
 /** A click this close (CSS px) to the first point closes a clicked outline (the last point: ends a clicked ground line). */
 const CLOSE_REACH = 12
+/** The explode tool's blast radius (m; it fades to nothing at twice this) and impulse per metre of width (N s/m). */
+export const EXPLODE_RADIUS = 2
+export const EXPLODE_IMPULSE = 8
 /** Cursor updates while not grabbing are sent at most this often (ms). */
 const HOVER_INTERVAL = 50
 
@@ -65,6 +69,7 @@ type Action =
   | { kind: 'pinch'; distance: number; mid: Vec2 }
   | { kind: 'stroke'; points: Vec2[]; moved: number }
   | { kind: 'drag'; from: Vec2 }
+  | { kind: 'explode' }
 
 const dynamic = (b: ViewBody): boolean => b.kind === 2
 /** A body the wheel tool takes as a wheel: one circle. */
@@ -220,6 +225,10 @@ export class ToolController {
           this.action = { kind: 'slider', a: under ? under.id : 0, b: hit.id, anchor: w }
         }
         return
+      case 'explode':
+        // Press to see the blast (a finger too), move to aim, release to explode there.
+        this.action = { kind: 'explode' }
+        return
     }
     this.action = { kind: 'pan', moved: 0, clickBody: null }
   }
@@ -328,6 +337,8 @@ export class ToolController {
     } else if (a.kind === 'rope') this.tieRope(a, w)
     else if (a.kind === 'spring') this.hangSpring(a, w)
     else if (a.kind === 'slider') this.laySlider(a, w)
+    else if (a.kind === 'explode')
+      sandbox.sendGame?.('explode', { x: w.x, y: w.y, radius: EXPLODE_RADIUS, impulse: EXPLODE_IMPULSE })
     else if (a.kind === 'pan' && a.moved < CLICK_SLOP && this.tool === 'inspect') {
       this.selected = a.clickBody && a.clickBody.kind === 2 ? a.clickBody.id : 0
     }
@@ -572,6 +583,8 @@ export class ToolController {
         o.ghostAlpha = 0.3
       }
     } else if (this.tool === 'cut' && this.cursor) o.cutJoint = this.jointAt(this.cursor)
+    if (this.tool === 'explode' && this.cursor)
+      o.blast = { x: this.cursor.x, y: this.cursor.y, radius: EXPLODE_RADIUS }
     return o
   }
 

@@ -32,6 +32,7 @@ import { CorrectionSmoother } from './predict-smoothing.ts'
 import type {
   LabContact,
   LabData,
+  RoomControl,
   Sandbox,
   SandboxStats,
   SandboxStatus,
@@ -278,6 +279,16 @@ export class LockstepSandbox implements Sandbox {
 
   playerId(): number {
     return this.runner.playerId
+  }
+
+  roomControl(): RoomControl {
+    const sim = this.drawn()
+    return {
+      slow: sim?.slowMotion ?? 1,
+      creator: sim?.creator ?? 0,
+      locked: sim?.controlsLocked ?? false,
+      self: this.runner.playerId,
+    }
   }
 
   color(): string {

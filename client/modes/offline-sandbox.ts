@@ -23,6 +23,7 @@ import {
   grabBody,
   grabRefusal,
   moveGrab,
+  type PlainData,
   playerBodyColor,
   type RoomRules,
   removeJoint,
@@ -52,6 +53,9 @@ export class OfflineSandbox implements Sandbox {
   private sceneName: string
   private isPaused = false
   private stepOnce = false
+  /** Slow motion: the world steps on every slow-th fixed step only (1, 2 or 4), as a room does. */
+  private slow = 1
+  private fixedSteps = 0
   private readonly stepper = new FixedStepper()
   private lastNow = Number.NaN
   private readonly view = new WorldView()
@@ -85,6 +89,13 @@ export class OfflineSandbox implements Sandbox {
     const frame = Number.isNaN(this.lastNow) ? 0 : (nowMs - this.lastNow) / 1000
     this.lastNow = nowMs
     let steps = this.stepper.advance(frame)
+    if (this.slow > 1) {
+      const before = this.fixedSteps
+      this.fixedSteps += steps
+      steps =
+        Math.floor((this.fixedSteps + this.slow - 1) / this.slow) -
+        Math.floor((before + this.slow - 1) / this.slow)
+    }
     if (this.isPaused) steps = this.stepOnce ? 1 : 0
     this.stepOnce = false
     if (steps > 0) {
@@ -140,6 +151,25 @@ export class OfflineSandbox implements Sandbox {
    */
   send(cmd: Command): void {
     this.apply(cmd)
+  }
+
+  /** The sandbox's explode and slow commands on the local world (the game's rules; lock and the joint tools need a room). */
+  sendGame(kind: string, args: { [key: string]: PlainData }): void {
+    if (kind === 'explode') {
+      const { x, y, radius, impulse } = args as { x: number; y: number; radius: number; impulse: number }
+      this.world.explode({ position: { x, y }, radius, falloff: radius, impulsePerLength: impulse })
+    } else if (kind === 'slow' && (args.every === 1 || args.every === 2 || args.every === 4)) {
+      this.slow = args.every
+      this.fixedSteps = 0
+    } else if (kind !== 'explode' && kind !== 'slow') {
+      // The joint tools are the room's game commands: this page's own world does not run the game.
+      this.noticeCount++
+      this.latestNotice = `The ${kind} tool needs a room: open the sandbox online to build machines.`
+    }
+  }
+
+  roomControl(): { slow: number; creator: number; locked: boolean; self: number } {
+    return { slow: this.slow, creator: 0, locked: false, self: 0 }
   }
 
   private apply(cmd: Command): void {
@@ -253,12 +283,6 @@ export class OfflineSandbox implements Sandbox {
     const w = this.world
     if (!w.hasBody(bodyId) || w.getBodyType(bodyId) !== 'dynamic') return null
     return labFromWorld(w, bodyId, this.contacts(), (id) => this.joints_.get(id)?.kind)
-  }
-
-  /** The joint tools are the room's game commands: this page's own world does not run the game. */
-  sendGame(kind: string): void {
-    this.noticeCount++
-    this.latestNotice = `The ${kind} tool needs a room: open the sandbox online to build machines.`
   }
 
   playerId(): number {

@@ -29,6 +29,7 @@ import { Connection, InputOutbox, type Pose, ServerStats, SnapshotTimeline } fro
 import type {
   LabContact,
   LabData,
+  RoomControl,
   Sandbox,
   SandboxStats,
   SandboxStatus,
@@ -427,6 +428,11 @@ export class OnlineSandbox implements Sandbox {
 
   playerId(): number {
     return this.mirror.clientId
+  }
+
+  roomControl(): RoomControl {
+    const m = this.mirror
+    return { slow: m.slow, creator: m.creator, locked: m.locked, self: m.clientId }
   }
 
   /** One notice for the inputs the server dropped since the last frame, and the spawns sent again. */

@@ -133,6 +133,14 @@ export interface LabData {
   source: 'world' | 'server'
 }
 
+/** What the page shows of slow motion and the control lock (PROTOCOL.md `room`). */
+export interface RoomControl {
+  slow: number
+  creator: number
+  locked: boolean
+  self: number
+}
+
 /** Connection status shown to the user. */
 export type SandboxStatus =
   | { state: 'connecting' }
@@ -159,6 +167,8 @@ export interface Sandbox {
   sendGame(kind: string, args: { [key: string]: PlainData }): void
   /** This player's id in the room (0 offline and in replays: joints made here have owner 0). */
   playerId(): number
+  /** Slow motion (1, 2 or 4), the room's creator and control lock, and this player's id (0 offline). */
+  roomControl?(): RoomControl
   /** This player's colour. */
   color(): string
   status(): SandboxStatus

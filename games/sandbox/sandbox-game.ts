@@ -11,11 +11,16 @@
  */
 import { SCENES } from '../../engine/index.ts'
 import { isMovable } from '../../shared/index.ts'
-import { builtin, defineGame } from '../game-api.ts'
+import { builtin, defineGame, type GameCommandDefinition } from '../game-api.ts'
 import { jointCommands } from './joint-commands.ts'
 
 /** Ticks between scene loads or resets in one room: building a scene is the costliest command. */
 export const MIN_TICKS_BETWEEN_LOADS = 10
+
+/** The largest explosion radius (m); the blast fades to nothing over as much again beyond it. */
+export const MAX_EXPLOSION_RADIUS = 20
+/** The largest explosion impulse per metre of a shape's width across the blast (N s/m). */
+export const MAX_EXPLOSION_IMPULSE = 100
 
 /** Why a scene load or reset must wait (at most one per MIN_TICKS_BETWEEN_LOADS ticks), or null. */
 function loadTooSoon(tick: number, lastLoadTick: number): string | null {
@@ -61,6 +66,53 @@ export const sandboxCommands = {
   ),
   step: builtin('step', (ctx) => ctx.requestStep(), { control: true }),
   gravity: builtin('gravity', (ctx, _player, cmd) => ctx.setGravity(cmd.x, cmd.y), { control: true }),
+  explode: <GameCommandDefinition<undefined, { x: number; y: number; radius: number; impulse: number }>>{
+    args: {
+      type: 'object',
+      properties: {
+        x: { type: 'number', minimum: -500, maximum: 500 },
+        y: { type: 'number', minimum: -500, maximum: 500 },
+        radius: { type: 'number', exclusiveMinimum: 0, maximum: MAX_EXPLOSION_RADIUS },
+        impulse: { type: 'number', minimum: 0, maximum: MAX_EXPLOSION_IMPULSE },
+      },
+      required: ['x', 'y', 'radius', 'impulse'],
+      additionalProperties: false,
+    },
+    apply(ctx, _player, a: { x: number; y: number; radius: number; impulse: number }) {
+      ctx.world.explode({
+        position: { x: a.x, y: a.y },
+        radius: a.radius,
+        falloff: a.radius,
+        impulsePerLength: a.impulse,
+      })
+    },
+  },
+  slow: <GameCommandDefinition<undefined, { every: number }>>{
+    args: {
+      type: 'object',
+      properties: { every: { enum: [1, 2, 4] } },
+      required: ['every'],
+      additionalProperties: false,
+    },
+    control: true,
+    apply(ctx, _player, a: { every: number }) {
+      ctx.slowMotion = a.every
+    },
+  },
+  lock: <GameCommandDefinition<undefined, { locked: boolean }>>{
+    args: {
+      type: 'object',
+      properties: { locked: { type: 'boolean' } },
+      required: ['locked'],
+      additionalProperties: false,
+    },
+    control: true,
+    apply(ctx, player, a: { locked: boolean }) {
+      if (player !== ctx.creator)
+        return `only the room's creator (player ${ctx.creator}) can lock the controls`
+      ctx.controlsLocked = a.locked
+    },
+  },
 }
 
 /** The sandbox game: the room's scene (the server's default, or the one a test asks for) and every built-in command. */

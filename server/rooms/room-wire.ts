@@ -96,6 +96,7 @@ export function fullState(
   paused: boolean,
   joints: Iterable<WireJoint>,
   colors?: ReadonlyMap<number, number>,
+  control: { slow: number; creator: number; locked: boolean } = { slow: 1, creator: 0, locked: false },
 ): FullState {
   const g = world.getGravity()
   return {
@@ -103,6 +104,9 @@ export function fullState(
     scene,
     paused,
     gravity: [g.x, g.y],
+    slow: control.slow,
+    creator: control.creator,
+    locked: control.locked,
     bodies: world.bodyIds().map((id) => wireBody(world, id, colors)),
     joints: [...joints],
   }

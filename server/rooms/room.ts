@@ -279,6 +279,7 @@ export class Room {
         this.sim.paused,
         this.sim.userJoints.values(),
         this.sim.bodyColors,
+        { slow: this.sim.slowMotion, creator: this.sim.creator, locked: this.sim.controlsLocked },
       ),
     })
   }
@@ -527,6 +528,7 @@ export class Room {
         this.sim.paused,
         this.sim.userJoints.values(),
         this.sim.bodyColors,
+        { slow: this.sim.slowMotion, creator: this.sim.creator, locked: this.sim.controlsLocked },
       ),
     })
     for (const p of this.players.values()) {
@@ -557,6 +559,9 @@ export class Room {
         paused: this.sim.paused,
         gravity: [g.x, g.y],
         scene: this.scene,
+        slow: this.sim.slowMotion,
+        creator: this.sim.creator,
+        locked: this.sim.controlsLocked,
       })
       this.roomChanged = false
     }

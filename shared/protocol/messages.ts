@@ -142,6 +142,11 @@ export interface FullState {
   scene: string
   paused: boolean
   gravity: [number, number]
+  /** Slow motion: the world steps on room ticks that are multiples of this (1, 2 or 4). */
+  slow: number
+  /** The room's creator (first player to join; 0 before) and whether it locked the room controls. */
+  creator: number
+  locked: boolean
   bodies: WireBody[]
   joints: WireJoint[]
 }
@@ -416,6 +421,10 @@ export interface RoomMessage {
   paused: boolean
   gravity: [number, number]
   scene: string
+  /** Slow motion (1, 2 or 4), the creator and the control lock, as in FullState. */
+  slow: number
+  creator: number
+  locked: boolean
 }
 /** The roster changed. */
 export interface PlayersMessage {

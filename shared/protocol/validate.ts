@@ -509,7 +509,7 @@ const SERVER_FIELDS: Record<ServerMessage['t'], readonly string[]> = {
   welcome: ['v', 'id', 'token', 'room', 'rules', 'players', 'state'],
   state: ['state'],
   events: ['tick', 'add', 'remove', 'jadd', 'jremove'],
-  room: ['tick', 'paused', 'gravity', 'scene'],
+  room: ['tick', 'paused', 'gravity', 'scene', 'slow', 'creator', 'locked'],
   players: ['players'],
   snap: ['tick', 'base', 'data', 'cursors'],
   pong: ['id', 'time', 'tick'],

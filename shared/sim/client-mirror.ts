@@ -60,6 +60,10 @@ export class ClientMirror {
   rules: RoomRules | null = null
   scene = ''
   paused = false
+  /** Slow motion (1, 2 or 4), the room's creator and whether it locked the controls (FullState, room). */
+  slow = 1
+  creator = 0
+  locked = false
   gravity: [number, number] = [0, -10]
   readonly bodies = new Map<number, MirrorBody>()
   readonly joints = new Map<number, WireJoint>()
@@ -100,6 +104,9 @@ export class ClientMirror {
         return null
       case 'room':
         this.paused = message.paused
+        this.slow = message.slow
+        this.creator = message.creator
+        this.locked = message.locked
         this.gravity = message.gravity
         this.scene = message.scene
         return null
@@ -134,6 +141,9 @@ export class ClientMirror {
     this.joints.clear()
     this.scene = state.scene
     this.paused = state.paused
+    this.slow = state.slow ?? 1
+    this.creator = state.creator ?? 0
+    this.locked = state.locked ?? false
     this.gravity = state.gravity
     this.tick = state.tick
     const frame = new QuantizedFrame()

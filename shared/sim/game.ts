@@ -122,6 +122,12 @@ export interface GameContext<S = PlainData | undefined> {
   emit(event: PlainData): void
   /** Step once at the end of this tick even while paused. */
   requestStep(): void
+  /** Slow motion: the world steps only on room ticks that are multiples of this (1, 2 or 4; a RangeError otherwise). */
+  slowMotion: number
+  /** The first player who joined the room (0 before anyone did). */
+  readonly creator: number
+  /** While true, room controls (commands marked control) are refused for everyone but the creator. */
+  controlsLocked: boolean
   /** Create a body and tell clients; refused at the body limit or by an engine precondition. */
   createBody(def: Parameters<World['createBody']>[0]): number | string
   /**

@@ -83,6 +83,11 @@ export interface SimulationState {
   scene: string
   paused: boolean
   stepRequested: boolean
+  /** The world steps on room ticks that are multiples of this (1, 2 or 4; slow motion); absent: 1. */
+  slowMotion?: number
+  /** The first player who joined the room (0 before anyone did), and whether it locked the controls. */
+  creator?: number
+  controlsLocked?: boolean
   /** Room tick of the last scene load or reset, or null for never. */
   lastLoadTick: number | null
   /** Players in join order, with their grabs and cursors. */
@@ -184,6 +189,12 @@ export class RoomSimulation {
   scene: string
   paused = false
   stepRequested = false
+  /** Slow motion: the world steps only on room ticks that are multiples of this (1, 2 or 4). */
+  slowMotion = 1
+  /** The first player who ever joined this room, 0 before anyone did; only it may lock the controls. */
+  creator = 0
+  /** Whether the creator locked the room controls to itself (released when it leaves). */
+  controlsLocked = false
   /** The room tick: one more every tick, never reset (a server room starts at a tick below 60 that spreads its checkpoints; world.tick counts the current world's steps). */
   tick = 0
   /** Room tick of the last scene load or reset (they are rate limited). */
@@ -271,6 +282,7 @@ export class RoomSimulation {
     const refusal = this.joinRefusal(playerId)
     if (refusal) return refusal
     const rejoin = this.players.has(playerId)
+    if (this.creator === 0) this.creator = playerId
     this.players.set(playerId, { grab: null, cursorX: 0, cursorY: 0 })
     this.playerIds = Object.freeze([...this.players.keys()])
     for (const o of this.observers) o.join(this.tick, playerId, name, color)
@@ -292,6 +304,10 @@ export class RoomSimulation {
     const player = this.players.get(playerId)
     if (!player) return
     this.release(playerId, player)
+    if (playerId === this.creator && this.controlsLocked) {
+      this.controlsLocked = false
+      this.listener.roomChanged()
+    }
     this.game.onLeave?.(this.ctx, playerId)
     this.players.delete(playerId)
     this.playerIds = Object.freeze([...this.players.keys()])
@@ -312,6 +328,8 @@ export class RoomSimulation {
     const def = Object.hasOwn(this.game.commands, kind) ? this.game.commands[kind] : undefined
     if (!def || def.builtin === custom) return `game ${this.game.name} has no ${kind} command`
     if (def.control && !this.controls) return `room controls are disabled in room ${this.name}`
+    if (def.control && this.controlsLocked && playerId !== this.creator)
+      return `room controls are locked by the room's creator (player ${this.creator})`
     const args = custom ? cmd.a : cmd
     const invalid = def.check(args)
     if (invalid !== null) return `${kind} refused: ${invalid}`
@@ -337,9 +355,13 @@ export class RoomSimulation {
     return this.told ? null : error
   }
 
-  /** Run one tick: step unless paused (or a step was requested), the game's tick, housekeeping. */
+  /**
+   * Run one tick: step unless paused (or a step was requested) or slowed (in slow motion the world
+   * steps only on room ticks that are multiples of slowMotion, counted before this tick's
+   * increment), then the game's tick, housekeeping.
+   */
   runTick(): void {
-    const step = !this.paused || this.stepRequested
+    const step = (!this.paused && this.tick % this.slowMotion === 0) || this.stepRequested
     if (step) {
       this.world.step()
       this.removeBrokenJoints()
@@ -374,6 +396,9 @@ export class RoomSimulation {
       scene: this.scene,
       paused: this.paused,
       stepRequested: this.stepRequested,
+      slowMotion: this.slowMotion,
+      creator: this.creator,
+      controlsLocked: this.controlsLocked,
       lastLoadTick: Number.isFinite(this.lastLoadTick) ? this.lastLoadTick : null,
       players: [...this.players].map(([id, p]) => ({
         id,
@@ -401,6 +426,9 @@ export class RoomSimulation {
     this.scene = state.scene
     this.paused = state.paused
     this.stepRequested = state.stepRequested
+    this.slowMotion = state.slowMotion ?? 1
+    this.creator = state.creator ?? 0
+    this.controlsLocked = state.controlsLocked ?? false
     this.lastLoadTick = state.lastLoadTick ?? Number.NEGATIVE_INFINITY
     this.world = world
     this.players.clear()
@@ -536,6 +564,25 @@ export class RoomSimulation {
       emit: (event) => sim.listener.gameEvent?.(sim.tick, copyPlainData(event, 'event')),
       requestStep: () => {
         sim.stepRequested = true
+      },
+      get slowMotion() {
+        return sim.slowMotion
+      },
+      set slowMotion(value) {
+        if (value !== 1 && value !== 2 && value !== 4)
+          throw new RangeError(`slowMotion must be 1, 2 or 4, got ${value}`)
+        sim.slowMotion = value
+        sim.listener.roomChanged()
+      },
+      get creator() {
+        return sim.creator
+      },
+      get controlsLocked() {
+        return sim.controlsLocked
+      },
+      set controlsLocked(value) {
+        sim.controlsLocked = value
+        sim.listener.roomChanged()
       },
       createBody: (def) => sim.createBody(def),
       spawn: (cmd, player) => sim.spawn(cmd, player),

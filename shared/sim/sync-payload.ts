@@ -23,6 +23,11 @@ export interface SyncPayload {
   scene: string
   paused: boolean
   step: boolean
+  /** Slow motion (the world steps on room ticks that are multiples of it: 1, 2 or 4); absent: 1. */
+  slow?: number
+  /** The room's creator (first player to join, 0 before) and whether it locked the controls; absent: 0, false. */
+  creator?: number
+  locked?: boolean
   /** Room tick of the last scene load or reset, or null for never. */
   lastLoad: number | null
   /** Flat [player id, grab joint or 0, grabbed body or 0, cursor x, cursor y, ...] in join order. */
@@ -49,6 +54,9 @@ export function encodeSyncPayload(sim: RoomSimulation): Uint8Array {
     scene: sim.scene,
     paused: sim.paused,
     step: sim.stepRequested,
+    slow: sim.slowMotion,
+    creator: sim.creator,
+    locked: sim.controlsLocked,
     lastLoad: Number.isFinite(sim.lastLoadTick) ? sim.lastLoadTick : null,
     players,
     joints: [...sim.userJoints.values()],
@@ -94,6 +102,13 @@ export function restoreSyncPayload(bytes: Uint8Array, options: RestoreOptions): 
   if (!Array.isArray(p.players) || p.players.length % 5 !== 0 || !p.players.every(isNum))
     return { ok: false, reason: 'sync payload players must be a flat list of 5 numbers each' }
   if (!Array.isArray(p.joints)) return { ok: false, reason: 'sync payload joints must be a list' }
+  if (p.slow !== undefined && p.slow !== 1 && p.slow !== 2 && p.slow !== 4)
+    return { ok: false, reason: 'sync payload slow must be 1, 2 or 4' }
+  if (
+    (p.creator !== undefined && (!isInt(p.creator) || p.creator < 0)) ||
+    (p.locked !== undefined && typeof p.locked !== 'boolean')
+  )
+    return { ok: false, reason: 'sync payload creator must be a non-negative integer and locked a boolean' }
   if (p.lastLoad !== null && !isInt(p.lastLoad))
     return { ok: false, reason: 'sync payload lastLoad must be an integer or nil' }
   if (typeof p.game !== 'string' || !isInt(p.random) || p.random < 0 || p.random > 0xffffffff)
@@ -117,6 +132,9 @@ export function restoreSyncPayload(bytes: Uint8Array, options: RestoreOptions): 
   sim.scene = p.scene
   sim.paused = p.paused
   sim.stepRequested = p.step
+  sim.slowMotion = p.slow ?? 1
+  sim.creator = p.creator ?? 0
+  sim.controlsLocked = p.locked ?? false
   sim.lastLoadTick = p.lastLoad ?? Number.NEGATIVE_INFINITY
   sim.setColors(p.colors ?? [])
   for (let i = 0; i < p.players.length; i += 5) {
@@ -152,6 +170,9 @@ export function cloneSimulation(sim: RoomSimulation, options: Omit<RestoreOption
   copy.scene = sim.scene
   copy.paused = sim.paused
   copy.stepRequested = sim.stepRequested
+  copy.slowMotion = sim.slowMotion
+  copy.creator = sim.creator
+  copy.controlsLocked = sim.controlsLocked
   copy.lastLoadTick = sim.lastLoadTick
   for (const [id, p] of sim.players)
     copy.restorePlayer(id, { grab: p.grab && { ...p.grab }, cursorX: p.cursorX, cursorY: p.cursorY })

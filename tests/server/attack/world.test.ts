@@ -88,15 +88,38 @@ describe('pins and ropes anchored far from their bodies', { timeout: 30_000 }, (
 
 describe('the wire encoding', () => {
   it('writes a non-finite number as 0, whatever message carries it', () => {
+    const ctl = { slow: 1, creator: 0, locked: false }
     const bytes = encodeMessage({
       t: 'room',
       tick: 5,
       paused: false,
       gravity: [Number.NaN, Number.NEGATIVE_INFINITY],
       scene: 'pile',
+      ...ctl,
     })
-    expect(decode(bytes)).toEqual({ t: 'room', tick: 5, paused: false, gravity: [0, 0], scene: 'pile' })
-    const plain = encodeMessage({ t: 'room', tick: 5, paused: false, gravity: [0.5, -10], scene: 'pile' })
-    expect(decode(plain)).toEqual({ t: 'room', tick: 5, paused: false, gravity: [0.5, -10], scene: 'pile' })
+    expect(decode(bytes)).toEqual({
+      t: 'room',
+      tick: 5,
+      paused: false,
+      gravity: [0, 0],
+      scene: 'pile',
+      ...ctl,
+    })
+    const plain = encodeMessage({
+      t: 'room',
+      tick: 5,
+      paused: false,
+      gravity: [0.5, -10],
+      scene: 'pile',
+      ...ctl,
+    })
+    expect(decode(plain)).toEqual({
+      t: 'room',
+      tick: 5,
+      paused: false,
+      gravity: [0.5, -10],
+      scene: 'pile',
+      ...ctl,
+    })
   })
 })

@@ -10,6 +10,9 @@ const state: FullState = {
   scene: 'test',
   paused: false,
   gravity: [0, -10],
+  slow: 1,
+  creator: 0,
+  locked: false,
   bodies: [
     { id: 1, kind: 0, shapes: [{ type: 'box', hw: 50, hh: 1 }], x: 0, y: -1000, a: 0, awake: 0 },
     { id: 2, kind: 2, shapes: [{ type: 'circle', radius: 0.5 }], x: 1000, y: 2000, a: 0, awake: 1 },
