@@ -331,6 +331,10 @@ function simState(v: unknown): SimulationState {
     scene: str(m.scene, 'state scene'),
     paused: bool(m.paused, 'paused'),
     stepRequested: bool(m.stepRequested, 'stepRequested'),
+    // Logs from before slow motion and the control lock step every tick, unlocked.
+    slowMotion: m.slowMotion === undefined ? 1 : slowFactor(m.slowMotion),
+    creator: m.creator === undefined ? 0 : int(m.creator, 'state creator'),
+    controlsLocked: m.controlsLocked === undefined ? false : bool(m.controlsLocked, 'state controlsLocked'),
     lastLoadTick: m.lastLoadTick === null ? null : int(m.lastLoadTick, 'lastLoadTick'),
     players: m.players.map((p) => {
       const f = map(p, 'player')
@@ -350,6 +354,13 @@ function simState(v: unknown): SimulationState {
     // Logs from before body colours have none.
     colors: m.colors === undefined ? [] : colorList(m.colors),
   }
+}
+
+function slowFactor(v: unknown): number {
+  const every = int(v, 'state slowMotion')
+  if (every !== 1 && every !== 2 && every !== 4)
+    throw new ReplayFormatError('state slowMotion must be 1, 2 or 4')
+  return every
 }
 
 function colorList(v: unknown): number[] {
