@@ -200,6 +200,65 @@ export function atan2(y: number, x: number): number {
   return y > 0 ? PI - (z - PI_LO) : z - PI_LO - PI
 }
 
+/**
+ * atan2 without a call that allocates: `io[0] = atan2(io[0], io[1])` (y in io[0], x in io[1]), the
+ * same arithmetic as atan2 above with atanPositive written out, so the result is bit-identical
+ * (tests/engine/math.test.ts compares them). V8 does not inline atan2 into the joint solvers, and a
+ * double passed to or returned from a call it does not inline is a heap allocation: the revolute
+ * limit solver needs a joint's angle per joint per iteration (16 bytes each before this).
+ */
+export function atan2InPlace(io: Float64Array): void {
+  const y = io[0]
+  const x = io[1]
+  if (Number.isNaN(x) || Number.isNaN(y)) {
+    io[0] = Number.NaN
+    return
+  }
+  if (y === 0) {
+    io[0] = x > 0 || Object.is(x, 0) ? y : Object.is(y, -0) ? -PI : PI
+    return
+  }
+  if (x === 0) {
+    io[0] = y > 0 ? PI / 2 : -PI / 2
+    return
+  }
+  if (!Number.isFinite(x) || !Number.isFinite(y)) {
+    io[0] = atan2(y, x) // infinities: never in a solver; the plain function's answer
+    return
+  }
+  // atanPositive(|y / x|), written out.
+  let t = Math.abs(y / x)
+  let z: number
+  if (t > 7.37e19) z = ATAN_HI[3] + ATAN_LO[3]
+  else {
+    let id: number
+    if (t < 0.4375) {
+      id = -1
+    } else if (t < 1.1875) {
+      if (t < 0.6875) {
+        id = 0
+        t = (2 * t - 1) / (2 + t)
+      } else {
+        id = 1
+        t = (t - 1) / (t + 1)
+      }
+    } else if (t < 2.4375) {
+      id = 2
+      t = (t - 1.5) / (1 + 1.5 * t)
+    } else {
+      id = 3
+      t = -1 / t
+    }
+    const zz = t * t
+    const w = zz * zz
+    const s1 = zz * (AT0 + w * (AT2 + w * (AT4 + w * (AT6 + w * (AT8 + w * AT10)))))
+    const s2 = w * (AT1 + w * (AT3 + w * (AT5 + w * (AT7 + w * AT9))))
+    z = id < 0 ? t - t * (s1 + s2) : ATAN_HI[id] - (t * (s1 + s2) - ATAN_LO[id] - t)
+  }
+  if (x > 0) io[0] = y > 0 ? z : -z
+  else io[0] = y > 0 ? PI - (z - PI_LO) : z - PI_LO - PI
+}
+
 /** Wraps an angle into [-pi, pi]. */
 export function wrapAngle(a: number): number {
   if (a >= -PI && a <= PI) return a

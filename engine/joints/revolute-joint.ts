@@ -7,6 +7,7 @@
  */
 
 import { DPX, DPY, DQC, DQS, Softness, VX, VY, W } from '../dynamics/index.ts'
+import { atan2InPlace } from '../math.ts'
 import type { Joint } from './joint.ts'
 import {
   accumulateX,
@@ -14,7 +15,6 @@ import {
   angleOut,
   clampImpulse,
   type JointStepContext,
-  relativeAngle,
   relativeDeltaAngle,
   setSpringSoftness,
   solve22,
@@ -24,6 +24,8 @@ import {
 } from './joint-math.ts'
 
 const springSoftness = new Softness()
+/** atan2InPlace's argument and result. */
+const atanIO = new Float64Array(2)
 
 /** Per-step preparation of a revolute joint. */
 export function prepareRevolute(joint: Joint, ctx: JointStepContext): void {
@@ -31,7 +33,11 @@ export function prepareRevolute(joint: Joint, ctx: JointStepContext): void {
   const b = joint.bodyB
   const k = a.invInertia + b.invInertia
   joint.axialMass = k > 0 ? 1 / k : 0
-  joint.deltaAngle = unwind(relativeAngle(b.c, b.s, a.c, a.s) - joint.referenceAngle)
+  // relativeAngle(b.c, b.s, a.c, a.s), without a call that allocates (atan2InPlace).
+  atanIO[0] = b.s * a.c - b.c * a.s
+  atanIO[1] = b.c * a.c + b.s * a.s
+  atan2InPlace(atanIO)
+  joint.deltaAngle = unwind(atanIO[0] - joint.referenceAngle)
   if (!joint.enableMotor) joint.motorImpulse = 0
   if (joint.enableSpring) {
     setSpringSoftness(springSoftness, joint, ctx)
@@ -71,8 +77,15 @@ export function warmStartRevolute(joint: Joint, state: Float64Array): void {
 function jointAngle(joint: Joint, state: Float64Array): number {
   const oA = joint.offsetA
   const oB = joint.offsetB
-  const rel = relativeAngle(state[oB + DQC], state[oB + DQS], state[oA + DQC], state[oA + DQS])
-  return unwind(joint.deltaAngle + rel)
+  const bc = state[oB + DQC]
+  const bs = state[oB + DQS]
+  const ac = state[oA + DQC]
+  const as = state[oA + DQS]
+  // relativeAngle(bc, bs, ac, as), without a call that allocates (atan2InPlace).
+  atanIO[0] = bs * ac - bc * as
+  atanIO[1] = bc * ac + bs * as
+  atan2InPlace(atanIO)
+  return unwind(joint.deltaAngle + atanIO[0])
 }
 
 /** Solves the limits of a revolute joint (speculative, then soft when violated). */
