@@ -69,6 +69,11 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
     action: 'tool:ground',
     help: 'Ground: drag a static line (or click points)',
   },
+  {
+    keys: ['/'],
+    action: 'tool:explode',
+    help: 'Explode: press to see the blast, release to push everything in it away',
+  },
   { keys: ['m'], action: 'static', help: 'Static: what you draw or drop stays put (on / off)' },
   { keys: ['enter'], action: 'finish', help: 'Finish the outline or line you are clicking' },
   { keys: ['y'], action: 'tool:weld', help: 'Weld: click a body to glue it to what is under it' },
@@ -87,11 +92,6 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
     keys: [','],
     action: 'tool:wheel',
     help: 'Wheel: click a chassis to add a driven wheel; ←/→ drive yours',
-  },
-  {
-    keys: ['/'],
-    action: 'tool:explode',
-    help: 'Explode: press to see the blast, release to push everything in it away',
   },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
@@ -131,8 +131,6 @@ const BUTTONS: Partial<Record<ShortcutAction, string>> = {
   step: 'Step',
   reset: 'Reset',
   gravity: 'Gravity',
-  slow: 'Slow',
-  lock: 'Lock',
   fit: 'Fit',
 }
 

@@ -326,6 +326,7 @@ describe('on a phone', () => {
           'Lab',
           'Draw',
           'Ground',
+          'Explode',
           'Joints',
           'Pause',
           'Step',
