@@ -152,7 +152,7 @@ describe('a game loaded from a directory, on a real server with worker threads',
     await unknown.opened
     unknown.join()
     const error = await unknown.nextMessage((m): m is ErrorMessage => m.t === 'error')
-    expect(error.reason).toBe('unknown game "nope"; this server has sandbox, ball-drop, marbles')
+    expect(error.reason).toBe('unknown game "nope"; this server has sandbox, ball-drop, goal, tower, marbles')
     await unknown.close()
 
     const player = await BotClient.connect({ url: server.url, room: 'm', name: 'p', game: 'marbles' })
