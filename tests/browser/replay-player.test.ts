@@ -89,7 +89,7 @@ afterAll(async () => {
 const httpBase = (): string => `http://127.0.0.1:${server.port}`
 
 const pageHash = (page: Page): Promise<number> =>
-  page.evaluate(() => window.concordReplay!.sandbox!.player.sim.world.hash())
+  page.evaluate(() => window.concordReplay!.sandbox!.player.sim.hash())
 const pageTick = (page: Page): Promise<number> =>
   page.evaluate(() => window.concordReplay!.sandbox!.player.tick)
 
