@@ -65,12 +65,11 @@ export class RoomScenes {
     const built = buildScene(stored.scene)
     if (!built.ok) return `saved scene ${id} no longer opens: ${built.error}`
     const world = built.built.world
-    // Pins and distance joints travel (the other kinds are simulated but not on the wire yet).
+    // Every joint kind travels (a file holds no mouse joints: a grab is a player's, not a scene's).
     const joints: WireJoint[] = []
     for (const jid of world.jointIds()) {
       const def = world.getJointDef(jid)
-      if (def.type === 'revolute' || def.type === 'distance')
-        joints.push(wireJoint(world, jid, def as WireJointDef))
+      if (def.type !== 'mouse') joints.push(wireJoint(world, jid, def as WireJointDef))
     }
     sim.loadWorld(`file:${id}`, world, joints)
     return null

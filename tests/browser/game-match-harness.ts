@@ -154,6 +154,8 @@ export async function expectServerClean(setup: MatchSetup, room: string, serverT
   const replay = JSON.parse(run.stdout) as { hashesChecked: number; divergence: unknown; lastTick: number }
   console.log(`replay of ${room}: ${replay.hashesChecked} hashes checked to tick ${replay.lastTick}`)
   expect(replay.divergence).toBeNull()
-  expect(replay.lastTick).toBeGreaterThanOrEqual(serverTick)
+  // After the round the room is idle: its log gets a record at each once-a-second hash checkpoint
+  // (60 ticks), so the last record may be up to a second before the tick the test read.
+  expect(replay.lastTick).toBeGreaterThanOrEqual(serverTick - 60)
   expect(replay.hashesChecked).toBeGreaterThan(10)
 }

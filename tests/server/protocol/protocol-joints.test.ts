@@ -61,7 +61,17 @@ async function refusal(bot: BotClient, kind: string, args: Record<string, unknow
 describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () => {
   it('each command makes the Joint the table describes, every field from the paused bodies by hand', async () => {
     const bot = await BotClient.connect({ url: server.url, room: 'jfields', name: 'maker' })
-    expect(bot.mirror.rules!.commands).toEqual(['explode', 'hinge', 'jointMotor', 'lock', 'slider', 'slow', 'spring', 'weld', 'wheel'])
+    expect(bot.mirror.rules!.commands).toEqual([
+      'explode',
+      'hinge',
+      'jointMotor',
+      'lock',
+      'slider',
+      'slow',
+      'spring',
+      'weld',
+      'wheel',
+    ])
     bot.command({ k: 'pause', paused: true })
     await bot.waitFor(() => bot.mirror.paused, 'paused')
     const me = bot.mirror.clientId
