@@ -25,7 +25,7 @@ import {
   TICK_RATE,
 } from '../../shared/index.ts'
 import { labFromServer, viewJoints } from '../draw/index.ts'
-import { Connection, InputOutbox, type Pose, ServerStats, SnapshotTimeline } from '../net/index.ts'
+import { Connection, InputOutbox, MAX_SENDS, type Pose, ServerStats, SnapshotTimeline } from '../net/index.ts'
 import type {
   LabContact,
   LabData,
@@ -438,9 +438,11 @@ export class OnlineSandbox implements Sandbox {
   /** One notice for the inputs the server dropped since the last frame, and the spawns sent again. */
   private reportDropped(): void {
     const resent = this.outbox.takeResent()
-    if (this.droppedInputs === 0 && resent === 0) return
+    const givenUp = this.outbox.takeGivenUp()
+    if (this.droppedInputs === 0 && resent === 0 && givenUp === 0) return
     const again = resent > 0 ? `; the ${resent} new shapes among them are sent again` : ''
-    this.tell(`The room was too busy for ${this.droppedInputs} of your actions at once${again}.`)
+    const lost = givenUp > 0 ? `; ${givenUp} new shapes were lost after ${MAX_SENDS} tries` : ''
+    this.tell(`The room was too busy for ${this.droppedInputs} of your actions at once${again}${lost}.`)
     this.droppedInputs = 0
   }
 

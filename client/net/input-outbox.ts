@@ -18,6 +18,7 @@ export class InputOutbox {
   private sentThisFrame = 0
   private queuedNoticeShown = false
   private resent = 0
+  private givenUp = 0
 
   constructor(
     /** Send one command now (the sender reports spawns to `spawns.sent`). */
@@ -57,8 +58,12 @@ export class InputOutbox {
 
   /** The server dropped input `seq` over the budget: a spawn goes first in the queue again. */
   dropped(seq: number): void {
+    const wasSpawn = this.spawns.has(seq)
     const again = this.spawns.dropped(seq)
-    if (!again) return
+    if (!again) {
+      if (wasSpawn) this.givenUp++
+      return
+    }
     this.queue.unshift(again)
     this.resent++
   }
@@ -67,6 +72,13 @@ export class InputOutbox {
   takeResent(): number {
     const n = this.resent
     this.resent = 0
+    return n
+  }
+
+  /** How many dropped spawns were given up (sent MAX_SENDS times) since the last call. */
+  takeGivenUp(): number {
+    const n = this.givenUp
+    this.givenUp = 0
     return n
   }
 }

@@ -9,8 +9,12 @@
  */
 import type { SpawnCommand, WireBody } from '../../shared/index.ts'
 
-/** How often one spawn is sent at most. */
-export const MAX_SENDS = 3
+/**
+ * How often one spawn is sent at most. A drop over the budget is a moment's congestion (the page
+ * paces its inputs below the budget), so a spawn is worth several tries; a full CI run on a
+ * loaded machine once lost one after three.
+ */
+export const MAX_SENDS = 8
 /** Spawns followed at most (the oldest are forgotten beyond this). */
 const MAX_PENDING = 256
 
@@ -39,6 +43,11 @@ export class SpawnTracker {
   /** The server refused input `seq` for good: forget it if it was a spawn. */
   refused(seq: number): void {
     this.pending.delete(seq)
+  }
+
+  /** Whether input `seq` is a spawn waiting for an answer. */
+  has(seq: number): boolean {
+    return this.pending.has(seq)
   }
 
   /** The server dropped input `seq` over the budget: the spawn to send again, or null. */

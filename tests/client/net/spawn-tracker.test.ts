@@ -4,8 +4,9 @@
  * a new world, and handed back when dropped over the budget, up to MAX_SENDS sends in all.
  */
 import { describe, expect, it } from 'vitest'
+import { InputOutbox } from '../../../client/net/input-outbox.ts'
 import { MAX_SENDS, SpawnTracker } from '../../../client/net/spawn-tracker.ts'
-import type { SpawnCommand, WireBody } from '../../../shared/index.ts'
+import type { SimCommand, SpawnCommand, WireBody } from '../../../shared/index.ts'
 
 const circle = (x: number): SpawnCommand => ({ k: 'spawn', shape: { type: 'circle', radius: 0.3 }, x, y: 2 })
 const body = (player: number | undefined, seq: number | undefined): WireBody => ({
@@ -62,5 +63,38 @@ describe('SpawnTracker', () => {
     expect(t.size).toBe(1)
     t.clear()
     expect(t.size).toBe(0)
+  })
+})
+
+describe('InputOutbox', () => {
+  it('queues a dropped spawn first again, and counts the spawns given up after MAX_SENDS sends', () => {
+    let seq = 0
+    const sent: Array<[number, SimCommand]> = []
+    const outbox: InputOutbox = new InputOutbox(
+      (cmd) => {
+        sent.push([++seq, cmd])
+        if (cmd.k === 'spawn') outbox.spawns.sent(seq, cmd)
+      },
+      () => {},
+    )
+    outbox.push(circle(0))
+    outbox.push({ k: 'move', x: 1, y: 1 })
+    outbox.startFrame()
+    outbox.drain(8) // a share of 2 per frame
+    expect(sent.map(([, c]) => c.k)).toEqual(['spawn', 'move'])
+    outbox.dropped(2) // a dropped move is not sent again
+    expect(outbox.length).toBe(0)
+    for (let i = 1; i < MAX_SENDS; i++) {
+      outbox.dropped(sent[sent.length - (i === 1 ? 2 : 1)][0])
+      expect(outbox.length).toBe(1)
+      outbox.startFrame()
+      outbox.drain(8)
+    }
+    expect(outbox.takeResent()).toBe(MAX_SENDS - 1)
+    expect(outbox.takeGivenUp()).toBe(0)
+    outbox.dropped(sent[sent.length - 1][0])
+    expect(outbox.length).toBe(0)
+    expect(outbox.takeGivenUp()).toBe(1)
+    expect(outbox.takeGivenUp()).toBe(0)
   })
 })
