@@ -21,7 +21,7 @@ import { buildBenchPage } from '../../scripts/build-bench-page.mjs'
 import { buildStatic } from '../../scripts/build-static.mjs'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from '../support/chromium.ts'
-import { collectErrors, startClientServer } from '../support/client-harness.ts'
+import { CLIENT_DIST, collectErrors, startClientServer } from '../support/client-harness.ts'
 
 const STATIC_DIR = 'test-results/bench-page/static'
 const SUB_PATH = '/some/sub/path/'
@@ -107,7 +107,7 @@ function expectSoundRun(state: BenchState, engines: readonly string[]): void {
 
 beforeAll(async () => {
   ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  await buildBenchPage('test-results/browser-client/dist')
+  await buildBenchPage(CLIENT_DIST)
   await buildStatic(STATIC_DIR)
   staticServer = await serveStatic(STATIC_DIR, SUB_PATH)
 })

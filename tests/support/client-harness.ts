@@ -4,6 +4,7 @@
  * that read the page's state through the `window.concord` handle (main.ts) and act through real
  * mouse and touch input.
  */
+import { readdirSync, rmSync } from 'node:fs'
 import { mkdir } from 'node:fs/promises'
 import type { Browser, BrowserContext, CDPSession, Page } from 'playwright-core'
 import { buildClient } from '../../scripts/build-client.mjs'
@@ -12,13 +13,33 @@ import { type RunningServer, startServer } from '../../server/server.ts'
 
 /** Where screenshots go (git-ignored). */
 export const ARTIFACTS = 'test-results/browser-client'
-const DIST = 'test-results/browser-client/dist'
+/**
+ * Where startClientServer builds the client: one folder per test process, since test files run
+ * in parallel (two at once on two cores) and must not rebuild each other's served files.
+ */
+export const CLIENT_DIST = `${ARTIFACTS}/dist-${process.pid}`
 
 /** Build the client and start a server that serves it (on `port`, or any free port). */
 export async function startClientServer(port = 0): Promise<RunningServer> {
   await mkdir(ARTIFACTS, { recursive: true })
-  if (port === 0) await buildClient(DIST)
-  return serveClient(DIST, { port })
+  if (port === 0) {
+    removeStaleBuilds()
+    await buildClient(CLIENT_DIST)
+  }
+  return serveClient(CLIENT_DIST, { port })
+}
+
+/** Remove the client builds of test processes that have ended (test workers are killed, not exited). */
+function removeStaleBuilds(): void {
+  for (const name of readdirSync(ARTIFACTS)) {
+    const pid = /^dist-(\d+)$/.exec(name)?.[1]
+    if (pid === undefined || Number(pid) === process.pid) continue
+    try {
+      process.kill(Number(pid), 0)
+    } catch {
+      rmSync(`${ARTIFACTS}/${name}`, { recursive: true, force: true })
+    }
+  }
 }
 
 /**
