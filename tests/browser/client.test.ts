@@ -14,6 +14,7 @@ import { CLOSE_CODES, encodeMessage } from '../../shared/index.ts'
 import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
+  CLIENT_DIST,
   bodies,
   Finger,
   labNumbers,
@@ -239,7 +240,7 @@ describe('with the server stopped', () => {
   })
 
   it('runs the engine in the page with the same tools and lab', async () => {
-    const files = `${ARTIFACTS}/dist`
+    const files = CLIENT_DIST
     const context = await browser.newContext({ viewport: { width: 1000, height: 700 } })
     // Serve the page from disk under a made-up origin: no game server anywhere.
     await context.route('http://offline.test/**', async (route) => {

@@ -31,7 +31,7 @@ async function start(dir: string): Promise<ServerProcess> {
     ...['--record', 'true', '--recover', 'true', '--replay-dir', dir, '--workers', '1'],
     ...['--default-room', 'lobby', '--default-scene', 'tower', '--room-idle-seconds', '600'],
   ]
-  const server = await startServerProcess(args, {}, 15_000)
+  const server = await startServerProcess(args, {}, 90_000)
   children.push(server)
   return server
 }

@@ -27,8 +27,14 @@ let a: ServerProcess
 let b: ServerProcess
 const all: ServerProcess[] = []
 
-const args = (redisUrl: string, port = '0'): string[] => [
-  ...['--redis', redisUrl, '--directory-ttl-seconds', String(TTL_SECONDS), '--record', 'false'],
+/**
+ * 60 s for the restart test's server: its claims must outlive a SIGKILL and a restart, which take
+ * longer than 6 s on a loaded machine.
+ */
+const LONG_TTL_SECONDS = 60
+
+const args = (redisUrl: string, port = '0', ttl = TTL_SECONDS): string[] => [
+  ...['--redis', redisUrl, '--directory-ttl-seconds', String(ttl), '--record', 'false'],
   ...['--default-scene', 'empty', '--room-idle-seconds', '30', '--workers', '1', '--port', port],
 ]
 /** The directory id a server process logged. */
@@ -36,8 +42,12 @@ const idOf = (s: ServerProcess): string =>
   String(s.lines.find((l) => l.msg === 'room directory joined')?.server)
 const wsUrl = (s: ServerProcess): string => s.url.replace('http', 'ws')
 
-async function start(port?: number): Promise<ServerProcess> {
-  const s = await startServerProcess(args(redis.url, port === undefined ? '0' : String(port)), {}, 60_000)
+async function start(port?: number, ttl = TTL_SECONDS): Promise<ServerProcess> {
+  const s = await startServerProcess(
+    args(redis.url, port === undefined ? '0' : String(port), ttl),
+    {},
+    60_000,
+  )
   all.push(s)
   return s
 }
@@ -151,6 +161,14 @@ describe('a Redis that loses its data', { timeout: 120_000 }, () => {
 
 describe('a server restarted within its claims lifetime', { timeout: 120_000 }, () => {
   it('takes its previous run claims over instead of sending clients to itself', async () => {
+    // A server whose claims live long enough to still be there when it is back.
+    a.process.kill('SIGKILL')
+    await a.exited
+    a = await start(undefined, LONG_TTL_SECONDS)
+    await until(
+      async () => (await probe.get('concord:room:lobby')) === idOf(a),
+      'the new server holding the lobby',
+    )
     const p = await DocClient.joined(a.url, 'phoenix', 'p')
     const old = idOf(a)
     expect(await probe.get('concord:room:phoenix')).toBe(old)
@@ -158,9 +176,9 @@ describe('a server restarted within its claims lifetime', { timeout: 120_000 }, 
     a.process.kill('SIGKILL')
     await a.exited
     await p.closed()
-    a = await start(port)
+    a = await start(port, LONG_TTL_SECONDS)
     expect(idOf(a)).not.toBe(old)
-    // The old claims live on (TTL 6 s); the restarted server took the default room over at start.
+    // The old claims live on (TTL 60 s); the restarted server took the default room over at start.
     expect(await probe.get('concord:room:phoenix')).toBe(old)
     expect(await probe.get('concord:room:lobby')).toBe(idOf(a))
     const here = await BotClient.connect({ url: a.url, room: 'phoenix', name: 'back' }, 1)

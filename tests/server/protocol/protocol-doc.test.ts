@@ -15,7 +15,7 @@ afterAll(async () => {
   await server.close()
 })
 
-describe('PROTOCOL.md', { timeout: 20_000 }, () => {
+describe('PROTOCOL.md', () => {
   it('documents every field of every server message, checked with an independent MessagePack decoder', async () => {
     const doc = documentedFields()
     const bot = new BotClient({ url: server.url, room: 'doc', name: 'reader' })
