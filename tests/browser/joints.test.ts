@@ -121,7 +121,7 @@ describe('joints', { timeout: 300_000 }, () => {
     await context.close()
   })
 
-  it("draws two players' joints on the chain bridge: the scene's pins, a player's rope, another's held box (the README screenshot)", async () => {
+  it("draws two players' joints on the chain bridge: the scene's pins, a player's rope, another's held box", async () => {
     const a = await openSandbox(browser, `${base}/?room=showcase&name=ada`, {
       size: { width: 1200, height: 720 },
     })
