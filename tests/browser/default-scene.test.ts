@@ -4,7 +4,9 @@
  * playground, and the page run offline (no server, no `&scene=`) starts on it too. The playground's
  * machines, counted by hand from its description: a car on two wheel joints, a seesaw on a pin, a
  * lift on a slider, a windmill of two blades welded together and pinned to the background: 6 joints.
+ * PROTOCOL.md and the README say the same.
  */
+import { readFileSync } from 'node:fs'
 import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { buildClient } from '../../scripts/build-client.mjs'
@@ -59,6 +61,10 @@ describe('the default scene', { timeout: 300_000 }, () => {
       const shown = await sceneOf(url)
       expect(shown, url).toEqual({ scene: 'playground', joints: PLAYGROUND_JOINTS, errors: [] })
     }
+    // The documents promise the same default.
+    const protocol = readFileSync('shared/protocol/PROTOCOL.md', 'utf8')
+    expect(/`--default-scene`, `([a-z-]+)` unless set/.exec(protocol)?.[1]).toBe('playground')
+    expect(readFileSync('README.md', 'utf8')).toContain('every room opens on the playground scene')
     // A room created with a scene named in the address still gets that one.
     const named = await openSandbox(browser, `${base}/?offline&scene=tower`)
     expect(await named.page.evaluate(() => window.concord.sandbox.scene())).toBe('tower')
