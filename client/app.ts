@@ -4,7 +4,7 @@
  * HUD, lab panel, status banner, help and lobby. Everything acts through the Sandbox interface,
  * so the page does not know whether the physics runs here or on the server.
  */
-import { SCENES } from '../engine/index.ts'
+import { DEFAULT_SCENE, SCENES } from '../engine/index.ts'
 import { TICK_RATE } from '../shared/index.ts'
 import {
   Camera,
@@ -165,11 +165,11 @@ export class App {
     $('mode').addEventListener('click', () => {
       location.href =
         this.sandbox.mode === 'online'
-          ? offlineLink(this.room, this.sandbox.scene() || 'pyramid')
+          ? offlineLink(this.room, this.sandbox.scene() || DEFAULT_SCENE)
           : roomLink(this.room)
     })
     $('go-offline').addEventListener('click', () => {
-      location.href = offlineLink(this.room, this.sandbox.scene() || 'pyramid')
+      location.href = offlineLink(this.room, this.sandbox.scene() || DEFAULT_SCENE)
     })
     $('retry').addEventListener('click', () => this.sandbox.retry())
     $('create-room').addEventListener('click', () => {

@@ -14,6 +14,7 @@
  *                   also apply this player's own inputs at once, with rollback)
  * Without ?room the page joins the server's default room and writes it into the address bar.
  */
+import { DEFAULT_SCENE } from '../engine/index.ts'
 import { App, hasServer } from './app.ts'
 import { LockstepSandbox, OfflineSandbox, OnlineSandbox, type Sandbox } from './modes/index.ts'
 import { ReplayPage } from './replay/index.ts'
@@ -34,7 +35,7 @@ function boot(): App {
   let sandbox: Sandbox
   // The static build (npm run build:static) marks its page: a static host has no game server.
   if (params.has('offline') || !hasServer()) {
-    sandbox = new OfflineSandbox(params.get('scene') ?? 'pyramid')
+    sandbox = new OfflineSandbox(params.get('scene') ?? DEFAULT_SCENE)
   } else {
     if (!params.has('room')) {
       params.set('room', room)

@@ -56,6 +56,7 @@ export {
   CHAIN_TOP,
   cardHouseScene,
   chainBridgeScene,
+  DEFAULT_SCENE,
   emptyScene,
   groundDef,
   hangingChainScene,

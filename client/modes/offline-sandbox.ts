@@ -9,6 +9,7 @@
 import {
   type ContactInfo,
   createWorld,
+  DEFAULT_SCENE,
   FixedStepper,
   type JointId,
   SCENES,
@@ -68,9 +69,9 @@ export class OfflineSandbox implements Sandbox {
   private stepMs = 0
   private contactCache: ContactInfo[] | null = null
 
-  constructor(scene = 'pyramid') {
+  constructor(scene = DEFAULT_SCENE) {
     this.view.colorOf = (id) => this.colors.get(id)
-    this.sceneName = Object.hasOwn(SCENES, scene) ? scene : 'pyramid'
+    this.sceneName = Object.hasOwn(SCENES, scene) ? scene : DEFAULT_SCENE
     this.world = this.build(this.sceneName)
   }
 

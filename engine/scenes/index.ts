@@ -5,7 +5,7 @@
 export { CHAIN_LINK_LENGTH, CHAIN_TOP, hangingChainScene, ragdollScene } from './joint-stress-scenes.ts'
 export { MACHINES_LAYOUT, machinesScene } from './machine-scenes.ts'
 export { PLAYGROUND_LAYOUT, playgroundScene } from './playground-scene.ts'
-export { SCENES } from './scene-list.ts'
+export { DEFAULT_SCENE, SCENES } from './scene-list.ts'
 export {
   buildScene,
   cardHouseScene,

@@ -20,6 +20,9 @@ import {
   wreckingBallScene,
 } from './scenes.ts'
 
+/** The scene a new room and the offline page start with when none is named (issue 31). */
+export const DEFAULT_SCENE = 'playground'
+
 /** Scenes a user can pick by name, with the parameters the sandbox uses. */
 export const SCENES: Readonly<Record<string, { description: string; make: () => SceneBlueprint }>> = {
   empty: { description: 'Only the ground', make: emptyScene },

@@ -4,6 +4,7 @@
  * help line, in the order --help and the README list them.
  */
 import { availableParallelism } from 'node:os'
+import { DEFAULT_SCENE } from '../../engine/index.ts'
 
 /** Everything the server can be configured with. */
 export interface ServerConfig {
@@ -296,7 +297,7 @@ export const SETTINGS: readonly Setting[] = [
     flag: '--default-scene',
     env: 'DEFAULT_SCENE',
     kind: 'string',
-    fallback: 'pyramid',
+    fallback: DEFAULT_SCENE,
     help: 'scene a new room starts with (a name from SCENES)',
   },
   {

@@ -31,7 +31,7 @@
  * counts steps of the current world (paused ticks do not step, a scene load starts a new world).
  */
 import type { Logger } from 'pino'
-import { SCENES, type SceneBlueprint, type World } from '../../engine/index.ts'
+import { DEFAULT_SCENE, SCENES, type SceneBlueprint, type World } from '../../engine/index.ts'
 import { type Game, sandbox } from '../../games/index.ts'
 import {
   encodeMessage,
@@ -138,7 +138,7 @@ export class Room {
     this.sim = new RoomSimulation({
       game,
       name,
-      scene: Object.hasOwn(SCENES, config.defaultScene) ? config.defaultScene : 'pyramid',
+      scene: Object.hasOwn(SCENES, config.defaultScene) ? config.defaultScene : DEFAULT_SCENE,
       maxBodies: config.maxBodies,
       controls: config.roomControls,
       listener: this.listener(),

@@ -5,7 +5,6 @@
  * hanging cradle ball and on a bridge plank at rest, with the rod's and pins' pulls listed; and a
  * rope keeps the two boxes it ties from sinking into each other.
  */
-import { copyFile } from 'node:fs/promises'
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { JOINT_COLORS } from '../../client/draw/joint-drawing.ts'
@@ -32,8 +31,6 @@ beforeAll(async () => {
 })
 
 afterAll(async () => {
-  // Keep the README screenshot current when asked: UPDATE_README_SCREENSHOT=1.
-  if (process.env.UPDATE_README_SCREENSHOT) await copyFile(`${ARTIFACTS}/readme.png`, 'docs/sandbox.png')
   await browser?.close()
   await server?.close()
 })
@@ -124,7 +121,7 @@ describe('joints', { timeout: 300_000 }, () => {
     await context.close()
   })
 
-  it("draws two players' joints on the chain bridge: the scene's pins, a player's rope, another's held box (the README screenshot)", async () => {
+  it("draws two players' joints on the chain bridge: the scene's pins, a player's rope, another's held box", async () => {
     const a = await openSandbox(browser, `${base}/?room=showcase&name=ada`, {
       size: { width: 1200, height: 720 },
     })

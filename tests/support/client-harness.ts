@@ -45,7 +45,10 @@ function removeStaleBuilds(): void {
 /**
  * A server on 127.0.0.1 (any free port) serving the client already built in `dist`, with
  * `settings` over these. No recording unless asked: a test must not leave files in ./replays.
- * Test files that build the client in parallel each use a `dist` of their own.
+ * Test files that build the client in parallel each use a `dist` of their own. New rooms open on
+ * the pyramid, named here rather than left to the server's default (the playground since issue
+ * 31), because the browser tests click its boxes; tests/browser/default-scene.test.ts checks the
+ * default itself.
  */
 export function serveClient(dist: string, settings: Partial<ServerConfig> = {}): Promise<RunningServer> {
   const config = loadConfig(
@@ -58,6 +61,7 @@ export function serveClient(dist: string, settings: Partial<ServerConfig> = {}):
       logLevel: 'silent',
       heartbeatMs: 60_000,
       record: false,
+      defaultScene: 'pyramid',
       ...settings,
     },
   )
