@@ -14,8 +14,8 @@ import { CLOSE_CODES, encodeMessage } from '../../shared/index.ts'
 import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
-  CLIENT_DIST,
   bodies,
+  CLIENT_DIST,
   Finger,
   labNumbers,
   openSandbox,
