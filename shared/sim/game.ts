@@ -26,6 +26,7 @@ import type {
   WireJoint,
   WireJointDef,
 } from '../protocol/index.ts'
+import type { GameHistory } from './history.ts'
 
 /** Plain data: what game state, game command arguments and game events are made of. */
 export type PlainData = null | boolean | number | string | PlainData[] | { [key: string]: PlainData }
@@ -128,8 +129,16 @@ export interface GameContext<S = PlainData | undefined> {
   readonly creator: number
   /** While true, room controls (commands marked control) are refused for everyone but the creator. */
   controlsLocked: boolean
-  /** Create a body and tell clients; refused at the body limit or by an engine precondition. */
-  createBody(def: Parameters<World['createBody']>[0]): number | string
+  /**
+   * Each player's undo and redo history (history.ts): a command that should be undoable records
+   * what it changed with `ctx.history.record(player, { kind, before, after })`.
+   */
+  readonly history: GameHistory
+  /**
+   * Create a body and tell clients, coloured `color` (0xRRGGBB) when given; refused at the body
+   * limit or by an engine precondition.
+   */
+  createBody(def: Parameters<World['createBody']>[0], color?: number): number | string
   /**
    * A body from a spawn command (clamped as PROTOCOL.md says), coloured `cmd.color`, else the
    * player's colour (playerBodyColor) when `player` is given; the id, or a refusal.
