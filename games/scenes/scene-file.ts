@@ -15,10 +15,10 @@
  */
 import {
   box,
+  type CompoundBodyDef,
   capsule,
   chain,
   circle,
-  type CompoundBodyDef,
   convexPolygon,
   cos,
   createWorld,

@@ -255,8 +255,10 @@ export function checkSavedHistory(v: unknown): string | null {
         throw new RangeError(`history[${i}] must be {player, undo, redo}`)
       if (h.undo.length > MAX_HISTORY || h.redo.length > MAX_HISTORY)
         throw new RangeError(`history[${i}] holds more than ${MAX_HISTORY} entries in a list`)
-      h.undo.forEach((e, k) => checkEntry(e, `history[${i}].undo[${k}]`))
-      h.redo.forEach((e, k) => checkEntry(e, `history[${i}].redo[${k}]`))
+      for (const list of ['undo', 'redo'] as const) {
+        const entries = h[list] as unknown[]
+        for (let k = 0; k < entries.length; k++) checkEntry(entries[k], `history[${i}].${list}[${k}]`)
+      }
     })
   } catch (e) {
     return (e as Error).message
