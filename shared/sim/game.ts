@@ -293,5 +293,10 @@ export function simulationHash(worldHash: number, random: number, state: PlainDa
  * their hash unchanged (the caller skips this for an empty list).
  */
 export function colorsHash(hash: number, colors: number[]): number {
-  return hashPlainData(colors, mixUint32(FNV_OFFSET, hash))
+  return continueHash(hash, colors)
+}
+
+/** A hash continued over plain data: FNV-1a of `hash` (u32), then of `value` as plain data. */
+export function continueHash(hash: number, value: PlainData): number {
+  return hashPlainData(value, mixUint32(FNV_OFFSET, hash))
 }

@@ -26,7 +26,7 @@
  * Bounded: at most MAX_HISTORY entries per player in each list, the oldest dropped; a new action
  * clears that player's redo list; a player's history goes when the player leaves.
  */
-import { copyPlainData, hashPlainData, type PlainData } from './game.ts'
+import { continueHash, copyPlainData, hashPlainData, type PlainData } from './game.ts'
 
 /** The most undoable actions kept per player (older ones are dropped): 32. */
 export const MAX_HISTORY = 32
@@ -190,10 +190,13 @@ export class Histories implements GameHistory {
     this.digest = null
   }
 
-  /** `hash` with the saved histories mixed in (FNV-1a over their plain data), cached until they change. */
+  /**
+   * `hash` continued over the histories: FNV-1a of `hash` (u32), then of H as plain data, where H
+   * is FNV-1a of the saved form (save()) as plain data; H is cached until the histories change.
+   */
   mixInto(hash: number): number {
     if (this.digest === null) this.digest = hashPlainData(this.save() as unknown as PlainData)
-    return hashPlainData(this.digest, hash)
+    return continueHash(hash, this.digest)
   }
 
   private of(player: number) {
