@@ -20,7 +20,8 @@
  * undo: the player's last action: the `after` items that still exist are removed (a body with the
  * joints on it) and the `before` items rebuilt (bodies first, with new ids, then the joints whose
  * two bodies exist). Refused, changing nothing, when the player has nothing to undo, when a body
- * of `after` is gone ("body 12 was deleted by player 2", "body 12 no longer exists"), when the
+ * of `after` is gone ("body 12 was deleted by player 2", "body 12 was removed by player 2's undo",
+ * "body 12 no longer exists"), when the
  * rebuilt bodies would pass the body limit, or when nothing would change (a joint that broke).
  * redo: the same with `before` and `after` swapped. With `{skip: true}` a stale action on top (one
  * that would be refused for a gone body or joint) is dropped first, as many as there are, and the
@@ -118,30 +119,35 @@ export function recordAction(
   ctx.history.record(player, { kind, before, after })
 }
 
-/** Who removed body `id`: the latest player whose history holds its deletion, or 0. */
-function remover(ctx: GameContext<unknown>, id: number, what: 'bodies' | 'joints'): number {
+/**
+ * Who removed body or joint `id`, by the histories: a player whose undo list holds an action that
+ * removed it (a delete, an unjoint), or whose redo list holds one whose undo removed it (an undone
+ * spawn); null when no history says (it fell out of the world, broke, or the entry is gone).
+ */
+function remover(ctx: GameContext<unknown>, id: number, what: 'bodies' | 'joints'): string | null {
   for (const h of ctx.history.all()) {
-    for (const e of h.undo) {
-      const had = e.before[what].some((x) => x.id === id)
-      const has = e.after[what].some((x) => x.id === id)
-      if (had && !has) return h.player
-    }
+    for (const e of h.undo)
+      if (e.before[what].some((x) => x.id === id) && !e.after[what].some((x) => x.id === id))
+        return `${what === 'bodies' ? 'deleted' : 'removed'} by player ${h.player}`
+    for (const e of h.redo)
+      if (e.after[what].some((x) => x.id === id) && !e.before[what].some((x) => x.id === id))
+        return `removed by player ${h.player}'s undo`
   }
-  return 0
+  return null
 }
 
 /** Why body `id` is gone, for a refusal. */
 function goneBody(ctx: GameContext<unknown>, id: number): string {
   const by = remover(ctx, id, 'bodies')
-  return by === 0 ? `body ${id} no longer exists` : `body ${id} was deleted by player ${by}`
+  return by === null ? `body ${id} no longer exists` : `body ${id} was ${by}`
 }
 
 /** Why joint `id` is gone, for a refusal. */
 function goneJoint(ctx: GameContext<unknown>, id: number): string {
   const by = remover(ctx, id, 'joints')
-  return by === 0
+  return by === null
     ? `joint ${id} no longer exists (it broke, or a body it held was deleted)`
-    : `joint ${id} was removed by player ${by}`
+    : `joint ${id} was ${by}`
 }
 
 /**
