@@ -110,4 +110,41 @@ describe('undo and redo in the page', { timeout: 300_000 }, () => {
     expect(b.errors).toEqual([])
     await Promise.all([a.context.close(), b.context.close()])
   })
+
+  for (const mode of ['lockstep', 'predict'] as const) {
+    it(`in a ${mode} page: an undo whose body another player deleted is refused naming them, and pressing again skips it`, async () => {
+      const a = await openSandbox(browser, `${base}/?room=undo-${mode}&mode=${mode}`)
+      const b = await openSandbox(browser, `${base}/?room=undo-${mode}`)
+      await loadScene(b.page, 'empty', 0)
+      await a.page.waitForFunction(() => window.concord.sandbox.scene() === 'empty')
+      await b.page.evaluate(() => window.concord.sandbox.send({ k: 'pause', paused: true }))
+      await a.page.waitForFunction(() => window.concord.sandbox.paused())
+      await a.page.waitForFunction(() => !(document.getElementById('undo') as HTMLButtonElement).hidden)
+      for (const x of [-2, 2]) {
+        await a.page.evaluate(
+          (x) =>
+            window.concord.sandbox.send({ k: 'spawn', shape: { type: 'box', hw: 0.5, hh: 0.5 }, x, y: 2 }),
+          x,
+        )
+        await waitForBoxes(b.page, x < 0 ? 1 : 2)
+      }
+      const [first, second] = (await boxes(b.page)).sort((p, q) => p.id - q.id)
+      await b.page.evaluate((id) => window.concord.sandbox.send({ k: 'delete', body: id }), second.id)
+      await waitForBoxes(a.page, 1)
+      const bob = await b.page.evaluate(() => window.concord.sandbox.playerId())
+      await a.page.keyboard.press('Control+z')
+      await a.page.waitForFunction(
+        (text) => document.getElementById('toast')?.textContent === text,
+        `cannot undo spawn: body ${second.id} was deleted by player ${bob} (press Undo again to skip it)`,
+      )
+      expect((await boxes(b.page)).map((p) => p.id)).toEqual([first.id])
+      // Again: the gone spawn is skipped and the first spawn undone.
+      await a.page.keyboard.press('Control+z')
+      await waitForBoxes(b.page, 0)
+      await waitForBoxes(a.page, 0)
+      expect(a.errors).toEqual([])
+      expect(b.errors).toEqual([])
+      await Promise.all([a.context.close(), b.context.close()])
+    })
+  }
 })
