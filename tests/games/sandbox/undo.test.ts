@@ -112,6 +112,26 @@ describe('sandbox undo of spawns', () => {
     expect(built(sim)).toEqual(ids.slice(0, 8))
   })
 
+  it('undoes a static shape a player drew (a static spawn of segments) like any spawn', () => {
+    const sim = room()
+    ok(sim, 1, spawnAt(0, 1, { shape: { type: 'segment', v: [-2, 0, 2, 0] }, static: true }))
+    const line = newest(sim)
+    expect(sim.world.getBodyType(line)).toBe('static')
+    ok(sim, 1, undo)
+    expect(sim.world.hasBody(line)).toBe(false)
+    ok(sim, 1, redo)
+    expect(sim.world.getBodyType(newest(sim))).toBe('static')
+  })
+
+  it("forgets a player's history when it leaves", () => {
+    const sim = room()
+    ok(sim, 2, spawnAt(0, 3))
+    sim.leave(2)
+    sim.join(2, 'bob', '#00ff00')
+    expect(sim.apply(2, undo)).toBe('nothing to undo')
+    expect(sim.history.empty).toBe(true)
+  })
+
   it('is cleared by a reset: nothing to undo afterwards', () => {
     const sim = room()
     ok(sim, 1, spawnAt(0, 5))
