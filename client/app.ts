@@ -50,6 +50,14 @@ const TOAST_MIN_MS = 1500
 const $ = <T extends HTMLElement = HTMLElement>(id: string): T => document.getElementById(id) as T
 
 /** The running page. */
+/** Whether a notice is the room's refusal of an undo (redo) for a body or joint that is gone. */
+function isStaleRefusal(notice: string, kind: 'undo' | 'redo'): boolean {
+  return (
+    notice.startsWith(`cannot ${kind} `) &&
+    /: (body|joint) \d+ (was deleted|was removed|no longer exists)/.test(notice)
+  )
+}
+
 /** How the page names a slow-motion factor. */
 const SLOW_LABEL: Record<number, string> = { 1: '1×', 2: '1/2×', 4: '1/4×' }
 
@@ -144,6 +152,8 @@ export class App {
     click('gravity', 'gravity')
     click('slow', 'slow')
     click('lock', 'lock')
+    click('undo', 'undo')
+    click('redo', 'redo')
     click('help-button', 'help')
     click('help-close', 'help')
     click('rooms', 'lobby')
@@ -221,6 +231,25 @@ export class App {
     if (!bar || bar.hidden) return 0
     const top = bar.getBoundingClientRect().top
     return top > 0 ? Math.max(0, window.innerHeight - top) : 0
+  }
+
+  /**
+   * Undo or redo this player's last action (the sandbox's game commands). After a notice that
+   * refused one for a body or joint that is gone, the next press skips it (`{skip: true}`: the
+   * gone action is dropped and the one before it undone).
+   */
+  private undoRedo(kind: 'undo' | 'redo'): void {
+    const s = this.sandbox
+    if (!this.undoable()) {
+      this.toast('Undo and redo need a room that runs the sandbox: open the sandbox online')
+      return
+    }
+    s.sendGame(kind, isStaleRefusal(s.notices().latest ?? '', kind) ? { skip: true } : {})
+  }
+
+  /** Whether this page's room offers undo and redo (the sandbox online or in lockstep). */
+  private undoable(): boolean {
+    return this.sandbox.rules()?.commands?.includes('undo') ?? false
   }
 
   /** The Draw tool's next form, named on its button's title and in a notice. */
@@ -326,6 +355,10 @@ export class App {
       }
       case 'lock':
         s.sendGame?.('lock', { locked: !(s.roomControl?.().locked ?? false) })
+        break
+      case 'undo':
+      case 'redo':
+        this.undoRedo(action)
         break
       case 'fit':
         this.fit()
@@ -521,6 +554,7 @@ export class App {
     const room = s.roomControl?.() ?? null
     const lockedOut = room?.locked && room.self !== room.creator
     const controls = (s.rules()?.controls ?? true) && !lockedOut
+    $('undo').hidden = $('redo').hidden = !this.undoable()
     for (const id of ['scene', 'pause', 'step', 'reset', 'gravity', 'slow', 'lock']) {
       const control = $(id) as HTMLButtonElement
       // The scene picker's own title names the current scene (syncScenePicker): read it afresh.
@@ -589,7 +623,11 @@ export class App {
       const fresh = notices.count - this.lastToastCount
       this.lastToastCount = notices.count
       const lines = notices.recent ? notices.recent.slice(-fresh) : [notices.latest ?? '']
-      for (const line of lines) {
+      for (const raw of lines) {
+        const kind = raw.startsWith('cannot redo ') ? 'redo' : 'undo'
+        const line = isStaleRefusal(raw, kind)
+          ? `${raw} (press ${kind === 'undo' ? 'Undo' : 'Redo'} again to skip it)`
+          : raw
         const last = this.toastQueue.at(-1) ?? (this.toastVisible ? $('toast').textContent : null)
         if (line !== last) this.toastQueue.push(line)
       }

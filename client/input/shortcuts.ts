@@ -27,6 +27,8 @@ export type ShortcutAction =
   | 'tool:explode'
   | 'slow'
   | 'lock'
+  | 'undo'
+  | 'redo'
   | 'pause'
   | 'step'
   | 'reset'
@@ -93,6 +95,12 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
     action: 'tool:wheel',
     help: 'Wheel: click a chassis to add a driven wheel; ←/→ drive yours',
   },
+  {
+    keys: ['ctrl+z'],
+    action: 'undo',
+    help: 'Undo your last spawn, drawing, delete, joint or cut (each player undoes their own)',
+  },
+  { keys: ['ctrl+shift+z', 'ctrl+y'], action: 'redo', help: 'Redo what you undid' },
   { keys: [' '], action: 'pause', help: 'Pause / resume' },
   { keys: ['s', '.'], action: 'step', help: 'Single step (while paused)' },
   { keys: ['r'], action: 'reset', help: 'Reset the scene' },
@@ -109,10 +117,21 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
   { keys: ['escape'], action: 'escape', help: 'Close panels, cancel, deselect' },
 ]
 
-/** The action for a key event, or null (ignores keys with Ctrl, Alt or Meta held). */
-export function shortcutFor(e: { key: string; ctrlKey: boolean; altKey: boolean; metaKey: boolean }) {
-  if (e.ctrlKey || e.altKey || e.metaKey) return null
-  const key = e.key.toLowerCase()
+/**
+ * The action for a key event, or null. With Ctrl or Cmd (Meta) held only the 'ctrl+' keys match
+ * (Shift then counts: 'ctrl+shift+z'); keys with Alt held, and Ctrl or Cmd with any other key, are
+ * ignored.
+ */
+export function shortcutFor(e: {
+  key: string
+  ctrlKey: boolean
+  altKey: boolean
+  metaKey: boolean
+  shiftKey?: boolean
+}): ShortcutAction | null {
+  if (e.altKey) return null
+  let key = e.key.toLowerCase()
+  if (e.ctrlKey || e.metaKey) key = `ctrl+${e.shiftKey ? 'shift+' : ''}${key}`
   return SHORTCUTS.find((s) => s.keys.includes(key))?.action ?? null
 }
 
@@ -132,6 +151,8 @@ const BUTTONS: Partial<Record<ShortcutAction, string>> = {
   reset: 'Reset',
   gravity: 'Gravity',
   fit: 'Fit',
+  undo: 'Undo',
+  redo: 'Redo',
 }
 
 /**
@@ -139,7 +160,15 @@ const BUTTONS: Partial<Record<ShortcutAction, string>> = {
  * button, named as the button is, without keys: short enough to fit a phone's screen unscrolled.
  */
 export function helpRows(touch = false): string {
-  const label = (k: string): string => (k === ' ' ? 'Space' : k === 'escape' ? 'Esc' : k.toUpperCase())
+  const label = (k: string): string =>
+    k === ' '
+      ? 'Space'
+      : k === 'escape'
+        ? 'Esc'
+        : k
+            .split('+')
+            .map((part) => (part === 'ctrl' ? 'Ctrl/⌘' : part === 'shift' ? 'Shift' : part.toUpperCase()))
+            .join('+')
   if (touch) {
     const rows: string[] = []
     const joints: string[] = []
@@ -154,6 +183,14 @@ export function helpRows(touch = false): string {
       }
       const button = tool ? s.help.slice(0, s.help.indexOf(':')) : BUTTONS[s.action]
       if (!button) continue
+      // Undo and redo share one row on a phone.
+      if (s.action === 'undo') continue
+      if (s.action === 'redo') {
+        rows.push(
+          '<tr><td><b>Undo</b>, <b>Redo</b></td><td>your own last action (each player their own)</td></tr>',
+        )
+        continue
+      }
       const text = tool ? s.help.slice(s.help.indexOf(':') + 1).trim() : s.help
       rows.push(`<tr><td><b>${button}</b></td><td>${text.replace(/^click/, 'tap')}</td></tr>`)
     }

@@ -3,7 +3,7 @@
  * JSON Schema arguments. `weld` glues two bodies (or a body to the background, a = 0), `hinge` is
  * a pin with optional limits and motor, `spring` a soft distance joint, `slider` a prismatic joint
  * and `wheel` a sprung wheel joint with a motor (a car is a chassis and two wheels); every one
- * takes a breaking force and torque. `jointMotor` sets a joint's motor speed, for the player who
+ * takes a breaking force and torque; each is undoable (undo-commands.ts). `jointMotor` sets a joint's motor speed, for the player who
  * made the joint only (the rule every replica applies, so keys drive only your own machine).
  *
  * The schemas bound every number (the ranges are PROTOCOL.md's, "The sandbox's joint commands");
@@ -12,8 +12,15 @@
  * reach plus ANCHOR_MARGIN (shared/sim's createUserJoint).
  */
 import { circle, type Vec2 } from '../../engine/index.ts'
-import { anchorRefusal, clampToWorld, MAX_ROPE_LENGTH, type WireJointDef } from '../../shared/index.ts'
+import {
+  anchorRefusal,
+  clampToWorld,
+  MAX_ROPE_LENGTH,
+  NO_ITEMS,
+  type WireJointDef,
+} from '../../shared/index.ts'
 import type { GameCommandDefinition } from '../game-api.ts'
+import { captureBodies, recordAction, recordJoint } from './undo-commands.ts'
 
 /** Fastest motor a player may ask for: rad/s for hinges and wheels, m/s for sliders. */
 export const MAX_JOINT_MOTOR_SPEED = 50
@@ -150,7 +157,7 @@ export const jointCommands: Record<string, GameCommandDefinition<undefined>> = {
         linearDampingRatio: damping,
         angularDampingRatio: damping,
       }
-      return refusalOf(ctx.createJoint(player, def, 'weld'))
+      return recordJoint(ctx, player, 'weld', ctx.createJoint(player, def, 'weld'))
     },
   },
   hinge: {
@@ -181,7 +188,7 @@ export const jointCommands: Record<string, GameCommandDefinition<undefined>> = {
         motorSpeed: c.speed ?? 0,
         maxMotorTorque: c.torque ?? 0,
       }
-      return refusalOf(ctx.createJoint(player, def, 'hinge'))
+      return recordJoint(ctx, player, 'hinge', ctx.createJoint(player, def, 'hinge'))
     },
   },
   spring: {
@@ -215,7 +222,7 @@ export const jointCommands: Record<string, GameCommandDefinition<undefined>> = {
         hertz: c.hz,
         dampingRatio: c.damping ?? 0.5,
       }
-      return refusalOf(ctx.createJoint(player, def, 'spring'))
+      return recordJoint(ctx, player, 'spring', ctx.createJoint(player, def, 'spring'))
     },
   },
   slider: {
@@ -256,7 +263,7 @@ export const jointCommands: Record<string, GameCommandDefinition<undefined>> = {
         hertz: hz,
         dampingRatio: c.damping ?? 0.7,
       }
-      return refusalOf(ctx.createJoint(player, def, 'slider'))
+      return recordJoint(ctx, player, 'slider', ctx.createJoint(player, def, 'slider'))
     },
   },
   wheel: {
@@ -331,6 +338,10 @@ export const jointCommands: Record<string, GameCommandDefinition<undefined>> = {
       }
       const joined = ctx.createJoint(player, def, 'wheel')
       if (typeof joined === 'string' && c.b === undefined) throw new Error(joined)
+      // Undoable: the joint, and the wheel with it when this command made one.
+      if (typeof joined === 'number' && c.b === undefined)
+        recordAction(ctx, player, 'wheel', NO_ITEMS, captureBodies(ctx, [b]))
+      else if (typeof joined === 'number') recordJoint(ctx, player, 'wheel', joined)
       return refusalOf(joined)
     },
   },

@@ -10,9 +10,17 @@
  * their own (a goal game that lets players grab only in their half).
  */
 import { SCENES } from '../../engine/index.ts'
-import { isMovable } from '../../shared/index.ts'
+import { isMovable, NO_ITEMS } from '../../shared/index.ts'
 import { builtin, defineGame, type GameCommandDefinition } from '../game-api.ts'
 import { jointCommands } from './joint-commands.ts'
+import {
+  captureBodies,
+  captureJoints,
+  newestJoint,
+  recordAction,
+  recordJoint,
+  undoCommands,
+} from './undo-commands.ts'
 
 /** Ticks between scene loads or resets in one room: building a scene is the costliest command. */
 export const MIN_TICKS_BETWEEN_LOADS = 10
@@ -31,21 +39,38 @@ function loadTooSoon(tick: number, lastLoadTick: number): string | null {
 export const sandboxCommands = {
   spawn: builtin('spawn', (ctx, player, cmd) => {
     const spawned = ctx.spawn(cmd, player)
-    return typeof spawned === 'string' ? spawned : null
+    if (typeof spawned === 'string') return spawned
+    recordAction(ctx, player, 'spawn', NO_ITEMS, captureBodies(ctx, [spawned]))
+    return null
   }),
   grab: builtin('grab', (ctx, player, cmd) => ctx.grab(player, cmd.body, cmd.lx, cmd.ly)),
   move: builtin('move', (ctx, player, cmd) => ctx.moveCursor(player, cmd.x, cmd.y)),
   release: builtin('release', (ctx, player) => ctx.release(player)),
-  delete: builtin('delete', (ctx, _player, cmd) => {
+  delete: builtin('delete', (ctx, player, cmd) => {
     // Static bodies players drew (they have a colour) may be deleted; the scene's may not.
     if (!isMovable(ctx.world, cmd.body) && !(ctx.world.hasBody(cmd.body) && ctx.bodyColor(cmd.body) !== null))
       return `body ${cmd.body} does not exist or is static`
+    const before = captureBodies(ctx, [cmd.body])
     ctx.destroyBody(cmd.body)
+    recordAction(ctx, player, 'delete', before, NO_ITEMS)
     return null
   }),
-  pin: builtin('pin', (ctx, _player, cmd) => ctx.addJoint(cmd)),
-  rope: builtin('rope', (ctx, _player, cmd) => ctx.addJoint(cmd)),
-  unjoint: builtin('unjoint', (ctx, _player, cmd) => ctx.removeJoint(cmd.joint)),
+  pin: builtin('pin', (ctx, player, cmd) => {
+    const refusal = ctx.addJoint(cmd)
+    if (refusal !== null) return refusal
+    recordJoint(ctx, player, 'pin', newestJoint(ctx.world))
+  }),
+  rope: builtin('rope', (ctx, player, cmd) => {
+    const refusal = ctx.addJoint(cmd)
+    if (refusal !== null) return refusal
+    recordJoint(ctx, player, 'rope', newestJoint(ctx.world))
+  }),
+  unjoint: builtin('unjoint', (ctx, player, cmd) => {
+    const before = captureJoints(ctx, [cmd.joint])
+    const refusal = ctx.removeJoint(cmd.joint)
+    if (refusal !== null) return refusal
+    recordAction(ctx, player, 'unjoint', before, NO_ITEMS)
+  }),
   scene: builtin(
     'scene',
     (ctx, _player, cmd) => {
@@ -121,5 +146,5 @@ export const sandbox = defineGame({
   setup(ctx, options) {
     ctx.loadScene(options.scene)
   },
-  commands: { ...sandboxCommands, ...jointCommands },
+  commands: { ...sandboxCommands, ...jointCommands, ...undoCommands },
 })

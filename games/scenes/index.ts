@@ -15,6 +15,10 @@ export {
   type SceneJoint,
   type SceneShape,
   saveScene,
+  saveSceneBody,
+  saveSceneJoint,
+  sceneBodyDef,
+  sceneJointDef,
   sceneText,
 } from './scene-file.ts'
 export { SCENE_FORMAT_VERSION, SCENE_LIMITS, SCENE_SCHEMA } from './scene-schema.ts'

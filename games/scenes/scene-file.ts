@@ -15,6 +15,7 @@
  */
 import {
   box,
+  type CompoundBodyDef,
   capsule,
   chain,
   circle,
@@ -128,11 +129,11 @@ export function saveScene(world: World, options: SaveSceneOptions = {}): SceneFi
     version: SCENE_FORMAT_VERSION,
     ...(options.name === undefined ? {} : { name: options.name }),
     gravity: { x: g.x, y: g.y },
-    bodies: ids.map((id) => saveBody(world, id, options.colorOf?.(id))),
+    bodies: ids.map((id) => saveSceneBody(world, id, options.colorOf?.(id))),
     joints: [],
   }
   for (const id of world.jointIds()) {
-    const joint = saveJoint(world.getJointDef(id), index)
+    const joint = saveSceneJoint(world.getJointDef(id), index)
     if (joint) scene.joints?.push(joint)
   }
   return scene
@@ -147,7 +148,8 @@ export function sceneText(scene: SceneFile): string {
   return `${lines},"bodies":${list(scene.bodies)},"joints":${list(scene.joints ?? [])}}\n`
 }
 
-function saveBody(world: World, id: number, color: string | undefined): SceneBody {
+/** One body as a scene file holds it (`color`: its #rrggbb, if kept); saveScene writes each body so. */
+export function saveSceneBody(world: World, id: number, color: string | undefined): SceneBody {
   const def = world.getBodyDef(id)
   const type = def.type ?? 'dynamic'
   const p = def.position ?? { x: 0, y: 0 }
@@ -261,7 +263,11 @@ const JOINT_SETTINGS: Record<SceneJoint['type'], readonly string[]> = {
   motor: ['linearOffset', 'angularOffset', 'maxForce', 'maxTorque', 'correctionFactor'],
 }
 
-function saveJoint(def: JointDef, index: Map<number, number>): SceneJoint | null {
+/**
+ * One joint as a scene file holds it, its bodies numbered by `index` (body id -> the number the
+ * joint names it by: the file's body index); null for a mouse joint (a grab).
+ */
+export function saveSceneJoint(def: JointDef, index: Map<number, number>): SceneJoint | null {
   if (def.type === 'mouse') return null // grabs belong to players, not to the scene
   const bodyA = def.bodyA === null ? null : (index.get(def.bodyA) as number)
   const out: SceneJoint = { type: def.type, bodyA, bodyB: index.get(def.bodyB) as number }
@@ -498,22 +504,7 @@ export function buildScene(scene: SceneFile): { ok: true; built: BuiltScene } | 
         }
     }
     try {
-      const id = world.createBody({
-        type: b.type,
-        position: b.position,
-        angle: b.angle ?? 0,
-        rotation: b.rotation,
-        linearVelocity: b.linearVelocity,
-        angularVelocity: b.angularVelocity,
-        linearDamping: b.linearDamping,
-        angularDamping: b.angularDamping,
-        gravityScale: b.gravityScale,
-        bullet: b.bullet,
-        fixedRotation: b.fixedRotation,
-        enableSleep: b.enableSleep,
-        awake: b.awake,
-        shapes,
-      })
+      const id = world.createBody(bodyDef(b, shapes))
       ids.push(id)
       if (b.color !== undefined) colors.set(id, b.color.toLowerCase())
     } catch (e) {
@@ -523,7 +514,7 @@ export function buildScene(scene: SceneFile): { ok: true; built: BuiltScene } | 
   const joints = scene.joints ?? []
   for (let j = 0; j < joints.length; j++) {
     try {
-      world.createJoint(jointDef(world, joints[j], ids))
+      world.createJoint(sceneJointDef(world, joints[j], (i) => ids[i]))
     } catch (e) {
       return { ok: false, error: `joints[${j}]: ${(e as Error).message}` }
     }
@@ -534,10 +525,41 @@ export function buildScene(scene: SceneFile): { ok: true; built: BuiltScene } | 
   return { ok: true, built: { world, bodies: ids, colors } }
 }
 
-/** A scene joint as an engine definition, its bodies resolved to the built ids. */
-function jointDef(world: World, joint: SceneJoint, ids: number[]): JointDef {
-  const bodyA = joint.bodyA === null ? null : ids[joint.bodyA]
-  const bodyB = ids[joint.bodyB]
+/** A scene body's engine definition, with its shapes' definitions already made. */
+function bodyDef(b: SceneBody, shapes: ShapeDef[]): CompoundBodyDef {
+  return {
+    type: b.type,
+    position: b.position,
+    angle: b.angle ?? 0,
+    rotation: b.rotation,
+    linearVelocity: b.linearVelocity,
+    angularVelocity: b.angularVelocity,
+    linearDamping: b.linearDamping,
+    angularDamping: b.angularDamping,
+    gravityScale: b.gravityScale,
+    bullet: b.bullet,
+    fixedRotation: b.fixedRotation,
+    enableSleep: b.enableSleep,
+    awake: b.awake,
+    shapes,
+  }
+}
+
+/**
+ * One scene body (saveSceneBody's) as an engine definition, as buildScene makes it (its angle is
+ * not checked against its rotation: the rotation wins); throws on a shape the engine refuses.
+ */
+export function sceneBodyDef(b: SceneBody): CompoundBodyDef {
+  return bodyDef(b, b.shapes.map(shapeDef))
+}
+
+/**
+ * A scene joint (saveSceneJoint's) as an engine definition in `world`, its bodies resolved by
+ * `bodyOf` (the joint's number for a body -> the body's id in `world`: buildScene's built ids).
+ */
+export function sceneJointDef(world: World, joint: SceneJoint, bodyOf: (index: number) => number): JointDef {
+  const bodyA = joint.bodyA === null ? null : bodyOf(joint.bodyA)
+  const bodyB = bodyOf(joint.bodyB)
   const settings: Record<string, unknown> = {}
   for (const key of JOINT_SETTINGS[joint.type]) if (joint[key] !== undefined) settings[key] = joint[key]
   for (const key of ['collideConnected', 'breakForce', 'breakTorque'])

@@ -32,9 +32,11 @@ import {
   type WireJoint,
 } from '../protocol/index.ts'
 import {
+  checkSavedHistory,
   copyPlainData,
   DEFAULT_SEED,
   type PlainData,
+  type SavedHistory,
   type SimCommand,
   type SimulationState,
 } from '../sim/index.ts'
@@ -353,7 +355,15 @@ function simState(v: unknown): SimulationState {
     random: m.random === undefined ? DEFAULT_SEED : int(m.random, 'state random'),
     // Logs from before body colours have none.
     colors: m.colors === undefined ? [] : colorList(m.colors),
+    // Logs from before undo histories have none.
+    history: m.history === undefined ? [] : savedHistory(m.history),
   }
+}
+
+function savedHistory(v: unknown): SavedHistory[] {
+  const problem = checkSavedHistory(v)
+  if (problem !== null) throw new ReplayFormatError(`state ${problem}`)
+  return plain(v, 'state history') as unknown as SavedHistory[]
 }
 
 function slowFactor(v: unknown): number {

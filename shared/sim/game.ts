@@ -26,6 +26,7 @@ import type {
   WireJoint,
   WireJointDef,
 } from '../protocol/index.ts'
+import type { GameHistory } from './history.ts'
 
 /** Plain data: what game state, game command arguments and game events are made of. */
 export type PlainData = null | boolean | number | string | PlainData[] | { [key: string]: PlainData }
@@ -128,8 +129,16 @@ export interface GameContext<S = PlainData | undefined> {
   readonly creator: number
   /** While true, room controls (commands marked control) are refused for everyone but the creator. */
   controlsLocked: boolean
-  /** Create a body and tell clients; refused at the body limit or by an engine precondition. */
-  createBody(def: Parameters<World['createBody']>[0]): number | string
+  /**
+   * Each player's undo and redo history (history.ts): a command that should be undoable records
+   * what it changed with `ctx.history.record(player, { kind, before, after })`.
+   */
+  readonly history: GameHistory
+  /**
+   * Create a body and tell clients, coloured `color` (0xRRGGBB) when given; refused at the body
+   * limit or by an engine precondition.
+   */
+  createBody(def: Parameters<World['createBody']>[0], color?: number): number | string
   /**
    * A body from a spawn command (clamped as PROTOCOL.md says), coloured `cmd.color`, else the
    * player's colour (playerBodyColor) when `player` is given; the id, or a refusal.
@@ -284,5 +293,10 @@ export function simulationHash(worldHash: number, random: number, state: PlainDa
  * their hash unchanged (the caller skips this for an empty list).
  */
 export function colorsHash(hash: number, colors: number[]): number {
-  return hashPlainData(colors, mixUint32(FNV_OFFSET, hash))
+  return continueHash(hash, colors)
+}
+
+/** A hash continued over plain data: FNV-1a of `hash` (u32), then of `value` as plain data. */
+export function continueHash(hash: number, value: PlainData): number {
+  return hashPlainData(value, mixUint32(FNV_OFFSET, hash))
 }

@@ -22,6 +22,18 @@ export {
   simulationHash,
   stepEvents,
 } from './game.ts'
+export {
+  checkSavedHistory,
+  type GameHistory,
+  type HistoryBody,
+  type HistoryEntry,
+  type HistoryItems,
+  type HistoryJoint,
+  type HistoryList,
+  MAX_HISTORY,
+  NO_ITEMS,
+  type SavedHistory,
+} from './history.ts'
 export { LockstepClient } from './lockstep-client.ts'
 export { PredictClient } from './predict-client.ts'
 export {

@@ -49,6 +49,7 @@ import {
   simulationHash,
   stepEvents,
 } from './game.ts'
+import { Histories, type SavedHistory } from './history.ts'
 import {
   addUserJoint,
   createUserJoint,
@@ -100,6 +101,8 @@ export interface SimulationState {
   random: number
   /** Body colours, flat [body id, 0xRRGGBB, ...] in ascending ids (absent in states saved before colours). */
   colors?: number[]
+  /** The players' undo and redo histories (history.ts; absent in states saved before them: none). */
+  history?: SavedHistory[]
 }
 
 /** World side effects, for the owner to turn into wire events. Called synchronously. */
@@ -210,6 +213,8 @@ export class RoomSimulation {
    * the world. A static body with a colour was made by a player, and players may delete it.
    */
   readonly bodyColors = new Map<number, number>()
+  /** Each player's undo and redo history (history.ts): saved, synced and hashed with the world. */
+  readonly history = new Histories()
   readonly observers: SimulationObserver[] = []
   readonly maxBodies: number
   readonly controls: boolean
@@ -254,7 +259,8 @@ export class RoomSimulation {
       this.gameState === undefined
         ? worldHash
         : simulationHash(worldHash, this.random.position(), this.gameState)
-    return this.bodyColors.size === 0 ? hash : colorsHash(hash, this.colorList())
+    const colored = this.bodyColors.size === 0 ? hash : colorsHash(hash, this.colorList())
+    return this.history.empty ? colored : this.history.mixInto(colored)
   }
 
   /** Body colours as flat [body id, 0xRRGGBB, ...], ascending ids. */
@@ -309,6 +315,7 @@ export class RoomSimulation {
       this.listener.roomChanged()
     }
     this.game.onLeave?.(this.ctx, playerId)
+    this.history.forget(playerId)
     this.players.delete(playerId)
     this.playerIds = Object.freeze([...this.players.keys()])
     for (const o of this.observers) o.leave(this.tick, playerId)
@@ -411,6 +418,7 @@ export class RoomSimulation {
       gameState: this.gameState === undefined ? null : copyPlainData(this.gameState),
       random: this.random.position(),
       colors: this.colorList(),
+      history: this.history.save(),
     }
   }
 
@@ -442,6 +450,7 @@ export class RoomSimulation {
     for (const j of state.userJoints) this.userJoints.set(j.id, { ...j })
     this.restoreGame(state.gameState, state.random)
     this.setColors(state.colors ?? [])
+    this.history.restore(state.history ?? [])
     this.listener.worldReplaced()
     this.listener.roomChanged()
   }
@@ -507,6 +516,7 @@ export class RoomSimulation {
     }
     this.grabCounts.clear()
     this.bodyColors.clear()
+    this.history.clear()
     this.userJoints.clear()
     for (const j of joints) this.userJoints.set(j.id, j)
     this.scene = scene
@@ -584,7 +594,10 @@ export class RoomSimulation {
         sim.controlsLocked = value
         sim.listener.roomChanged()
       },
-      createBody: (def) => sim.createBody(def),
+      get history() {
+        return sim.history
+      },
+      createBody: (def, color) => sim.createBody(def, color),
       spawn: (cmd, player) => sim.spawn(cmd, player),
       bodyColor: (id) => sim.bodyColors.get(id) ?? null,
       destroyBody: (id) => {
@@ -627,7 +640,7 @@ export class RoomSimulation {
     }
   }
 
-  private createBody(def: Parameters<World['createBody']>[0]): number | string {
+  private createBody(def: Parameters<World['createBody']>[0], color?: number): number | string {
     if (this.world.bodyCount >= this.maxBodies) return `body limit reached (${this.maxBodies})`
     let id: number
     try {
@@ -635,6 +648,7 @@ export class RoomSimulation {
     } catch (e) {
       return `body refused: ${(e as Error).message}`
     }
+    if (color !== undefined) this.bodyColors.set(id, color)
     this.listener.bodyAdded(id)
     return id
   }

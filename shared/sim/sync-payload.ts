@@ -14,6 +14,7 @@
 import { loadWorld } from '../../engine/index.ts'
 import { decodeValue, encodeValue, type WireJoint } from '../protocol/index.ts'
 import { copyPlainData, type GameCatalog, type PlainData } from './game.ts'
+import { checkSavedHistory, type SavedHistory } from './history.ts'
 import { RoomSimulation, type SimulationListener } from './room-simulation.ts'
 
 /** The decoded payload. */
@@ -41,6 +42,8 @@ export interface SyncPayload {
   random: number
   /** Body colours, flat [body id, 0xRRGGBB, ...] in ascending ids. */
   colors: number[]
+  /** The players' undo and redo histories (history.ts), players with history only; absent: none. */
+  history?: SavedHistory[]
 }
 
 /** The payload of a room simulation as MessagePack bytes (not yet compressed). */
@@ -66,6 +69,8 @@ export function encodeSyncPayload(sim: RoomSimulation): Uint8Array {
     random: sim.random.position(),
     colors: sim.colorList(),
   }
+  const history = sim.history.save()
+  if (history.length > 0) payload.history = history
   return encodeValue(payload)
 }
 
@@ -118,6 +123,8 @@ export function restoreSyncPayload(bytes: Uint8Array, options: RestoreOptions): 
     (!Array.isArray(p.colors) || p.colors.length % 2 !== 0 || !p.colors.every(isInt))
   )
     return { ok: false, reason: 'sync payload colors must be a flat list of [body id, colour] integers' }
+  const badHistory = p.history === undefined ? null : checkSavedHistory(p.history)
+  if (badHistory !== null) return { ok: false, reason: `sync payload: ${badHistory}` }
   const game = options.games(p.game)
   if (!game) return { ok: false, reason: `sync payload: game ${p.game} is not in this build` }
   let sim: RoomSimulation
@@ -137,6 +144,7 @@ export function restoreSyncPayload(bytes: Uint8Array, options: RestoreOptions): 
   sim.controlsLocked = p.locked ?? false
   sim.lastLoadTick = p.lastLoad ?? Number.NEGATIVE_INFINITY
   sim.setColors(p.colors ?? [])
+  sim.history.restore(p.history ?? [])
   for (let i = 0; i < p.players.length; i += 5) {
     const [id, joint, body, cursorX, cursorY] = p.players.slice(i, i + 5)
     sim.restorePlayer(id, { grab: joint === 0 ? null : { joint, body }, cursorX, cursorY })
@@ -179,5 +187,6 @@ export function cloneSimulation(sim: RoomSimulation, options: Omit<RestoreOption
   for (const [id, j] of sim.userJoints) copy.userJoints.set(id, j)
   for (const [id, n] of sim.grabCounts) copy.grabCounts.set(id, n)
   for (const [id, c] of sim.bodyColors) copy.bodyColors.set(id, c)
+  copy.history.restore(sim.history.save())
   return copy
 }

@@ -328,6 +328,7 @@ describe('on a phone', () => {
           'Ground',
           'Explode',
           'Joints',
+          'Undo, Redo',
           'Pause',
           'Step',
           'Reset',

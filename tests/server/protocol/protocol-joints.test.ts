@@ -66,9 +66,11 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
       'hinge',
       'jointMotor',
       'lock',
+      'redo',
       'slider',
       'slow',
       'spring',
+      'undo',
       'weld',
       'wheel',
     ])

@@ -76,6 +76,7 @@ const STATE_KEYS = [
   'gameState',
   'random',
   'colors',
+  'history',
 ]
 
 /** Throws unless `v` is a state map as the document's State table says. */

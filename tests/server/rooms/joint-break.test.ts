@@ -164,6 +164,8 @@ describe('breaking joints and every joint kind across snapshot, lockstep and rep
     const report = await replayLog(await readFile(join(dir, name)), { verify: true })
     expect(report.divergence).toBeNull()
     expect(report.hashesChecked).toBeGreaterThanOrEqual(8)
-    expect(report.keyframesChecked).toBeGreaterThanOrEqual(7)
+    // Keyframes carry the players' undo histories (about 270 bytes per spawn, 330 per joint: 13
+    // actions here), so the keyframe budget pays for fewer of them: 6 of 8 measured, 7 before.
+    expect(report.keyframesChecked).toBeGreaterThanOrEqual(5)
   })
 })
