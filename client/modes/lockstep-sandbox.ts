@@ -62,7 +62,7 @@ export class LockstepSandbox implements Sandbox {
   private readonly connection: Connection
   private readonly smoother = new CorrectionSmoother()
   private readonly view: ViewBody[] = []
-  private readonly shapes = new Map<number, WireShape[]>()
+  private readonly shapes = new Map<number, { first: number; shapes: WireShape[] }>()
   private players: WirePlayer[] = []
   private statusValue: SandboxStatus = { state: 'connecting' }
   private readonly notice = { count: 0, latest: null as string | null }
@@ -184,11 +184,14 @@ export class LockstepSandbox implements Sandbox {
     for (const [id, p] of sim.players) if (p.grab) grabbed.set(p.grab.body, this.playerColor(id))
     const p = { x: 0, y: 0 }
     for (const id of world.bodyIds()) {
-      let shapes = this.shapes.get(id)
-      if (!shapes) {
-        shapes = wireShapesOf(world, id)
-        this.shapes.set(id, shapes)
+      // Keyed by the body's first shape too: a scaled body (the transform command) has new shapes.
+      const first = world.bodyShapes(id)[0]
+      let cached = this.shapes.get(id)
+      if (!cached || cached.first !== first) {
+        cached = { first, shapes: wireShapesOf(world, id) }
+        this.shapes.set(id, cached)
       }
+      const shapes = cached.shapes
       world.getPosition(id, p)
       const o = this.smoother.offset(id)
       this.view.push({

@@ -12,6 +12,7 @@
 import { SCENES } from '../../engine/index.ts'
 import { isMovable } from '../../shared/index.ts'
 import { builtin, defineGame, type GameCommandDefinition } from '../game-api.ts'
+import { editCommands } from './edit-commands.ts'
 import { jointCommands } from './joint-commands.ts'
 
 /** Ticks between scene loads or resets in one room: building a scene is the costliest command. */
@@ -121,5 +122,5 @@ export const sandbox = defineGame({
   setup(ctx, options) {
     ctx.loadScene(options.scene)
   },
-  commands: { ...sandboxCommands, ...jointCommands },
+  commands: { ...sandboxCommands, ...jointCommands, ...editCommands },
 })

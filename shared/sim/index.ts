@@ -68,6 +68,7 @@ export {
   moveGrab,
   removeJoint,
   setWorldGravity,
+  shapeReach,
   spawnBody,
   type WorldResult,
 } from './world-commands.ts'

@@ -106,6 +106,8 @@ export interface SimulationState {
 export interface SimulationListener {
   bodyAdded(id: number): void
   bodyRemoved(id: number): void
+  /** A command changed an existing body's shapes, material, colour, type or pose (ctx.bodyChanged). */
+  bodyChanged?(id: number): void
   jointAdded(joint: WireJoint): void
   jointRemoved(id: number): void
   /** Pause, gravity or scene changed. */
@@ -589,6 +591,13 @@ export class RoomSimulation {
       bodyColor: (id) => sim.bodyColors.get(id) ?? null,
       destroyBody: (id) => {
         if (sim.world.hasBody(id)) sim.removeBody(id)
+      },
+      setBodyColor: (id, color) => {
+        if (color === null) sim.bodyColors.delete(id)
+        else if (sim.world.hasBody(id)) sim.bodyColors.set(id, color)
+      },
+      bodyChanged: (id) => {
+        if (sim.world.hasBody(id)) sim.listener.bodyChanged?.(id)
       },
       grab: (id, body, lx, ly) => sim.grab(id, player(id), body, lx, ly),
       moveCursor: (id, x, y) => {
