@@ -79,7 +79,7 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
   {
     keys: [';'],
     action: 'tool:edit',
-    help: 'Edit: click a body or joint (material, colour, layer, static, scale: the panel), drag it to move, Shift+drag or Shift+wheel to turn; drag on empty space to select a box of bodies',
+    help: 'Edit: click a body to change it (the panel) or drag it to move (Shift: turn); drag on empty space to select several',
   },
   { keys: ['delete', 'backspace'], action: 'delete-selection', help: 'Delete what the Edit tool selected' },
   { keys: ['m'], action: 'static', help: 'Static: what you draw or drop stays put (on / off)' },

@@ -328,6 +328,7 @@ describe('on a phone', () => {
           'Draw',
           'Ground',
           'Explode',
+          'Edit',
           'Joints',
           'Pause',
           'Step',
