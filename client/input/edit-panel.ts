@@ -2,7 +2,7 @@
  * The Edit tool's panel, under the toolbar while the tool is active: what is selected (a body, a
  * number of bodies, or a joint), its material (density, friction, restitution sliders), colour,
  * collision layer (0-7: games/sandbox/edit-commands.ts), a static toggle, scale buttons (x0.8,
- * x1.25), Duplicate and Delete. It shows the first selected body's values as they travel (its
+ * x1.25), turn buttons (15 degrees either way), Duplicate and Delete. It shows the first selected body's values as they travel (its
  * shapes' settings and filter); a change is sent for every selected body when the control is let
  * go (the sandbox's `edit` command; scale a `transform`). A joint shows its kind and settings,
  * read only: the engine has no setters for them (motor speed aside: the arrow keys), so it can be
@@ -70,6 +70,8 @@ export class EditPanel {
     fixed.addEventListener('change', () => this.tool.edit({ static: fixed.checked }))
     this.button('smaller', '−', 'Scale down (×0.8)', () => this.tool.scale(0.8))
     this.button('bigger', '+', 'Scale up (×1.25)', () => this.tool.scale(1.25))
+    this.button('turn-left', '⟲', 'Turn 15° counter-clockwise (Shift+wheel)', () => this.tool.turn(1))
+    this.button('turn-right', '⟳', 'Turn 15° clockwise (Shift+wheel)', () => this.tool.turn(-1))
     this.button('duplicate', 'Duplicate', 'Copy beside itself', () => this.tool.duplicate())
     this.button('delete', 'Delete', 'Delete the selection (Delete key)', () => this.tool.deleteSelection())
   }

@@ -6,7 +6,7 @@
  * bodies whose origin lies inside are selected (a click there selects the joint within reach, or
  * nothing). Delete or Backspace, or the panel's Delete, removes the selection with one
  * `deleteMany` (a selected joint with `unjoint`). The panel (edit-panel.ts) changes material,
- * colour, layer, static state and scale.
+ * colour, layer, static state and scale, and turns the selection 15 degrees a press (touch has no Shift).
  *
  * Editable bodies are the room's rule (games/sandbox/edit-commands.ts): every body that is not
  * static, and static bodies with a colour (players' own); the scene's static scenery is skipped
@@ -136,10 +136,14 @@ export class EditTool {
 
   /** Shift+wheel over the tool: turn the one selected body; false when there is none to turn. */
   wheel(deltaY: number): boolean {
-    const [b] = this.bodies()
-    if (!b || this.selection.length !== 1) return false
-    this.transform(b.id, b.x, b.y, wrapAngle(b.angle + (deltaY < 0 ? WHEEL_TURN : -WHEEL_TURN)))
+    if (this.selection.length !== 1) return false
+    this.turn(deltaY < 0 ? 1 : -1)
     return true
+  }
+
+  /** Turn every selected body about its origin by 15 degrees, counter-clockwise (1) or clockwise (-1). */
+  turn(direction: 1 | -1): void {
+    for (const b of this.bodies()) this.transform(b.id, b.x, b.y, b.angle + direction * WHEEL_TURN)
   }
 
   /** Send one transform (x, y in m, angle in rad, scale a factor when given). */

@@ -2,7 +2,8 @@
  * The Edit tool in real Chromium against a real server, with two pages in one room (the room
  * paused, so bodies stay where they are put): on the first page the `;` key picks the tool, a click
  * selects a box, the panel changes its friction, colour and static state, a mouse drag moves
- * another box (a faint copy follows the pointer first), the panel's Duplicate copies it; on the
+ * another box (a faint copy follows the pointer first), the panel turns it 15 degrees and its
+ * Duplicate copies it (turned alike); on the
  * second page (a touch screen) a finger drags a rectangle around three bodies and the Delete key
  * removes them. After each step both pages show the same bodies, poses equal to the millimetre.
  */
@@ -139,6 +140,12 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
       const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
       return b !== undefined && Math.abs(b.x - 1) < 0.05 && Math.abs(b.y - 1.5) < 0.05
     }, ids[1])
+    // Turn it 15 degrees from the panel (touch has no Shift): the other page sees the new angle.
+    await page.click('#edit-panel [data-edit-action="turn-left"]')
+    await other.page.waitForFunction((id) => {
+      const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
+      return b !== undefined && Math.abs(b.angle - Math.PI / 12) < 0.002
+    }, ids[1])
     // Duplicate it from the panel: a box of the same shapes beside it.
     await page.click('#edit-panel [data-edit-action="duplicate"]')
     await other.page.waitForFunction(() => window.concord.sandbox.bodies().length === 6)
@@ -148,6 +155,8 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
     expect(moved.y).toBeCloseTo(1.5, 1)
     const copy = seen.find((b) => !ids.includes(b.id) && b.kind === 2)!
     expect(copy.shapes).toEqual(moved.shapes)
+    expect(moved.angle).toBeCloseTo(Math.PI / 12, 3)
+    expect(copy.angle).toBe(moved.angle)
     // The copy is 2 x 0.7071 m (the box's reach) + 0.1 m to the right, rounded to the mm: 1.514 m.
     expect(copy.x - moved.x).toBeCloseTo(1.514, 6)
     expect(copy.y).toBeCloseTo(moved.y, 3)
