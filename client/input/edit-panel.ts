@@ -31,7 +31,7 @@ export class EditPanel {
   private readonly values = new Map<Material, HTMLSpanElement>()
   private readonly controls = document.createElement('div')
   /** What the panel shows now (so it is rewritten only when that changes). */
-  private shown = ''
+  private shown = 'nothing yet'
 
   /** A key of what the panel shows (changes when it is rewritten). */
   get key(): string {

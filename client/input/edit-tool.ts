@@ -143,19 +143,19 @@ export class EditTool {
 
   /** Turn every selected body about its origin by 15 degrees, counter-clockwise (1) or clockwise (-1). */
   turn(direction: 1 | -1): void {
-    for (const b of this.bodies()) this.transform(b.id, b.x, b.y, b.angle + direction * WHEEL_TURN)
+    // Only the angle: the room keeps each body's position exactly (the drawn one may lag).
+    for (const b of this.bodies())
+      this.sandbox().sendGame('transform', { body: b.id, angle: wrapAngle(b.angle + direction * WHEEL_TURN) })
   }
 
-  /** Send one transform (x, y in m, angle in rad, scale a factor when given). */
-  transform(body: number, x: number, y: number, angle: number, scale?: number): void {
-    const args: { [key: string]: PlainData } = { body, x, y, angle: wrapAngle(angle) }
-    if (scale !== undefined) args.scale = scale
-    this.sandbox().sendGame('transform', args)
+  /** Send one transform (x, y in m, angle in rad). */
+  transform(body: number, x: number, y: number, angle: number): void {
+    this.sandbox().sendGame('transform', { body, x, y, angle: wrapAngle(angle) })
   }
 
-  /** Scale every selected body by k about its origin (the panel's - and + buttons). */
+  /** Scale every selected body by k about its origin, where it is (the panel's - and + buttons). */
   scale(k: number): void {
-    for (const b of this.bodies()) this.transform(b.id, b.x, b.y, b.angle, k)
+    for (const id of this.selection) this.sandbox().sendGame('transform', { body: id, scale: k })
   }
 
   /** Set fields of every selected body (the panel: material, colour, layer, static). */

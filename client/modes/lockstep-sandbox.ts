@@ -62,7 +62,9 @@ export class LockstepSandbox implements Sandbox {
   private readonly connection: Connection
   private readonly smoother = new CorrectionSmoother()
   private readonly view: ViewBody[] = []
-  private readonly shapes = new Map<number, { first: number; shapes: WireShape[] }>()
+  private readonly shapes = new Map<number, WireShape[]>()
+  /** The drawn simulation's bodyEdits when the shapes were cached (an edit makes them stale). */
+  private shapesEdits = 0
   private players: WirePlayer[] = []
   private statusValue: SandboxStatus = { state: 'connecting' }
   private readonly notice = { count: 0, latest: null as string | null }
@@ -180,18 +182,20 @@ export class LockstepSandbox implements Sandbox {
     const sim = this.drawn()
     if (!sim) return
     const world = sim.world
+    // A command changed bodies in place (the Edit tool): their shapes and materials are read again.
+    if (sim.bodyEdits !== this.shapesEdits) {
+      this.shapes.clear()
+      this.shapesEdits = sim.bodyEdits
+    }
     const grabbed = new Map<number, string>()
     for (const [id, p] of sim.players) if (p.grab) grabbed.set(p.grab.body, this.playerColor(id))
     const p = { x: 0, y: 0 }
     for (const id of world.bodyIds()) {
-      // Keyed by the body's first shape too: a scaled body (the transform command) has new shapes.
-      const first = world.bodyShapes(id)[0]
-      let cached = this.shapes.get(id)
-      if (!cached || cached.first !== first) {
-        cached = { first, shapes: wireShapesOf(world, id) }
-        this.shapes.set(id, cached)
+      let shapes = this.shapes.get(id)
+      if (!shapes) {
+        shapes = wireShapesOf(world, id)
+        this.shapes.set(id, shapes)
       }
-      const shapes = cached.shapes
       world.getPosition(id, p)
       const o = this.smoother.offset(id)
       this.view.push({

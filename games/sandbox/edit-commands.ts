@@ -72,9 +72,9 @@ interface EditArgs {
 }
 interface TransformArgs {
   body: number
-  x: number
-  y: number
-  angle: number
+  x?: number
+  y?: number
+  angle?: number
   scale?: number
 }
 
@@ -211,10 +211,13 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
         angle: { type: 'number', minimum: -Math.PI, maximum: Math.PI },
         scale: { type: 'number', minimum: MIN_SCALE, maximum: MAX_SCALE },
       },
-      ['body', 'x', 'y', 'angle'],
+      ['body'],
     ),
     apply(ctx, _player, c: TransformArgs) {
       const world = ctx.world
+      if ((c.x === undefined) !== (c.y === undefined)) return 'transform refused: give x and y together'
+      const posed = c.x !== undefined || c.angle !== undefined
+      if (!posed && c.scale === undefined) return 'transform refused: give x and y, angle or scale'
       const refusal = editRefusal(ctx, c.body)
       if (refusal) return refusal
       const held = holder(ctx, c.body)
@@ -228,8 +231,13 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
         for (const def of defs) world.createShape(c.body, def)
         for (const s of old) world.destroyShape(s)
       }
-      // 2. the pose (clamped to the world), and a moved body starts at rest
-      world.setTransform(c.body, clampToWorld(c.x, c.y), c.angle)
+      // 2. the pose (clamped to the world; what is not given is kept), and a moved body starts at rest
+      if (!posed) {
+        ctx.bodyChanged(c.body)
+        return
+      }
+      const at = c.x === undefined || c.y === undefined ? world.getPosition(c.body) : clampToWorld(c.x, c.y)
+      world.setTransform(c.body, at, c.angle ?? world.getAngle(c.body))
       if (world.getBodyType(c.body) !== 'static') {
         world.setLinearVelocity(c.body, { x: 0, y: 0 })
         world.setAngularVelocity(c.body, 0)

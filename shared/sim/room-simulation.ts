@@ -212,6 +212,11 @@ export class RoomSimulation {
    * the world. A static body with a colour was made by a player, and players may delete it.
    */
   readonly bodyColors = new Map<number, number>()
+  /**
+   * How many times a command changed a body in place (ctx.bodyChanged): not state (not saved or
+   * hashed), a cue for views that cache bodies' shapes (the lockstep page) to read them again.
+   */
+  bodyEdits = 0
   readonly observers: SimulationObserver[] = []
   readonly maxBodies: number
   readonly controls: boolean
@@ -597,7 +602,9 @@ export class RoomSimulation {
         else if (sim.world.hasBody(id)) sim.bodyColors.set(id, color)
       },
       bodyChanged: (id) => {
-        if (sim.world.hasBody(id)) sim.listener.bodyChanged?.(id)
+        if (!sim.world.hasBody(id)) return
+        sim.bodyEdits++
+        sim.listener.bodyChanged?.(id)
       },
       grab: (id, body, lx, ly) => sim.grab(id, player(id), body, lx, ly),
       moveCursor: (id, x, y) => {

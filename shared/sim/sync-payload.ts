@@ -179,5 +179,6 @@ export function cloneSimulation(sim: RoomSimulation, options: Omit<RestoreOption
   for (const [id, j] of sim.userJoints) copy.userJoints.set(id, j)
   for (const [id, n] of sim.grabCounts) copy.grabCounts.set(id, n)
   for (const [id, c] of sim.bodyColors) copy.bodyColors.set(id, c)
+  copy.bodyEdits = sim.bodyEdits
   return copy
 }

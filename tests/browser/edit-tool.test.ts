@@ -105,6 +105,8 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
       await spawnBox(page, 3.5, 0.5, 0.4),
     ]
     const other = await openSandbox(browser, `${base}/?room=edit-tool`, { touch: true })
+    // A third page runs the room's simulation itself (lockstep): it applies every edit command.
+    const lockstep = await openSandbox(browser, `${base}/?room=edit-tool&mode=lockstep`)
     await agreed(page, other.page)
 
     // Select the first box: `;` picks the tool, a click selects; the panel names it.
@@ -113,8 +115,10 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
     expect(await page.isVisible('#edit-panel')).toBe(true)
     const first = await screenOf(page, -3, 0.5)
     await page.mouse.click(first.x, first.y)
-    await page.waitForFunction(() => window.concord.tools.edit.selection.length === 1)
-    expect(await page.textContent('#edit-panel [data-edit="title"]')).toBe(`body ${ids[0]}`)
+    await page.waitForFunction(
+      (id) => document.querySelector('#edit-panel [data-edit="title"]')?.textContent === `body ${id}`,
+      ids[0],
+    )
     expect(await page.inputValue('#edit-panel [data-edit="friction"]')).toBe('0.6')
     // Friction, colour and static from the panel.
     await setControl(page, 'friction', '0.25')
@@ -146,6 +150,17 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
       const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
       return b !== undefined && Math.abs(b.angle - Math.PI / 12) < 0.002
     }, ids[1])
+    // Scale it up from the panel: 1.25 x the 0.5 m half extents.
+    await page.click('#edit-panel [data-edit-action="bigger"]')
+    await other.page.waitForFunction(
+      (id) =>
+        (
+          window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)?.shapes[0] as {
+            hw?: number
+          }
+        )?.hw === 0.625,
+      ids[1],
+    )
     // Duplicate it from the panel: a box of the same shapes beside it.
     await page.click('#edit-panel [data-edit-action="duplicate"]')
     await other.page.waitForFunction(() => window.concord.sandbox.bodies().length === 6)
@@ -157,8 +172,8 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
     expect(copy.shapes).toEqual(moved.shapes)
     expect(moved.angle).toBeCloseTo(Math.PI / 12, 3)
     expect(copy.angle).toBe(moved.angle)
-    // The copy is 2 x 0.7071 m (the box's reach) + 0.1 m to the right, rounded to the mm: 1.514 m.
-    expect(copy.x - moved.x).toBeCloseTo(1.514, 6)
+    // The copy is 2 x 0.8839 m (the scaled box's reach, 0.625 sqrt 2) + 0.1 m to the right, to the mm: 1.868 m.
+    expect(copy.x - moved.x).toBeCloseTo(1.868, 6)
     expect(copy.y).toBeCloseTo(moved.y, 3)
 
     // On the touch page: the Edit button, a finger drags a rectangle around the two small boxes
@@ -175,13 +190,28 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
     expect(await other.page.evaluate(() => window.concord.tools.edit.selection)).toEqual(
       [ids[2], ids[3], copy.id].sort((a, b) => a - b),
     )
-    expect(await other.page.textContent('#edit-panel [data-edit="title"]')).toBe('3 bodies')
+    await other.page.waitForFunction(
+      () => document.querySelector('#edit-panel [data-edit="title"]')?.textContent === '3 bodies',
+    )
     await other.page.keyboard.press('Delete')
     await page.waitForFunction(() => window.concord.sandbox.bodies().length === 3)
     seen = await agreed(page, other.page)
     expect(seen.map((b) => b.id).sort((a, b) => a - b)).toEqual([1, ids[0], ids[1]])
     expect(errors).toEqual([])
     expect(other.errors).toEqual([])
-    await Promise.all([context.close(), other.context.close()])
+    // The lockstep page, which simulated every command itself, has the same bodies: shapes (the
+    // scaled box redrawn), colours, kinds and poses (within the snapshots' 1 mm and 1/65536 turn).
+    await lockstep.page.waitForFunction(() => window.concord.sandbox.bodies().length === 3)
+    const own = await bodies(lockstep.page)
+    expect(own.map((b) => b.id).sort((a, b) => a - b)).toEqual([1, ids[0], ids[1]])
+    for (const b of seen) {
+      const mine = own.find((o) => o.id === b.id)!
+      expect([mine.kind, mine.color, mine.shapes]).toEqual([b.kind, b.color, b.shapes])
+      expect(Math.abs(mine.x - b.x)).toBeLessThanOrEqual(0.0005)
+      expect(Math.abs(mine.y - b.y)).toBeLessThanOrEqual(0.0005)
+      expect(Math.abs(mine.angle - b.angle)).toBeLessThanOrEqual(1e-4)
+    }
+    expect(lockstep.errors).toEqual([])
+    await Promise.all([context.close(), other.context.close(), lockstep.context.close()])
   })
 })

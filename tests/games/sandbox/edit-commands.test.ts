@@ -135,6 +135,32 @@ describe("the sandbox's edit commands", () => {
     ])
   })
 
+  it('transform: what is not given is kept; a scale alone keeps the pose and velocities bit for bit', () => {
+    const sim = room()
+    const b = spawn(sim, { shape: { type: 'box', hw: 0.5, hh: 0.5 }, x: 1, y: 5, vx: 2, angle: 0.3 })
+    sim.runTick()
+    const p = sim.world.getPosition(b)
+    const r = sim.world.getRotation(b)
+    const v = sim.world.getLinearVelocity(b)
+    expect(sim.apply(1, cmd('transform', { body: b, scale: 2 }))).toBeNull()
+    expect([sim.world.getPosition(b), sim.world.getRotation(b), sim.world.getLinearVelocity(b)]).toEqual([
+      p,
+      r,
+      v,
+    ])
+    expect(sim.apply(1, cmd('transform', { body: b, angle: 1 }))).toBeNull()
+    expect(sim.world.getPosition(b)).toEqual(p)
+    expect(sim.world.getAngle(b)).toBeCloseTo(1, 12)
+    expect(sim.world.getLinearVelocity(b)).toEqual({ x: 0, y: 0 })
+    expect(sim.apply(1, cmd('transform', { body: b, x: -2, y: 3 }))).toBeNull()
+    expect(sim.world.getPosition(b)).toEqual({ x: -2, y: 3 })
+    expect(sim.world.getAngle(b)).toBeCloseTo(1, 12)
+    expect(sim.apply(1, cmd('transform', { body: b, x: 1 }))).toBe('transform refused: give x and y together')
+    expect(sim.apply(1, cmd('transform', { body: b }))).toBe(
+      'transform refused: give x and y, angle or scale',
+    )
+  })
+
   it('duplicate: the same shapes and materials, offset, at rest, with the colour; joints not copied', () => {
     const sim = room()
     const b = spawn(sim, {
