@@ -75,6 +75,28 @@ const mirrored = (page: Page): Promise<PageBody[]> =>
     })),
   )
 
+/**
+ * Wait until the page draws body `id` where its copy of the room (the server's pose) has it, and
+ * keeps drawing it there for half a second (longer than the 18-tick extrapolation a wrong track
+ * would draw): a paused room sends no later snapshot to correct a wrong drawing.
+ */
+async function drawnAtServerPose(page: Page, id: number): Promise<void> {
+  await page.waitForFunction((bodyId) => {
+    const w = window as unknown as { concord: typeof window.concord; since?: number }
+    const drawn = w.concord.sandbox.bodies().find((v: { id: number }) => v.id === bodyId)
+    const m = (w.concord.sandbox as unknown as Mirrored).mirror.bodies.get(bodyId)
+    const at =
+      drawn !== undefined &&
+      m !== undefined &&
+      Math.abs(drawn.x - m.x) < 1e-4 &&
+      Math.abs(drawn.y - m.y) < 1e-4 &&
+      Math.abs(drawn.angle - m.angle) < 1e-4
+    if (!at) w.since = undefined
+    else w.since ??= performance.now()
+    return w.since !== undefined && performance.now() - w.since > 500
+  }, id)
+}
+
 /** Both pages' copies of the room, once they list the same bodies with poses equal to the millimetre. */
 async function agreed(a: Page, b: Page): Promise<PageBody[]> {
   const mm = (v: number) => Math.round(v * 1000)
@@ -144,12 +166,22 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
       const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
       return b !== undefined && Math.abs(b.x - 1) < 0.05 && Math.abs(b.y - 1.5) < 0.05
     }, ids[1])
-    // Turn it 15 degrees from the panel (touch has no Shift): the other page sees the new angle.
+    // ... and keeps drawing it where the server has it (a teleport is not a velocity to carry on).
+    await drawnAtServerPose(other.page, ids[1])
+    // Turn it twice 15 degrees from the panel (touch has no Shift), quickly: the other page draws
+    // the new angle and stays there (two close jumps are no velocity to carry the body on with).
     await page.click('#edit-panel [data-edit-action="turn-left"]')
-    await other.page.waitForFunction((id) => {
+    // (A turn is from the drawn angle: the second waits until this page draws the first.)
+    await page.waitForFunction((id) => {
       const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
       return b !== undefined && Math.abs(b.angle - Math.PI / 12) < 0.002
     }, ids[1])
+    await page.click('#edit-panel [data-edit-action="turn-left"]')
+    await other.page.waitForFunction((id) => {
+      const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
+      return b !== undefined && Math.abs(b.angle - Math.PI / 6) < 0.002
+    }, ids[1])
+    await drawnAtServerPose(other.page, ids[1])
     // Scale it up from the panel: 1.25 x the 0.5 m half extents.
     await page.click('#edit-panel [data-edit-action="bigger"]')
     await other.page.waitForFunction(
@@ -170,7 +202,7 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
     expect(moved.y).toBeCloseTo(1.5, 1)
     const copy = seen.find((b) => !ids.includes(b.id) && b.kind === 2)!
     expect(copy.shapes).toEqual(moved.shapes)
-    expect(moved.angle).toBeCloseTo(Math.PI / 12, 3)
+    expect(moved.angle).toBeCloseTo(Math.PI / 6, 3)
     expect(copy.angle).toBe(moved.angle)
     // The copy is 2 x 0.8839 m (the scaled box's reach, 0.625 sqrt 2) + 0.1 m to the right, to the mm: 1.868 m.
     expect(copy.x - moved.x).toBeCloseTo(1.868, 6)
