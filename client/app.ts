@@ -20,6 +20,7 @@ import {
 import {
   bodyRadius,
   driveSpeed,
+  EditPanel,
   helpIntro,
   helpRows,
   JointPanel,
@@ -69,6 +70,10 @@ export class App {
   readonly spawnPanel: SpawnPanel
   /** Motor, limit, spring and breaking force sliders for the joint tools. */
   readonly jointPanel: JointPanel
+  /** The Edit tool's panel: the selection's material, colour, layer, static state and scale. */
+  readonly editPanel: EditPanel
+  /** What the Edit panel showed last frame (its layout changes with it). */
+  private editPanelKey = ''
   /** The joint tool the toolbar's Joints button picks: the last one used. */
   private jointTool: ToolName = 'weld'
   readonly layers: DebugLayers = { contacts: false, joints: false, aabbs: false, ids: false }
@@ -113,6 +118,7 @@ export class App {
       this.jointPanel.settings,
     )
     this.tools.onNotice = (text) => this.toast(text)
+    this.editPanel = new EditPanel($('edit-panel'), this.tools.edit)
     this.renderer.resize()
     window.addEventListener('resize', () => {
       this.renderer.resize()
@@ -216,6 +222,7 @@ export class App {
       ['layers-panel', '--layers-top'],
       ['spawn-panel', '--spawn-top'],
       ['joint-panel', '--joint-top'],
+      ['edit-panel', '--edit-top'],
     ]) {
       root.setProperty(property, `${Math.round(below)}px`)
       const panel = $(id)
@@ -283,6 +290,8 @@ export class App {
       tool === 'weld' || tool === 'hinge' || tool === 'spring' || tool === 'slider' || tool === 'wheel'
     this.jointPanel.show(joints && this.sandbox.mode !== 'replay')
     if (joints) this.jointTool = tool
+    if (tool !== 'edit') this.tools.edit.clear()
+    this.editPanel.show(tool === 'edit' && this.sandbox.mode !== 'replay')
     $('joints').classList.toggle('active', joints)
     this.placePanels()
   }
@@ -371,6 +380,9 @@ export class App {
       case 'finish':
         this.tools.finishPending()
         break
+      case 'delete-selection':
+        if (this.tools.tool === 'edit') this.tools.edit.deleteSelection()
+        break
       case 'help':
         $('help').hidden = !$('help').hidden
         break
@@ -385,6 +397,7 @@ export class App {
         $('lobby').hidden = true
         this.tools.cancel()
         this.tools.selected = 0
+        this.tools.edit.clear()
         return
     }
   }
@@ -488,6 +501,12 @@ export class App {
       selected,
       freeBody: this.freeBody,
     })
+    if (this.tools.tool === 'edit') {
+      const wasShown = this.editPanelKey
+      this.editPanel.refresh(this.tools.edit.bodies(), this.tools.edit.selectedJoint())
+      this.editPanelKey = this.editPanel.key
+      if (wasShown !== this.editPanelKey) this.placePanels()
+    }
     if (now - this.lastHud > 250) {
       this.lastHud = now
       this.refreshPanels(selected)

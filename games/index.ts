@@ -43,8 +43,13 @@ export {
   WIN_SCORE,
 } from './goal/index.ts'
 export {
+  editCommands,
+  filterLayer,
   jointCommands,
+  layerFilter,
+  MAX_DELETE_MANY,
   MAX_JOINT_MOTOR_SPEED,
+  MAX_LAYER,
   MIN_TICKS_BETWEEN_LOADS,
   sandbox,
   sandboxCommands,

@@ -43,6 +43,8 @@ export interface ToolOverlay {
   joint: ViewJoint | null
   /** The explode tool's blast: full within `radius` (m), fading to nothing at twice it. */
   blast?: { x: number; y: number; radius: number } | null
+  /** The Edit tool's selected bodies, outlined as the lab's selection is. */
+  highlight?: readonly ViewBody[] | null
 }
 
 /** Everything one frame shows. */
@@ -415,6 +417,7 @@ export class Renderer {
 
   private drawOverlayWorld(o: ToolOverlay): void {
     const ctx = this.ctx
+    for (const v of o.highlight ?? []) this.drawSelection(v)
     ctx.lineWidth = this.lineWidth(2)
     ctx.strokeStyle = o.color
     if (o.ghost) {

@@ -38,6 +38,12 @@ export class WorldView {
     this.view.length = 0
   }
 
+  /** A body's shapes, colour or type changed (the sandbox's edit commands): draw it afresh. */
+  changed(id: number): void {
+    this.shapes.delete(id)
+    this.remove(id)
+  }
+
   /** The drawn body of that id, if it is drawn. */
   get(id: number): ViewBody | undefined {
     return this.byId.get(id)

@@ -3,6 +3,8 @@
  * the keyboard shortcuts table, and what the spawn tools drop.
  */
 
+export { EditPanel } from './edit-panel.ts'
+export { EditTool, editable } from './edit-tool.ts'
 export { DRIVE_SPEED, driveSpeed, JOINT_DEFAULTS, JointPanel, type JointSettings } from './joint-settings.ts'
 export { bodyRadius, pickBody, shapeRadius, shapeVertices, toWorld } from './picking.ts'
 export { helpIntro, helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'

@@ -25,6 +25,8 @@ export type ShortcutAction =
   | 'tool:slider'
   | 'tool:wheel'
   | 'tool:explode'
+  | 'tool:edit'
+  | 'delete-selection'
   | 'slow'
   | 'lock'
   | 'undo'
@@ -76,6 +78,12 @@ export const SHORTCUTS: ReadonlyArray<{ keys: string[]; action: ShortcutAction; 
     action: 'tool:explode',
     help: 'Explode: press to see the blast, release to push everything in it away',
   },
+  {
+    keys: [';'],
+    action: 'tool:edit',
+    help: 'Edit: click a body to change it (the panel) or drag it to move (Shift: turn); drag on empty space to select several',
+  },
+  { keys: ['delete', 'backspace'], action: 'delete-selection', help: 'Delete what the Edit tool selected' },
   { keys: ['m'], action: 'static', help: 'Static: what you draw or drop stays put (on / off)' },
   { keys: ['enter'], action: 'finish', help: 'Finish the outline or line you are clicking' },
   { keys: ['y'], action: 'tool:weld', help: 'Weld: click a body to glue it to what is under it' },

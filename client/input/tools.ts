@@ -14,6 +14,7 @@ import type { PlainData, SpawnCommand, WireJoint, WireJointKind, WireShape } fro
 import type { Camera, ToolOverlay } from '../draw/index.ts'
 import type { Sandbox, ViewBody, ViewJoint } from '../modes/index.ts'
 import { DRAW_FORMS, type DrawForm, type Drawn, dragBody, groundBodies, outlineBody } from './drawing.ts'
+import { EditTool } from './edit-tool.ts'
 import { JOINT_DEFAULTS, type JointSettings } from './joint-settings.ts'
 import { pickBody, pickJoint, toLocal, toWorld } from './picking.ts'
 import { SPAWN_DEFAULTS, type SpawnSettings } from './spawn-settings.ts'
@@ -37,6 +38,7 @@ export const TOOLS = [
   'slider',
   'wheel',
   'explode',
+  'edit',
 ] as const
 /** A tool name. */
 export type ToolName = (typeof TOOLS)[number]
@@ -70,6 +72,7 @@ type Action =
   | { kind: 'stroke'; points: Vec2[]; moved: number }
   | { kind: 'drag'; from: Vec2 }
   | { kind: 'explode' }
+  | { kind: 'edit' }
 
 const dynamic = (b: ViewBody): boolean => b.kind === 2
 /** A body the wheel tool takes as a wheel: one circle. */
@@ -107,6 +110,10 @@ export class ToolController {
   private pending: Vec2[] = []
   /** Tells the player why a drawing was refused (the page's notice). */
   onNotice: (text: string) => void = () => {}
+  /** The Edit tool (edit-tool.ts): selection, move, turn, box selection. */
+  readonly edit: EditTool
+  /** Whether Shift was held at the last press (the Edit tool turns instead of moving). */
+  private shift = false
 
   constructor(
     private readonly canvas: HTMLCanvasElement,
@@ -117,6 +124,7 @@ export class ToolController {
     /** Motor, limit, spring and breaking force of the joints made (the joint panel's sliders). */
     private readonly joints: JointSettings = { ...JOINT_DEFAULTS },
   ) {
+    this.edit = new EditTool(camera, sandbox)
     canvas.addEventListener('pointerdown', (e) => this.down(e))
     canvas.addEventListener('pointermove', (e) => this.move(e))
     canvas.addEventListener('pointerup', (e) => this.up(e, false))
@@ -150,6 +158,7 @@ export class ToolController {
     }
     const w = this.camera.toWorld(p.x, p.y)
     this.cursor = w
+    this.shift = e.shiftKey
     this.begin(w)
   }
 
@@ -229,6 +238,10 @@ export class ToolController {
         // Press to see the blast (a finger too), move to aim, release to explode there.
         this.action = { kind: 'explode' }
         return
+      case 'edit':
+        this.edit.press(w, this.shift)
+        this.action = { kind: 'edit' }
+        return
     }
     this.action = { kind: 'pan', moved: 0, clickBody: null }
   }
@@ -279,6 +292,7 @@ export class ToolController {
     }
     const w = this.camera.toWorld(p.x, p.y)
     this.cursor = w
+    if (a.kind === 'edit' && previous) this.edit.move(w)
     if (a.kind === 'stroke' && previous) {
       a.moved += Math.hypot(p.x - previous.x, p.y - previous.y)
       const last = a.points[a.points.length - 1]
@@ -306,6 +320,7 @@ export class ToolController {
     this.action = { kind: 'none' }
     if (cancelled) {
       if (a.kind === 'grab') this.sandbox().send({ k: 'release' })
+      if (a.kind === 'edit') this.edit.release(w, true)
       return
     }
     this.finish(a, w)
@@ -337,6 +352,7 @@ export class ToolController {
     } else if (a.kind === 'rope') this.tieRope(a, w)
     else if (a.kind === 'spring') this.hangSpring(a, w)
     else if (a.kind === 'slider') this.laySlider(a, w)
+    else if (a.kind === 'edit') this.edit.release(w, false)
     else if (a.kind === 'explode')
       sandbox.sendGame?.('explode', { x: w.x, y: w.y, radius: EXPLODE_RADIUS, impulse: EXPLODE_IMPULSE })
     else if (a.kind === 'pan' && a.moved < CLICK_SLOP && this.tool === 'inspect') {
@@ -519,12 +535,14 @@ export class ToolController {
   /** Abandon the current action (a second finger arrived, the tool changed, focus was lost). */
   cancel(): void {
     if (this.action.kind === 'grab') this.sandbox().send({ k: 'release' })
+    if (this.action.kind === 'edit') this.edit.release({ x: 0, y: 0 }, true)
     this.action = { kind: 'none' }
     this.pending = []
   }
 
   private wheel(e: WheelEvent): void {
     e.preventDefault()
+    if (this.tool === 'edit' && e.shiftKey && this.edit.wheel(e.deltaY || e.deltaX)) return
     const p = this.local(e)
     this.camera.zoomAt(p.x, p.y, Math.exp(-e.deltaY * 0.0015))
   }
@@ -585,6 +603,7 @@ export class ToolController {
     } else if (this.tool === 'cut' && this.cursor) o.cutJoint = this.jointAt(this.cursor)
     if (this.tool === 'explode' && this.cursor)
       o.blast = { x: this.cursor.x, y: this.cursor.y, radius: EXPLODE_RADIUS }
+    if (this.tool === 'edit') this.edit.decorate(o)
     return o
   }
 

@@ -63,6 +63,8 @@ export class LockstepSandbox implements Sandbox {
   private readonly smoother = new CorrectionSmoother()
   private readonly view: ViewBody[] = []
   private readonly shapes = new Map<number, WireShape[]>()
+  /** The drawn simulation's bodyEdits when the shapes were cached (an edit makes them stale). */
+  private shapesEdits = 0
   private players: WirePlayer[] = []
   private statusValue: SandboxStatus = { state: 'connecting' }
   private readonly notice = { count: 0, latest: null as string | null }
@@ -180,6 +182,11 @@ export class LockstepSandbox implements Sandbox {
     const sim = this.drawn()
     if (!sim) return
     const world = sim.world
+    // A command changed bodies in place (the Edit tool): their shapes and materials are read again.
+    if (sim.bodyEdits !== this.shapesEdits) {
+      this.shapes.clear()
+      this.shapesEdits = sim.bodyEdits
+    }
     const grabbed = new Map<number, string>()
     for (const [id, p] of sim.players) if (p.grab) grabbed.set(p.grab.body, this.playerColor(id))
     const p = { x: 0, y: 0 }

@@ -203,6 +203,7 @@ export class OnlineSandbox implements Sandbox {
         break
       case 'events':
         this.viewDirty = true
+        for (const b of message.change ?? []) this.timeline.forget(b.id)
         break
       case 'snap': {
         const applied = this.mirror.lastSnapshot

@@ -151,6 +151,15 @@ export class SnapshotTimeline {
     return this.cursorTracks.get(player)?.sample(tick, out) ?? false
   }
 
+  /**
+   * A command put a body somewhere new (events.change: the Edit tool's transform): forget its
+   * samples, so it is drawn where it now is (the mirror's pose, then the next snapshot's) instead
+   * of being carried on along the jump as if it were a velocity.
+   */
+  forget(id: number): void {
+    this.tracks.delete(id)
+  }
+
   /** Forget a player's cursor (the player left). */
   forgetCursor(player: number): void {
     this.cursorTracks.delete(player)

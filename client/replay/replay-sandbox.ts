@@ -51,6 +51,7 @@ export class ReplaySandbox implements Sandbox {
     const listener: SimulationListener = {
       bodyAdded: (id) => sandbox?.bodyAdded(id),
       bodyRemoved: (id) => sandbox?.view.remove(id),
+      bodyChanged: (id) => sandbox?.view.changed(id),
       jointAdded: () => {},
       jointRemoved: () => {},
       roomChanged: () => {},

@@ -12,6 +12,7 @@
 import { SCENES } from '../../engine/index.ts'
 import { isMovable, NO_ITEMS } from '../../shared/index.ts'
 import { builtin, defineGame, type GameCommandDefinition } from '../game-api.ts'
+import { editCommands } from './edit-commands.ts'
 import { jointCommands } from './joint-commands.ts'
 import {
   captureBodies,
@@ -146,5 +147,5 @@ export const sandbox = defineGame({
   setup(ctx, options) {
     ctx.loadScene(options.scene)
   },
-  commands: { ...sandboxCommands, ...jointCommands, ...undoCommands },
+  commands: { ...sandboxCommands, ...jointCommands, ...editCommands, ...undoCommands },
 })

@@ -108,6 +108,8 @@ export class Room {
     jadd: [] as WireJoint[],
     jremove: [] as number[],
   }
+  /** Bodies a command changed this tick (ctx.bodyChanged), sent in events.change at its end. */
+  private changed = new Set<number>()
   private roomChanged = false
   /** Events the game emitted this tick (ctx.emit), sent at its end to snapshot players. */
   private gameEvents: PlainData[] = []
@@ -498,6 +500,12 @@ export class Room {
         }
         this.events.remove.push(id)
       },
+      bodyChanged: (id) => {
+        this.changed.add(id)
+        // A body made static leaves snapshots, as a removed one does (a moving one comes back absolute).
+        if (this.sim.world.getBodyType(id) === 'static')
+          for (const p of this.players.values()) p.encoder.removeBody(id)
+      },
       jointAdded: (joint) => this.events.jadd.push(joint),
       jointRemoved: (id) => this.events.jremove.push(id),
       roomChanged: () => {
@@ -517,6 +525,7 @@ export class Room {
   /** After a scene load: drop the old world's events, send everyone the new full state. */
   private sendNewWorld(): void {
     this.events = { add: [], remove: [], jadd: [], jremove: [] }
+    this.changed.clear()
     const frame = new QuantizedFrame()
     fillFrame(this.world, frame)
     const bytes = encodeMessage({
@@ -539,12 +548,44 @@ export class Room {
     this.log.info({ room: this.name, scene: this.scene }, 'scene loaded')
   }
 
+  /**
+   * This tick's changed bodies as they travel, ascending ids: a body also added this tick has its
+   * `add` entry rebuilt instead (spawner kept), and a body removed since is left out.
+   */
+  private changedBodies(): WireBody[] {
+    if (this.changed.size === 0) return []
+    const out: WireBody[] = []
+    const ids = [...this.changed].sort((a, b) => a - b)
+    this.changed.clear()
+    for (const id of ids) {
+      if (!this.world.hasBody(id)) continue
+      const fresh = wireBody(this.world, id, this.sim.bodyColors)
+      const added = this.events.add.findIndex((b) => b.id === id)
+      if (added < 0) {
+        out.push(fresh)
+        continue
+      }
+      const old = this.events.add[added]
+      if (old.player !== undefined) {
+        fresh.player = old.player
+        fresh.seq = old.seq
+      }
+      this.events.add[added] = fresh
+    }
+    return out
+  }
+
   private flushEvents(): void {
     const e = this.events
-    if (e.add.length + e.remove.length + e.jadd.length + e.jremove.length > 0) {
+    const change = this.changedBodies()
+    if (e.add.length + e.remove.length + e.jadd.length + e.jremove.length + change.length > 0) {
       // New bodies are shown as they are at this tick, after its step (as a snapshot of it would).
       for (const body of e.add) refreshPose(this.world, body)
-      this.broadcastSnapshotMode({ t: 'events', tick: this.tick, ...e })
+      this.broadcastSnapshotMode(
+        change.length > 0
+          ? { t: 'events', tick: this.tick, ...e, change }
+          : { t: 'events', tick: this.tick, ...e },
+      )
       this.events = { add: [], remove: [], jadd: [], jremove: [] }
     }
     if (this.gameEvents.length > 0) {

@@ -413,6 +413,12 @@ export interface EventsMessage {
   remove: number[]
   jadd: WireJoint[]
   jremove: number[]
+  /**
+   * Bodies a command changed (shapes, material, filter, colour, type or pose: the sandbox's edit
+   * and transform), as they are at `tick`; absent when none. Replace your copy, keep its joints; a
+   * body now static leaves your snapshot baselines.
+   */
+  change?: WireBody[]
 }
 /** Room settings changed: pause state, gravity, scene name. */
 export interface RoomMessage {

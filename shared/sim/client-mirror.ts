@@ -101,6 +101,7 @@ export class ClientMirror {
         for (const id of message.remove) this.removeBody(id)
         for (const j of message.jadd) this.joints.set(j.id, j)
         for (const id of message.jremove) this.joints.delete(id)
+        for (const b of message.change ?? []) this.changeBody(b)
         return null
       case 'room':
         this.paused = message.paused
@@ -172,6 +173,19 @@ export class ClientMirror {
       body.seq = b.seq
     }
     this.bodies.set(b.id, body)
+  }
+
+  /** A body a command changed: the new copy replaces the old (joints kept); a static body leaves the baselines. */
+  private changeBody(b: WireBody): void {
+    const old = this.bodies.get(b.id)
+    if (!old) return
+    this.addBody(b)
+    const body = this.bodies.get(b.id) as MirrorBody
+    if (old.player !== undefined && body.player === undefined) {
+      body.player = old.player
+      body.seq = old.seq
+    }
+    if (b.kind === 0) this.history.removeBody(b.id)
   }
 
   private removeBody(id: number): void {

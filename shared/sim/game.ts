@@ -148,6 +148,13 @@ export interface GameContext<S = PlainData | undefined> {
   bodyColor(id: number): number | null
   /** Destroy a body and what is attached to it (grabs, user joints), telling clients. */
   destroyBody(id: number): void
+  /** Set a body's colour (0xRRGGBB), or remove it (null); clients learn it from bodyChanged. */
+  setBodyColor(id: number, color: number | null): void
+  /**
+   * Tell clients that a body's shapes, material, filter, colour, type or pose changed from a
+   * command (events.change: its whole wire body); a body made static leaves their snapshots.
+   */
+  bodyChanged(id: number): void
   /** A player's grab of a dynamic body at a local point (releases its earlier grab); null or a refusal. */
   grab(player: number, body: number, lx: number, ly: number): string | null
   /** Move a player's cursor (and its grab's target) to a point clamped to the world. */

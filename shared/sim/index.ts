@@ -80,6 +80,7 @@ export {
   moveGrab,
   removeJoint,
   setWorldGravity,
+  shapeReach,
   spawnBody,
   type WorldResult,
 } from './world-commands.ts'

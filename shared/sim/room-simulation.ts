@@ -109,6 +109,8 @@ export interface SimulationState {
 export interface SimulationListener {
   bodyAdded(id: number): void
   bodyRemoved(id: number): void
+  /** A command changed an existing body's shapes, material, colour, type or pose (ctx.bodyChanged). */
+  bodyChanged?(id: number): void
   jointAdded(joint: WireJoint): void
   jointRemoved(id: number): void
   /** Pause, gravity or scene changed. */
@@ -215,6 +217,11 @@ export class RoomSimulation {
   readonly bodyColors = new Map<number, number>()
   /** Each player's undo and redo history (history.ts): saved, synced and hashed with the world. */
   readonly history = new Histories()
+  /**
+   * How many times a command changed a body in place (ctx.bodyChanged): not state (not saved or
+   * hashed), a cue for views that cache bodies' shapes (the lockstep page) to read them again.
+   */
+  bodyEdits = 0
   readonly observers: SimulationObserver[] = []
   readonly maxBodies: number
   readonly controls: boolean
@@ -602,6 +609,15 @@ export class RoomSimulation {
       bodyColor: (id) => sim.bodyColors.get(id) ?? null,
       destroyBody: (id) => {
         if (sim.world.hasBody(id)) sim.removeBody(id)
+      },
+      setBodyColor: (id, color) => {
+        if (color === null) sim.bodyColors.delete(id)
+        else if (sim.world.hasBody(id)) sim.bodyColors.set(id, color)
+      },
+      bodyChanged: (id) => {
+        if (!sim.world.hasBody(id)) return
+        sim.bodyEdits++
+        sim.listener.bodyChanged?.(id)
       },
       grab: (id, body, lx, ly) => sim.grab(id, player(id), body, lx, ly),
       moveCursor: (id, x, y) => {

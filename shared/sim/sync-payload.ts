@@ -188,5 +188,6 @@ export function cloneSimulation(sim: RoomSimulation, options: Omit<RestoreOption
   for (const [id, n] of sim.grabCounts) copy.grabCounts.set(id, n)
   for (const [id, c] of sim.bodyColors) copy.bodyColors.set(id, c)
   copy.history.restore(sim.history.save())
+  copy.bodyEdits = sim.bodyEdits
   return copy
 }

@@ -87,7 +87,7 @@ export function grabRefusal(world: World, body: number): string | null {
 }
 
 /** Largest distance of the body's outline (every shape, rounding included) from its origin (m). */
-function shapeReach(world: World, id: BodyId): number {
+export function shapeReach(world: World, id: BodyId): number {
   let r = 0
   for (const sid of world.bodyShapes(id)) {
     const shape = world.getShapeGeometry(sid)

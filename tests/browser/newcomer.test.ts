@@ -226,6 +226,7 @@ describe('the room and its controls', () => {
       'Draw',
       'Ground',
       'Explode',
+      'Edit',
     ])
     const rows = await page.evaluate(() =>
       [...document.querySelectorAll('#help-rows tr')].map((r) => ({
@@ -327,6 +328,7 @@ describe('on a phone', () => {
           'Draw',
           'Ground',
           'Explode',
+          'Edit',
           'Joints',
           'Undo, Redo',
           'Pause',

@@ -62,6 +62,9 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
   it('each command makes the Joint the table describes, every field from the paused bodies by hand', async () => {
     const bot = await BotClient.connect({ url: server.url, room: 'jfields', name: 'maker' })
     expect(bot.mirror.rules!.commands).toEqual([
+      'deleteMany',
+      'duplicate',
+      'edit',
       'explode',
       'hinge',
       'jointMotor',
@@ -70,6 +73,7 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
       'slider',
       'slow',
       'spring',
+      'transform',
       'undo',
       'weld',
       'wheel',
