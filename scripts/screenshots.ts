@@ -656,6 +656,28 @@ async function lock(stage: Stage): Promise<void> {
   await creator.context().close()
 }
 
+async function edit(stage: Stage): Promise<void> {
+  const page = await room(stage, 'shot-edit', 'empty')
+  await look(page, { x: 0, y: 3 }, 50)
+  await pickTool(page, 'box')
+  for (const p of [
+    { x: -2.5, y: 0.6 },
+    { x: 0, y: 0.6 },
+    { x: 2.5, y: 0.6 },
+  ]) {
+    const n = await bodyCount(page)
+    await clickAt(page, p)
+    await bodiesAbove(page, n)
+  }
+  await ticks(page, 60)
+  await pickTool(page, 'edit')
+  const id = await nearest(page, { x: 0, y: 0.5 })
+  await clickAt(page, (await bodies(page)).find((b) => b.id === id)!)
+  await page.waitForFunction(() => document.getElementById('edit-panel')?.hidden === false)
+  await hover(page, { x: 3.5, y: 3 })
+  await shoot(page, 'edit')
+}
+
 async function pause(stage: Stage): Promise<void> {
   const page = await room(stage, 'shot-pause', 'playground', 6)
   await look(page, { x: -4, y: 2 }, 45)
@@ -785,6 +807,7 @@ const SHOTS: Record<string, (stage: Stage) => Promise<void>> = {
   explode,
   slow,
   lock,
+  edit,
   pause,
   replay,
   lobby,

@@ -15,6 +15,9 @@
  * layer L collides with layer L and layer 0 only (two different non-zero layers pass through each
  * other). `edit` sets every shape's category and mask and keeps its group index.
  *
+ * Each command is undoable (undo-commands.ts): it records the bodies it touches as they were before
+ * and after (a body with the joints on it), so an undo rebuilds the body as it was, with a new id.
+ *
  * Every refusal is decided before anything changes, so a refused command changes nothing. The
  * floats computed here are products and quotients of the arguments (scale), so every replica
  * builds the same shapes bit for bit. docs/games.md ("The sandbox's edit commands") says exactly
@@ -35,11 +38,13 @@ import {
 import {
   clampToWorld,
   type GameContext,
+  NO_ITEMS,
   playerBodyColor,
   SPAWN_MATERIAL,
   shapeReach,
 } from '../../shared/index.ts'
 import type { GameCommandDefinition } from '../game-api.ts'
+import { captureBodies, recordAction } from './undo-commands.ts'
 
 /** The highest collision layer (layers are 0..MAX_LAYER; see the file comment). */
 export const MAX_LAYER = 7
@@ -185,6 +190,7 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
         const why = dynamicRefusal(world, c.body)
         if (why) return why
       }
+      const before = captureBodies(ctx, [c.body])
       // 1. material and layer, shape by shape in creation order
       for (const s of world.bodyShapes(c.body)) {
         if (c.density !== undefined) world.setDensity(s, c.density)
@@ -200,6 +206,7 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
         world.setBodyType(c.body, c.static ? 'static' : 'dynamic')
       }
       ctx.bodyChanged(c.body)
+      recordAction(ctx, player, 'edit', before, captureBodies(ctx, [c.body]))
     },
   },
   transform: {
@@ -213,7 +220,7 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
       },
       ['body'],
     ),
-    apply(ctx, _player, c: TransformArgs) {
+    apply(ctx, player, c: TransformArgs) {
       const world = ctx.world
       if ((c.x === undefined) !== (c.y === undefined)) return 'transform refused: give x and y together'
       const posed = c.x !== undefined || c.angle !== undefined
@@ -225,6 +232,7 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
       const k = c.scale ?? 1
       const defs = k === 1 ? null : scaledShapes(world, c.body, k)
       if (typeof defs === 'string') return defs
+      const before = captureBodies(ctx, [c.body])
       // 1. the new shapes (made before the old go: a dynamic body always keeps a shape with mass)
       if (defs) {
         const old = world.bodyShapes(c.body)
@@ -234,6 +242,7 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
       // 2. the pose (clamped to the world; what is not given is kept), and a moved body starts at rest
       if (!posed) {
         ctx.bodyChanged(c.body)
+        recordAction(ctx, player, 'transform', before, captureBodies(ctx, [c.body]))
         return
       }
       const at = c.x === undefined || c.y === undefined ? world.getPosition(c.body) : clampToWorld(c.x, c.y)
@@ -243,6 +252,7 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
         world.setAngularVelocity(c.body, 0)
       }
       ctx.bodyChanged(c.body)
+      recordAction(ctx, player, 'transform', before, captureBodies(ctx, [c.body]))
     },
   },
   duplicate: {
@@ -271,6 +281,7 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
       // The copy's colour: the original's, else the copier's (so a copy of a scene body is a player's).
       ctx.setBodyColor(made, ctx.bodyColor(c.body) ?? playerBodyColor(player))
       ctx.bodyChanged(made)
+      recordAction(ctx, player, 'duplicate', NO_ITEMS, captureBodies(ctx, [made]))
     },
   },
   deleteMany: {
@@ -280,13 +291,15 @@ export const editCommands: Record<string, GameCommandDefinition<undefined>> = {
       },
       ['bodies'],
     ),
-    apply(ctx, _player, c: { bodies: number[] }) {
+    apply(ctx, player, c: { bodies: number[] }) {
       for (const id of c.bodies) {
         const refusal = editRefusal(ctx, id)
         if (refusal) return refusal
       }
       const ids = [...c.bodies].sort((a, b) => a - b)
+      const before = captureBodies(ctx, ids)
       for (const id of ids) ctx.destroyBody(id)
+      recordAction(ctx, player, 'deleteMany', before, NO_ITEMS)
     },
   },
 }

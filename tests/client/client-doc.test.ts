@@ -111,7 +111,7 @@ describe('the toolbar', () => {
       const [, attr, name, title] = m
       const action = attr === 'data-tool' ? `tool:${name}` : BY_ID[name]
       if (!action) continue
-      const key = /\(([^()\s;]{1,5})[;)]/.exec(title)?.[1]
+      const key = /\((;|[^()\s;]{1,5})[;)]/.exec(title)?.[1]
       expect(key, `the ${name} button's title "${title}" names no key`).toBeDefined()
       const bound = SHORTCUTS.find((s) => s.action === action)!
       const wanted = key === 'Space' ? ' ' : key!.toLowerCase()

@@ -285,6 +285,61 @@ describe('sandbox undo of deletes and joints', () => {
   })
 })
 
+describe("sandbox undo of the Edit tool's commands", () => {
+  it('undoing an edit rebuilds the body with the material, colour and type it had; redo edits it again', () => {
+    const sim = room()
+    ok(sim, 1, spawnAt(1, 3, { density: 2, friction: 0.4, color: 0x334455 }))
+    const id = newest(sim)
+    const def = sim.world.getBodyDef(id)
+    const shapeDef = sim.world.getShapeDef(sim.world.bodyShapes(id)[0])
+    ok(sim, 1, cmd('edit', { body: id, density: 5, friction: 1.5, color: 0xabcdef, static: true }))
+    expect(sim.world.getBodyType(id)).toBe('static')
+    ok(sim, 1, undo)
+    const back = newest(sim)
+    expect(built(sim)).toEqual([back])
+    expect(back).toBeGreaterThan(id)
+    expect(sim.world.getBodyDef(back)).toEqual(def)
+    expect(sim.world.getShapeDef(sim.world.bodyShapes(back)[0])).toEqual(shapeDef)
+    expect(sim.bodyColors.get(back)).toBe(0x334455)
+    ok(sim, 1, redo)
+    const again = newest(sim)
+    expect(sim.world.getBodyType(again)).toBe('static')
+    expect(sim.world.getShapeDef(sim.world.bodyShapes(again)[0]).friction).toBe(1.5)
+    expect(sim.bodyColors.get(again)).toBe(0xabcdef)
+  })
+
+  it('undoes a transform (pose and scale back), a duplicate (the copy goes) and a deleteMany (every body back)', () => {
+    const sim = room()
+    sim.apply(1, { k: 'gravity', x: 0, y: 0 })
+    ok(sim, 1, spawnAt(-2, 3))
+    const a = newest(sim)
+    ok(sim, 1, spawnAt(2, 3))
+    const b = newest(sim)
+    ok(sim, 1, cmd('transform', { body: a, x: 4, y: 6, angle: 1, scale: 2 }))
+    expect(sim.world.getPosition(a)).toEqual({ x: 4, y: 6 })
+    ok(sim, 1, undo)
+    const a2 = newest(sim)
+    expect(sim.world.getPosition(a2)).toEqual({ x: -2, y: 3 })
+    expect(sim.world.getAngle(a2)).toBe(0)
+    const poly = sim.world.getShapeDef(sim.world.bodyShapes(a2)[0]).shape
+    expect(poly.type === 'polygon' && poly.box).toEqual({ halfWidth: 0.5, halfHeight: 0.25 })
+    ok(sim, 1, cmd('duplicate', { body: b, dx: 0, dy: 2 }))
+    expect(built(sim)).toHaveLength(3)
+    ok(sim, 1, undo)
+    expect(built(sim).sort((x, y) => x - y)).toEqual([b, a2].sort((x, y) => x - y))
+    ok(sim, 1, cmd('deleteMany', { bodies: [a2, b] }))
+    expect(built(sim)).toEqual([])
+    ok(sim, 1, undo)
+    const back = built(sim)
+    expect(back).toHaveLength(2)
+    // Rebuilt in ascending id order of the deleted: b (older) first, then a2.
+    expect(back.map((id) => sim.world.getPosition(id))).toEqual([
+      { x: 2, y: 3 },
+      { x: -2, y: 3 },
+    ])
+  })
+})
+
 /** A script of commands at ticks, for the continuation tests. */
 const SCRIPT: Array<[number, number, SimCommand]> = [
   [1, 1, { k: 'gravity', x: 0, y: 0 }],
