@@ -113,6 +113,11 @@ export class PredictClient extends LockstepClient {
     this.clock = predictOptions.clock ?? (() => 0)
   }
 
+  /** This player's game view as the present (what the page draws) has it; else the confirmed one. */
+  override view(): PlainData | undefined {
+    return (this.present ?? this.sim)?.playerView(this.playerId)
+  }
+
   /** Send an own input and apply it to the present at once; returns its sequence number. */
   input(cmd: Command, nowMs: number): number {
     const seq = ++this.seq
