@@ -2,9 +2,10 @@
  * The game module API (docs/games.md is the guide): a game is one module whose default export is
  * `defineGame({...})`. The definition names the game, its player limits, its initial state (plain
  * data), a setup that builds the room's first world, its commands (each an argument schema in JSON
- * Schema and an apply function), and optional join, leave and tick hooks. defineGame checks the
- * definition (names, limits, schemas, state) and returns the SimGame that shared/sim's
- * RoomSimulation runs, on the server, in lockstep and predicting clients and in replays alike.
+ * Schema and an apply function), optional join, leave and tick hooks, and an optional per-player
+ * view. defineGame checks the definition (names, limits, schemas, state) and returns the SimGame
+ * that shared/sim's RoomSimulation runs, on the server, in lockstep and predicting clients and in
+ * replays alike.
  *
  * Built-in commands (the input message's kinds: spawn, grab, move, ...) are listed with
  * `builtin(kind, apply)` instead of a schema: the protocol validates them (PROTOCOL.md), and their
@@ -67,6 +68,12 @@ export interface GameDefinition<S extends PlainData | undefined = undefined> {
   onLeave?(ctx: GameContext<S>, player: number): void
   /** After every world step (not while the room is paused); ctx.events holds the step's events. */
   tick?(ctx: GameContext<S>): void
+  /**
+   * What `player` sees of the game: plain data sent to that player only (a snapshot player gets
+   * it in a `view` message when it changed, at most MAX_VIEW_BYTES as MessagePack; a lockstep or
+   * predicting player computes it). Read the state; change nothing.
+   */
+  view?(ctx: GameContext<S>, player: number): PlainData
 }
 
 /** A defined game: what RoomSimulation runs, with its definition kept for tools. */
@@ -147,6 +154,7 @@ export function defineGame<S extends PlainData | undefined = undefined>(definiti
     onJoin: hook(definition.onJoin, 'onJoin') as SimGame['onJoin'],
     onLeave: hook(definition.onLeave, 'onLeave') as SimGame['onLeave'],
     tick: hook(definition.tick, 'tick') as SimGame['tick'],
+    view: hook(definition.view, 'view') as SimGame['view'],
     definition: definition as GameDefinition<PlainData | undefined>,
   })
 }

@@ -34,6 +34,7 @@ export {
   wrapAngle,
 } from '../engine/index.ts'
 export type { Command, GameContext, PlainData } from '../shared/index.ts'
+export { MAX_VIEW_BYTES } from '../shared/index.ts'
 export type { ArgsSchema } from './args-schema.ts'
 export {
   type AnyBuiltinDefinition,

@@ -10,16 +10,9 @@ import { createServer, type Server } from 'node:http'
 import type { AddressInfo } from 'node:net'
 import { hostname } from 'node:os'
 import pino, { type Logger } from 'pino'
-import type { Game } from '../games/index.ts'
 import { CLOSE_CODES, TICK_RATE } from '../shared/index.ts'
 import type { ServerConfig } from './config/index.ts'
-import {
-  addLoadedGames,
-  type GameBundle,
-  GameLoadError,
-  loadedGameBundle,
-  loadedGameBundles,
-} from './games/index.ts'
+import { addLoadedGames, loadedGameBundle, loadedGameBundles, loadGameDirectory } from './games/index.ts'
 import {
   AgonesLink,
   agonesPresent,
@@ -92,7 +85,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
   const log = options.logger ?? pino({ level: config.logLevel })
   // Games from --games DIR first: a bad module stops the start before anything opens.
   if (config.gamesDir) {
-    const loaded = await loadGames(config.gamesDir)
+    const loaded = await loadGameDirectory(config.gamesDir)
     addLoadedGames(loaded)
     log.info({ dir: config.gamesDir, games: loaded.map((g) => g.game.name) }, 'games loaded')
   }
@@ -284,26 +277,6 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
  * address of this machine, a --port in use): the command line prints its one-line message.
  */
 export class ListenError extends Error {}
-
-/**
- * Load the game modules of --games DIR with server/games/game-loader.ts, imported by its URL so
- * that the server's bundle holds neither esbuild nor the TypeScript compiler (development
- * packages); the build ships the loader as dist/game-loader.js. Throws a GameLoadError naming the
- * file of a bad module, or saying which package is missing.
- */
-async function loadGames(dir: string): Promise<{ game: Game; bundle: GameBundle }[]> {
-  const here = import.meta.url
-  const url = new URL(here.endsWith('.ts') ? './games/game-loader.ts' : './game-loader.js', here)
-  let loader: { loadGameDirectory(dir: string): Promise<{ game: Game; bundle: GameBundle }[]> }
-  try {
-    loader = await import(url.href)
-  } catch (error) {
-    throw new GameLoadError(
-      `--games needs the game loader and its packages (esbuild, typescript: npm install without --omit=dev): ${(error as Error).message}`,
-    )
-  }
-  return loader.loadGameDirectory(dir)
-}
 
 /** The URL other servers send this server's players to: --public-url, else ws://HOST:PORT. */
 function publicUrl(config: ServerConfig, port: number): string {

@@ -3,7 +3,9 @@
  * with one transform that maps metres, y up, onto it, so shapes are plain world coordinates. To
  * stay fast with a thousand bodies, bodies are batched by style: one path per style (static,
  * awake, asleep, kinematic) holding every visible shape, filled and stroked once; only grabbed
- * bodies (in their player's colour) and overlays are drawn one by one. Text (names, ids) is drawn
+ * bodies (in their player's colour) and overlays are drawn one by one. Sensor shapes (the wire's
+ * `sensor: true`) are left out of those paths and drawn after them in one path of their own,
+ * translucent with a dashed outline. Text (names, ids) is drawn
  * in screen space so it is never mirrored by the y-up transform.
  */
 import type { Vec2 } from '../../engine/index.ts'
@@ -68,6 +70,13 @@ const STYLE = {
   kinematic: ['#7a5cc4', '#b7a0f0'],
 } as const
 
+/**
+ * Sensor shapes (they detect overlap and never push: the goal game's goals, the marble run's bin
+ * floor) are filled in this colour at SENSOR_FILL_ALPHA over whatever is under them, and outlined
+ * with a dashed line in it, so they never look solid.
+ */
+export const SENSOR_COLOR = '#4fc3f7'
+export const SENSOR_FILL_ALPHA = 0.15
 /** Segment shapes (lines, drawn ground) are stroked in this colour. */
 const SEGMENT_COLOR = '#8a94a8'
 /** The explode tool's blast preview. */
@@ -220,8 +229,7 @@ export class Renderer {
       let any = false
       for (const v of bodies) {
         if (v.grabColor || !accept(v) || !visible(v)) continue
-        this.traceBody(v, shrinkOf(v))
-        any = true
+        if (this.traceBody(v, shrinkOf(v), true)) any = true
       }
       if (!any) continue
       ctx.fillStyle = style[0]
@@ -242,7 +250,7 @@ export class Renderer {
     }
     for (const [key, list] of coloured) {
       ctx.beginPath()
-      for (const v of list) this.traceBody(v, shrinkOf(v))
+      for (const v of list) this.traceBody(v, shrinkOf(v), true)
       const asleep = key.endsWith('.')
       ctx.globalAlpha = asleep ? 0.55 : 1
       ctx.fillStyle = asleep ? key.slice(0, -1) : key
@@ -255,12 +263,13 @@ export class Renderer {
     for (const v of bodies) {
       if (!v.grabColor) continue
       ctx.beginPath()
-      this.traceBody(v)
+      this.traceBody(v, 1, true)
       ctx.fillStyle = v.grabColor
       ctx.fill()
       ctx.strokeStyle = '#ffffff'
       ctx.stroke()
     }
+    this.drawSensors(bodies, visible)
     // Segments have no area: stroke them (lines and drawn ground) at least 3 px wide, always.
     ctx.beginPath()
     let segments = false
@@ -285,12 +294,45 @@ export class Renderer {
     }
   }
 
+  /** Sensor shapes of the visible bodies: translucent fill, dashed outline (SENSOR_COLOR). */
+  private drawSensors(bodies: readonly ViewBody[], visible: (v: ViewBody) => boolean): void {
+    const ctx = this.ctx
+    ctx.beginPath()
+    let any = false
+    for (const v of bodies) {
+      if (!visible(v)) continue
+      for (const shape of v.shapes) {
+        if (shape.sensor !== true || shape.type === 'segment') continue
+        this.traceShape(v, shape, 1)
+        any = true
+      }
+    }
+    if (!any) return
+    ctx.globalAlpha = SENSOR_FILL_ALPHA
+    ctx.fillStyle = SENSOR_COLOR
+    ctx.fill()
+    ctx.globalAlpha = 1
+    ctx.lineWidth = this.lineWidth(1.25)
+    ctx.setLineDash([this.lineWidth(6), this.lineWidth(4)])
+    ctx.strokeStyle = SENSOR_COLOR
+    ctx.stroke()
+    ctx.setLineDash([])
+  }
+
   /**
-   * Add a body's outline (every shape) to the current path, scaled by `shrink` about its origin;
-   * circles get a radius line to show rotation. Segments add nothing (drawBodies strokes them).
+   * Add a body's outline (every shape; with `solid`, every shape but its sensors, which
+   * drawSensors draws) to the current path, scaled by `shrink` about its origin; circles get a
+   * radius line to show rotation. Segments add nothing (drawBodies strokes them). Returns whether
+   * it added anything.
    */
-  private traceBody(v: ViewBody, shrink = 1): void {
-    for (const shape of v.shapes) this.traceShape(v, shape, shrink)
+  private traceBody(v: ViewBody, shrink = 1, solid = false): boolean {
+    let any = false
+    for (const shape of v.shapes) {
+      if (solid && shape.sensor === true) continue
+      this.traceShape(v, shape, shrink)
+      any = true
+    }
+    return any
   }
 
   private traceShape(v: ViewBody, shape: WireShape, shrink: number): void {

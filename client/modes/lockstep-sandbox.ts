@@ -15,6 +15,7 @@ import {
   cssColor,
   type JoinMessage,
   LockstepClient,
+  type PlainData,
   PROTOCOL_VERSION,
   PredictClient,
   type RoomRules,
@@ -275,6 +276,9 @@ export class LockstepSandbox implements Sandbox {
 
   /** Send a game command (`cmd`: kind and arguments, docs/games.md); returns its seq. */
   sendGame(kind: string, args: Record<string, unknown>): number {
+    // A predicting page applies its own game command at once (PredictClient.gameCommand).
+    if (this.runner instanceof PredictClient)
+      return this.runner.gameCommand(kind, args as { [key: string]: PlainData }, performance.now())
     this.connection.send({ t: 'cmd', seq: ++this.seq, k: kind, a: args })
     return this.seq
   }

@@ -11,6 +11,7 @@
  * refuses them without it, as it refuses a join).
  */
 import { App } from '../app.ts'
+import { findClientGame, loadGameModule } from '../modes/index.ts'
 import { type LoadedLog, ReplayLoadError, readLog, type SeekProgress } from './replay-player.ts'
 import { REPLAY_SPEEDS, ReplaySandbox } from './replay-sandbox.ts'
 
@@ -187,7 +188,22 @@ export class ReplayPage {
       return
     }
     if (load !== this.loads) return
-    const sandbox = await ReplaySandbox.open(log, inflateZlib)
+    // A game this build does not ship: the page's server serves it (--games DIR) at /games/NAME.js.
+    let sandbox: ReplaySandbox
+    try {
+      const game = log.header.state.game
+      if (!findClientGame(game)) {
+        if (!this.httpBase)
+          throw new Error(`the log was recorded with game "${game}", which this page does not have`)
+        await loadGameModule(this.httpBase.replace(/^http/, 'ws'), game)
+      }
+      sandbox = await ReplaySandbox.open(log, inflateZlib)
+    } catch (error) {
+      if (load !== this.loads) return
+      this.panel.append(this.message)
+      this.say(`${name}: ${(error as Error).message}`, true)
+      return
+    }
     if (load !== this.loads) return
     this.sandbox?.dispose()
     this.sandbox = sandbox

@@ -39,7 +39,6 @@
  * world (the runner does it); the first mismatch is kept, with its tick, for the indicator.
  */
 
-import { findGame } from '../../games/index.ts'
 import {
   type Divergence,
   deltaChain,
@@ -56,6 +55,7 @@ import {
   type RoomSimulation,
   type SimulationListener,
 } from '../../shared/index.ts'
+import { findClientGame } from '../modes/index.ts'
 import { SNAPSHOT_BUDGET_BYTES, SnapshotStore } from './replay-snapshots.ts'
 
 /** A log read whole: its records after the header and where its keyframes are. */
@@ -212,7 +212,11 @@ export class ReplayPlayer {
     listener?: SimulationListener,
     options: PlayerOptions = {},
   ): Promise<ReplayPlayer> {
-    const runner = await ReplayRunner.start(log.preamble, log.header, { inflate, games: findGame, listener })
+    const runner = await ReplayRunner.start(log.preamble, log.header, {
+      inflate,
+      games: findClientGame,
+      listener,
+    })
     const player = new ReplayPlayer(log, runner, options.snapshotBudget ?? SNAPSHOT_BUDGET_BYTES)
     player.collectPeople(log.records.length)
     return player

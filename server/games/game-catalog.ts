@@ -48,3 +48,24 @@ export async function importGameBundles(bundles: readonly GameBundle[]): Promise
   for (const bundle of bundles) games.push({ game: await importGameBundle(bundle), bundle })
   addLoadedGames(games)
 }
+
+/**
+ * Load the game modules of --games DIR (the server at start, the replay tool) with
+ * game-loader.ts, imported by its URL so that the server's bundle holds neither esbuild nor the
+ * TypeScript compiler (development packages); the build ships the loader as dist/game-loader.js.
+ * Throws a GameLoadError naming the file of a bad module, or saying which package is missing.
+ * The games are not added to the catalogue: addLoadedGames does that.
+ */
+export async function loadGameDirectory(dir: string): Promise<{ game: Game; bundle: GameBundle }[]> {
+  const here = import.meta.url
+  const url = new URL(here.endsWith('.ts') ? './game-loader.ts' : './game-loader.js', here)
+  let loader: { loadGameDirectory(dir: string): Promise<{ game: Game; bundle: GameBundle }[]> }
+  try {
+    loader = await import(url.href)
+  } catch (error) {
+    throw new GameLoadError(
+      `--games needs the game loader and its packages (esbuild, typescript: npm install without --omit=dev): ${(error as Error).message}`,
+    )
+  }
+  return loader.loadGameDirectory(dir)
+}

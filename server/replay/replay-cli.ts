@@ -1,18 +1,22 @@
 /*
  * The replay tool:
- *   npm run replay -- FILE [--verify] [--to TICK] [--hash-every N] [--progress N] [--json]
+ *   npm run replay -- FILE [--verify] [--to TICK] [--hash-every N] [--progress N] [--json] [--games DIR]
  * Rebuilds the world from the log's header, applies every record at its tick, checks every
  * recorded hash (with --verify also every keyframe), and prints ticks, duration, players,
  * commands and steps per second. With --progress N, a line `replay: tick T of L (P %)` goes to
- * standard error every N room ticks while it runs. Exit codes: 0 replayed and matched, 1 a hash
+ * standard error every N room ticks while it runs. A log of a game loaded with the server's --games
+ * DIR needs the same --games DIR here (loaded and checked as the server does; without it the tool
+ * says so in one line). Exit codes: 0 replayed and matched, 1 a hash
  * or keyframe differed (the first mismatch is printed), 2 bad usage or a file that is not a
  * readable log (one line, no stack trace), 3 replayed but the log's tail was torn or corrupt.
  */
 import { readFile } from 'node:fs/promises'
 import { hex } from '../../shared/index.ts'
-import { type ReplayOptions, ReplayToolError, replayLog } from './replay-tool.ts'
+import { addLoadedGames, GameLoadError, loadGameDirectory } from '../games/index.ts'
+import { type ReplayOptions, ReplayToolError, replayLog, UnknownGameError } from './replay-tool.ts'
 
-const USAGE = 'usage: npm run replay -- FILE [--verify] [--to TICK] [--hash-every N] [--progress N] [--json]'
+const USAGE =
+  'usage: npm run replay -- FILE [--verify] [--to TICK] [--hash-every N] [--progress N] [--json] [--games DIR]'
 
 function fail(message: string): never {
   process.stderr.write(`replay: ${message}\n`)
@@ -30,6 +34,7 @@ async function main(): Promise<void> {
   const options: ReplayOptions = {}
   let json = false
   let file: string | undefined
+  let gamesDir: string | undefined
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i]
     if (a === '--verify') options.verify = true
@@ -37,7 +42,10 @@ async function main(): Promise<void> {
     else if (a === '--to') options.to = intArg(a, argv[++i])
     else if (a === '--hash-every') options.hashEvery = intArg(a, argv[++i]) || undefined
     else if (a === '--progress') options.progressEvery = intArg(a, argv[++i])
-    else if (a === '--help' || a === '-h') {
+    else if (a === '--games') {
+      gamesDir = argv[++i]
+      if (gamesDir === undefined || gamesDir.startsWith('--')) fail(`--games needs a directory; ${USAGE}`)
+    } else if (a === '--help' || a === '-h') {
       process.stdout.write(`${USAGE}\n`)
       return
     } else if (a.startsWith('--')) fail(`unknown option ${a}; ${USAGE}`)
@@ -51,6 +59,14 @@ async function main(): Promise<void> {
   } catch (error) {
     fail(`cannot read ${file}: ${(error as NodeJS.ErrnoException).code ?? (error as Error).message}`)
   }
+  if (gamesDir !== undefined) {
+    try {
+      addLoadedGames(await loadGameDirectory(gamesDir))
+    } catch (error) {
+      if (error instanceof GameLoadError) fail(error.message)
+      throw error
+    }
+  }
   // A long log replays for minutes (about 26x real time for an awake pyramid): --progress says how
   // far it got.
   options.onProgress = (tick, last) =>
@@ -61,6 +77,10 @@ async function main(): Promise<void> {
   try {
     report = await replayLog(bytes, options)
   } catch (error) {
+    if (error instanceof UnknownGameError)
+      fail(
+        `log ${file} was recorded with game "${error.game}": ${gamesDir === undefined ? 'load it with --games DIR' : `${gamesDir} has no game of that name`}`,
+      )
     if (error instanceof ReplayToolError) fail(`${file}: ${error.message}`)
     fail(`${file}: ${(error as Error).message}`)
   }

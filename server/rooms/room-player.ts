@@ -33,6 +33,8 @@ export class RoomPlayer {
   behindSince = -1
   /** Dropped for not reading: nothing more is sent while its connection closes. */
   dropped = false
+  /** MessagePack bytes of the last game view sent to it (room.ts sendViews), or null. */
+  lastView: Uint8Array | null = null
 
   constructor(
     readonly id: number,

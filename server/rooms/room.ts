@@ -35,8 +35,10 @@ import { DEFAULT_SCENE, SCENES, type SceneBlueprint, type World } from '../../en
 import { type Game, sandbox } from '../../games/index.ts'
 import {
   encodeMessage,
+  encodeValue,
   isMovable,
   type JoinMode,
+  MAX_VIEW_BYTES,
   type PlainData,
   PROTOCOL_VERSION,
   QuantizedFrame,
@@ -118,6 +120,8 @@ export class Room {
   private readonly snapshotPhase: number
   /** Snapshots and the slow-reader rule (room-snapshots.ts). */
   private readonly snapshots: RoomSnapshots
+  /** A game view that threw or was too big has been logged (once per room). */
+  private viewWarned = false
 
   constructor(
     readonly name: string,
@@ -414,7 +418,10 @@ export class Room {
     }
     this.sim.runTick()
     this.flushEvents()
-    if ((this.tick + this.snapshotPhase) % this.snapshotInterval === 0) this.snapshots.send()
+    if ((this.tick + this.snapshotPhase) % this.snapshotInterval === 0) {
+      this.snapshots.send()
+      if (this.game.view) this.sendViews()
+    }
     const hash = this.tick % TICK_RATE === 0 ? this.sim.hash() : undefined
     if (hash !== undefined) this.everySecond(hash)
     this.feed.endTick(hash)
@@ -608,9 +615,51 @@ export class Room {
     }
   }
 
+  /**
+   * Each snapshot player's game view (the game's `view`), sent to that player alone when its
+   * MessagePack bytes changed since the last one it got (PROTOCOL.md, `view`). A view that throws
+   * or passes MAX_VIEW_BYTES is not sent, and logged once per room.
+   */
+  private sendViews(): void {
+    for (const p of this.players.values()) {
+      if (p.lockstep || p.spectator || p.dropped) continue
+      let view: PlainData | undefined
+      try {
+        view = this.sim.playerView(p.id)
+      } catch (error) {
+        this.viewProblem(p.id, `its view threw: ${(error as Error).message}`)
+        continue
+      }
+      if (view === undefined) continue
+      const bytes = encodeValue(view)
+      if (bytes.length > MAX_VIEW_BYTES) {
+        this.viewProblem(p.id, `its view is ${bytes.length} bytes, over the ${MAX_VIEW_BYTES}-byte limit`)
+        continue
+      }
+      if (p.lastView !== null && sameBytes(p.lastView, bytes)) continue
+      p.lastView = bytes
+      p.conn.sendBytes(encodeMessage({ t: 'view', tick: this.tick, view }))
+    }
+  }
+
+  private viewProblem(player: number, problem: string): void {
+    if (this.viewWarned) return
+    this.viewWarned = true
+    this.log.warn(
+      { room: this.name, game: this.game.name, player, tick: this.tick },
+      `game ${this.game.name}: ${problem}; the view is not sent (logged once per room)`,
+    )
+  }
+
   private everySecond(hash: number): void {
     this.broadcastSnapshotMode({ t: 'hash', tick: this.tick, step: this.world.tick, hash })
     const window = this.config.reconnectSeconds * TICK_RATE
     for (const [token, d] of this.departed) if (this.tick - d.leftTick > window) this.departed.delete(token)
   }
+}
+
+function sameBytes(a: Uint8Array, b: Uint8Array): boolean {
+  if (a.length !== b.length) return false
+  for (let i = 0; i < a.length; i++) if (a[i] !== b[i]) return false
+  return true
 }

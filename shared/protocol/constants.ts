@@ -151,3 +151,6 @@ export const SPAWN_MATERIAL = {
   friction: [0, 2],
   restitution: [0, 1],
 } as const
+
+/** Largest game view (a game's `view` for one player) the server sends: bytes of its MessagePack encoding. */
+export const MAX_VIEW_BYTES = 1024

@@ -389,6 +389,16 @@ export interface GameEventsMessage {
   events: unknown[]
 }
 
+/**
+ * The room's game's view for this player (the game's `view`, plain data of at most MAX_VIEW_BYTES
+ * as MessagePack), sent to a snapshot player when it changed, at most once per snapshot interval.
+ */
+export interface ViewMessage {
+  t: 'view'
+  tick: number
+  view: unknown
+}
+
 /** Reply to join: identity, rules and the full state. */
 export interface WelcomeMessage {
   t: 'welcome'
@@ -572,6 +582,7 @@ export interface SceneSavedMessage {
 export type ServerMessage =
   | SceneSavedMessage
   | GameEventsMessage
+  | ViewMessage
   | SyncMessage
   | TicksMessage
   | WelcomeMessage

@@ -504,6 +504,7 @@ function refusedSeq(value: unknown): number | undefined {
 
 const SERVER_FIELDS: Record<ServerMessage['t'], readonly string[]> = {
   game: ['tick', 'events'],
+  view: ['tick', 'view'],
   sync: ['tick', 'z', 'data'],
   ticks: ['tick', 'n', 'c'],
   welcome: ['v', 'id', 'token', 'room', 'rules', 'players', 'state'],

@@ -78,6 +78,9 @@ export class ClientMirror {
   lastSnapshot: AppliedSnapshot | null = null
   /** The latest contacts of the body this client inspects (null when none, or after a new world). */
   inspected: ContactsMessage | null = null
+  /** The room's game's view for this player (the last `view` message; null before one) and its tick. */
+  view: unknown = null
+  viewTick = -1
   /** Error messages received (`seq` when the error refused an input that carried one). */
   readonly errors: Array<{ code: string; reason: string; seq?: number }> = []
 
@@ -130,6 +133,10 @@ export class ClientMirror {
         return null
       case 'contacts':
         this.inspected = message
+        return null
+      case 'view':
+        this.view = message.view
+        this.viewTick = message.tick
         return null
       default:
         return null

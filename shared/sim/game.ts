@@ -212,6 +212,8 @@ export interface SimGame {
   onLeave?(ctx: GameContext, player: number): void
   /** After every world step (not while paused). */
   tick?(ctx: GameContext): void
+  /** What `player` sees of the game (plain data, sent to that player only); changes nothing. */
+  view?(ctx: GameContext, player: number): PlainData
 }
 
 /** Finds a game by name (games/'s catalogue); undefined for an unknown name. */

@@ -27,7 +27,7 @@ import {
   type SyncMessage,
   type TicksMessage,
 } from '../protocol/index.ts'
-import type { GameCatalog } from './game.ts'
+import type { GameCatalog, PlainData } from './game.ts'
 import { PlayoutClock, type PlayoutOptions } from './lockstep-playout.ts'
 import type { RoomSimulation } from './room-simulation.ts'
 import { inflate, restoreSyncPayload } from './sync-payload.ts'
@@ -148,6 +148,14 @@ export class LockstepClient {
       this.requestResync(`${this.playout.newest - this.sim.tick} ticks behind`)
     }
     return n
+  }
+
+  /**
+   * This player's game view (the game's `view`; PROTOCOL.md, `view`), computed from the confirmed
+   * simulation; undefined before the sync or for a game without a view.
+   */
+  view(): PlainData | undefined {
+    return this.sim?.playerView(this.playerId)
   }
 
   /** Ask the server for a fresh sync and wait for it. */

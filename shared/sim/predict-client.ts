@@ -6,7 +6,10 @@
  * client does. The present one runs ahead of it by `lead` ticks (the round trip measured from the
  * player's own inputs: how many ticks after it was sent an input shows up in the stream) and is
  * what the page draws. An own input is sent and applied to the present at once, as part of the
- * next present tick: that is the tick the client predicts the server will apply it at.
+ * next present tick: that is the tick the client predicts the server will apply it at. The
+ * game's own commands (`cmd`, e.g. the goal game's `kick`) are predicted the same way: they run in
+ * the same simulation, so the present applies them at their predicted tick and the stream confirms
+ * or corrects them like any input (room commands such as openScene are only sent).
  *
  * When ticks are confirmed, each is compared with what the present assumed for it (only the
  * player's own inputs, at their predicted ticks). If any differs (another player acted, or an own
@@ -17,6 +20,7 @@
  * time are counted for the HUD; predict-smoothing.ts hides the jumps they cause.
  */
 import type { Command } from '../protocol/index.ts'
+import { copyPlainData, type PlainData, type SimCommand } from './game.ts'
 import { LockstepClient, type LockstepOptions } from './lockstep-client.ts'
 import type { RoomSimulation } from './room-simulation.ts'
 import { cloneSimulation } from './sync-payload.ts'
@@ -26,7 +30,7 @@ import { entryArguments, type StreamEntry } from './tick-stream.ts'
 interface PendingInput {
   /** Tick it was applied at in the present (re-assigned when it turns out late). */
   tick: number
-  cmd: Command
+  cmd: SimCommand
   /**
    * The server's tick as estimated when it was sent (for the lead measurement): the playout's
    * smooth estimate, not the newest tick received, which lags by up to the hold when idle.
@@ -74,7 +78,7 @@ const MAX_LEAD = 30
  */
 export const PREDICT_HOLD = MAX_LEAD
 
-const sameAction = (a: Command, b: StreamEntry['action']): boolean =>
+const sameAction = (a: SimCommand, b: StreamEntry['action']): boolean =>
   a.k === b.k && JSON.stringify(entryArguments(a)) === JSON.stringify(entryArguments(b))
 
 /** The predicting client (see the file comment). */
@@ -109,15 +113,38 @@ export class PredictClient extends LockstepClient {
     this.clock = predictOptions.clock ?? (() => 0)
   }
 
+  /** This player's game view as the present (what the page draws) has it; else the confirmed one. */
+  override view(): PlainData | undefined {
+    return (this.present ?? this.sim)?.playerView(this.playerId)
+  }
+
   /** Send an own input and apply it to the present at once; returns its sequence number. */
   input(cmd: Command, nowMs: number): number {
     const seq = ++this.seq
     this.options.send({ t: 'input', seq, cmd })
-    if (cmd.k === 'inspect' || !this.present || this.state !== 'running') return seq
+    if (cmd.k !== 'inspect') this.predictOwn(cmd, nowMs)
+    return seq
+  }
+
+  /**
+   * Send an own game command (`cmd`: its kind and arguments) and, when the room's game lists that
+   * kind, apply it to the present at once, as input() does; returns its sequence number.
+   */
+  gameCommand(kind: string, args: { [key: string]: PlainData }, nowMs: number): number {
+    const seq = ++this.seq
+    this.options.send({ t: 'cmd', seq, k: kind, a: args })
+    const game = this.present?.game
+    if (game && Object.hasOwn(game.commands, kind) && !game.commands[kind].builtin)
+      this.predictOwn({ k: 'cmd', kind, a: copyPlainData(args) }, nowMs)
+    return seq
+  }
+
+  /** Apply an own command to the present at its next tick and remember it until confirmed. */
+  private predictOwn(cmd: SimCommand, nowMs: number): void {
+    if (!this.present || this.state !== 'running') return
     const tick = this.present.tick + 1
     this.applyOwn(this.present, cmd)
     this.pending.push({ tick, cmd, sentAt: Math.floor(this.playout.estimate(nowMs)), time: nowMs })
-    return seq
   }
 
   /**
@@ -254,7 +281,7 @@ export class PredictClient extends LockstepClient {
     return Math.max(1, depth)
   }
 
-  private applyOwn(sim: RoomSimulation, cmd: Command): void {
+  private applyOwn(sim: RoomSimulation, cmd: SimCommand): void {
     if (cmd.k !== 'inspect') sim.apply(this.playerId, cmd)
   }
 }

@@ -462,6 +462,17 @@ export class RoomSimulation {
     this.listener.roomChanged()
   }
 
+  /**
+   * The game's view for `player` (SimGame.view): a copy of the plain data it returns, or undefined
+   * for a game without a view or a player not in the room. Throws what the view throws, or a
+   * RangeError naming what in it is not plain data.
+   */
+  playerView(player: number): PlainData | undefined {
+    const view = this.game.view
+    if (!view || !this.players.has(player)) return undefined
+    return copyPlainData(view(this.ctx, player), 'view')
+  }
+
   /** Set the game's state and PRNG position from saved values (null state: a game without state). */
   restoreGame(gameState: PlainData, random: number): void {
     this.gameState = this.game.initialState() === undefined ? undefined : copyPlainData(gameState)
