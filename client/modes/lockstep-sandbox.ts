@@ -144,7 +144,13 @@ export class LockstepSandbox implements Sandbox {
     this.downWindow.bytes += bytes
     if (message.t === 'pong') this.rttMs = now - message.time
     if (message.t === 'players') this.players = message.players
-    if (message.t === 'welcome') this.players = message.players
+    if (message.t === 'welcome') {
+      this.players = message.players
+      if (message.notice) {
+        this.notice.count++
+        this.notice.latest = message.notice
+      }
+    }
     if (message.t === 'error' && message.code === 'refused') {
       this.notice.count++
       this.notice.latest = message.reason

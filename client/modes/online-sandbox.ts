@@ -194,6 +194,7 @@ export class OnlineSandbox implements Sandbox {
         this.outbox.spawns.clear()
         this.resetTimeline(message.state.tick, now, message.rules)
         this.reinspect(now)
+        if (message.notice) this.tell(message.notice)
         break
       case 'state':
         this.ownGrab = 0

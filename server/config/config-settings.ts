@@ -41,6 +41,7 @@ export interface ServerConfig {
   sceneDir: string
   maxSavedScenes: number
   recover: boolean
+  keepRooms: boolean
   requireRecording: boolean
   logLevel: string
   stallSeconds: number
@@ -411,7 +412,15 @@ export const SETTINGS: readonly Setting[] = [
     env: 'RECOVER',
     kind: 'bool',
     fallback: true,
-    help: 'at start, reopen rooms whose log has no clean close (after a crash) where the log ends',
+    help: 'at start, reopen rooms whose log has no clean close (after a crash or a planned restart) where the log ends',
+  },
+  {
+    key: 'keepRooms',
+    flag: '--keep-rooms',
+    env: 'KEEP_ROOMS',
+    kind: 'bool',
+    fallback: true,
+    help: 'on SIGTERM or SIGINT, leave each used room in its log for the next start to reopen (with --record and --recover); false: close every log, start afresh',
   },
   {
     key: 'requireRecording',

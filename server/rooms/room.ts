@@ -90,6 +90,8 @@ export class Room {
    * given a world from outside (a benchmark's blueprint) counts as touched.
    */
   touched = false
+  /** Told to every player who joins (welcome.notice), e.g. that the room was restored after a restart; null: nothing. */
+  notice: string | null = null
   /** Whether a player ever joined (an untouched room is closed early only once it had one). */
   visited = false
   readonly rules: RoomRules
@@ -281,6 +283,7 @@ export class Room {
         this.sim.bodyColors,
         { slow: this.sim.slowMotion, creator: this.sim.creator, locked: this.sim.controlsLocked },
       ),
+      ...(this.notice === null ? {} : { notice: this.notice }),
     })
   }
 

@@ -399,6 +399,8 @@ export interface WelcomeMessage {
   rules: RoomRules
   players: WirePlayer[]
   state: FullState
+  /** Something to tell the player in plain words (e.g. the room was restored after a server restart). */
+  notice?: string
 }
 /** A new world epoch (scene load or reset): forget every body and baseline. */
 export interface StateMessage {
