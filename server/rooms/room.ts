@@ -57,6 +57,7 @@ import { LockstepFeed } from './lockstep-feed.ts'
 import type { PlayerConnection } from './player-connection.ts'
 import { RoomPlayer } from './room-player.ts'
 import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
+import { RENAME, renameArgs } from './player-names.ts'
 import { isRoomCommand, RoomScenes, roomCommandArgs } from './room-scenes.ts'
 import { RoomSnapshots } from './room-snapshots.ts'
 import { fillFrame, fullState, refreshPose, wireBody } from './room-wire.ts'
@@ -369,6 +370,12 @@ export class Room {
     kind: string,
     args: PlainData,
   ): { code: 'invalid' | 'input-budget'; reason: string } | null {
+    if (kind === RENAME) {
+      const checked = renameArgs(args)
+      if ('error' in checked) return { code: 'invalid', reason: `rename refused: ${checked.error}` }
+      const error = this.queueInput(player, seq, { k: 'cmd', kind, a: checked })
+      return error === null ? null : { code: 'input-budget', reason: error }
+    }
     if (isRoomCommand(kind)) {
       const invalid = roomCommandArgs(kind, args)
       if (invalid !== null) return { code: 'invalid', reason: `${kind} refused: ${invalid}` }
@@ -451,6 +458,7 @@ export class Room {
   }
 
   private apply(player: RoomPlayer, cmd: SimCommand): string | null {
+    if (cmd.k === 'cmd' && cmd.kind === RENAME) return this.rename(player, (cmd.a as { name: string }).name)
     if (cmd.k === 'cmd' && isRoomCommand(cmd.kind)) return this.applyRoomCommand(player, cmd.kind, cmd.a)
     if (cmd.k !== 'inspect') {
       const refused = this.sim.apply(player.id, cmd)
@@ -461,6 +469,15 @@ export class Room {
     if (cmd.body !== 0 && !isMovable(this.world, cmd.body))
       return `body ${cmd.body} does not exist or is static`
     player.inspect = cmd.body
+    return null
+  }
+
+  /** The room command `rename` (player-names.ts): a new name, and every player the new roster. */
+  private rename(player: RoomPlayer, name: string): null {
+    if (player.name === name) return null
+    this.log.info({ room: this.name, player: player.id, from: player.name, name }, 'player renamed')
+    player.name = name
+    this.broadcast({ t: 'players', players: this.roster() })
     return null
   }
 
