@@ -10,6 +10,7 @@ export type {
   LabContact,
   LabData,
   LabJointForce,
+  PersonRow,
   Sandbox,
   SandboxStats,
   SandboxStatus,

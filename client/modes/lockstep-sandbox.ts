@@ -15,6 +15,7 @@ import {
   cssColor,
   type JoinMessage,
   LockstepClient,
+  type PlainData,
   PROTOCOL_VERSION,
   PredictClient,
   type RoomRules,
@@ -32,6 +33,7 @@ import { CorrectionSmoother } from './predict-smoothing.ts'
 import type {
   LabContact,
   LabData,
+  PersonRow,
   RoomControl,
   Sandbox,
   SandboxStats,
@@ -64,6 +66,8 @@ export class LockstepSandbox implements Sandbox {
   private readonly view: ViewBody[] = []
   private readonly shapes = new Map<number, WireShape[]>()
   private players: WirePlayer[] = []
+  /** Scene ids the server answered this page's saveScene commands with, by seq. */
+  private readonly saved = new Map<number, string>()
   private statusValue: SandboxStatus = { state: 'connecting' }
   private readonly notice = { count: 0, latest: null as string | null }
   private lastFrame = Number.NaN
@@ -144,6 +148,7 @@ export class LockstepSandbox implements Sandbox {
     this.downWindow.bytes += bytes
     if (message.t === 'pong') this.rttMs = now - message.time
     if (message.t === 'players') this.players = message.players
+    if (message.t === 'scene') this.saved.set(message.seq, message.id)
     if (message.t === 'welcome') {
       this.players = message.players
       if (message.notice) {
@@ -278,6 +283,17 @@ export class LockstepSandbox implements Sandbox {
     return this.seq
   }
 
+  /** Send a room command (openScene, saveScene, rename: PROTOCOL.md "Room commands"); its seq, or null before the join. */
+  roomCommand(kind: string, args: { [key: string]: PlainData }): number | null {
+    if (!this.connection.isJoined) return null
+    return this.sendGame(kind, args)
+  }
+
+  /** The scene ids the server answered this page's saveScene commands with, by seq. */
+  savedScenes(): ReadonlyMap<number, string> {
+    return this.saved
+  }
+
   /** The game state of the simulation drawn (null before the sync or for a game without state). */
   gameState(): unknown {
     return this.drawn()?.gameState ?? null
@@ -285,6 +301,21 @@ export class LockstepSandbox implements Sandbox {
 
   playerId(): number {
     return this.runner.playerId
+  }
+
+  people(): readonly PersonRow[] {
+    const sim = this.drawn()
+    const creator = sim?.creator ?? 0
+    return this.players
+      .map((p) => ({
+        id: p.id,
+        name: p.name,
+        color: p.color,
+        self: p.id === this.runner.playerId,
+        creator: p.id === creator,
+        holds: sim?.players.get(p.id)?.grab?.body ?? 0,
+      }))
+      .sort((a, b) => a.id - b.id)
   }
 
   roomControl(): RoomControl {

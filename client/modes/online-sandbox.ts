@@ -29,6 +29,7 @@ import { Connection, InputOutbox, type Pose, ServerStats, SnapshotTimeline } fro
 import type {
   LabContact,
   LabData,
+  PersonRow,
   RoomControl,
   Sandbox,
   SandboxStats,
@@ -429,6 +430,17 @@ export class OnlineSandbox implements Sandbox {
 
   playerId(): number {
     return this.mirror.clientId
+  }
+
+  people(): readonly PersonRow[] {
+    const m = this.mirror
+    const out: PersonRow[] = []
+    for (const p of m.players.values()) {
+      const self = p.id === m.clientId
+      const holds = self ? this.ownGrab : (m.cursors.get(p.id)?.body ?? 0)
+      out.push({ id: p.id, name: p.name, color: p.color, self, creator: p.id === m.creator, holds })
+    }
+    return out.sort((a, b) => a.id - b.id)
   }
 
   roomControl(): RoomControl {
