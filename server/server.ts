@@ -134,7 +134,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     gameBundle: (name) => loadedGameBundle(name)?.code,
     rooms: host,
     recordings,
-    scenes: new SceneStore(config.sceneDir, config.maxSavedScenes),
+    scenes: new SceneStore(config.sceneDir, config.maxSavedScenes, config.maxSavedSceneBytes),
     keyAccess: (url, what) => checkKeyedRoute(config, url, what),
     metricsAccess: (req) => checkMetricsAccess(config, req),
     wsAccess: (req, url) => {

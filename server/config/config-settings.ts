@@ -40,6 +40,7 @@ export interface ServerConfig {
   replayKeep: number
   sceneDir: string
   maxSavedScenes: number
+  maxSavedSceneBytes: number
   recover: boolean
   keepRooms: boolean
   requireRecording: boolean
@@ -404,7 +405,17 @@ export const SETTINGS: readonly Setting[] = [
     fallback: 1000,
     min: 0,
     max: 1000000,
-    help: 'saved scene files kept (4 MiB each at most); 0 turns saving off',
+    help: 'saved scene files kept (4 MiB each at most; the ones used longest ago make way for new ones); 0 turns saving off',
+  },
+  {
+    key: 'maxSavedSceneBytes',
+    flag: '--max-saved-scene-bytes',
+    env: 'MAX_SAVED_SCENE_BYTES',
+    kind: 'int',
+    fallback: 268435456,
+    min: 65536,
+    max: 1099511627776,
+    help: 'bytes of saved scene files kept in all (the ones used longest ago make way for new ones)',
   },
   {
     key: 'recover',

@@ -55,9 +55,9 @@ import type { ServerConfig } from '../config/index.ts'
 import type { ServerMetrics } from '../hosting/index.ts'
 import { LockstepFeed } from './lockstep-feed.ts'
 import type { PlayerConnection } from './player-connection.ts'
+import { RENAME, renameArgs } from './player-names.ts'
 import { RoomPlayer } from './room-player.ts'
 import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
-import { RENAME, renameArgs } from './player-names.ts'
 import { isRoomCommand, RoomScenes, roomCommandArgs } from './room-scenes.ts'
 import { RoomSnapshots } from './room-snapshots.ts'
 import { fillFrame, fullState, refreshPose, wireBody } from './room-wire.ts'
@@ -147,7 +147,12 @@ export class Room {
       listener: this.listener(),
     })
     this.sim.tick = spread.startTick
-    this.sceneFiles = new RoomScenes(config.sceneDir, config.maxSavedScenes, this.sim)
+    this.sceneFiles = new RoomScenes(
+      config.sceneDir,
+      config.maxSavedScenes,
+      config.maxSavedSceneBytes,
+      this.sim,
+    )
     this.feed = new LockstepFeed(this.sim, name, metrics, log)
     this.snapshots = new RoomSnapshots(name, this.sim, this.players, config, metrics, log)
     this.rules = {
