@@ -16,9 +16,12 @@ import { type SpawnCommand, spawnShapeDefs, validateClientMessage } from '../../
 /** The 20 points a player drew from left to right: x = -8.55 ... 8.55, 0.9 m apart, y alternating 0 and 1 mm. */
 const STROKE = Array.from({ length: 20 }, (_, i) => ({ x: -8.55 + 0.9 * i, y: i % 2 === 0 ? 0 : 0.001 }))
 
-/** A world with the ground the Ground tool sends for STROKE (tolerance 0.1 mm keeps every point). */
-function groundWorld(): { world: ReturnType<typeof createWorld>; commands: SpawnCommand[] } {
-  const drawn = groundBodies(STROKE, 0.0001)
+/** 45 points over 39.6 m: more than one chain can hold within the wire's 10 m of its middle. */
+const LONG_STROKE = Array.from({ length: 45 }, (_, i) => ({ x: -19.8 + 0.9 * i, y: i % 2 === 0 ? 0 : 0.001 }))
+
+/** A world with the ground the Ground tool sends for `stroke` (tolerance 0.1 mm keeps every point). */
+function groundWorld(stroke = STROKE): { world: ReturnType<typeof createWorld>; commands: SpawnCommand[] } {
+  const drawn = groundBodies(stroke, 0.0001)
   if (!drawn.ok) throw new Error(drawn.reason)
   const world = createWorld({ gravity: { x: 0, y: -10 } })
   for (const cmd of drawn.commands as SpawnCommand[]) {
@@ -46,10 +49,19 @@ describe('Ground draws chains', () => {
     expect(world.getPosition(ball).y).toBeCloseTo(0.2, 1)
   })
 
-  it('a box slides over all 19 joins and slows only as friction says (mu g per second)', () => {
-    const { world } = groundWorld()
+  it.each([
+    ['a 20-point line (one chain)', STROKE, -8.3],
+    ['a 45-point line (chains joined end to end)', LONG_STROKE, -4],
+  ] as const)('a box slides along %s and slows only as friction says (Coulomb)', (_, stroke, start) => {
+    const { world, commands } = groundWorld(stroke)
+    if (stroke === LONG_STROKE) {
+      expect(commands.length).toBeGreaterThan(1)
+      // The box crosses from one chain to the next (their shared point is in its path).
+      const ends = commands.map((c) => (c.shape?.type === 'chain' ? c.shape.v[2] + c.x : 0))
+      expect(ends.some((x) => x > start && x < start + 6.75)).toBe(true)
+    }
     const slider = world.createBody({
-      position: { x: -8.3, y: 0.25 + 0.001 },
+      position: { x: start, y: 0.25 + 0.001 },
       linearVelocity: { x: 9, y: 0 },
       shape: box(0.25, 0.25),
     })
@@ -74,10 +86,10 @@ describe('Ground draws chains', () => {
     // It crossed the whole line (17.5 m: from 9 m/s at 6 m/s^2 it would stop after 6.75 m: so it
     // got at least that far at full friction, and no join stopped it sooner).
     const x = world.getPosition(slider).x
-    expect(x).toBeGreaterThan(-8.3 + 6.75 - 0.1)
+    expect(x).toBeGreaterThan(start + 6.75 - 0.1)
     // Never more than Coulomb allows (1 mm/s of slack for the solver's rounding).
     expect(worstDrop).toBeLessThan(0.001)
     // Where it stopped: v^2 / (2 mu g) from where it started, within 2 cm.
-    expect(x - -8.3).toBeCloseTo((9 * 9) / (2 * 0.6 * 10), 1)
+    expect(x - start).toBeCloseTo((9 * 9) / (2 * 0.6 * 10), 1)
   })
 })
