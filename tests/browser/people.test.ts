@@ -20,7 +20,11 @@ let base: string
 beforeAll(async () => {
   await mkdir(DIST, { recursive: true })
   await buildClient(DIST)
-  ;[server, browser] = await Promise.all([serveClient(DIST, { defaultScene: 'tower' }), launchBrowser()])
+  // Rooms on the main thread: the restored-notice case sets a room's notice directly.
+  ;[server, browser] = await Promise.all([
+    serveClient(DIST, { defaultScene: 'tower', workers: 0 }),
+    launchBrowser(),
+  ])
   base = `http://127.0.0.1:${server.port}`
 })
 
@@ -84,5 +88,22 @@ describe('the player list', { timeout: 300_000 }, () => {
 
     for (const p of [a, b, c]) expect(p.errors).toEqual([])
     await Promise.all([a.context.close(), b.context.close(), c.context.close()])
+  })
+
+  it("shows a reopened room's notice to whoever joins it, in snapshot and lockstep pages", async () => {
+    // What crash recovery or a planned restart sets on a room it reopened (planned-restart.test.ts
+    // checks the server side with a real restart); here the page's side.
+    const text = 'This room was restored after a server restart: what was built here is back.'
+    const room = server.rooms.getOrCreate('restored')
+    if (!room) throw new Error('no room')
+    room.notice = text
+    for (const mode of ['', '&mode=lockstep']) {
+      const p = await openSandbox(browser, `${base}/?room=restored&name=Di${mode}`)
+      // The notice reaches the page's notices (shown as a toast for a few seconds: it may be gone
+      // by the time the page is ready, so the notice list is what is read).
+      await p.page.waitForFunction((t) => window.concord.sandbox.notices().latest === t, text)
+      expect(p.errors).toEqual([])
+      await p.context.close()
+    }
   })
 })
