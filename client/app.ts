@@ -34,6 +34,7 @@ import {
 } from './input/index.ts'
 import { cleanRoomName, offlineLink, replaysLink, roomLink, showLobby } from './lobby.ts'
 import type { Sandbox, ViewBody } from './modes/index.ts'
+import { PlayerList } from './player-list.ts'
 import { SceneFiles } from './scene-files.ts'
 
 /** Shortest time between two changes of the hovered body whose contacts are drawn online (ms). */
@@ -98,6 +99,7 @@ export class App {
 
   /** Save, open and share scene files (scene-files.ts). */
   readonly sceneFiles: SceneFiles
+  readonly playerList: PlayerList
 
   constructor(
     readonly sandbox: Sandbox,
@@ -129,6 +131,7 @@ export class App {
     window.addEventListener('keyup', (e) => this.drive(e, false))
     this.wireToolbar()
     this.sceneFiles = new SceneFiles(sandbox, httpBase, room, (text) => this.notify(text), sharedScene)
+    this.playerList = new PlayerList(sandbox, (text) => this.notify(text))
     $('help-rows').innerHTML = helpRows(touchLayout())
     $('help-intro').textContent = helpIntro(touchLayout())
     this.setTool('grab')
@@ -477,6 +480,7 @@ export class App {
     const s = this.sandbox
     s.update(now)
     this.sceneFiles.update()
+    this.playerList.update()
     const scene = s.scene()
     if (scene && scene !== this.fittedScene && s.bodies().length > 0) {
       this.fittedScene = scene

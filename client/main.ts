@@ -7,7 +7,8 @@
  *   ?replay[=NAME]  play a recorded log: the server's log NAME, or pick one (list, file, drop)
  *   &key=KEY        access key of a server with join or admin tokens (sent on to the WebSocket,
  *                   and to GET /replays, which a server with a join token refuses without it)
- *   &name=NAME      player name (default: "guest" and a number)
+ *   &name=NAME      player name (default: the name last chosen in this browser's player list, else
+ *                   "guest" and a number)
  *   &server=URL     a WebSocket URL other than this page's origin (ws://host:port/ws)
  *   &game=GAME      the game a new room runs (docs/games.md; fixed when the room is created)
  *   &mode=lockstep  simulate the room in the page from the server's tick stream (&mode=predict:
@@ -17,6 +18,7 @@
 import { DEFAULT_SCENE } from '../engine/index.ts'
 import { App, hasServer } from './app.ts'
 import { LockstepSandbox, OfflineSandbox, OnlineSandbox, type Sandbox } from './modes/index.ts'
+import { NAME_KEY } from './player-list.ts'
 import { ReplayPage } from './replay/index.ts'
 
 function boot(): App {
@@ -43,7 +45,7 @@ function boot(): App {
     }
     const ws =
       params.get('server') || `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`
-    const name = params.get('name') || `guest ${Math.floor(Math.random() * 900 + 100)}`
+    const name = params.get('name') || savedName() || `guest ${Math.floor(Math.random() * 900 + 100)}`
     const mode = params.get('mode')
     const key = params.get('key') ?? undefined
     const game = params.get('game') ?? undefined
@@ -71,4 +73,13 @@ if (replay !== null) {
   window.concordReplay = new ReplayPage(base, replay, pageParams.get('key') ?? '')
 } else {
   window.concord = boot()
+}
+
+/** The name this browser's player last chose in the player list (player-list.ts), or ''. */
+function savedName(): string {
+  try {
+    return localStorage.getItem(NAME_KEY) ?? ''
+  } catch {
+    return ''
+  }
 }

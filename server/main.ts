@@ -2,7 +2,8 @@
  * The server's command line: `node dist/server.js [--port 8080 ...]` (see --help). Starts the
  * server (on a terminal it also prints "Concord sandbox at http://127.0.0.1:8080/" beside the JSON
  * log), and on SIGTERM or SIGINT shuts down gracefully: clients get a close frame with a reason,
- * logs are flushed, and the process exits within 5 s even if something hangs. A second signal
+ * logs are flushed (with --keep-rooms, every used room's log is left for the next start to reopen:
+ * Recordings.closeAll), and the process exits within 5 s even if something hangs. A second signal
  * during the shutdown is logged and ignored; a third exits at once (code 130).
  */
 import { helpText, loadConfig, type ServerConfig, sandboxBanner } from './config/index.ts'
@@ -47,8 +48,8 @@ async function main(): Promise<void> {
   }
   // A terminal's Ctrl-C reaches `npm start` and Node together and npm passes its signal on: Node
   // sees two. The second must not end the shutdown the first began (clients would get no close
-  // reason, logs no close record, and the next start would reopen rooms stopped on purpose); a
-  // third ends the process at once, saying so.
+  // reason, and logs would end wherever the process stopped instead of closed, or kept for the next
+  // start at a checkpoint at their last tick); a third ends the process at once, saying so.
   let signals = 0
   const onSignal = (signal: NodeJS.Signals): void => {
     signals++

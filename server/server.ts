@@ -77,6 +77,9 @@ export interface StartOptions {
   env?: NodeJS.ProcessEnv
 }
 
+/** Ends the close reason of a shutdown that keeps the rooms (PROTOCOL.md, close code 1001). */
+const KEEP_NOTE = '; rooms are saved and reopen when the server is back'
+
 /** How long shutdown waits for the Agones sidecar to acknowledge Shutdown() (ms). */
 const AGONES_SHUTDOWN_WAIT_MS = 1000
 
@@ -124,7 +127,7 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
     gameBundle: (name) => loadedGameBundle(name)?.code,
     rooms: host,
     recordings,
-    scenes: new SceneStore(config.sceneDir, config.maxSavedScenes),
+    scenes: new SceneStore(config.sceneDir, config.maxSavedScenes, config.maxSavedSceneBytes),
     keyAccess: (url, what) => checkKeyedRoute(config, url, what),
     metricsAccess: (req) => checkMetricsAccess(config, req),
     wsAccess: (req, url) => {
@@ -219,8 +222,12 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
       )
   }
   let closing: Promise<void> | null = null
-  const close = (reason = 'server shutting down'): Promise<void> => {
+  const close = (why = 'server shutting down'): Promise<void> => {
     closing ??= (async () => {
+      // A planned stop keeps every used room for the next start, when that start can reopen it
+      // (Recordings.closeAll); the players are told so.
+      const keep = recordings.keepsRooms
+      const reason = keep ? `${why}${KEEP_NOTE}` : why
       ready = false
       transport.accepting = false
       log.info({ reason, drainSeconds: config.drainSeconds }, 'shutting down')
@@ -231,8 +238,8 @@ export async function startServer(config: ServerConfig, options: StartOptions = 
       await transport.closeAll(CLOSE_CODES.goingAway, reason, 2000)
       rooms.clock.stop()
       health.remove('main')
-      await pool?.stop(reason)
-      await recordings.closeAll(reason)
+      await pool?.stop(reason, keep)
+      await recordings.closeAll(reason, keep)
       http.closeAllConnections()
       await listenerClosed
       await directory?.close()

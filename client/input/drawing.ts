@@ -2,20 +2,14 @@
  * Turning what a player draws into spawn commands (PROTOCOL.md, `spawn`): a stroke (freehand or
  * click by click) is simplified with Ramer-Douglas-Peucker (Ramer 1972; Douglas and Peucker 1973)
  * until it fits the wire's limits, then becomes an outline body (the server decomposes it with the
- * engine's decompose) or, for ground, static bodies of segments; a drag becomes a box, circle or
+ * engine's decompose) or, for ground, static one-sided chains; a drag becomes a box, circle or
  * capsule. Shapes travel in the body frame within MAX_SHAPE_EXTENT of the body's origin, so a body
  * is placed at the middle of what was drawn. The outline is checked here with the same decompose
  * the server runs, so a self-intersecting drawing is refused in the page at once with the engine's
  * reason (the server would refuse it alike).
  */
 import { decompose, MAX_OUTLINE_POINTS, type Vec2 } from '../../engine/index.ts'
-import {
-  MAX_BODY_SHAPES,
-  MAX_SHAPE_EXTENT,
-  MIN_SHAPE_EXTENT,
-  type SpawnCommand,
-  type WireShape,
-} from '../../shared/index.ts'
+import { MAX_SHAPE_EXTENT, MIN_SHAPE_EXTENT, type SpawnCommand } from '../../shared/index.ts'
 
 /** What a drag with the Draw tool makes. */
 export type DrawForm = 'outline' | 'rect' | 'circle' | 'capsule'
@@ -111,58 +105,72 @@ export function outlineBody(stroke: readonly Vec2[], tolerance: number): Drawn {
   return { ok: true, commands: [{ k: 'spawn', outline, x: round(at.x), y: round(at.y) }] }
 }
 
+/** Length (m) at most of the ghost edge a ground chain gets past each end of a run (its direction is what counts). */
+const GHOST_REACH = 0.5
+
 /**
- * A ground line (world m) as static bodies of segments: simplified, then cut into runs of at most
- * MAX_BODY_SHAPES segments that each fit within MAX_SHAPE_EXTENT of their middle.
+ * A ground line (world m) as static bodies, each one one-sided chain (engine chain(): Box2D v3's,
+ * with ghost vertices, so a body sliding along it never catches on a join): simplified, then cut
+ * into runs that each fit within MAX_SHAPE_EXTENT of their middle and the wire's chain length
+ * (MAX_OUTLINE_POINTS points with the ghosts). The line is run from right to left (reversed when
+ * drawn the other way), so its upper side is the one that collides: ground is stood on. Each run's
+ * ghosts point at the line's neighbouring points (past the line's ends: straight on), so the joins
+ * between runs are smooth too. Points closer than 1 cm to the one before are dropped.
  */
 export function groundBodies(stroke: readonly Vec2[], tolerance: number): Drawn {
-  const points = simplify(stroke, tolerance)
+  const points: Vec2[] = []
+  for (const p of simplify(stroke, tolerance)) {
+    const last = points.at(-1)
+    if (!last || Math.hypot(p.x - last.x, p.y - last.y) >= 0.01) points.push(p)
+  }
   if (
     points.length < 2 ||
     Math.hypot(points[1].x - points[0].x, points[1].y - points[0].y) < MIN_SHAPE_EXTENT
   )
     return { ok: false, reason: 'Drag to draw a ground line.' }
-  const commands: SpawnCommand[] = []
-  let run: Vec2[] = [points[0]]
-  const flush = (): void => {
-    if (run.length < 2) return
-    const at = middle(run)
-    const shapes: WireShape[] = []
-    for (let i = 0; i + 1 < run.length; i++) {
-      const [a, b] = [run[i], run[i + 1]]
-      shapes.push({
-        type: 'segment',
-        v: [round(a.x - at.x), round(a.y - at.y), round(b.x - at.x), round(b.y - at.y)],
-      })
-    }
-    commands.push({ k: 'spawn', shapes, x: round(at.x), y: round(at.y), static: true })
-  }
+  if (points[points.length - 1].x > points[0].x) points.reverse()
+  // Long edges are cut so that every run fits the extent.
+  const line: Vec2[] = [points[0]]
   for (let i = 1; i < points.length; i++) {
-    const p = points[i]
-    const next = [...run, p]
-    const m = middle(next)
-    const fits = next.every(
-      (q) => Math.abs(q.x - m.x) < MAX_SHAPE_EXTENT - 0.01 && Math.abs(q.y - m.y) < MAX_SHAPE_EXTENT - 0.01,
-    )
-    if (fits && next.length - 1 <= MAX_BODY_SHAPES) {
-      run = next
-      continue
-    }
-    flush()
-    const last = run.at(-1)!
-    // A single segment longer than a body holds is cut in pieces.
-    const pieces = Math.max(1, Math.ceil(Math.hypot(p.x - last.x, p.y - last.y) / (2 * MAX_SHAPE_EXTENT - 1)))
-    run = [last]
-    for (let k = 1; k <= pieces; k++) {
-      const q = { x: last.x + ((p.x - last.x) * k) / pieces, y: last.y + ((p.y - last.y) * k) / pieces }
-      if (k < pieces) {
-        run.push(q)
-        flush()
-        run = [q]
-      } else run.push(q)
-    }
+    const [a, b] = [points[i - 1], points[i]]
+    const pieces = Math.max(1, Math.ceil(Math.hypot(b.x - a.x, b.y - a.y) / (2 * MAX_SHAPE_EXTENT - 2)))
+    for (let k = 1; k <= pieces; k++)
+      line.push({ x: a.x + ((b.x - a.x) * k) / pieces, y: a.y + ((b.y - a.y) * k) / pieces })
   }
-  flush()
+  // A ghost: toward `to` from `from`, GHOST_REACH at most (straight on past an end of the line).
+  const ghost = (from: Vec2, to: Vec2): Vec2 => {
+    const d = Math.hypot(to.x - from.x, to.y - from.y)
+    const f = Math.min(1, GHOST_REACH / d)
+    return { x: from.x + (to.x - from.x) * f, y: from.y + (to.y - from.y) * f }
+  }
+  const commands: SpawnCommand[] = []
+  const fits = (run: readonly Vec2[]): boolean => {
+    const m = middle(run)
+    const room = MAX_SHAPE_EXTENT - GHOST_REACH - 0.01
+    return run.every((q) => Math.abs(q.x - m.x) < room && Math.abs(q.y - m.y) < room)
+  }
+  let first = 0
+  while (first < line.length - 1) {
+    let last = first + 1
+    while (
+      last + 1 < line.length &&
+      last + 1 - first + 3 <= MAX_OUTLINE_POINTS &&
+      fits(line.slice(first, last + 2))
+    )
+      last++
+    const run = line.slice(first, last + 1)
+    const before =
+      first > 0 ? line[first - 1] : { x: 2 * line[0].x - line[1].x, y: 2 * line[0].y - line[1].y }
+    const n = line.length - 1
+    const after =
+      last < n ? line[last + 1] : { x: 2 * line[n].x - line[n - 1].x, y: 2 * line[n].y - line[n - 1].y }
+    const chain = [ghost(run[0], before), ...run, ghost(run[run.length - 1], after)]
+    const at = middle(run)
+    const v: number[] = []
+    for (const p of chain) v.push(round(p.x - at.x), round(p.y - at.y))
+    commands.push({ k: 'spawn', shape: { type: 'chain', v }, x: round(at.x), y: round(at.y), static: true })
+    first = last
+  }
   return { ok: true, commands }
 }
 

@@ -26,7 +26,9 @@ export function shapeRadius(shape: WireShape): number {
   if (shape.type === 'circle') return Math.sqrt((shape.x ?? 0) ** 2 + (shape.y ?? 0) ** 2) + shape.radius
   let r = 0
   for (const v of shapeVertices(shape)) r = Math.max(r, Math.sqrt(v.x * v.x + v.y * v.y))
-  return r + (shape.type === 'box' || shape.type === 'segment' ? 0 : (shape.radius ?? 0))
+  return (
+    r + (shape.type === 'box' || shape.type === 'segment' || shape.type === 'chain' ? 0 : (shape.radius ?? 0))
+  )
 }
 
 /** Largest distance of a body's outline, over all its shapes, from its origin (m). */

@@ -11,6 +11,7 @@ export type {
   LabContact,
   LabData,
   LabJointForce,
+  PersonRow,
   Sandbox,
   SandboxStats,
   SandboxStatus,

@@ -33,6 +33,7 @@ import { CorrectionSmoother } from './predict-smoothing.ts'
 import type {
   LabContact,
   LabData,
+  PersonRow,
   RoomControl,
   Sandbox,
   SandboxStats,
@@ -67,6 +68,8 @@ export class LockstepSandbox implements Sandbox {
   /** The drawn simulation's bodyEdits when the shapes were cached (an edit makes them stale). */
   private shapesEdits = 0
   private players: WirePlayer[] = []
+  /** Scene ids the server answered this page's saveScene commands with, by seq. */
+  private readonly saved = new Map<number, string>()
   private statusValue: SandboxStatus = { state: 'connecting' }
   private readonly notice = { count: 0, latest: null as string | null }
   private lastFrame = Number.NaN
@@ -147,7 +150,14 @@ export class LockstepSandbox implements Sandbox {
     this.downWindow.bytes += bytes
     if (message.t === 'pong') this.rttMs = now - message.time
     if (message.t === 'players') this.players = message.players
-    if (message.t === 'welcome') this.players = message.players
+    if (message.t === 'scene') this.saved.set(message.seq, message.id)
+    if (message.t === 'welcome') {
+      this.players = message.players
+      if (message.notice) {
+        this.notice.count++
+        this.notice.latest = message.notice
+      }
+    }
     if (message.t === 'error' && message.code === 'refused') {
       this.notice.count++
       this.notice.latest = message.reason
@@ -283,6 +293,17 @@ export class LockstepSandbox implements Sandbox {
     return this.seq
   }
 
+  /** Send a room command (openScene, saveScene, rename: PROTOCOL.md "Room commands"); its seq, or null before the join. */
+  roomCommand(kind: string, args: { [key: string]: PlainData }): number | null {
+    if (!this.connection.isJoined) return null
+    return this.sendGame(kind, args)
+  }
+
+  /** The scene ids the server answered this page's saveScene commands with, by seq. */
+  savedScenes(): ReadonlyMap<number, string> {
+    return this.saved
+  }
+
   /** The game state of the simulation drawn (null before the sync or for a game without state). */
   gameState(): unknown {
     return this.drawn()?.gameState ?? null
@@ -290,6 +311,21 @@ export class LockstepSandbox implements Sandbox {
 
   playerId(): number {
     return this.runner.playerId
+  }
+
+  people(): readonly PersonRow[] {
+    const sim = this.drawn()
+    const creator = sim?.creator ?? 0
+    return this.players
+      .map((p) => ({
+        id: p.id,
+        name: p.name,
+        color: p.color,
+        self: p.id === this.runner.playerId,
+        creator: p.id === creator,
+        holds: sim?.players.get(p.id)?.grab?.body ?? 0,
+      }))
+      .sort((a, b) => a.id - b.id)
   }
 
   roomControl(): RoomControl {

@@ -29,6 +29,7 @@ import { Connection, InputOutbox, MAX_SENDS, type Pose, ServerStats, SnapshotTim
 import type {
   LabContact,
   LabData,
+  PersonRow,
   RoomControl,
   Sandbox,
   SandboxStats,
@@ -194,6 +195,7 @@ export class OnlineSandbox implements Sandbox {
         this.outbox.spawns.clear()
         this.resetTimeline(message.state.tick, now, message.rules)
         this.reinspect(now)
+        if (message.notice) this.tell(message.notice)
         break
       case 'state':
         this.ownGrab = 0
@@ -429,6 +431,17 @@ export class OnlineSandbox implements Sandbox {
 
   playerId(): number {
     return this.mirror.clientId
+  }
+
+  people(): readonly PersonRow[] {
+    const m = this.mirror
+    const out: PersonRow[] = []
+    for (const p of m.players.values()) {
+      const self = p.id === m.clientId
+      const holds = self ? this.ownGrab : (m.cursors.get(p.id)?.body ?? 0)
+      out.push({ id: p.id, name: p.name, color: p.color, self, creator: p.id === m.creator, holds })
+    }
+    return out.sort((a, b) => a.id - b.id)
   }
 
   roomControl(): RoomControl {

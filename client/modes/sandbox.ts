@@ -66,6 +66,20 @@ export interface ViewCursor {
   body: number
 }
 
+/** A player in the room's list (the page's player list). */
+export interface PersonRow {
+  id: number
+  name: string
+  /** CSS '#rrggbb'. */
+  color: string
+  /** This page's player. */
+  self: boolean
+  /** The room's creator (who may lock the room controls). */
+  creator: boolean
+  /** The body this player holds, 0 when none. */
+  holds: number
+}
+
 /** Numbers for the HUD; null where a mode has no such number. */
 export interface SandboxStats {
   room: string
@@ -169,6 +183,8 @@ export interface Sandbox {
   playerId(): number
   /** Slow motion (1, 2 or 4), the room's creator and control lock, and this player's id (0 offline). */
   roomControl?(): RoomControl
+  /** Everyone in the room, by id: names, colours, the creator, who holds what. Absent offline. */
+  people?(): readonly PersonRow[]
   /** This player's colour. */
   color(): string
   status(): SandboxStatus

@@ -58,6 +58,10 @@ export interface SceneShape {
   density?: number
   friction?: number
   restitution?: number
+  /** Rolling resistance (0-100, default 0). */
+  rollingResistance?: number
+  /** Surface speed (m/s, -1000-1000, default 0). */
+  tangentSpeed?: number
   filter?: Filter
   sensor?: boolean
 }
@@ -205,6 +209,9 @@ function saveShape(def: ShapeDef): SceneShape {
   out.density = def.density ?? 1
   out.friction = def.friction ?? 0.6
   out.restitution = def.restitution ?? 0
+  // Written only when set, so a world without them saves the same file as before they existed.
+  if (def.rollingResistance) out.rollingResistance = def.rollingResistance
+  if (def.tangentSpeed) out.tangentSpeed = def.tangentSpeed
   const f = def.filter
   if (f && (f.categoryBits !== 1 || f.maskBits !== 0xffffffff || f.groupIndex !== 0))
     out.filter = { categoryBits: f.categoryBits, maskBits: f.maskBits, groupIndex: f.groupIndex }
@@ -460,6 +467,8 @@ function shapeDef(s: SceneShape): ShapeDef {
     if (s.density !== undefined) def.density = s.density
     if (s.friction !== undefined) def.friction = s.friction
     if (s.restitution !== undefined) def.restitution = s.restitution
+    if (s.rollingResistance !== undefined) def.rollingResistance = s.rollingResistance
+    if (s.tangentSpeed !== undefined) def.tangentSpeed = s.tangentSpeed
     if (s.filter !== undefined) def.filter = s.filter
     return def
   }
@@ -467,6 +476,8 @@ function shapeDef(s: SceneShape): ShapeDef {
   if (s.density !== undefined) def.density = s.density
   if (s.friction !== undefined) def.friction = s.friction
   if (s.restitution !== undefined) def.restitution = s.restitution
+  if (s.rollingResistance !== undefined) def.rollingResistance = s.rollingResistance
+  if (s.tangentSpeed !== undefined) def.tangentSpeed = s.tangentSpeed
   if (s.filter !== undefined) def.filter = s.filter
   if (s.sensor !== undefined) def.sensor = s.sensor
   return def

@@ -55,6 +55,18 @@ const shape = object(
     density: { description: 'kg/m^2, default 1', type: 'number', minimum: 1e-6, maximum: 1e6 },
     friction: { description: 'default 0.6', type: 'number', minimum: 0, maximum: 100 },
     restitution: { description: 'default 0', ...unitRange },
+    rollingResistance: {
+      description: 'rolling resistance coefficient (engine/README.md); default 0',
+      type: 'number',
+      minimum: 0,
+      maximum: 100,
+    },
+    tangentSpeed: {
+      description: 'surface speed along the outline (m/s), a conveyor belt; default 0',
+      type: 'number',
+      minimum: -1000,
+      maximum: 1000,
+    },
     filter: object(
       {
         categoryBits: { type: 'integer', minimum: 0, maximum: 4294967295 },

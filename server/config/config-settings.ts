@@ -41,7 +41,9 @@ export interface ServerConfig {
   replayKeep: number
   sceneDir: string
   maxSavedScenes: number
+  maxSavedSceneBytes: number
   recover: boolean
+  keepRooms: boolean
   requireRecording: boolean
   logLevel: string
   stallSeconds: number
@@ -404,7 +406,17 @@ export const SETTINGS: readonly Setting[] = [
     fallback: 1000,
     min: 0,
     max: 1000000,
-    help: 'saved scene files kept (4 MiB each at most); 0 turns saving off',
+    help: 'saved scene files kept (4 MiB each at most; the ones used longest ago make way for new ones); 0 turns saving off',
+  },
+  {
+    key: 'maxSavedSceneBytes',
+    flag: '--max-saved-scene-bytes',
+    env: 'MAX_SAVED_SCENE_BYTES',
+    kind: 'int',
+    fallback: 268435456,
+    min: 65536,
+    max: 1099511627776,
+    help: 'bytes of saved scene files kept in all (the ones used longest ago make way for new ones)',
   },
   {
     key: 'recover',
@@ -412,7 +424,15 @@ export const SETTINGS: readonly Setting[] = [
     env: 'RECOVER',
     kind: 'bool',
     fallback: true,
-    help: 'at start, reopen rooms whose log has no clean close (after a crash) where the log ends',
+    help: 'at start, reopen rooms whose log has no clean close (after a crash or a planned restart) where the log ends',
+  },
+  {
+    key: 'keepRooms',
+    flag: '--keep-rooms',
+    env: 'KEEP_ROOMS',
+    kind: 'bool',
+    fallback: true,
+    help: 'on SIGTERM or SIGINT, leave each used room in its log for the next start to reopen (with --record and --recover); false: close every log, start afresh',
   },
   {
     key: 'requireRecording',

@@ -141,6 +141,8 @@ export class RoomRecorder implements SimulationObserver {
   private chain: Promise<void> = Promise.resolve()
   /** Records queued since the last hash or keyframe. */
   private dirty = false
+  /** Room tick of the last hash record queued (-1: none yet). */
+  private hashTick = -1
   private timer: NodeJS.Timeout | null = null
   private readonly openLog: OpenLog
 
@@ -268,6 +270,21 @@ export class RoomRecorder implements SimulationObserver {
     this.retryTimer = null
     this.stopObserving()
     if (!this.failed) this.pushSmall({ type: 'close', tick: this.sim.tick, reason, end: Date.now() })
+    await this.closeFile()
+  }
+
+  /**
+   * Stop for a planned restart: write everything up to a checkpoint at the current tick (a hash
+   * record), close the file and stop observing, with no close record. The log is left as a crash
+   * leaves one, so the next start reopens the room from it where it ends (crash recovery).
+   */
+  async leaveOpen(): Promise<void> {
+    if (this.closed) return
+    this.closed = true
+    if (this.retryTimer) clearTimeout(this.retryTimer)
+    this.retryTimer = null
+    this.stopObserving()
+    if (!this.failed && (this.dirty || this.hashTick !== this.sim.tick)) this.pushHash()
     await this.closeFile()
   }
 
@@ -418,6 +435,7 @@ export class RoomRecorder implements SimulationObserver {
   }
 
   private pushHash(): void {
+    this.hashTick = this.sim.tick
     this.pushSmall({
       type: 'hash',
       tick: this.sim.tick,

@@ -34,6 +34,9 @@ import {
   summarize,
 } from './replay-files.ts'
 
+/** What a player joining a room rebuilt from its log is told (welcome.notice, PROTOCOL.md). */
+export const RESTORED_NOTICE = 'This room was restored after a server restart: what was built here is back.'
+
 /** The server's recorders (see the file comment). */
 export class Recordings {
   readonly recorders = new Map<string, RoomRecorder>()
@@ -41,6 +44,8 @@ export class Recordings {
   readonly openNames = new Set<string>()
   private enabled: boolean
   private readonly recovered = new Map<string, RecoveredRoom>()
+  /** The rooms recorded here (hook()): closeAll asks them whether they were ever touched. */
+  private rooms: RoomManager | null = null
   /** Tests inject failing file operations here. */
   openLog: OpenLog | undefined
   /** Why recording is configured but impossible (the replay directory cannot be written), else null. */
@@ -110,6 +115,7 @@ export class Recordings {
 
   /** Record the rooms `rooms` creates (a recorder each) and close their logs when they go. */
   hook(rooms: RoomManager): void {
+    this.rooms = rooms
     rooms.onRoomCreated = (room) => this.attach(room)
     rooms.onRoomClosed = (room) => this.detach(room)
   }
@@ -217,6 +223,7 @@ export class Recordings {
     }
     this.recovered.delete(room.name)
     room.touched = true // a session that was recorded: never closed early, its log never removed
+    room.notice = RESTORED_NOTICE
     const sim = recovered.runner.sim
     room.sim.restoreState(sim.saveState(), sim.world)
     room.nextPlayerId = recovered.maxPlayerId + 1
@@ -259,11 +266,26 @@ export class Recordings {
       )
   }
 
-  /** Close every log cleanly (shutdown). */
-  async closeAll(reason: string): Promise<void> {
-    const all = [...this.recorders.values()]
+  /**
+   * Whether a shutdown here keeps rooms for the next start: --keep-rooms, recording works and
+   * --recover is on, without a room directory (whose rooms any server may claim).
+   */
+  get keepsRooms(): boolean {
+    return this.enabled && this.config.keepRooms && this.config.recover && !this.config.redisUrl
+  }
+
+  /**
+   * Close every log (shutdown). With `keep` (a planned restart), the log of every room where a
+   * command was ever applied (Room.touched) is left open at a checkpoint at its last tick
+   * (RoomRecorder.leaveOpen), so the next start reopens that room where it stopped, as after a
+   * crash; the others are closed cleanly with `reason`.
+   */
+  async closeAll(reason: string, keep = false): Promise<void> {
+    const all = [...this.recorders]
     this.recorders.clear()
-    await Promise.all(all.map((r) => r.close(reason)))
+    await Promise.all(
+      all.map(([name, r]) => (keep && this.rooms?.get(name)?.touched ? r.leaveOpen() : r.close(reason))),
+    )
   }
 
   /** Logs in the directory for GET /replays, newest first. */

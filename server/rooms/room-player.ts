@@ -38,7 +38,8 @@ export class RoomPlayer {
 
   constructor(
     readonly id: number,
-    readonly name: string,
+    /** Display name (the join's, or the latest `rename`). */
+    public name: string,
     readonly color: string,
     readonly token: string,
     readonly room: string,

@@ -46,9 +46,10 @@ export class RoomScenes {
   constructor(
     dir: string,
     maxScenes: number,
+    maxBytes: number,
     private readonly sim: RoomSimulation,
   ) {
-    this.store = new SceneStore(dir, maxScenes)
+    this.store = new SceneStore(dir, maxScenes, maxBytes)
   }
 
   /** Open saved scene `id` in the room (a room control); null, or why not. */

@@ -57,6 +57,7 @@ import type { ServerConfig } from '../config/index.ts'
 import type { ServerMetrics } from '../hosting/index.ts'
 import { LockstepFeed } from './lockstep-feed.ts'
 import type { PlayerConnection } from './player-connection.ts'
+import { RENAME, renameArgs } from './player-names.ts'
 import { RoomPlayer } from './room-player.ts'
 import { assignIdentity, type DepartedPlayer, playerColor } from './room-players.ts'
 import { isRoomCommand, RoomScenes, roomCommandArgs } from './room-scenes.ts'
@@ -92,6 +93,8 @@ export class Room {
    * given a world from outside (a benchmark's blueprint) counts as touched.
    */
   touched = false
+  /** Told to every player who joins (welcome.notice), e.g. that the room was restored after a restart; null: nothing. */
+  notice: string | null = null
   /** Whether a player ever joined (an untouched room is closed early only once it had one). */
   visited = false
   readonly rules: RoomRules
@@ -150,7 +153,12 @@ export class Room {
       listener: this.listener(),
     })
     this.sim.tick = spread.startTick
-    this.sceneFiles = new RoomScenes(config.sceneDir, config.maxSavedScenes, this.sim)
+    this.sceneFiles = new RoomScenes(
+      config.sceneDir,
+      config.maxSavedScenes,
+      config.maxSavedSceneBytes,
+      this.sim,
+    )
     this.feed = new LockstepFeed(this.sim, name, metrics, log)
     this.snapshots = new RoomSnapshots(name, this.sim, this.players, config, metrics, log)
     this.rules = {
@@ -287,6 +295,7 @@ export class Room {
         this.sim.bodyColors,
         { slow: this.sim.slowMotion, creator: this.sim.creator, locked: this.sim.controlsLocked },
       ),
+      ...(this.notice === null ? {} : { notice: this.notice }),
     })
   }
 
@@ -372,6 +381,12 @@ export class Room {
     kind: string,
     args: PlainData,
   ): { code: 'invalid' | 'input-budget'; reason: string } | null {
+    if (kind === RENAME) {
+      const checked = renameArgs(args)
+      if ('error' in checked) return { code: 'invalid', reason: `rename refused: ${checked.error}` }
+      const error = this.queueInput(player, seq, { k: 'cmd', kind, a: checked })
+      return error === null ? null : { code: 'input-budget', reason: error }
+    }
     if (isRoomCommand(kind)) {
       const invalid = roomCommandArgs(kind, args)
       if (invalid !== null) return { code: 'invalid', reason: `${kind} refused: ${invalid}` }
@@ -457,6 +472,7 @@ export class Room {
   }
 
   private apply(player: RoomPlayer, cmd: SimCommand): string | null {
+    if (cmd.k === 'cmd' && cmd.kind === RENAME) return this.rename(player, (cmd.a as { name: string }).name)
     if (cmd.k === 'cmd' && isRoomCommand(cmd.kind)) return this.applyRoomCommand(player, cmd.kind, cmd.a)
     if (cmd.k !== 'inspect') {
       const refused = this.sim.apply(player.id, cmd)
@@ -467,6 +483,15 @@ export class Room {
     if (cmd.body !== 0 && !isMovable(this.world, cmd.body))
       return `body ${cmd.body} does not exist or is static`
     player.inspect = cmd.body
+    return null
+  }
+
+  /** The room command `rename` (player-names.ts): a new name, and every player the new roster. */
+  private rename(player: RoomPlayer, name: string): null {
+    if (player.name === name) return null
+    this.log.info({ room: this.name, player: player.id, from: player.name, name }, 'player renamed')
+    player.name = name
+    this.broadcast({ t: 'players', players: this.roster() })
     return null
   }
 

@@ -2,16 +2,34 @@
  * Saved scene files on the server (docs/scene-format.md): the `--scene-dir` directory holds one
  * file per scene, named by the first 16 hex digits of its SHA-256 (`0123456789abcdef.json`), so a
  * name is safe by construction (only names matching SCENE_ID can be read) and saving the same scene
- * twice keeps one file. At most `--max-saved-scenes` files (0 turns saving off); a file is written
- * to a temporary name and renamed, so a reader never sees half a scene. A scene is checked
- * (parseScene, then built once with buildScene) before it is kept, so every kept file opens.
+ * twice keeps one file. A file is written to a temporary name and renamed, so a reader never sees
+ * half a scene. A scene is checked (parseScene, then built once with buildScene) before it is
+ * kept, so every kept file opens.
+ *
+ * The store is bounded: at most `--max-saved-scenes` files (0 turns saving off) and
+ * `--max-saved-scene-bytes` bytes in all. A save that would pass either first removes the scenes
+ * used longest ago (a scene is used when it is saved, saved again, fetched or opened in a room:
+ * its file's modification time is set then), oldest first, ties by name, until the new one fits;
+ * a scene larger than the byte bound by itself is refused and removes nothing. So a full server
+ * keeps saving, and a share link stays good while its scene is among the most recently used.
+ * Refusing new saves once full (the rule before) left a public server unable to save for good.
  *
  * Rooms (on worker threads) and the HTTP routes (on the main thread) each make their own store
  * over the same directory; reads and writes are synchronous and small (at most SCENE_LIMITS.bytes).
  * save() throws on a directory that cannot be made or written; callers turn that into a refusal.
  */
 import { createHash } from 'node:crypto'
-import { existsSync, mkdirSync, readdirSync, readFileSync, renameSync, writeFileSync } from 'node:fs'
+import {
+  existsSync,
+  mkdirSync,
+  readdirSync,
+  readFileSync,
+  renameSync,
+  statSync,
+  unlinkSync,
+  utimesSync,
+  writeFileSync,
+} from 'node:fs'
 import { join } from 'node:path'
 import { buildScene, parseScene, type SceneFile } from '../../games/index.ts'
 
@@ -30,6 +48,8 @@ export class SceneStore {
   constructor(
     private readonly dir: string,
     private readonly maxScenes: number,
+    /** Bytes of saved scenes kept in all (--max-saved-scene-bytes). */
+    private readonly maxBytes: number,
   ) {}
 
   /**
@@ -46,17 +66,22 @@ export class SceneStore {
     }
     const id = createHash('sha256').update(text).digest('hex').slice(0, 16)
     const path = join(this.dir, `${id}.json`)
-    if (existsSync(path)) return { ok: true, id, text, scene: parsed.scene }
-    mkdirSync(this.dir, { recursive: true })
-    const count = readdirSync(this.dir).filter((f) => FILE.test(f)).length
-    if (count >= this.maxScenes)
+    if (existsSync(path)) {
+      touch(path)
+      return { ok: true, id, text, scene: parsed.scene }
+    }
+    const size = Buffer.byteLength(text)
+    if (size > this.maxBytes)
       return {
         ok: false,
-        error: `this server keeps at most ${this.maxScenes} saved scenes, and has that many`,
+        error: `this server keeps at most ${this.maxBytes} bytes of saved scenes; this one has ${size}`,
       }
+    mkdirSync(this.dir, { recursive: true })
+    this.makeRoom(size)
     const temporary = join(this.dir, `.${id}.${process.pid}.tmp`)
     writeFileSync(temporary, text)
     renameSync(temporary, path)
+    touch(path)
     return { ok: true, id, text, scene: parsed.scene }
   }
 
@@ -72,6 +97,56 @@ export class SceneStore {
     }
     const parsed = parseScene(text)
     if (!parsed.ok) return { ok: false, error: `saved scene ${id} no longer opens: ${parsed.error}` }
+    touch(join(this.dir, `${id}.json`))
     return { ok: true, id, text, scene: parsed.scene }
+  }
+
+  /** Remove the scenes used longest ago until one more of `size` bytes fits both bounds. */
+  private makeRoom(size: number): void {
+    const kept: Array<{ path: string; name: string; bytes: number; used: number }> = []
+    for (const name of readdirSync(this.dir)) {
+      if (!FILE.test(name)) continue
+      const path = join(this.dir, name)
+      try {
+        const info = statSync(path)
+        kept.push({ path, name, bytes: info.size, used: info.mtimeMs })
+      } catch {
+        // Removed meanwhile (another thread's store made room too).
+      }
+    }
+    kept.sort((a, b) => a.used - b.used || (a.name < b.name ? -1 : 1))
+    let count = kept.length
+    let bytes = 0
+    for (const k of kept) bytes += k.bytes
+    for (const k of kept) {
+      if (count + 1 <= this.maxScenes && bytes + size <= this.maxBytes) break
+      try {
+        unlinkSync(k.path)
+      } catch (error) {
+        if ((error as NodeJS.ErrnoException).code !== 'ENOENT') throw error
+      }
+      count--
+      bytes -= k.bytes
+    }
+  }
+}
+
+/** The last use stamped by this thread (ms since 1970, fractional): stamps only go forward. */
+let lastUse = 0
+
+/**
+ * Mark a kept scene as used now (its modification time); a read-only directory just keeps the old
+ * time. The stamp comes from this clock, to the microsecond and strictly increasing, not from the
+ * file system's (which may count in ticks of a few ms, so a fetch right after a save could look
+ * older than it).
+ */
+function touch(path: string): void {
+  let now = performance.timeOrigin + performance.now()
+  if (now <= lastUse) now = lastUse + 0.001
+  lastUse = now
+  try {
+    utimesSync(path, now / 1000, now / 1000)
+  } catch {
+    // Not ours to change (a read-only mount): the scene is still served.
   }
 }

@@ -188,7 +188,7 @@ function handle(op: ToWorker): void {
         )
       return
     case 'shutdown':
-      void shutdown(op.reason)
+      void shutdown(op.reason, op.keep)
       return
   }
 }
@@ -224,9 +224,9 @@ function fault(f: WorkerFault): void {
   busy.set(f.room, f.ms)
 }
 
-async function shutdown(reason: string): Promise<void> {
+async function shutdown(reason: string, keep: boolean): Promise<void> {
   rooms.clock.stop()
-  await recordings.closeAll(reason)
+  await recordings.closeAll(reason, keep)
   flush(lastTicks, true)
   port?.postMessage({ t: 'closed' } satisfies FromWorker)
 }

@@ -212,8 +212,8 @@ export class WorkerPool implements RoomHost {
     return AggregatorRegistry.aggregate(parts).metrics()
   }
 
-  /** Stop every worker after it has closed its logs (or after a few seconds). */
-  async stop(reason: string): Promise<void> {
+  /** Stop every worker after it has closed its logs (or after a few seconds); `keep`: see Recordings.closeAll. */
+  async stop(reason: string, keep = false): Promise<void> {
     this.closing = true
     const links = [...this.links]
     await Promise.all(
@@ -227,7 +227,7 @@ export class WorkerPool implements RoomHost {
             }
             link.worker.on('message', (m: FromWorker) => m.t === 'closed' && done())
             link.worker.once('exit', done)
-            link.post({ op: 'shutdown', reason })
+            link.post({ op: 'shutdown', reason, keep })
           }),
       ),
     )

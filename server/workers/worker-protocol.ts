@@ -62,7 +62,7 @@ export type ToWorker =
   | { op: 'fault'; fault: WorkerFault }
   /** Benchmarks: time each loop tick's CPU on the worker's own thread too (Linux). */
   | { op: 'measure-cpu' }
-  | { op: 'shutdown'; reason: string }
+  | { op: 'shutdown'; reason: string; keep: boolean }
 
 /** Worker to main thread, in order; `at`/`len` locate a send's bytes in the batch buffer. */
 export type FromWorkerOp =

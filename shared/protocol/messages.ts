@@ -31,7 +31,9 @@ export interface WireShapeSettings {
  * origin), a box (half extents; in a `spawn` also an optional centre x, y and angle, rad; bodies
  * list an offset or turned box as a polygon), a polygon (vertices flat [x0, y0, ...], 3-8 of them,
  * counter-clockwise convex; `radius` > 0 rounds it), a capsule (centres [x1, y1, x2, y2] and
- * radius) or a segment (ends [x1, y1, x2, y2]); each with its non-default settings.
+ * radius) or a segment (ends [x1, y1, x2, y2]); in a static `spawn` also a one-sided chain (its
+ * points, the first and last ghosts; bodies list its segments as `segment`s); each with its
+ * non-default settings.
  */
 export type WireShape = WireShapeSettings &
   (
@@ -40,6 +42,8 @@ export type WireShape = WireShapeSettings &
     | { type: 'polygon'; v: number[]; radius?: number }
     | { type: 'capsule'; v: number[]; radius: number }
     | { type: 'segment'; v: number[] }
+    /** Spawns only: a one-sided open chain (engine chain()), its points flat; the first and last are ghosts. */
+    | { type: 'chain'; v: number[] }
   )
 
 /** Body type codes: 0 static, 1 kinematic, 2 dynamic. */
@@ -409,6 +413,8 @@ export interface WelcomeMessage {
   rules: RoomRules
   players: WirePlayer[]
   state: FullState
+  /** Something to tell the player in plain words (e.g. the room was restored after a server restart). */
+  notice?: string
 }
 /** A new world epoch (scene load or reset): forget every body and baseline. */
 export interface StateMessage {

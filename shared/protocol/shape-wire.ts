@@ -10,7 +10,9 @@
  */
 import {
   box,
+  type ChainShape,
   capsule,
+  chain,
   circle,
   convexPolygon,
   decomposeOutline,
@@ -79,8 +81,8 @@ export function wireShapesOf(world: World, bodyId: number): WireShape[] {
   return world.bodyShapes(bodyId).map((id) => wireShapeOf(world, id))
 }
 
-/** A wire shape's geometry as an engine shape; throws RangeError naming the problem if it is invalid. */
-export function fromWireShape(shape: WireShape): Shape {
+/** A wire shape's geometry as an engine shape (a chain: all its segments); throws RangeError naming the problem if it is invalid. */
+export function fromWireShape(shape: WireShape): Shape | ChainShape {
   switch (shape.type) {
     case 'circle':
       return shape.x === undefined && shape.y === undefined
@@ -100,6 +102,8 @@ export function fromWireShape(shape: WireShape): Shape {
       const [a, b] = points(shape.v)
       return segment(a, b)
     }
+    case 'chain':
+      return chain(points(shape.v))
   }
 }
 
@@ -156,7 +160,10 @@ export function wireShapeVertices(shape: WireShape): Array<{ x: number; y: numbe
         { x: -hw, y: hh },
       ]
       if (shape.x === undefined && shape.y === undefined && shape.angle === undefined) return corners
-      return fromWireShape(shape).vertices.map((p) => ({ x: p.x, y: p.y }))
+      return box(hw, hh, { x: shape.x ?? 0, y: shape.y ?? 0 }, shape.angle ?? 0).vertices.map((p) => ({
+        x: p.x,
+        y: p.y,
+      }))
     }
     default:
       return points(shape.v)

@@ -184,8 +184,11 @@ function validateShape(value: unknown, what: string): WireShape {
   } else if (type === 'segment') {
     const f = own(['v'], ['v'])
     shape = { type, v: pointList(f.v, `${name} v`, 2, 2) }
+  } else if (type === 'chain') {
+    const f = own(['v'], ['v'])
+    shape = { type, v: pointList(f.v, `${name} v`, 4, MAX_OUTLINE_POINTS) }
   } else {
-    throw new SchemaError(`${what} type must be "circle", "box", "polygon", "capsule" or "segment"`)
+    throw new SchemaError(`${what} type must be "circle", "box", "polygon", "capsule", "segment" or "chain"`)
   }
   const f = value as Fields
   for (const key of ['density', 'friction', 'restitution'] as const) {

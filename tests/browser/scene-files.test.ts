@@ -120,4 +120,39 @@ describe('keep and share', { timeout: 300_000 }, () => {
       dropped.context.close(),
     ])
   })
+
+  it('saves from a lockstep page and opens a file in a predict page (the same buttons as snapshot pages)', async () => {
+    const { context, page, errors } = await openSandbox(browser, `${base}/?room=keep-ls&mode=lockstep`)
+    expect(await page.isVisible('#save-scene')).toBe(true)
+    expect(await page.isVisible('#open-scene')).toBe(true)
+    await page.evaluate(() => window.concord.sandbox.send({ k: 'scene', name: 'joints' }))
+    await page.waitForFunction(() => window.concord.sandbox.scene() === 'joints')
+    await page.evaluate(() => window.concord.sandbox.send({ k: 'pause', paused: true }))
+    await page.waitForFunction(() => window.concord.sandbox.paused())
+    const [download] = await Promise.all([page.waitForEvent('download'), page.click('#save-scene')])
+    expect(download.suggestedFilename()).toBe('keep-ls.json')
+    const text = await (await import('node:fs/promises')).readFile(await download.path(), 'utf8')
+    const parsed = parseScene(text)
+    if (!parsed.ok) throw new Error(parsed.error)
+    const saved = await layout(page)
+    expect(parsed.scene.bodies.length).toBe(saved.length)
+    await page.waitForFunction(() => window.concord.sceneFiles.lastShareLink !== '')
+    const id = (await page.evaluate(() => window.concord.sceneFiles.lastShareLink)).slice(-16)
+
+    // Open: the file picker of a predict page, in a room of its own; the page gets the scene as a sync.
+    const predict = await openSandbox(browser, `${base}/?room=picked-ls&mode=predict`)
+    await predict.page.setInputFiles('#scene-file', {
+      name: 'keep-ls.json',
+      mimeType: 'application/json',
+      buffer: Buffer.from(text),
+    })
+    await predict.page.waitForFunction((want) => window.concord.sandbox.scene() === want, `file:${id}`)
+    await predict.page.evaluate(() => window.concord.sandbox.send({ k: 'pause', paused: true }))
+    await predict.page.waitForFunction(() => window.concord.sandbox.paused())
+    const opened = await layout(predict.page)
+    expect(opened.length).toBe(saved.length)
+    expect(opened.filter((b) => b.startsWith('0 '))).toEqual(saved.filter((b) => b.startsWith('0 ')))
+    for (const p of [errors, predict.errors]) expect(p).toEqual([])
+    await Promise.all([context.close(), predict.context.close()])
+  })
 })

@@ -27,6 +27,9 @@ export async function startTestServer(
       host: '127.0.0.1',
       defaultScene: 'empty',
       record: false,
+      // close() ends a test, not a planned restart: every log is closed (planned-restart.test.ts
+      // runs the real process with the default, --keep-rooms true).
+      keepRooms: false,
       heartbeatMs: 1000,
       joinTimeoutMs: 2000,
       roomIdleSeconds: 1,

@@ -165,6 +165,56 @@ describe('scene file round trip', () => {
   })
 })
 
+describe('surface materials in scene files', () => {
+  /**
+   * A conveyor (a static box whose top moves at +2 m/s) carrying a box at rest, and a disc rolling
+   * at 3 m/s on ground with rolling resistance 0.06, friction 1 everywhere, g = 10.
+   */
+  function surfaces(): World {
+    const world = createWorld({ gravity: { x: 0, y: -10 } })
+    world.createBody({
+      type: 'static',
+      position: { x: 0, y: -0.5 },
+      shapes: [{ shape: box(40, 0.5), friction: 1, tangentSpeed: 2 }],
+    })
+    world.createBody({ position: { x: 0, y: 0.25 }, shapes: [{ shape: box(0.25, 0.25), friction: 1 }] })
+    world.createBody({
+      type: 'static',
+      position: { x: 0, y: -20.5 },
+      shapes: [{ shape: box(40, 0.5), friction: 1, rollingResistance: 0.06 }],
+    })
+    world.createBody({
+      position: { x: -30, y: -19.5 },
+      linearVelocity: { x: 3, y: 0 },
+      angularVelocity: -6,
+      shapes: [{ shape: circle(0.5), friction: 1 }],
+    })
+    return world
+  }
+
+  it('keeps rollingResistance and tangentSpeed: the same file back, the belt carries, the disc slows at (2/3) c g', () => {
+    const world = surfaces()
+    const text = sceneText(saveScene(world))
+    const parsed = parseScene(text)
+    if (!parsed.ok) throw new Error(parsed.error)
+    expect(parsed.scene.bodies[0].shapes[0]).toMatchObject({ tangentSpeed: 2 })
+    expect(parsed.scene.bodies[2].shapes[0]).toMatchObject({ rollingResistance: 0.06 })
+    // Left out at their defaults: a world without them saves what it saved before they existed.
+    expect(parsed.scene.bodies[1].shapes[0]).not.toHaveProperty('tangentSpeed')
+    expect(parsed.scene.bodies[1].shapes[0]).not.toHaveProperty('rollingResistance')
+    const opened = open(text)
+    expect(sceneText(saveScene(opened))).toBe(text)
+    const [belt, load, ground, disc] = opened.bodyIds()
+    expect(opened.getShapeDef(opened.bodyShapes(belt)[0])).toMatchObject({ tangentSpeed: 2 })
+    expect(opened.getShapeDef(opened.bodyShapes(ground)[0])).toMatchObject({ rollingResistance: 0.06 })
+    for (let i = 0; i < 60; i++) opened.step()
+    // Friction (mu g = 10 m/s^2) brings the box to the belt's 2 m/s within 0.2 s; then it rides.
+    expect(opened.getLinearVelocity(load).x).toBeCloseTo(2, 2)
+    // Rolling without slipping, the disc loses (2/3) c g = 0.4 m/s per second: 3 -> 2.6 after 1 s.
+    expect(opened.getLinearVelocity(disc).x).toBeCloseTo(2.6, 1)
+  })
+})
+
 /** A hand-written scene: one ground box, one disc, one box hinged to the world, gravity (0, -9.81). */
 const HAND_SCENE = `{
   "format": "concord-scene", "version": 1, "name": "hand",

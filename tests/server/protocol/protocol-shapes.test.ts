@@ -230,7 +230,7 @@ describe('PROTOCOL.md Shape, Body and spawn', { timeout: 30_000 }, () => {
       [
         { shape: { type: 'blob' } },
         'invalid',
-        'shape type must be "circle", "box", "polygon", "capsule" or "segment"',
+        'shape type must be "circle", "box", "polygon", "capsule", "segment" or "chain"',
       ],
       [
         { shape: { type: 'box', hw: 1, hh: 1 }, color: 0x1000000 },
@@ -259,6 +259,16 @@ describe('PROTOCOL.md Shape, Body and spawn', { timeout: 30_000 }, () => {
         { shape: { type: 'capsule', v: [0, 0, 0.0005, 0], radius: 0.1 } },
         'refused',
         /^spawn refused: capsule points .* are closer than/,
+      ],
+      [
+        { shape: { type: 'chain', v: [1, 0, 0, 0, -1, 0] }, static: true },
+        'invalid',
+        'chain v must be a flat list of 4 to 64 points [x0, y0, x1, y1, ...]',
+      ],
+      [
+        { shape: { type: 'chain', v: [2, 0, 1, 0, -1, 0, -2, 0] } },
+        'refused',
+        /^spawn refused: chain shapes are for static bodies only/,
       ],
     ]
     cases.forEach(([extra, ,], i) => {

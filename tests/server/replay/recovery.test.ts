@@ -5,7 +5,8 @@
  * checkpoint (the oracle is read from the file by this test: the last hash record, or the world of
  * a later keyframe). Each restarted process is also the next trial's victim, so 6 process lifetimes
  * give 5 kills x 4 rooms = 20 trials; fsync modes rotate, and some trials get a torn or zero-filled
- * tail appended (a kill mid-write). At the end a SIGTERM must close every log cleanly, each room's
+ * tail appended (a kill mid-write). At the end a SIGTERM (with --keep-rooms false: a planned
+ * restart that keeps rooms is planned-restart.test.ts) must close every log cleanly, each room's
  * one log (all incarnations appended to it) replays with every hash and keyframe matching, and a
  * restart does not resume anything.
  */
@@ -41,7 +42,7 @@ async function start(dir: string, fsync: string): Promise<ServerProcess> {
   const server = await startServerProcess([
     ...['--record', 'true', '--recover', 'true', '--replay-dir', dir, '--replay-fsync', fsync],
     ...['--keyframe-ticks', '90', '--default-room', 'r0', '--default-scene', 'tower'],
-    ...['--room-idle-seconds', '600', '--max-messages-per-second', '1000'],
+    ...['--room-idle-seconds', '600', '--max-messages-per-second', '1000', '--keep-rooms', 'false'],
   ])
   children.push(server)
   return server

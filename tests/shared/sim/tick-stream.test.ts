@@ -124,7 +124,7 @@ describe('tick stream entries', () => {
       [[[0, 1, 3, 1.5, 0, 0]], /body/],
       [
         [[0, 1, 2, { type: 'blob' }, 0, 0, null, null, null, null]],
-        /"circle", "box", "polygon", "capsule" or "segment"/,
+        /"circle", "box", "polygon", "capsule", "segment" or "chain"/,
       ],
       [[[0, 1, 11, 'yes']], /true or false/],
     ]
