@@ -163,6 +163,11 @@ const BUTTONS: Partial<Record<ShortcutAction, string>> = {
   redo: 'Redo',
 }
 
+/** Shorter help on a phone, where a row must fit one or two lines. */
+const TOUCH_HELP: Partial<Record<ShortcutAction, string>> = {
+  'tool:edit': 'tap a body to change it, drag it to move it; drag empty space to select several',
+}
+
 /**
  * The help overlay's HTML rows. With `touch` (a phone or tablet, no keyboard) only what has a
  * button, named as the button is, without keys: short enough to fit a phone's screen unscrolled.
@@ -191,15 +196,27 @@ export function helpRows(touch = false): string {
       }
       const button = tool ? s.help.slice(0, s.help.indexOf(':')) : BUTTONS[s.action]
       if (!button) continue
-      // Undo and redo share one row on a phone.
-      if (s.action === 'undo') continue
-      if (s.action === 'redo') {
+      // The three spawn tools share one row on a phone too.
+      if (s.action === 'tool:box' || s.action === 'tool:polygon') continue
+      if (s.action === 'tool:circle') {
         rows.push(
-          '<tr><td><b>Undo</b>, <b>Redo</b></td><td>your own last action (each player their own)</td></tr>',
+          '<tr><td><b>Circle</b>, <b>Box</b>, <b>Polygon</b></td><td>tap to drop one, drag to throw it</td></tr>',
         )
         continue
       }
-      const text = tool ? s.help.slice(s.help.indexOf(':') + 1).trim() : s.help
+      // Undo and redo share one row on a phone.
+      if (s.action === 'undo') continue
+      if (s.action === 'redo') {
+        rows.push('<tr><td><b>Undo</b>, <b>Redo</b></td><td>your own last action</td></tr>')
+        continue
+      }
+      // Pause and Step share one row on a phone.
+      if (s.action === 'pause') continue
+      if (s.action === 'step') {
+        rows.push('<tr><td><b>Pause</b>, <b>Step</b></td><td>pause / resume; one step while paused</td></tr>')
+        continue
+      }
+      const text = TOUCH_HELP[s.action] ?? (tool ? s.help.slice(s.help.indexOf(':') + 1).trim() : s.help)
       rows.push(`<tr><td><b>${button}</b></td><td>${text.replace(/^click/, 'tap')}</td></tr>`)
     }
     return rows.join('')

@@ -44,8 +44,12 @@ import { crc32 } from './crc32.ts'
 
 /** The 8 magic bytes opening every log: ASCII "CNCRDLOG". */
 export const REPLAY_MAGIC = new Uint8Array([0x43, 0x4e, 0x43, 0x52, 0x44, 0x4c, 0x4f, 0x47])
-/** Version of this format. */
-export const REPLAY_FORMAT_VERSION = 2
+/**
+ * Version of this format. Version 3 has version 2's bytes; what changed is what a replay must
+ * reproduce: keyframes carry the players' undo histories, and the room's hash covers them, so a
+ * version 2 log (recorded before undo) is read but not replayed (replay-runner.ts incompatibility).
+ */
+export const REPLAY_FORMAT_VERSION = 3
 /** Oldest format version this build still reads (version 1 has no blocks and no delta keyframes). */
 export const OLDEST_READABLE_VERSION = 1
 /** Preamble size in bytes. */

@@ -19,7 +19,7 @@ import {
   type SimulationState,
 } from '../sim/index.ts'
 import { decodeByteDelta } from './byte-delta.ts'
-import type { Preamble, ReplayRecord, StoredWorld } from './replay-log.ts'
+import { type Preamble, REPLAY_FORMAT_VERSION, type ReplayRecord, type StoredWorld } from './replay-log.ts'
 
 /** Inflate a zlib stream (RFC 1950). */
 export type Inflate = (bytes: Uint8Array) => Uint8Array | Promise<Uint8Array>
@@ -52,6 +52,8 @@ export interface Divergence {
 
 /** Why a log cannot be replayed by this build (wrong versions); null when it can. */
 export function incompatibility(preamble: Preamble): string | null {
+  if (preamble.format < REPLAY_FORMAT_VERSION)
+    return `log written with replay format version ${preamble.format}; this build replays version ${REPLAY_FORMAT_VERSION} (room hashes cover the players' undo histories since version 3)`
   if (preamble.engine !== SAVE_FORMAT_VERSION)
     return `log written with engine save-format version ${preamble.engine}; this build reads version ${SAVE_FORMAT_VERSION}`
   if (preamble.protocol !== PROTOCOL_VERSION)

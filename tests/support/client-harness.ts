@@ -61,6 +61,9 @@ export function serveClient(dist: string, settings: Partial<ServerConfig> = {}):
       logLevel: 'silent',
       heartbeatMs: 60_000,
       record: false,
+      // A closed server closes its rooms' logs (as tests/support/test-server.ts): a test that
+      // wants a planned restart's open logs asks for keepRooms.
+      keepRooms: false,
       defaultScene: 'pyramid',
       ...settings,
     },

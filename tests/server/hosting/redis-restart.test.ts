@@ -161,18 +161,16 @@ describe('a Redis that loses its data', { timeout: 120_000 }, () => {
 
 describe('a server restarted within its claims lifetime', { timeout: 120_000 }, () => {
   it('takes its previous run claims over instead of sending clients to itself', async () => {
-    // A server whose claims live long enough to still be there when it is back.
+    // A's claims must live long enough to still be there when it is back: restart it first (on
+    // its port, so it takes its own claims over) with the long lifetime.
+    const port = Number(new URL(a.url).port)
     a.process.kill('SIGKILL')
     await a.exited
-    a = await start(undefined, LONG_TTL_SECONDS)
-    await until(
-      async () => (await probe.get('concord:room:lobby')) === idOf(a),
-      'the new server holding the lobby',
-    )
+    a = await start(port, LONG_TTL_SECONDS)
+    await until(async () => (await probe.get('concord:room:lobby')) === idOf(a), 'A holding the lobby again')
     const p = await DocClient.joined(a.url, 'phoenix', 'p')
     const old = idOf(a)
     expect(await probe.get('concord:room:phoenix')).toBe(old)
-    const port = Number(new URL(a.url).port)
     a.process.kill('SIGKILL')
     await a.exited
     await p.closed()

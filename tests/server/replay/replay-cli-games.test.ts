@@ -36,6 +36,8 @@ beforeAll(async () => {
   server = await startServerProcess([
     ...['--games', 'examples/games', '--workers', '1'],
     ...['--record', 'true', '--replay-dir', dir, '--keyframe-ticks', '120'],
+    // A closed log: a planned restart would otherwise leave it open for the next start.
+    ...['--keep-rooms', 'false'],
   ])
   const bot = await BotClient.connect({ url: server.url, room: 'court', name: 'shooter', game: 'hoops' })
   // Shots at several angles and speeds (one every half second at most: hoops' rule), each waited

@@ -198,7 +198,7 @@ function docFields(type: number, payload: Uint8Array): Record<string, unknown> {
 function docRead(bytes: Uint8Array): DocRead {
   const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength)
   const magic = new TextDecoder().decode(bytes.subarray(0, 8))
-  if (magic !== 'CNCRDLOG' || view.getUint16(8, true) !== 2) throw new Error('not a version 2 log')
+  if (magic !== 'CNCRDLOG' || view.getUint16(8, true) !== 3) throw new Error('not a version 3 log')
   const preamble = [8, 10, 12, 14].map((o) => view.getUint16(o, true))
   const records: DocRecord[] = []
   let at = 16
