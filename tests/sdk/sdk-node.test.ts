@@ -7,7 +7,7 @@
  * clear errors for a bad address, a bad room and a bad option.
  */
 import { execFileSync } from 'node:child_process'
-import { mkdtemp, readFile, rm } from 'node:fs/promises'
+import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { pathToFileURL } from 'node:url'
@@ -56,6 +56,45 @@ describe('the built SDK', () => {
     expect(decl).not.toMatch(/from '\.[^']*\.ts'/)
     expect(typeof sdk.connect).toBe('function')
   })
+
+  it('its declarations type-check a consumer (strict, Node16 module resolution)', async () => {
+    const consumer = join(outdir, 'consumer.ts')
+    await writeFile(
+      consumer,
+      [
+        "import { connect, type Session, type SessionBody } from './index.js'",
+        "import { createRenderer } from './render.js'",
+        "const session: Session = await connect({ url: 'ws://h', room: 'r', name: 'n', mode: 'predict' })",
+        "const seq: number = session.send({ k: 'spawn', shape: { type: 'circle', radius: 1 }, x: 0, y: 1 })",
+        "session.command('kick', { power: seq })",
+        "const off: () => void = session.on('event', (e) => console.log(e.tick, e.event))",
+        'off()',
+        'const bodies: SessionBody[] = session.bodies()',
+        "createRenderer(document.createElement('canvas'), session).stop()",
+        'export { bodies }',
+        '',
+      ].join('\n'),
+    )
+    const tsc = join(process.cwd(), 'node_modules/typescript/bin/tsc')
+    const args = ['--noEmit', '--strict', '--module', 'node16', '--target', 'es2022', '--lib', 'es2022,dom']
+    const check = (): string => {
+      try {
+        execFileSync(process.execPath, [tsc, ...args, 'consumer.ts'], { cwd: outdir, stdio: 'pipe' })
+        return ''
+      } catch (error) {
+        return String((error as { stdout?: Buffer }).stdout ?? error)
+      }
+    }
+    expect(check()).toBe('')
+    // A wrong call is a type error: the declarations carry the types, not `any`.
+    await writeFile(
+      consumer,
+      "import { connect } from './index.js'\nconnect({ url: 1, room: 'r', name: 'n' })\n",
+    )
+    expect(check()).toMatch(
+      /consumer\.ts\(2,\d+\): error TS2322: Type 'number' is not assignable to type 'string'/,
+    )
+  }, 120_000)
 
   it('joins in snapshot mode; a spawned box reaches a second session; unsubscribing stops the calls', async () => {
     const a = await enter('sdk-snap', 'alice')
@@ -149,6 +188,13 @@ describe('the built SDK', () => {
     await expect(
       sdk.connect({ url: server.url, room: 'sdk-x', name: 'n', WebSocket, mode: 'fast' as never }),
     ).rejects.toThrow("connect: mode must be 'snapshot', 'lockstep' or 'predict', not 'fast'")
+    const watcher = await enter('sdk-on', 'watcher', { spectate: true })
+    const refusals: Array<{ code: string; reason: string; seq?: number }> = []
+    watcher.on('error', (e) => refusals.push(e))
+    const seq = watcher.send(box(0, 4))
+    await until(() => refusals.length > 0, 'the spectator’s refusal')
+    expect(refusals[0]).toEqual({ code: 'refused', reason: 'spectators send no commands', seq })
+    expect(watcher.players().some((p) => p.id === watcher.id)).toBe(false)
     const s = await enter('sdk-on', 'n')
     expect(() => s.on('nope' as never, () => {})).toThrow('on: unknown event "nope"')
     expect(() => s.command('', {})).toThrow('command: kind must be a non-empty string')
