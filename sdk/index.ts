@@ -73,6 +73,11 @@ export interface ConnectOptions {
   WebSocket?: SocketConstructor
   /** Milliseconds to wait for the welcome before failing (default 10,000). */
   timeoutMs?: number
+  /**
+   * Listeners registered before the join, so they also hear what arrives with the welcome (a game
+   * event in the same read): `{ event: fn, state: fn, ... }`, as `session.on(type, fn)`.
+   */
+  on?: { [K in keyof SessionEvents]?: (value: SessionEvents[K]) => void }
 }
 
 /** A body as the session knows it: pose in metres and radians, y up. */
@@ -124,6 +129,9 @@ export interface SessionEvents {
   /** The socket closed (code and reason). */
   close: { code: number; reason: string }
 }
+
+/** The events `on` takes. */
+const EVENT_TYPES: readonly string[] = ['state', 'event', 'game', 'error', 'close']
 
 /** The client's own close code when it cannot follow the server (a protocol bug, a bad sync). */
 const CLIENT_FAILURE = 4000
@@ -238,8 +246,8 @@ export class Session {
 
   /** Listen to an event; returns the function that stops listening. */
   on<K extends keyof SessionEvents>(type: K, fn: Listener<K>): () => void {
-    if (!['state', 'event', 'game', 'error', 'close'].includes(type))
-      throw new Error(`on: unknown event "${String(type)}" (state, event, game, error or close)`)
+    if (!EVENT_TYPES.includes(type))
+      throw new Error(`on: unknown event "${String(type)}" (${EVENT_TYPES.join(', ')})`)
     let set = this.listeners.get(type)
     if (!set) {
       set = new Set()
@@ -464,6 +472,11 @@ export function connect(options: ConnectOptions): Promise<Session> {
     return Promise.reject(
       new Error('connect: no WebSocket here; pass one, e.g. { WebSocket } from the ws package'),
     )
+  for (const type of Object.keys(options.on ?? {}))
+    if (!EVENT_TYPES.includes(type))
+      return Promise.reject(
+        new Error(`connect: options.on: unknown event "${type}" (${EVENT_TYPES.join(', ')})`),
+      )
   let url: string
   try {
     url = roomUrl(options.url, options.room, options.key)
@@ -480,6 +493,8 @@ export function connect(options: ConnectOptions): Promise<Session> {
     }
     socket.binaryType = 'arraybuffer'
     const session = new Session(socket, { ...options, mode })
+    for (const [type, fn] of Object.entries(options.on ?? {}))
+      if (fn) session.on(type as keyof SessionEvents, fn as (value: unknown) => void)
     let settled = false
     let refusal: SessionError | null = null
     const settle = (error: Error | null): void => {

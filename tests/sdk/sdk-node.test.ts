@@ -148,15 +148,15 @@ describe('the built SDK', () => {
     const lockEvents: unknown[] = []
     lock.on('event', (e) => lockEvents.push(e.event))
     await until(() => lock.simulation() !== null, 'lockstep sync')
-    const snap = await enter('sdk-goal', 'red', { game: 'goal' })
     const events: unknown[] = []
-    snap.on('event', (e) => events.push(e.event))
+    const snap = await enter('sdk-goal', 'red', { game: 'goal', on: { event: (e) => events.push(e.event) } })
     expect(snap.rules?.game).toBe('goal')
     expect(snap.rules?.commands).toContain('kick')
     const isKickoff = (e: unknown) => typeof (e as { kickoff?: number } | null)?.kickoff === 'number'
-    // The kickoff may come in the same read as the welcome, before `on` ran: gameState() keeps it.
-    await until(() => events.some(isKickoff) || isKickoff(snap.gameState()), 'kickoff (snapshot)')
-    const kickoff = events.find(isKickoff) ?? snap.gameState()
+    // The kickoff may come in the same read as the welcome: connect's `on` option hears it.
+    await until(() => events.some(isKickoff), 'kickoff (snapshot)')
+    const kickoff = events.find(isKickoff)
+    expect(snap.gameState()).toEqual(events.at(-1))
     await until(() => lockEvents.some(isKickoff), 'kickoff (lockstep)')
     expect(lockEvents.find(isKickoff)).toEqual(kickoff)
     const errors: Array<{ code: string; reason: string; seq?: number }> = []
@@ -195,6 +195,9 @@ describe('the built SDK', () => {
     await until(() => refusals.length > 0, 'the spectator’s refusal')
     expect(refusals[0]).toEqual({ code: 'refused', reason: 'spectators send no commands', seq })
     expect(watcher.players().some((p) => p.id === watcher.id)).toBe(false)
+    await expect(
+      sdk.connect({ url: server.url, room: 'sdk-on', name: 'n', WebSocket, on: { nope: () => {} } as never }),
+    ).rejects.toThrow('connect: options.on: unknown event "nope"')
     const s = await enter('sdk-on', 'n')
     expect(() => s.on('nope' as never, () => {})).toThrow('on: unknown event "nope"')
     expect(() => s.command('', {})).toThrow('command: kind must be a non-empty string')
