@@ -29,7 +29,7 @@ import {
 } from '../protocol/index.ts'
 import type { GameCatalog, PlainData } from './game.ts'
 import { PlayoutClock, type PlayoutOptions } from './lockstep-playout.ts'
-import type { RoomSimulation } from './room-simulation.ts'
+import type { RoomSimulation, SimulationListener } from './room-simulation.ts'
 import { inflate, restoreSyncPayload } from './sync-payload.ts'
 import { decodeEntries, type StreamEntry } from './tick-stream.ts'
 
@@ -48,6 +48,8 @@ export interface LockstepOptions {
   hold?: number
   /** Called when a sync has been restored (the view should forget bodies it drew). */
   onRestored?(sim: RoomSimulation): void
+  /** The confirmed simulation's listener (e.g. its game events, each once; the SDK's `event`). */
+  listener?: SimulationListener
 }
 
 /** Where the client is. */
@@ -189,6 +191,7 @@ export class LockstepClient {
         controls: true,
         name: '',
         games: this.options.games,
+        ...(this.options.listener ? { listener: this.options.listener } : {}),
       })
       if (!restored.ok || restored.sim.tick !== message.tick) {
         this.requestResync(restored.ok ? 'sync tick does not match its payload' : restored.reason)

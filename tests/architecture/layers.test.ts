@@ -5,6 +5,7 @@
  *   server, client, bots -> engine, shared, games; bench -> all of those (engine internals only
  *   through engine/internal.ts) and the tooling it shares with the tests (tests/support/, the build
  *   scripts in scripts/). Server never imports client; client never imports server or bench.
+ *   The client SDK: sdk -> engine, shared, games, client; nothing imports sdk.
  *   Tests and build scripts may import anything.
  * - Outside a layer, only its index.ts (and engine/internal.ts, for bench alone).
  * - Inside a layer, an import that leaves a concept folder (server/rooms/, engine/joints/, ...)
@@ -21,7 +22,7 @@ import { posix } from 'node:path'
 import { describe, expect, it } from 'vitest'
 import { importStatements } from '../support/source-scan.ts'
 
-const PRODUCT = ['engine', 'shared', 'games', 'server', 'client', 'bots'] as const
+const PRODUCT = ['engine', 'shared', 'games', 'server', 'client', 'bots', 'sdk'] as const
 const LAYERS = [...PRODUCT, 'bench'] as const
 type Layer = (typeof LAYERS)[number]
 
@@ -33,6 +34,8 @@ const ALLOWED: Record<Layer, readonly Layer[]> = {
   server: ['engine', 'shared', 'games'],
   client: ['engine', 'shared', 'games'],
   bots: ['engine', 'shared', 'games'],
+  // The client SDK (docs/sdk.md) wraps the client's pieces; nothing imports it.
+  sdk: ['engine', 'shared', 'games', 'client'],
   bench: ['engine', 'shared', 'games', 'server', 'client', 'bots'],
 }
 
@@ -222,7 +225,7 @@ describe('the repository', () => {
   const files = repositoryFiles()
 
   it('has the layers to check', () => {
-    for (const layer of ['engine', 'shared', 'server', 'client', 'bots', 'bench']) {
+    for (const layer of ['engine', 'shared', 'server', 'client', 'bots', 'bench', 'sdk']) {
       expect(
         [...files.keys()].some((f) => f.startsWith(`${layer}/`)),
         layer,
