@@ -433,6 +433,10 @@ export class OnlineSandbox implements Sandbox {
     return this.mirror.clientId
   }
 
+  gameState(): unknown {
+    return this.mirror.view
+  }
+
   people(): readonly PersonRow[] {
     const m = this.mirror
     const out: PersonRow[] = []
