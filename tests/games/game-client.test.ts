@@ -4,6 +4,7 @@
  * computed: a diagonal is MAX_SPEED / sqrt 2 on each axis), and its HUD and the tower's read their
  * views. The clock and metre texts are checked against hand-written strings.
  */
+import { readFileSync } from 'node:fs'
 import { describe, expect, it } from 'vitest'
 import {
   clockText,
@@ -101,5 +102,17 @@ describe('game client modules', () => {
     expect(findGameClient('tower')).toBe(towerClient)
     expect(findGameClient('sandbox')).toBeUndefined()
     expect(findGameClient('constructor')).toBeUndefined()
+  })
+
+  it("docs/games.md shows the goal client's run function as the source has it", () => {
+    const doc = readFileSync('docs/games.md', 'utf8')
+    const at = doc.indexOf('## Client modules')
+    const section = doc.slice(at, doc.indexOf('\n## ', at + 1))
+    const block = [...section.matchAll(/```ts\n([\s\S]*?)```/g)]
+      .map((m) => m[1])
+      .find((b) => b.startsWith('function run'))
+    expect(block).toBeDefined()
+    const squash = (code: string): string => code.replace(/[\s;]+/g, '')
+    expect(squash(readFileSync('games/goal/goal-client.ts', 'utf8'))).toContain(squash(block ?? 'missing'))
   })
 })
