@@ -5,7 +5,7 @@
  * so the page does not know whether the physics runs here or on the server.
  */
 import { DEFAULT_SCENE, SCENES } from '../engine/index.ts'
-import { findGameClient, type GameClient, keyCommand, MAX_HUD_ITEMS } from '../games/index.ts'
+import { type GameClient, keyCommand, MAX_HUD_ITEMS } from '../games/index.ts'
 import { TICK_RATE } from '../shared/index.ts'
 import {
   Camera,
@@ -34,7 +34,7 @@ import {
   type ToolName,
 } from './input/index.ts'
 import { cleanRoomName, offlineLink, replaysLink, roomLink, showLobby } from './lobby.ts'
-import type { Sandbox, ViewBody } from './modes/index.ts'
+import { findClientGameClient, type Sandbox, type ViewBody } from './modes/index.ts'
 import { PlayerList } from './player-list.ts'
 import { SceneFiles } from './scene-files.ts'
 
@@ -325,7 +325,7 @@ export class App {
   private gameClient(): GameClient | undefined {
     const s = this.sandbox
     if (!s.gameState) return undefined
-    return findGameClient(s.rules()?.game ?? '')
+    return findClientGameClient(s.rules()?.game ?? '')
   }
 
   /**
