@@ -5,6 +5,7 @@
  * so the page does not know whether the physics runs here or on the server.
  */
 import { DEFAULT_SCENE, SCENES } from '../engine/index.ts'
+import { type GameClient, keyCommand, MAX_HUD_ITEMS } from '../games/index.ts'
 import { TICK_RATE } from '../shared/index.ts'
 import {
   Camera,
@@ -33,7 +34,7 @@ import {
   type ToolName,
 } from './input/index.ts'
 import { cleanRoomName, offlineLink, replaysLink, roomLink, showLobby } from './lobby.ts'
-import type { Sandbox, ViewBody } from './modes/index.ts'
+import { findClientGameClient, type Sandbox, type ViewBody } from './modes/index.ts'
 import { PlayerList } from './player-list.ts'
 import { SceneFiles } from './scene-files.ts'
 
@@ -84,6 +85,9 @@ export class App {
   /** The selected body's speed and kinetic energy over the last seconds. */
   readonly labPlot = new LabPlot(TICK_RATE)
   private lastHud = 0
+  /** The room's game's bound keys held now (lower case), and what the game panel shows. */
+  private readonly gameKeysHeld = new Set<string>()
+  private gamePanelKey = ''
   /** The body inspected for the contacts layer while nothing is selected, and when it was chosen. */
   private hover = { body: 0, at: Number.NEGATIVE_INFINITY }
   private fittedScene = ''
@@ -126,9 +130,14 @@ export class App {
       this.renderer.resize()
       this.placePanels()
     })
-    window.addEventListener('blur', () => this.tools.cancel())
+    window.addEventListener('blur', () => {
+      this.tools.cancel()
+      this.releaseGameKeys()
+    })
     window.addEventListener('keydown', (e) => this.key(e))
-    window.addEventListener('keyup', (e) => this.drive(e, false))
+    window.addEventListener('keyup', (e) => {
+      if (!this.gameKey(e, false)) this.drive(e, false)
+    })
     this.wireToolbar()
     this.sceneFiles = new SceneFiles(sandbox, httpBase, room, (text) => this.notify(text), sharedScene)
     this.playerList = new PlayerList(sandbox, (text) => this.notify(text))
@@ -301,11 +310,98 @@ export class App {
 
   private key(e: KeyboardEvent): void {
     if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return
+    if (this.gameKey(e, true)) return
     if (this.drive(e, true)) return
     const action = shortcutFor(e)
     if (!action) return
     e.preventDefault()
     this.act(action)
+  }
+
+  /**
+   * The room's game's client module (docs/games.md, "Client modules"), or undefined: offline, in
+   * replays, and in rooms of a game without one.
+   */
+  private gameClient(): GameClient | undefined {
+    const s = this.sandbox
+    if (!s.gameState) return undefined
+    return findClientGameClient(s.rules()?.game ?? '')
+  }
+
+  /**
+   * A key the room's game binds (its client module's keys win over the page's shortcuts and drive
+   * keys): sends the command the binding returns for the key going down or up. Returns whether the
+   * game binds the key.
+   */
+  private gameKey(e: KeyboardEvent, down: boolean): boolean {
+    if (e.ctrlKey || e.altKey || e.metaKey) return false
+    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return false
+    const client = this.gameClient()
+    const key = e.key.toLowerCase()
+    const binding = client?.keys[key]
+    if (!client || !binding) return false
+    e.preventDefault()
+    if (down && (e.repeat || this.gameKeysHeld.has(key))) return true
+    if (!down && !this.gameKeysHeld.has(key)) return true
+    if (down) this.gameKeysHeld.add(key)
+    else this.gameKeysHeld.delete(key)
+    this.sendGameKey(client, key, down)
+    return true
+  }
+
+  private sendGameKey(client: GameClient, key: string, down: boolean): void {
+    const s = this.sandbox
+    const cmd = keyCommand(client.keys[key], down, {
+      state: s.gameState?.() ?? null,
+      me: s.playerId(),
+      held: this.gameKeysHeld,
+    })
+    if (cmd) s.sendGame(cmd.kind, cmd.args)
+  }
+
+  /** The page lost the keyboard: every game key held counts as released (a disc stops running). */
+  private releaseGameKeys(): void {
+    const client = this.gameClient()
+    const held = [...this.gameKeysHeld]
+    this.gameKeysHeld.clear()
+    if (client) for (const key of held) if (client.keys[key]) this.sendGameKey(client, key, false)
+  }
+
+  /** The game panel: the room's game's HUD items, hidden without a client module or items. */
+  private refreshGamePanel(): void {
+    const panel = $('game-panel')
+    const client = this.gameClient()
+    const s = this.sandbox
+    const items = client?.hud?.(s.gameState?.() ?? null, s.playerId()).slice(0, MAX_HUD_ITEMS) ?? []
+    const key = items.map((i) => `${i.label}\u0000${i.value}`).join('\u0001')
+    if (key === this.gamePanelKey) return
+    this.gamePanelKey = key
+    panel.hidden = items.length === 0
+    panel.replaceChildren(
+      ...items.map((item) => {
+        const div = document.createElement('span')
+        div.className = 'item'
+        div.dataset.label = item.label
+        const value = document.createElement('b')
+        value.textContent = String(item.value)
+        div.append(String(item.label), value)
+        return div
+      }),
+    )
+  }
+
+  /** The room's game's extra drawing, after the world (screen coordinates). */
+  private drawGame(): void {
+    const client = this.gameClient()
+    if (!client?.draw) return
+    const s = this.sandbox
+    const ctx = this.renderer.ctx
+    ctx.save()
+    try {
+      client.draw(ctx, (x, y) => this.camera.toScreen(x, y), s.gameState?.() ?? null, s.playerId())
+    } finally {
+      ctx.restore()
+    }
   }
 
   /**
@@ -505,6 +601,7 @@ export class App {
       selected,
       freeBody: this.freeBody,
     })
+    this.drawGame()
     if (this.tools.tool === 'edit') {
       const wasShown = this.editPanelKey
       this.editPanel.refresh(this.tools.edit.bodies(), this.tools.edit.selectedJoint())
@@ -574,6 +671,7 @@ export class App {
   private refreshPanels(selected: ViewBody | null): void {
     const s = this.sandbox
     $('hud').textContent = hudText(s.stats(), this.fps.value, s.mode, s.scene())
+    this.refreshGamePanel()
     const room = s.roomControl?.() ?? null
     const lockedOut = room?.locked && room.self !== room.creator
     const controls = (s.rules()?.controls ?? true) && !lockedOut

@@ -1,14 +1,16 @@
 /*
  * Game modules: the API a game is written with (defineGame, builtin; game-api.ts), the argument
  * schemas' checker (@cfworker/json-schema; args-schema.ts), and the games this build ships, in one catalogue that
- * the server, the client, the bots and the replay tools look games up in by name. A game runs
+ * the server, the client, the bots and the replay tools look games up in by name; and the games'
+ * client modules (defineGameClient; game-client.ts), which pages look up by the room's game. A game runs
  * inside shared/sim's RoomSimulation; games/ imports engine/ and shared/ only.
  */
 import { ballDrop } from './ball-drop/index.ts'
 import type { Game } from './game-api.ts'
-import { goal } from './goal/index.ts'
+import type { GameClient } from './game-client.ts'
+import { goal, goalClient } from './goal/index.ts'
 import { sandbox } from './sandbox/index.ts'
-import { tower } from './tower/index.ts'
+import { tower, towerClient } from './tower/index.ts'
 
 export { type ArgsChecker, type ArgsSchema, compileArgs } from './args-schema.ts'
 export { type BallDropState, ballDrop } from './ball-drop/index.ts'
@@ -22,6 +24,19 @@ export {
   type GameDefinition,
 } from './game-api.ts'
 export {
+  clockText,
+  defineGameClient,
+  type GameClient,
+  type GameClientCommand,
+  type GameClientDefinition,
+  type HudItem,
+  type KeyBinding,
+  type KeyInput,
+  keyCommand,
+  MAX_HUD_ITEMS,
+  type ToScreen,
+} from './game-client.ts'
+export {
   BALL_DAMPING,
   BALL_DENSITY,
   BALL_RADIUS,
@@ -31,7 +46,9 @@ export {
   GOAL_Y,
   type GoalPlayer,
   type GoalState,
+  type GoalView,
   goal,
+  goalClient,
   KICK_COOLDOWN,
   KICK_IMPULSE,
   KICK_REACH,
@@ -76,12 +93,15 @@ export {
   LANE_SPACING,
   LANES,
   laneX,
+  metres,
   PLATFORM_HALF_WIDTH,
   ROUND_TICKS,
   SETTLED_SPEED,
   type TowerBlock,
   type TowerState,
+  type TowerView,
   tower,
+  towerClient,
   towerScore,
 } from './tower/index.ts'
 
@@ -96,4 +116,15 @@ export const GAMES: Readonly<Record<string, Game>> = Object.freeze({
 /** The game of that name, or undefined (a GameCatalog for shared/'s simulations and replays). */
 export function findGame(name: string): Game | undefined {
   return Object.hasOwn(GAMES, name) ? GAMES[name] : undefined
+}
+
+/** The client modules of the games this build ships, by game name (docs/games.md, "Client modules"). */
+export const GAME_CLIENTS: Readonly<Record<string, GameClient>> = Object.freeze({
+  goal: goalClient,
+  tower: towerClient,
+})
+
+/** The client module of the game of that name, or undefined: the page then shows no game panel. */
+export function findGameClient(name: string): GameClient | undefined {
+  return Object.hasOwn(GAME_CLIENTS, name) ? GAME_CLIENTS[name] : undefined
 }

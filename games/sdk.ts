@@ -46,4 +46,14 @@ export {
   type GameCommandDefinition,
   type GameDefinition,
 } from './game-api.ts'
+export {
+  clockText,
+  defineGameClient,
+  type GameClient,
+  type GameClientCommand,
+  type GameClientDefinition,
+  type HudItem,
+  type KeyBinding,
+  type KeyInput,
+} from './game-client.ts'
 export { MIN_TICKS_BETWEEN_LOADS, sandboxCommands } from './sandbox/index.ts'

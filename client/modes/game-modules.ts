@@ -4,16 +4,30 @@
  * game-bundle.ts), the very text its rooms run. A lockstep or predicting page that joins a room
  * of such a game imports that module before it simulates anything (the page's CSP allows scripts
  * from its own origin, so the server that served the page must serve the game), and the hash
- * checkpoints prove the page runs the same rules as the room. Snapshot pages need no game code.
+ * checkpoints prove the page runs the same rules as the room. Snapshot pages need no game code,
+ * but import the module too for its client module: a named export `client` made with
+ * defineGameClient (docs/games.md, "Client modules"), which every page of such a room then uses.
  */
-import { findGame, type Game } from '../../games/index.ts'
+import { findGame, findGameClient, type Game, type GameClient } from '../../games/index.ts'
 
 const loaded = new Map<string, Game>()
+const clients = new Map<string, GameClient>()
 const GAME_NAME = /^[a-z][a-z0-9-]{0,31}$/
 
 /** A game by name: one this build ships, or one imported by loadGameModule; else undefined. */
 export function findClientGame(name: string): Game | undefined {
   return findGame(name) ?? loaded.get(name)
+}
+
+/** The client module of a game by name: one this build ships, or one a loaded game module exports. */
+export function findClientGameClient(name: string): GameClient | undefined {
+  return findGameClient(name) ?? clients.get(name)
+}
+
+/** Whether a module's `client` export looks like what defineGameClient returns for the game `name`. */
+function isGameClient(value: unknown, name: string): value is GameClient {
+  const c = value as Partial<GameClient> | null
+  return typeof c === 'object' && c !== null && c.game === name && typeof c.keys === 'object'
 }
 
 /**
@@ -27,7 +41,7 @@ export async function loadGameModule(wsUrl: string, name: string): Promise<void>
   const origin = new URL(wsUrl)
   origin.protocol = origin.protocol === 'wss:' ? 'https:' : 'http:'
   const url = `${origin.origin}/games/${name}.js`
-  let module: { default?: Partial<Game> }
+  let module: { default?: Partial<Game>; client?: unknown }
   try {
     module = await import(/* @vite-ignore */ url)
   } catch (error) {
@@ -37,4 +51,5 @@ export async function loadGameModule(wsUrl: string, name: string): Promise<void>
   if (typeof game?.initialState !== 'function' || game.name !== name || typeof game.commands !== 'object')
     throw new Error(`${url} is not the game ${name}`)
   loaded.set(name, game as Game)
+  if (isGameClient(module.client, name)) clients.set(name, module.client)
 }

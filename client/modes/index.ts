@@ -3,7 +3,7 @@
  * mirrored from snapshots), lockstep and predict (the room simulated in the page from the tick
  * stream), offline (the engine alone); plus the smoothing of predicted corrections.
  */
-export { findClientGame, loadGameModule } from './game-modules.ts'
+export { findClientGame, findClientGameClient, loadGameModule } from './game-modules.ts'
 export { LockstepSandbox } from './lockstep-sandbox.ts'
 export { OfflineSandbox } from './offline-sandbox.ts'
 export { OnlineSandbox } from './online-sandbox.ts'

@@ -304,13 +304,16 @@ export class LockstepSandbox implements Sandbox {
     return this.saved
   }
 
-  /** The game state of the simulation drawn (null before the sync or for a game without state). */
-  gameState(): unknown {
-    return this.drawn()?.gameState ?? null
-  }
-
   playerId(): number {
     return this.runner.playerId
+  }
+
+  /**
+   * This player's game view as the drawn simulation has it (PredictClient: the present), else the
+   * drawn simulation's game state (null before the sync or for a game without state).
+   */
+  gameState(): unknown {
+    return this.runner.view() ?? this.drawn()?.gameState ?? null
   }
 
   people(): readonly PersonRow[] {

@@ -26,6 +26,7 @@ import {
 } from '../../shared/index.ts'
 import { labFromServer, viewJoints } from '../draw/index.ts'
 import { Connection, InputOutbox, MAX_SENDS, type Pose, ServerStats, SnapshotTimeline } from '../net/index.ts'
+import { findClientGame, loadGameModule } from './game-modules.ts'
 import type {
   LabContact,
   LabData,
@@ -196,6 +197,7 @@ export class OnlineSandbox implements Sandbox {
         this.resetTimeline(message.state.tick, now, message.rules)
         this.reinspect(now)
         if (message.notice) this.tell(message.notice)
+        this.loadGame(message.rules.game)
         break
       case 'state':
         this.ownGrab = 0
@@ -223,6 +225,17 @@ export class OnlineSandbox implements Sandbox {
         break
       }
     }
+  }
+
+  /**
+   * A room of a game this build does not ship (--games on the server): import its module for its
+   * client module (game-modules.ts); the snapshots need no game code, so a failure is a notice.
+   */
+  private loadGame(game: string): void {
+    if (!game || findClientGame(game)) return
+    loadGameModule(this.options.url, game).catch((error: Error) =>
+      this.tell(`The game ${game}'s page module did not load: ${error.message}`),
+    )
   }
 
   /** A new session or a new world cleared the server's inspection: ask again if a body is still selected. */
@@ -431,6 +444,10 @@ export class OnlineSandbox implements Sandbox {
 
   playerId(): number {
     return this.mirror.clientId
+  }
+
+  gameState(): unknown {
+    return this.mirror.view
   }
 
   people(): readonly PersonRow[] {

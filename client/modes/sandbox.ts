@@ -185,6 +185,12 @@ export interface Sandbox {
   roomControl?(): RoomControl
   /** Everyone in the room, by id: names, colours, the creator, who holds what. Absent offline. */
   people?(): readonly PersonRow[]
+  /**
+   * The game state this page has for the room's game's client module (docs/games.md, "Client
+   * modules"): the player's game view when the game has one (received or computed), else the
+   * simulation's game state where the page simulates, else null. Absent offline and in replays.
+   */
+  gameState?(): unknown
   /** This player's colour. */
   color(): string
   status(): SandboxStatus

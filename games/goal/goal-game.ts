@@ -48,6 +48,8 @@ const DISCS = 2
 const BALL = 4
 const GATES = 8
 const STEP = 1 / 60
+/** Ticks per second (the room's fixed rate). */
+const TICK_HZ = 60
 /** The sensor's inner edge: a ball overlaps it only once wholly past the goal line. */
 const SENSOR_INNER = FIELD_X + 2 * BALL_RADIUS
 const WALL = 0.25
@@ -330,6 +332,17 @@ export const goal = defineGame<GoalState>({
     if (!p) return
     ctx.destroyBody(p.disc)
     delete ctx.state.players[player]
+  },
+  view(ctx, player) {
+    const s = ctx.state
+    const elapsed = s.phase === 'playing' ? ctx.tick - s.startTick : s.phase === 'over' ? MATCH_TICKS : 0
+    return {
+      score: { red: s.score.red, blue: s.score.blue },
+      phase: s.phase,
+      secondsLeft: Math.ceil(Math.max(0, MATCH_TICKS - elapsed) / TICK_HZ),
+      team: s.players[player]?.team ?? null,
+      winner: s.winner,
+    }
   },
   tick(ctx) {
     if (ctx.state.phase === 'waiting' && teamSize(ctx, 'red') > 0 && teamSize(ctx, 'blue') > 0) {

@@ -2,6 +2,8 @@
  * Goal: the two-team ball game (docs/games.md, "Goal"): discs steered by `run`, a ball kicked by
  * `kick`, goals as sensors, first to WIN_SCORE or the most goals when the clock runs out.
  */
+
+export { type GoalView, goalClient } from './goal-client.ts'
 export {
   BALL_DAMPING,
   BALL_DENSITY,

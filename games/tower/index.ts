@@ -3,6 +3,8 @@
  * platform with `block`; the game measures the towers every tick; fallen blocks cost; the best
  * score when the round's time is up wins.
  */
+
+export { metres, type TowerView, towerClient } from './tower-client.ts'
 export {
   BLOCKS,
   DROP_CLEARANCE,

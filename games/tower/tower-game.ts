@@ -228,6 +228,23 @@ export const tower = defineGame<TowerState>({
     delete ctx.state.fallen[player]
     delete ctx.state.lastDrop[player]
   },
+  view(ctx, player) {
+    const s = ctx.state
+    const elapsed = s.phase === 'building' ? ctx.tick - s.startTick : s.phase === 'over' ? ROUND_TICKS : 0
+    // Heights to the centimetre, so the view (sent when it changes) does not change every tick.
+    const heights: Record<string, number> = {}
+    for (const id of ctx.players) heights[id] = Math.round((s.height[id] ?? 0) * 100) / 100
+    let blocks = 0
+    for (const id of blockIds(s)) if (s.blocks[id].owner === player) blocks++
+    return {
+      phase: s.phase,
+      secondsLeft: Math.ceil(Math.max(0, ROUND_TICKS - elapsed) / 60),
+      heights,
+      blocks,
+      fallen: s.fallen[player] ?? 0,
+      winners: [...s.winners],
+    }
+  },
   tick(ctx) {
     measure(ctx)
     if (ctx.state.phase === 'building' && ctx.tick - ctx.state.startTick >= ROUND_TICKS) endRound(ctx)

@@ -5,7 +5,11 @@
  * the server (same origin, under the page's CSP) before it simulates. The page itself sends the
  * game's commands; its simulation must reach the hand-worked state (five marbles dropped, the
  * three dropped at x = -5 resting left of 0) and every hash checkpoint past it must match the
- * server's (the state hash covers the game state), with no page error.
+ * server's (the state hash covers the game state), with no page error. Then the game's client
+ * module (its `client` export, served in the same module): a lockstep page and a snapshot page of
+ * another room both show its panel item and its drawing (a magenta pixel at the world point it
+ * marks) and send a drop with M, which the lockstep page's
+ * simulation (confirmed by the server's stream) counts: 1, then 2.
  */
 import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
@@ -63,6 +67,47 @@ describe('a game loaded from a directory, in a lockstep page', () => {
       expect(errors).toEqual([])
     } finally {
       await context.close()
+    }
+  })
+
+  it("the game's client module: both a lockstep and a snapshot page show its panel and send its key's command", async () => {
+    const lockstep = await openSandbox(
+      browser,
+      `${server.url}/?room=loaded-client&mode=lockstep&game=marbles`,
+    )
+    const snapshot = await openSandbox(browser, `${server.url}/?room=loaded-client`)
+    const item = '#game-panel:not([hidden]) .item[data-label="marbles"] b'
+    const shows = (page: typeof lockstep.page, text: string) =>
+      page.waitForFunction(([item, text]) => document.querySelector(item)?.textContent === text, [
+        item,
+        text,
+      ] as const)
+    try {
+      await shows(lockstep.page, '0 dropped, 0 left')
+      await shows(snapshot.page, '-')
+      // Its drawing, after the world: the canvas pixel at the world point (0, 1) is magenta.
+      for (const page of [lockstep.page, snapshot.page])
+        await page.waitForFunction(() => {
+          const p = window.concord.camera.toScreen(0, 1)
+          const canvas = document.getElementById('view') as HTMLCanvasElement
+          const scale = canvas.width / canvas.getBoundingClientRect().width
+          const ctx = canvas.getContext('2d')
+          const [r, g, b] =
+            ctx?.getImageData(Math.round(p.x * scale), Math.round(p.y * scale), 1, 1).data ?? []
+          return r === 255 && g === 0 && b === 255
+        })
+      await lockstep.page.keyboard.press('m')
+      await shows(lockstep.page, '1 dropped, 0 left')
+      await snapshot.page.keyboard.press('m')
+      await lockstep.page.waitForFunction(
+        (item) => document.querySelector(item)?.textContent?.startsWith('2 dropped') === true,
+        item,
+      )
+      expect(lockstep.errors).toEqual([])
+      expect(snapshot.errors).toEqual([])
+    } finally {
+      await lockstep.context.close()
+      await snapshot.context.close()
     }
   })
 })

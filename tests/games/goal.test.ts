@@ -66,6 +66,21 @@ const kick = (power: number) => ({ k: 'cmd' as const, kind: 'kick', a: { power }
 const goals = (events: PlainData[]) => events.filter((e) => (e as { goal?: string }).goal !== undefined)
 
 describe('goal', () => {
+  it('each player sees the score, phase, whole seconds left (ceil of ticks left / 60), team and winner', () => {
+    const { sim } = match()
+    const view = { score: { red: 0, blue: 0 }, phase: 'waiting', secondsLeft: 120, team: 'red', winner: null }
+    expect(sim.playerView(1)).toEqual(view)
+    expect(sim.playerView(2)).toEqual({ ...view, team: 'blue' })
+    sim.runTick() // the kickoff, at tick 1
+    expect(sim.playerView(1)).toEqual({ ...view, phase: 'playing' })
+    for (let i = 0; i < 60; i++) sim.runTick() // 60 ticks played: 7140 left, exactly 119 s
+    expect(sim.playerView(1)).toMatchObject({ secondsLeft: 119 })
+    sim.runTick() // 7139 left: 118.98 s, shown as 119
+    expect(sim.playerView(1)).toMatchObject({ secondsLeft: 119 })
+    for (let i = 0; i < 59; i++) sim.runTick() // 7080 left: 118 s
+    expect(sim.playerView(1)).toMatchObject({ secondsLeft: 118 })
+  })
+
   it('puts the two players on opposite teams on their kickoff spots and starts the match at the first tick', () => {
     const { sim, events, state } = match()
     expect(state().players[1]).toMatchObject({ team: 'red', vx: 0, vy: 0 })

@@ -3,9 +3,11 @@
  * tests/browser/loaded-game.test.ts): players drop marbles (a random radius from ctx.random) at a
  * chosen x; the rule counts, once a second, the marbles resting left of x = 0 in the state, and
  * the world spins a kinematic paddle with the engine's trig. It imports only the SDK and its own
- * file, as a game outside this repository would.
+ * file, as a game outside this repository would. Its named export `client` is its client module
+ * (docs/games.md, "Client modules"): the page shows the drops, binds M to a drop at x = 0 and
+ * marks the world point (0, 1) with a magenta square.
  */
-import { box, circle, defineGame, type PlainData, sin } from 'concord/game'
+import { box, circle, defineGame, defineGameClient, type PlainData, sin } from 'concord/game'
 import { PADDLE_SPEED } from './rules.ts'
 
 interface Marbles {
@@ -52,5 +54,21 @@ export default defineGame<Marbles>({
     for (const id of ctx.world.bodyIds())
       if (ctx.world.getBodyType(id) === 'dynamic' && ctx.world.getPosition(id).x < 0) left++
     ctx.state.left = left
+  },
+})
+
+/** The page's part: the drops so far (in lockstep pages, which have the state; '-' in snapshot pages), and M drops at 0. */
+export const client = defineGameClient({
+  game: 'marbles',
+  hud(state) {
+    const s = state as Marbles | null
+    return [{ label: 'marbles', value: s ? `${s.dropped} dropped, ${s.left} left` : '-' }]
+  },
+  keys: { m: () => ({ kind: 'drop', args: { x: 0 } }) },
+  // A magenta 8 px square centred on the world point (0, 1), drawn over the world.
+  draw(ctx2d, toScreen) {
+    const p = toScreen(0, 1)
+    ctx2d.fillStyle = '#ff00ff'
+    ctx2d.fillRect(p.x - 4, p.y - 4, 8, 8)
   },
 })

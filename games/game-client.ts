@@ -1,0 +1,117 @@
+/*
+ * A game's client module (docs/games.md, "Client modules"): what a page shows and binds for rooms
+ * of one game, beside the world it draws anyway. `defineGameClient({...})` names the game and
+ * lists up to three optional parts: HUD items (a few label/value strings shown in the page's game
+ * panel), key bindings (a key turns into one of the game's commands), and extra drawing after the
+ * world. Each part reads `state`, the game state the page has: the player's `view` when the game
+ * defines one (snapshot pages receive it, lockstep and predicting pages compute it), else the
+ * simulation's game state in lockstep and predicting pages, and null in snapshot pages.
+ *
+ * A client module runs in the page only, never in the simulation: it decides what to send, and the
+ * room's rules decide what happens. It still lives in the game's folder and passes the same static
+ * check as the game (no clock, no locale functions), so its text is the same in every browser.
+ */
+import type { PlainData } from '../shared/index.ts'
+
+/** One HUD item: a short label and its value, both plain strings (e.g. 'score', '2 - 1'). */
+export interface HudItem {
+  label: string
+  value: string
+}
+
+/** A game command a key sends: the game's command kind and its arguments. */
+export interface GameClientCommand {
+  kind: string
+  args: { [key: string]: PlainData }
+}
+
+/** What a key binding reads: the state, this player's id, and the game's bound keys held now (lower case). */
+export interface KeyInput {
+  state: unknown
+  me: number
+  held: ReadonlySet<string>
+}
+
+/** A key binding: the command to send (or null for none) when the key goes down, and optionally up. */
+export type KeyBinding =
+  | ((input: KeyInput) => GameClientCommand | null)
+  | {
+      down(input: KeyInput): GameClientCommand | null
+      up?(input: KeyInput): GameClientCommand | null
+    }
+
+/** The 2D context a client draws with, and the world-to-screen mapping (m to CSS px, y up to y down). */
+export type ToScreen = (x: number, y: number) => { x: number; y: number }
+
+/** A game's client module, as passed to defineGameClient. */
+export interface GameClientDefinition {
+  /** The game's name (games/index.ts GAMES); the page uses the module in rooms of this game. */
+  game: string
+  /** HUD items for the game panel, refreshed a few times a second; at most MAX_HUD_ITEMS are shown. */
+  hud?(state: unknown, me: number): HudItem[]
+  /** Bindings by KeyboardEvent.key in lower case (' ' for Space, 'arrowup' ...); they win over the page's shortcuts. */
+  keys?: Readonly<Record<string, KeyBinding>>
+  /** Extra drawing after the world, in screen coordinates (CSS px). */
+  draw?(ctx: CanvasRenderingContext2D, toScreen: ToScreen, state: unknown, me: number): void
+}
+
+/** A checked client module (what defineGameClient returns). */
+export interface GameClient {
+  readonly game: string
+  hud?(state: unknown, me: number): HudItem[]
+  readonly keys: Readonly<Record<string, KeyBinding>>
+  draw?(ctx: CanvasRenderingContext2D, toScreen: ToScreen, state: unknown, me: number): void
+}
+
+/** HUD items the game panel shows at most. */
+export const MAX_HUD_ITEMS = 8
+
+const GAME_NAME = /^[a-z][a-z0-9-]{0,31}$/
+
+/** Check a client module's definition; throws a RangeError naming what is wrong. */
+export function defineGameClient(definition: GameClientDefinition): GameClient {
+  const name = definition.game
+  if (typeof name !== 'string' || !GAME_NAME.test(name))
+    throw new RangeError(`game client: game ${JSON.stringify(name)} is not a game name`)
+  for (const part of ['hud', 'draw'] as const) {
+    if (definition[part] !== undefined && typeof definition[part] !== 'function')
+      throw new RangeError(`game client ${name}: ${part} must be a function`)
+  }
+  const keys: Record<string, KeyBinding> = {}
+  for (const [key, binding] of Object.entries(definition.keys ?? {})) {
+    if (key.length === 0 || key !== key.toLowerCase())
+      throw new RangeError(
+        `game client ${name}: key ${JSON.stringify(key)} must be a KeyboardEvent.key in lower case`,
+      )
+    const ok =
+      typeof binding === 'function' ||
+      (typeof binding === 'object' &&
+        binding !== null &&
+        typeof binding.down === 'function' &&
+        (binding.up === undefined || typeof binding.up === 'function'))
+    if (!ok)
+      throw new RangeError(
+        `game client ${name}: key ${JSON.stringify(key)} must be a function or { down, up? }`,
+      )
+    keys[key] = binding
+  }
+  return Object.freeze({
+    game: name,
+    hud: definition.hud,
+    keys: Object.freeze(keys),
+    draw: definition.draw,
+  })
+}
+
+/** The command a binding sends for a key going down (`down`) or up; null for none. */
+export function keyCommand(binding: KeyBinding, down: boolean, input: KeyInput): GameClientCommand | null {
+  if (typeof binding === 'function') return down ? binding(input) : null
+  return down ? binding.down(input) : (binding.up?.(input) ?? null)
+}
+
+/** Seconds as m:ss (exact integer arithmetic, no locale). */
+export function clockText(seconds: number): string {
+  const s = Math.max(0, Math.floor(seconds))
+  const rest = s % 60
+  return `${Math.floor(s / 60)}:${rest < 10 ? '0' : ''}${rest}`
+}
