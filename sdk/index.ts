@@ -326,6 +326,17 @@ export class Session {
     return this.simulation()?.gameState ?? null
   }
 
+  /**
+   * This player's view of the game (the game's `view(ctx, player)`, e.g. the goal game's score,
+   * phase and clock; docs/games.md "Views"): in snapshot mode the last `view` message, in lockstep
+   * and predict modes computed by the session's own simulation; null for a game without views or
+   * before the first.
+   */
+  view(): unknown {
+    if (!this.runner) return this.mirror.view
+    return this.runner.view() ?? null
+  }
+
   /** Close the socket; resolves when it has closed. */
   close(): Promise<void> {
     this.stopStepping()

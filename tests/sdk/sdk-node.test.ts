@@ -164,6 +164,12 @@ describe('the built SDK', () => {
     const bad = snap.command('kick', { power: 5 })
     await until(() => errors.length > 0, 'the refusal')
     expect(errors[0]).toEqual({ code: 'invalid', reason: 'kick refused: power must be <= 1', seq: bad })
+    // Each session's view of the goal game: its own team (the first to join is red), the same
+    // score, the match playing.
+    await until(() => (snap.view() as { phase?: string } | null)?.phase === 'playing', 'the snapshot view')
+    await until(() => (lock.view() as { phase?: string } | null)?.phase === 'playing', 'the lockstep view')
+    expect(snap.view()).toMatchObject({ team: 'blue', score: { red: 0, blue: 0 } })
+    expect(lock.view()).toMatchObject({ team: 'red', score: { red: 0, blue: 0 } })
     lock.command('run', { x: 3, y: -2 })
     await until(() => {
       const state = lock.gameState() as { players: Record<string, { vx: number; vy: number }> } | null
