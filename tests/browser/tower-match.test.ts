@@ -46,21 +46,34 @@ describe('a tower round between a lockstep page and a predicting page', () => {
     const players = [(await report(lockstep.page)).player, (await report(predict.page)).player]
     expect(players.map((p) => state().lanes[p])).toEqual([0, 1])
 
+    // The state at the tick the round ended: the towers are measured on after it (blocks still
+    // settle or fall), but the winners are decided from that tick's scores.
+    let ended: TowerState | null = null
+    room.sim.observers.push({
+      command: () => {},
+      join: () => {},
+      leave: () => {},
+      worldLoaded: () => {},
+      ticked: () => {
+        if (ended === null && state().phase === 'over') ended = structuredClone(state())
+      },
+    })
     await startScript(lockstep.page, 'builder')
     await startScript(predict.page, 'builder')
-    await until(() => state().phase === 'over', 'the end of the round on the server', 240_000)
+    await until(() => ended !== null, 'the end of the round on the server', 240_000)
     const serverTick = room.sim.tick
-    const scores = players.map((p) => towerScore(state(), p))
+    const final = ended as unknown as TowerState
+    const scores = players.map((p) => towerScore(final, p))
     console.log(
-      `server: heights ${JSON.stringify(state().height)}, fallen ${JSON.stringify(state().fallen)}, winners ${state().winners} at tick ${serverTick}`,
+      `server at the end: heights ${JSON.stringify(final.height)}, fallen ${JSON.stringify(final.fallen)}, winners ${final.winners}; now tick ${serverTick}`,
     )
     // Both built all round (a block every 45 ticks or so; random kinds topple often: each fallen one counts).
     for (const p of players) {
-      const placed = Object.values(state().blocks).filter((b) => b.owner === p).length + state().fallen[p]
+      const placed = Object.values(final.blocks).filter((b) => b.owner === p).length + final.fallen[p]
       expect(placed).toBeGreaterThan(40)
     }
     const best = Math.max(...scores)
-    expect(state().winners).toEqual(players.filter((_, i) => scores[i] === best))
+    expect(final.winners).toEqual(players.filter((_, i) => scores[i] === best))
 
     for (const [label, { page, errors }] of [
       ['lockstep', lockstep],

@@ -32,7 +32,10 @@ describe('HTTP routes', { timeout: 20_000 }, () => {
     let metrics = ''
     await until(async () => {
       metrics = await (await fetch(`${server.url}/metrics`)).text()
-      return metrics.includes('concord_room_tick_seconds_bucket')
+      // A series whose first report has no tick counted yet has no mean: wait for one with ticks.
+      return (
+        metrics.includes('concord_room_tick_seconds_bucket') && (meanTickMs(metrics, null)?.meanMs ?? 0) > 0
+      )
     }, 'the room metrics')
     // Rooms tick only on the workers: every room tick series names its worker, and the page's HUD
     // (client/net/server-stats.ts) reads a mean tick time from the text (not an empty series of this thread).
