@@ -71,7 +71,7 @@ export class LockstepSandbox implements Sandbox {
   /** Scene ids the server answered this page's saveScene commands with, by seq. */
   private readonly saved = new Map<number, string>()
   private statusValue: SandboxStatus = { state: 'connecting' }
-  private readonly notice = { count: 0, latest: null as string | null }
+  private readonly notice = { count: 0, latest: null as string | null, recent: [] as string[] }
   private lastFrame = Number.NaN
   private lastPing = 0
   private rttMs: number | null = null
@@ -153,15 +153,9 @@ export class LockstepSandbox implements Sandbox {
     if (message.t === 'scene') this.saved.set(message.seq, message.id)
     if (message.t === 'welcome') {
       this.players = message.players
-      if (message.notice) {
-        this.notice.count++
-        this.notice.latest = message.notice
-      }
+      if (message.notice) this.noted(message.notice)
     }
-    if (message.t === 'error' && message.code === 'refused') {
-      this.notice.count++
-      this.notice.latest = message.reason
-    }
+    if (message.t === 'error' && message.code === 'refused') this.noted(message.reason)
     this.runner.handle(message, now)
   }
 
@@ -407,8 +401,16 @@ export class LockstepSandbox implements Sandbox {
     return labFromWorld(sim.world, bodyId, sim.world.contacts(), (id) => sim.userJoints.get(id)?.kind)
   }
 
-  notices(): { count: number; latest: string | null } {
+  notices(): { count: number; latest: string | null; recent: readonly string[] } {
     return this.notice
+  }
+
+  /** Count a notice the server sent, keeping the last three. */
+  private noted(text: string): void {
+    this.notice.count++
+    this.notice.latest = text
+    this.notice.recent.push(text)
+    if (this.notice.recent.length > 3) this.notice.recent.shift()
   }
 
   retry(): void {
