@@ -129,7 +129,16 @@ export async function measureAllocation(c: AllocationCase): Promise<AllocationRe
     })
     const bundle = join(dir, 'measure.mjs')
     writeFileSync(bundle, out.outputFiles[0].text)
-    const flags = ['--expose-gc', '--min-semi-space-size=16', '--max-semi-space-size=16', ...(c.flags ?? [])]
+    // TurboFan compiles on the main thread (--no-concurrent-recompilation), so the warm-up ends
+    // with the hot code optimized however loaded the machine is: with background compilation a
+    // busy machine (two test files at once) once left a step in baseline code, which boxes doubles.
+    const flags = [
+      '--expose-gc',
+      '--min-semi-space-size=16',
+      '--max-semi-space-size=16',
+      '--no-concurrent-recompilation',
+      ...(c.flags ?? []),
+    ]
     const { stdout } = await promisify(execFile)(process.execPath, [...flags, bundle], {
       timeout: c.timeoutMs ?? 120_000,
     })
