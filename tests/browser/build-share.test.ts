@@ -12,7 +12,19 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { buildClient } from '../../scripts/build-client.mjs'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from '../support/chromium.ts'
-import { bodies, loadScene, openSandbox, pickTool, screenOf, serveClient } from '../support/client-harness.ts'
+import {
+  bodies,
+  clickWorld,
+  loadScene,
+  openSandbox,
+  pickTool,
+  screenOf,
+  serveClient,
+  setPaused,
+  snapshotAfter,
+  snapshotOf,
+} from '../support/client-harness.ts'
+import { until } from '../support/wait.ts'
 
 const DIST = 'test-results/browser-build-share/dist'
 let server: RunningServer
@@ -32,26 +44,6 @@ afterAll(async () => {
   await server?.close()
 })
 
-/** A body as the page's mirror has it (snapshot mode), with the server tick of its pose. */
-type Snap = { x: number; y: number; angle: number; tick: number; awake: boolean }
-type Mirrored = { mirror: { bodies: Map<number, Snap> } }
-
-const snapshotOf = (page: Page, id: number): Promise<Snap> =>
-  page.evaluate((bodyId) => {
-    const b = (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(bodyId)!
-    return { x: b.x, y: b.y, angle: b.angle, tick: b.tick, awake: b.awake }
-  }, id)
-
-async function clickAt(page: Page, x: number, y: number): Promise<void> {
-  const at = await screenOf(page, x, y)
-  await page.mouse.click(at.x, at.y)
-}
-
-async function pause(page: Page, paused: boolean): Promise<void> {
-  await page.evaluate((p) => window.concord.sandbox.send({ k: 'pause', paused: p }), paused)
-  await page.waitForFunction((p) => window.concord.sandbox.paused() === p, paused)
-}
-
 const bodyCount = (page: Page): Promise<number> => page.evaluate(() => window.concord.sandbox.bodies().length)
 const jointCount = (page: Page): Promise<number> =>
   page.evaluate(() => window.concord.sandbox.joints().length)
@@ -67,7 +59,7 @@ describe('build, drive, save and share', { timeout: 300_000 }, () => {
   it('draws terrain, builds a car from the tools, drives it over the terrain, and its share link opens the same world', async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=build`)
     await loadScene(page, 'empty', 0)
-    await pause(page, true)
+    await setPaused(page, true)
 
     // Terrain: one drag of the Ground tool over bumps above the empty scene's ground.
     await pickTool(page, 'ground')
@@ -95,27 +87,24 @@ describe('build, drive, save and share', { timeout: 300_000 }, () => {
     // The car: a box, then two clicks of the Wheel tool on its lower corners.
     await pickTool(page, 'box')
     const boxes = await bodyCount(page)
-    await clickAt(page, -6, 2.5)
+    await clickWorld(page, -6, 2.5)
     await page.waitForFunction((n) => window.concord.sandbox.bodies().length > n, boxes)
     const chassis = (await bodies(page)).filter((b) => b.kind === 2)[0].id
     await page.keyboard.press(',')
-    await clickAt(page, -6.4, 2.1)
+    await clickWorld(page, -6.4, 2.1)
     await page.waitForFunction(() => window.concord.sandbox.joints().length === 1)
-    await clickAt(page, -5.6, 2.1)
+    await clickWorld(page, -5.6, 2.1)
     await page.waitForFunction(() => window.concord.sandbox.joints().length === 2)
-    await pause(page, false)
+    await setPaused(page, false)
 
     // Drive right over the bumps with the arrow key for four seconds of room time.
-    await page.waitForFunction((id) => {
-      const b = (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(id)
-      return b !== undefined && Math.abs(b.angle) < 0.2 && b.y < 2
-    }, chassis)
+    await until(async () => {
+      const b = await snapshotOf(page, chassis)
+      return Math.abs(b.angle) < 0.2 && b.y < 2
+    }, 'the car on its wheels')
     const start = await snapshotOf(page, chassis)
     await page.keyboard.down('ArrowRight')
-    await page.waitForFunction(
-      ([id, t]) => (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(id)!.tick > t,
-      [chassis, start.tick + 240] as const,
-    )
+    await snapshotAfter(page, chassis, start.tick + 240)
     await page.keyboard.up('ArrowRight')
     const driven = await snapshotOf(page, chassis)
     // It drove over the terrain (rightwards by metres, above the drawn line's lowest point: it
@@ -125,11 +114,8 @@ describe('build, drive, save and share', { timeout: 300_000 }, () => {
     expect(Math.abs(driven.angle)).toBeLessThan(1.2)
 
     // Let it come to rest, pause, and save: the share link opens the world in a new room.
-    await page.waitForFunction(
-      (id) => (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(id)!.awake === false,
-      chassis,
-    )
-    await pause(page, true)
+    await until(async () => (await snapshotOf(page, chassis)).awake === false, 'the car at rest')
+    await setPaused(page, true)
     const saved = await layout(page)
     const savedJoints = await jointCount(page)
     expect(savedJoints).toBe(2)
@@ -140,7 +126,7 @@ describe('build, drive, save and share', { timeout: 300_000 }, () => {
 
     const shared = await openSandbox(browser, link)
     await shared.page.waitForFunction((want) => window.concord.sandbox.scene() === want, `file:${id}`)
-    await pause(shared.page, true)
+    await setPaused(shared.page, true)
     await shared.page.waitForFunction((n) => window.concord.sandbox.joints().length === n, savedJoints)
     // The same bodies: the scene's ground, the drawn terrain, the chassis and its two wheels, each
     // where it was saved (within 2 cm: the opened room may step a tick or two before pausing).

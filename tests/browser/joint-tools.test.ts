@@ -11,13 +11,18 @@ import { DRIVE_SPEED } from '../../client/input/index.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from '../support/chromium.ts'
 import {
+  clickWorld,
   Finger,
   loadScene,
   openSandbox,
   pickTool,
   screenOf,
+  setPaused,
+  snapshotAfter,
+  snapshotOf,
   startClientServer,
 } from '../support/client-harness.ts'
+import { until } from '../support/wait.ts'
 
 let server: RunningServer
 let browser: Browser
@@ -47,47 +52,15 @@ const joints = (page: Page): Promise<PageJoint[]> =>
     })),
   )
 
-/** Click at a world point with the mouse. */
-async function clickAt(page: Page, x: number, y: number): Promise<void> {
-  const at = await screenOf(page, x, y)
-  await page.mouse.click(at.x, at.y)
-}
-
-/** A snapshot pose and the server tick it is from. */
-type Snap = { x: number; y: number; angle: number; tick: number; awake: boolean }
-/** The online sandbox's mirror of the room (snapshot mode), which the Sandbox interface does not list. */
-type Mirrored = { mirror: { bodies: Map<number, Snap> } }
-
-/** A body's snapshot pose and the server tick it is from (the page's mirror of the room). */
-const snapshotOf = (page: Page, id: number): Promise<Snap> =>
-  page.evaluate((bodyId) => {
-    const b = (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(bodyId)!
-    return { x: b.x, y: b.y, angle: b.angle, tick: b.tick, awake: b.awake }
-  }, id)
-
-/** Wait until the page has a snapshot of body `id` newer than server tick `tick`. */
-async function snapshotAfter(page: Page, id: number, tick: number): Promise<Snap> {
-  await page.waitForFunction(
-    ([bodyId, t]) => (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(bodyId)!.tick > t,
-    [id, tick] as const,
-  )
-  return snapshotOf(page, id)
-}
-
-async function pause(page: Page, paused: boolean): Promise<void> {
-  await page.evaluate((p) => window.concord.sandbox.send({ k: 'pause', paused: p }), paused)
-  await page.waitForFunction((p) => window.concord.sandbox.paused() === p, paused)
-}
-
 describe('joint tools', { timeout: 300_000 }, () => {
   it('builds a car in three clicks (a box, two wheels) and drives it with the arrow key at motor speed x radius', async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=car`)
     await loadScene(page, 'empty', 0)
-    await pause(page, true)
+    await setPaused(page, true)
     const me = await page.evaluate(() => window.concord.sandbox.playerId())
     // Click 1: a 1 m box, 3 m up.
     await pickTool(page, 'box')
-    await clickAt(page, 0, 3)
+    await clickWorld(page, 0, 3)
     await page.waitForFunction(() =>
       window.concord.sandbox.bodies().some((b: { kind: number }) => b.kind === 2),
     )
@@ -110,20 +83,20 @@ describe('joint tools', { timeout: 300_000 }, () => {
         g.shapes[0].radius === 0.25
       )
     })
-    await clickAt(page, -0.4, 2.6)
-    await clickAt(page, 0.4, 2.6)
+    await clickWorld(page, -0.4, 2.6)
+    await clickWorld(page, 0.4, 2.6)
     await page.waitForFunction(() => window.concord.sandbox.joints().length === 2)
     const wheels = await joints(page)
     expect(wheels.map((j) => [j.kind, j.a, j.owner, j.motor])).toEqual([
       ['wheel', chassis, me, true],
       ['wheel', chassis, me, true],
     ])
-    await pause(page, false)
+    await setPaused(page, false)
     // The car lands on its wheels and settles: chassis level, on the suspension.
-    await page.waitForFunction((id) => {
-      const b = (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(id)
-      return b !== undefined && Math.abs(b.angle) < 0.05 && b.y < 1.2
-    }, chassis)
+    await until(async () => {
+      const b = await snapshotOf(page, chassis)
+      return Math.abs(b.angle) < 0.05 && b.y < 1.2
+    }, 'the car on its wheels')
     const rest = await snapshotOf(page, chassis)
     // Hold the right arrow: both wheels turn clockwise at DRIVE_SPEED.turn; rolling, the car moves
     // at that times the wheel radius (10 rad/s x 0.25 m = 2.5 m/s). Measured over the second after
@@ -141,10 +114,7 @@ describe('joint tools', { timeout: 300_000 }, () => {
     // Released: the motors hold the wheels (speed 0, a brake); the car pitches forward on its
     // suspension, rocks for about three seconds and comes to rest: it falls asleep (the server
     // then stops sending it), well to the right of where it started.
-    await page.waitForFunction(
-      (id) => (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(id)!.awake === false,
-      chassis,
-    )
+    await until(async () => (await snapshotOf(page, chassis)).awake === false, 'the car at rest')
     const s2 = await snapshotOf(page, chassis)
     expect(s2.tick - t2.tick).toBeGreaterThan(60)
     expect(s2.x).toBeGreaterThan(rest.x + 2)
@@ -155,7 +125,7 @@ describe('joint tools', { timeout: 300_000 }, () => {
   it('weld, hinge, slider and spring from their keys, each previewed, then made as shown (the spring by touch)', async () => {
     const { context, page, errors } = await openSandbox(browser, `${base}/?room=jtools`)
     await loadScene(page, 'empty', 0)
-    await pause(page, true)
+    await setPaused(page, true)
     const spawn = (x: number, y: number) =>
       page.evaluate(
         ([sx, sy]) =>

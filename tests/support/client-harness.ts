@@ -71,6 +71,40 @@ export function serveClient(dist: string, settings: Partial<ServerConfig> = {}):
   return startServer(config, { processMetrics: false })
 }
 
+/** A body's snapshot pose in an online page's mirror, with the server tick it is from. */
+export type SnapshotPose = { x: number; y: number; angle: number; tick: number; awake: boolean }
+/** The online sandbox's mirror of the room (snapshot mode), which the Sandbox interface does not list. */
+type Mirrored = { mirror: { bodies: Map<number, SnapshotPose> } }
+
+/** A body's snapshot pose and the server tick it is from (the page's mirror of the room). */
+export function snapshotOf(page: Page, id: number): Promise<SnapshotPose> {
+  return page.evaluate((bodyId) => {
+    const b = (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(bodyId)!
+    return { x: b.x, y: b.y, angle: b.angle, tick: b.tick, awake: b.awake }
+  }, id)
+}
+
+/** Wait until the page has a snapshot of body `id` newer than server tick `tick`, and return it. */
+export async function snapshotAfter(page: Page, id: number, tick: number): Promise<SnapshotPose> {
+  await page.waitForFunction(
+    ([bodyId, t]) => (window.concord.sandbox as unknown as Mirrored).mirror.bodies.get(bodyId)!.tick > t,
+    [id, tick] as const,
+  )
+  return snapshotOf(page, id)
+}
+
+/** Pause or resume the room from the page, and wait until the page shows it. */
+export async function setPaused(page: Page, paused: boolean): Promise<void> {
+  await page.evaluate((p) => window.concord.sandbox.send({ k: 'pause', paused: p }), paused)
+  await page.waitForFunction((p) => window.concord.sandbox.paused() === p, paused)
+}
+
+/** Click at a world point with the mouse. */
+export async function clickWorld(page: Page, x: number, y: number): Promise<void> {
+  const at = await screenOf(page, x, y)
+  await page.mouse.click(at.x, at.y)
+}
+
 /** Console errors and page errors seen by a page. */
 export function collectErrors(page: Page): string[] {
   const errors: string[] = []
