@@ -94,10 +94,12 @@ describe('the player list', { timeout: 300_000 }, () => {
     // What crash recovery or a planned restart sets on a room it reopened (planned-restart.test.ts
     // checks the server side with a real restart); here the page's side.
     const text = 'This room was restored after a server restart: what was built here is back.'
-    const room = server.rooms.getOrCreate('restored')
-    if (!room) throw new Error('no room')
-    room.notice = text
     for (const mode of ['', '&mode=lockstep']) {
+      // A room players left untouched is disposed at the next once-a-second check: the second
+      // page may find a fresh room, so the notice is set on the room each page will join.
+      const room = server.rooms.getOrCreate('restored')
+      if (!room) throw new Error('no room')
+      room.notice = text
       const p = await openSandbox(browser, `${base}/?room=restored&name=Di${mode}`)
       // The notice reaches the page's notices (shown as a toast for a few seconds: it may be gone
       // by the time the page is ready, so the notice list is what is read).
