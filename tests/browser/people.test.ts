@@ -94,13 +94,17 @@ describe('the player list', { timeout: 300_000 }, () => {
     // What crash recovery or a planned restart sets on a room it reopened (planned-restart.test.ts
     // checks the server side with a real restart); here the page's side.
     const text = 'This room was restored after a server restart: what was built here is back.'
-    for (const mode of ['', '&mode=lockstep']) {
-      // A room players left untouched is disposed at the next once-a-second check: the second
-      // page may find a fresh room, so the notice is set on the room each page will join.
-      const room = server.rooms.getOrCreate('restored')
-      if (!room) throw new Error('no room')
-      room.notice = text
-      const p = await openSandbox(browser, `${base}/?room=restored&name=Di${mode}`)
+    for (const [room, mode] of [
+      ['restored', ''],
+      ['restored-lockstep', '&mode=lockstep'],
+    ]) {
+      // A room of its own for each page: a room its players left untouched is disposed at the
+      // next once-a-second check, so a second page in the first page's room could find a fresh
+      // room without the notice. A room opened without players waits --room-idle-seconds (60 s).
+      const opened = server.rooms.getOrCreate(room)
+      if (!opened) throw new Error(`no room ${room}`)
+      opened.notice = text
+      const p = await openSandbox(browser, `${base}/?room=${room}&name=Di${mode}`)
       // The notice reaches the page's notices (shown as a toast for a few seconds: it may be gone
       // by the time the page is ready, so the notice list is what is read).
       // Another notice may follow it on a loaded machine: look among the last three.
