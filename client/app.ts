@@ -29,6 +29,7 @@ import {
   type ShortcutAction,
   SpawnPanel,
   shortcutFor,
+  TOOL_COMMANDS,
   TOOLS,
   ToolController,
   type ToolName,
@@ -63,6 +64,18 @@ function isStaleRefusal(notice: string, kind: 'undo' | 'redo'): boolean {
 
 /** How the page names a slow-motion factor. */
 const SLOW_LABEL: Record<number, string> = { 1: '1×', 2: '1/2×', 4: '1/4×' }
+/** The joint tools, behind the toolbar's Joints button. */
+const JOINT_TOOLS: readonly ToolName[] = ['weld', 'hinge', 'spring', 'slider', 'wheel']
+/** The toolbar's room controls and the command each sends (the game must list it: rules). */
+const CONTROL_COMMANDS = {
+  scene: 'scene',
+  pause: 'pause',
+  step: 'step',
+  reset: 'reset',
+  gravity: 'gravity',
+  slow: 'slow',
+  lock: 'lock',
+} as const
 
 export class App {
   readonly camera = new Camera()
@@ -124,6 +137,7 @@ export class App {
       this.jointPanel.settings,
     )
     this.tools.onNotice = (text) => this.toast(text)
+    this.tools.allows = (kind) => this.allows(kind)
     this.editPanel = new EditPanel($('edit-panel'), this.tools.edit)
     this.renderer.resize()
     window.addEventListener('resize', () => {
@@ -266,6 +280,21 @@ export class App {
     s.sendGame(kind, isStaleRefusal(s.notices().latest ?? '', kind) ? { skip: true } : {})
   }
 
+  /**
+   * Whether the room's game lists a command kind, built-in (rules.builtins) or its own
+   * (rules.commands). Offline, in replays and before the welcome there are no rules: everything.
+   */
+  private allows(kind: string): boolean {
+    const rules = this.sandbox.rules()
+    return rules === null || rules.builtins.includes(kind) || rules.commands.includes(kind)
+  }
+
+  /** A tool the room's game offers (its command is listed; the Lab always). */
+  private offers(tool: ToolName): boolean {
+    const kind = TOOL_COMMANDS[tool]
+    return kind === null || this.allows(kind)
+  }
+
   /** Whether this page's room offers undo and redo (the sandbox online or in lockstep). */
   private undoable(): boolean {
     return this.sandbox.rules()?.commands?.includes('undo') ?? false
@@ -298,8 +327,7 @@ export class App {
     // A replay spawns nothing: its keys may pick a tool, but the spawn sliders stay closed.
     const spawns = tool === 'circle' || tool === 'box' || tool === 'polygon' || tool === 'draw'
     this.spawnPanel.show(spawns && this.sandbox.mode !== 'replay')
-    const joints =
-      tool === 'weld' || tool === 'hinge' || tool === 'spring' || tool === 'slider' || tool === 'wheel'
+    const joints = JOINT_TOOLS.includes(tool)
     this.jointPanel.show(joints && this.sandbox.mode !== 'replay')
     if (joints) this.jointTool = tool
     if (tool !== 'edit') this.tools.edit.clear()
@@ -430,6 +458,10 @@ export class App {
     const s = this.sandbox
     if (action.startsWith('tool:')) {
       const tool = action.slice(5) as ToolName
+      if (!this.offers(tool)) {
+        this.toast(`This room's game (${s.rules()?.game}) has no ${tool} tool`)
+        return
+      }
       // Draw again: its next form (outline, rectangle, circle, capsule).
       if (tool === 'draw' && this.tools.tool === 'draw') this.cycleDrawForm()
       else this.setTool(tool)
@@ -439,6 +471,13 @@ export class App {
       const layer = action.slice(6) as keyof DebugLayers
       this.layers[layer] = !this.layers[layer]
       this.syncToggles()
+      return
+    }
+    if (
+      Object.hasOwn(CONTROL_COMMANDS, action) &&
+      !this.allows(CONTROL_COMMANDS[action as keyof typeof CONTROL_COMMANDS])
+    ) {
+      this.toast(`This room's game (${s.rules()?.game}) has no ${action} control`)
       return
     }
     switch (action) {
@@ -670,14 +709,18 @@ export class App {
 
   private refreshPanels(selected: ViewBody | null): void {
     const s = this.sandbox
-    $('hud').textContent = hudText(s.stats(), this.fps.value, s.mode, s.scene())
+    // A game room that loads no scenes holds its game's world: name the game, not the default scene.
+    const rules = s.rules()
+    const shown = rules && rules.scenes.length === 0 ? `game ${rules.game}` : s.scene()
+    $('hud').textContent = hudText(s.stats(), this.fps.value, s.mode, shown)
     this.refreshGamePanel()
     const room = s.roomControl?.() ?? null
     const lockedOut = room?.locked && room.self !== room.creator
     const controls = (s.rules()?.controls ?? true) && !lockedOut
     $('undo').hidden = $('redo').hidden = !this.undoable()
-    for (const id of ['scene', 'pause', 'step', 'reset', 'gravity', 'slow', 'lock']) {
+    for (const id of ['scene', 'pause', 'step', 'reset', 'gravity', 'slow', 'lock'] as const) {
       const control = $(id) as HTMLButtonElement
+      control.hidden = !this.allows(CONTROL_COMMANDS[id])
       // The scene picker's own title names the current scene (syncScenePicker): read it afresh.
       if (id === 'scene') control.dataset.title = `Scene: ${sceneDescription(s.scene())}`
       else control.dataset.title ??= control.title
@@ -690,11 +733,11 @@ export class App {
     }
     $('pause').textContent = s.paused() ? 'Play' : 'Pause'
     const slow = room?.slow ?? 1
-    $('slow').hidden = room === null
+    $('slow').hidden ||= room === null
     $('slow').textContent = SLOW_LABEL[slow] ?? `1/${slow}×`
     $('slow').setAttribute('aria-pressed', String(slow !== 1))
     // Only the room's creator can lock; offline there is nobody to lock out.
-    $('lock').hidden = room === null || room.creator === 0 || room.self !== room.creator
+    $('lock').hidden ||= room === null || room.creator === 0 || room.self !== room.creator
     $('lock').setAttribute('aria-pressed', String(room?.locked ?? false))
     $('lock').textContent = room?.locked ? '🔒' : '🔓'
     // On the view itself, not only on the button (the replay page has its own Play button).
@@ -723,7 +766,13 @@ export class App {
     const status = s.status()
     // Tools cannot act while the page is not in its room: say so on every tool button.
     const away = s.mode === 'online' && status.state !== 'connected'
+    // A game room offers only the tools its game lists (the Lab always): the current one too.
+    if (!this.offers(this.tools.tool)) this.setTool(TOOLS.find((t) => this.offers(t)) ?? 'inspect')
+    $('joints').hidden = !JOINT_TOOLS.some((t) => this.offers(t))
+    $('static').hidden = !this.allows('spawn')
+    $('open-scene').hidden = !this.allows('scene')
     for (const b of document.querySelectorAll<HTMLButtonElement>('[data-tool]')) {
+      b.hidden = !this.offers(b.dataset.tool as ToolName)
       b.dataset.title ??= b.title
       b.disabled = away
       const why = status.state === 'error' && !status.retrying ? 'not in the room' : 'offline, reconnecting'

@@ -9,4 +9,4 @@ export { DRIVE_SPEED, driveSpeed, JOINT_DEFAULTS, JointPanel, type JointSettings
 export { bodyRadius, pickBody, shapeRadius, shapeVertices, toWorld } from './picking.ts'
 export { helpIntro, helpRows, type ShortcutAction, shortcutFor } from './shortcuts.ts'
 export { SpawnPanel } from './spawn-settings.ts'
-export { TOOLS, ToolController, type ToolName } from './tools.ts'
+export { TOOL_COMMANDS, TOOLS, ToolController, type ToolName } from './tools.ts'

@@ -43,6 +43,32 @@ export const TOOLS = [
 /** A tool name. */
 export type ToolName = (typeof TOOLS)[number]
 
+/**
+ * The command each tool sends (a built-in `input` kind or a game `cmd` kind; the Lab reads and
+ * sends nothing the game must list): a page offers a tool only when the room's game lists it
+ * (rules.builtins, rules.commands).
+ */
+export const TOOL_COMMANDS: Readonly<Record<ToolName, string | null>> = {
+  grab: 'grab',
+  circle: 'spawn',
+  box: 'spawn',
+  polygon: 'spawn',
+  delete: 'delete',
+  pin: 'pin',
+  rope: 'rope',
+  cut: 'unjoint',
+  inspect: null,
+  draw: 'spawn',
+  ground: 'spawn',
+  weld: 'weld',
+  hinge: 'hinge',
+  spring: 'spring',
+  slider: 'slider',
+  wheel: 'wheel',
+  explode: 'explode',
+  edit: 'edit',
+}
+
 /** Throw speed per metre of drag (1/s), and the largest throw speed (m/s). */
 const THROW_GAIN = 4
 const MAX_THROW = 40
@@ -114,6 +140,13 @@ export class ToolController {
   readonly edit: EditTool
   /** Whether Shift was held at the last press (the Edit tool turns instead of moving). */
   private shift = false
+
+  /**
+   * Whether the room's game lists a command kind (set by the page from rules.builtins and
+   * rules.commands; everything, offline and before the welcome). Hover cursors go as `move`, so a
+   * game without `move` gets none.
+   */
+  allows: (kind: string) => boolean = () => true
 
   constructor(
     private readonly canvas: HTMLCanvasElement,
@@ -300,7 +333,11 @@ export class ToolController {
     }
     const now = performance.now()
     if (a.kind === 'grab') this.sandbox().send({ k: 'move', x: w.x, y: w.y })
-    else if (this.sandbox().mode === 'online' && now - this.lastHover > HOVER_INTERVAL) {
+    else if (
+      this.sandbox().mode === 'online' &&
+      now - this.lastHover > HOVER_INTERVAL &&
+      this.allows('move')
+    ) {
       this.lastHover = now
       this.sandbox().send({ k: 'move', x: w.x, y: w.y })
     }

@@ -168,11 +168,15 @@ export class Room {
       maxClients: config.maxClientsPerRoom,
       inputsPerTick: config.inputsPerTick,
       controls: config.roomControls,
-      scenes: Object.keys(SCENES),
+      // Only a game that lists the scene command loads scenes: the others' list is empty.
+      scenes: Object.hasOwn(game.commands, 'scene') ? Object.keys(SCENES) : [],
       worldHalfExtent: WORLD_HALF_EXTENT,
       game: game.name,
       commands: Object.keys(game.commands)
         .filter((k) => !game.commands[k].builtin)
+        .sort(),
+      builtins: Object.keys(game.commands)
+        .filter((k) => game.commands[k].builtin)
         .sort(),
       maxSpectators: config.maxSpectatorsPerRoom,
     }

@@ -169,6 +169,12 @@ export interface RoomRules {
   game: string
   /** The game's own command kinds (`cmd` messages), sorted; the built-in ones it accepts go by `input`. */
   commands: string[]
+  /**
+   * The built-in `input` kinds the game lists, sorted (the sandbox: all of them; a game with its own
+   * commands often none). A page offers only the tools and controls whose commands are here or in
+   * `commands`.
+   */
+  builtins: string[]
   /** Spectators the room admits besides its players (join.spectate). */
   maxSpectators: number
 }

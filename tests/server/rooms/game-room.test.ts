@@ -12,6 +12,7 @@ import { encode } from '@msgpack/msgpack'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { BotClient } from '../../../bots/bot-client.ts'
 import { LockstepBot } from '../../../bots/lockstep-bot.ts'
+import { SCENES } from '../../../engine/index.ts'
 import type { BallDropState } from '../../../games/index.ts'
 import type { RunningServer } from '../../../server/server.ts'
 import type { ErrorMessage, ServerMessage } from '../../../shared/index.ts'
@@ -46,7 +47,32 @@ describe('a game room over real sockets', { timeout: 60_000 }, () => {
   it('runs the game the join names, refuses bad commands by field, and a lockstep client follows its state', async () => {
     const player = await BotClient.connect({ url: ws(), room: 'bd', name: 'p', game: 'ball-drop' })
     const welcome = player.received.find((m) => m.t === 'welcome')
-    expect(welcome?.t === 'welcome' && welcome.rules).toMatchObject({ game: 'ball-drop', commands: ['drop'] })
+    expect(welcome?.t === 'welcome' && welcome.rules).toMatchObject({
+      game: 'ball-drop',
+      commands: ['drop'],
+      builtins: [],
+      scenes: [],
+    })
+    // The sandbox lists every built-in command, and its scenes.
+    const sandbox = await BotClient.connect({ url: ws(), room: 'bd-sandbox', name: 's' })
+    const rules = sandbox.received.find((m) => m.t === 'welcome')
+    expect(rules?.t === 'welcome' && rules.rules.builtins).toEqual([
+      'delete',
+      'grab',
+      'gravity',
+      'move',
+      'pause',
+      'pin',
+      'release',
+      'reset',
+      'rope',
+      'scene',
+      'spawn',
+      'step',
+      'unjoint',
+    ])
+    expect(rules?.t === 'welcome' && rules.rules.scenes).toEqual(Object.keys(SCENES))
+    await sandbox.close()
     const follower = await LockstepBot.connect({ url: ws(), room: 'bd', name: 'f' })
     await follower.waitFor(() => follower.runner.sim !== null, 'the sync')
     // A lockstep client written from PROTOCOL.md alone reads the game command's entry.

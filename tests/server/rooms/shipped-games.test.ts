@@ -56,6 +56,8 @@ describe('the shipped games over real sockets', { timeout: 90_000 }, () => {
     expect(welcome?.t === 'welcome' && welcome.rules).toMatchObject({
       game: 'goal',
       commands: ['kick', 'rematch', 'run'],
+      builtins: [],
+      scenes: [],
     })
     const blue = await BotClient.connect({ url: server.url, room: 'goal-1', name: 'blue', game: 'goal' })
     const replica = await LockstepBot.connect({

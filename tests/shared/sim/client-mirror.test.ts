@@ -49,6 +49,7 @@ describe('client mirror', () => {
         worldHalfExtent: 500,
         game: 'sandbox',
         commands: [],
+        builtins: [],
         maxSpectators: 64,
       },
       players: [],

@@ -36,6 +36,7 @@ const RULES: RoomRules = {
   worldHalfExtent: 500,
   game: 'sandbox',
   commands: [],
+  builtins: [],
   maxSpectators: 64,
 }
 
