@@ -1,6 +1,10 @@
+import { fileURLToPath } from 'node:url'
 import { defineConfig } from 'vitest/config'
 
 export default defineConfig({
+  // Game modules import the SDK as `concord/game` (docs/games.md), as tsconfig.json's paths map it
+  // for the type checker; vitest does not read those, so a test importing a game needs this too.
+  resolve: { alias: { 'concord/game': fileURLToPath(new URL('./games/sdk.ts', import.meta.url)) } },
   test: {
     include: ['tests/**/*.test.ts'],
     testTimeout: 120_000,
