@@ -247,6 +247,64 @@ describe('setJointSettings: oracles', () => {
   })
 })
 
+describe('setJointSettings: warm starting as Box2D v3.1 leaves it (the reaction reads the accumulated impulses)', () => {
+  it('a cap change keeps the motor impulse, a motor toggle zeroes it; a limit change zeroes the limit impulse, a spring change does not', () => {
+    const { world, j, r, m } = pendulum({ enableMotor: true, motorSpeed: 0 }, true)
+    const load = m * G * r
+    world.setJointSettings(j, { maxMotorTorque: 1.05 * load })
+    for (let i = 0; i < 60; i++) world.step()
+    const held = world.getJointReaction(j).torque
+    expect(held).toBeCloseTo(load, 1)
+    world.setJointSettings(j, { maxMotorTorque: 2 * load, breakTorque: 1e6 })
+    expect(world.getJointReaction(j).torque).toBe(held)
+    world.setJointSettings(j, { enableMotor: false })
+    world.setJointSettings(j, { enableMotor: true })
+    expect(world.getJointReaction(j).torque).toBe(0)
+    // Rest the arm on a lower limit (motor off): the limit carries m g r.
+    world.setJointSettings(j, { enableMotor: false, enableLimit: true, lowerAngle: -0.2, upperAngle: 0.5 })
+    for (let i = 0; i < 120; i++) world.step()
+    const resting = world.getJointReaction(j).torque
+    expect(resting).toBeGreaterThan(0.9 * load)
+    world.setJointSettings(j, { hertz: 3 }) // the spring is off: its settings leave the limit alone
+    expect(world.getJointReaction(j).torque).toBe(resting)
+    world.setJointSettings(j, { lowerAngle: -0.25 })
+    expect(world.getJointReaction(j).torque).toBe(0)
+  })
+
+  it("a distance joint's length change zeroes its axial impulse, a break force change does not", () => {
+    const world = createWorld({ gravity: { x: 0, y: -G } })
+    const b = world.createBody({ position: { x: 0, y: 3 }, shape: box(0.2, 0.2) })
+    const j = world.createJoint({
+      type: 'distance',
+      bodyA: null,
+      bodyB: b,
+      anchorA: { x: 0, y: 5 },
+      anchorB: { x: 0, y: 3 },
+    })
+    for (let i = 0; i < 60; i++) world.step()
+    const pull = world.getJointReaction(j).force.y
+    expect(pull).toBeCloseTo(world.getMass(b) * G, 1)
+    world.setJointSettings(j, { breakForce: 1e6 })
+    expect(world.getJointReaction(j).force.y).toBe(pull)
+    world.setJointSettings(j, { length: 2.1 })
+    expect(Math.abs(world.getJointReaction(j).force.y)).toBe(0)
+  })
+})
+
+describe('setJointSettings: waking', () => {
+  it('a sleeping arm given a motor wakes and turns', () => {
+    const world = createWorld({ gravity: { x: 0, y: -G } })
+    const b = world.createBody({ position: { x: 0, y: 4 }, shape: box(0.1, 1) })
+    const j = world.createJoint({ type: 'revolute', bodyA: null, bodyB: b, anchor: { x: 0, y: 5 } })
+    for (let i = 0; i < 300 && world.isAwake(b); i++) world.step()
+    expect(world.isAwake(b)).toBe(false)
+    world.setJointSettings(j, { enableMotor: true, motorSpeed: 1, maxMotorTorque: 100 })
+    expect(world.isAwake(b)).toBe(true)
+    for (let i = 0; i < 30; i++) world.step()
+    expect(world.getJointAngle(j)).toBeGreaterThan(0.3)
+  })
+})
+
 describe('setJointSettings: bad input', () => {
   it('names the field: a setting the kind lacks, out of range, out of order, not a boolean, an unknown joint', () => {
     const { world, j } = pendulum()
