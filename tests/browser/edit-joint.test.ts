@@ -16,6 +16,7 @@ import type { RunningServer } from '../../server/server.ts'
 import type { WireJoint } from '../../shared/index.ts'
 import { launchBrowser } from '../support/chromium.ts'
 import { bodies, loadScene, openSandbox, screenOf, startClientServer } from '../support/client-harness.ts'
+import { until } from '../support/wait.ts'
 
 let server: RunningServer
 let browser: Browser
@@ -44,6 +45,9 @@ async function setJointField(page: Page, key: string, value: string | boolean): 
   )
 }
 
+/** How long a wait on the raw client may take on a loaded machine (the pages' waits allow as long). */
+const WAIT = 90_000
+
 /** The bot's joints of kind pin. */
 const pins = (bot: BotClient): WireJoint[] => [...bot.mirror.joints.values()].filter((j) => j.kind === 'pin')
 
@@ -65,7 +69,7 @@ describe('editing a joint in the Edit panel', { timeout: 300_000 }, () => {
       arm,
     )
     const bot = await BotClient.connect({ url: server.url, room, name: 'reader' })
-    await bot.waitFor(() => pins(bot).length === 1, 'the hinge at the raw client')
+    await until(() => pins(bot).length === 1, 'the hinge at the raw client', WAIT)
     const hinge = pins(bot)[0]
     expect(hinge).toMatchObject({ b: arm, motor: true, speed: 1, torque: 1, limit: false })
 
@@ -113,7 +117,7 @@ describe('editing a joint in the Edit panel', { timeout: 300_000 }, () => {
     ]
     for (const [key, value, done] of steps) {
       await setJointField(page, key, value)
-      await bot.waitFor(() => done(bot.mirror.joints.get(hinge.id)!), `${key} at the raw client`)
+      await until(() => done(bot.mirror.joints.get(hinge.id)!), `${key} at the raw client`, WAIT)
       await page.waitForFunction(
         ([k, v]) => {
           const input = document.querySelector<HTMLInputElement>(`#edit-panel [data-joint-edit="${k}"]`)
@@ -147,7 +151,7 @@ describe('editing a joint in the Edit panel', { timeout: 300_000 }, () => {
 
     // Undo (Ctrl+Z) the torque: the joint is rebuilt (new id) with 1 N m, keeping the limit; the arm sinks to -0.3.
     await page.keyboard.press('Control+z')
-    await bot.waitFor(() => pins(bot).some((j) => j.id !== hinge.id), 'the rebuilt hinge')
+    await until(() => pins(bot).some((j) => j.id !== hinge.id), 'the rebuilt hinge', WAIT)
     expect(bot.mirror.joints.has(hinge.id)).toBe(false)
     const undone = pins(bot)[0]
     expect(undone).toMatchObject({
