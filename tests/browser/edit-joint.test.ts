@@ -8,6 +8,8 @@
  * to 20 N m (above m g r). Unpaused, the arm rises and the server's poses keep it within the new
  * limit; the raw client sees the joint's new settings under its id. Ctrl+Z undoes the torque: the
  * raw client sees the rebuilt joint with 1 N m again, and the arm sinks back to the lower limit.
+ * A lockstep page in the room, which applies every command itself, verifies the room's hashes past
+ * the end without a desync and draws the same rebuilt joint.
  */
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
@@ -72,6 +74,8 @@ describe('editing a joint in the Edit panel', { timeout: 300_000 }, () => {
     await until(() => pins(bot).length === 1, 'the hinge at the raw client', WAIT)
     const hinge = pins(bot)[0]
     expect(hinge).toMatchObject({ b: arm, motor: true, speed: 1, torque: 1, limit: false })
+    // A lockstep page runs the room itself: it must apply every editJoint (and the undo) as the server does.
+    const lockstep = await openSandbox(browser, `${base}/?room=${room}&mode=lockstep`)
 
     // Select the hinge: the Edit tool, a click on empty space next to the pin (the arm starts 0.5 m away).
     await page.keyboard.press(';')
@@ -175,7 +179,22 @@ describe('editing a joint in the Edit panel', { timeout: 300_000 }, () => {
     )
     expect(sunk).toBeLessThan(-0.28)
     expect(low).toBeGreaterThan(-0.32)
+    // The lockstep page verified the room's hashes past this point without a desync, and draws the rebuilt hinge.
+    const end = bot.mirror.tick
+    await lockstep.page.waitForFunction((t) => {
+      const l = window.concord.sandbox.stats().lockstep
+      return l !== null && l !== undefined && l.verifiedTick > t
+    }, end)
+    const l = await lockstep.page.evaluate(() => window.concord.sandbox.stats().lockstep!)
+    expect([l.desyncs, l.resyncs]).toEqual([0, 0])
+    const drawn = await lockstep.page.evaluate(
+      (id) => window.concord.sandbox.joints().find((j: { id: number }) => j.id === id)?.spec,
+      undone.id,
+    )
+    expect(drawn).toEqual(undone)
     expect(errors).toEqual([])
+    expect(lockstep.errors).toEqual([])
+    await lockstep.context.close()
     await bot.close()
   })
 })
