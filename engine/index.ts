@@ -40,6 +40,7 @@ export {
   SPECULATIVE_DISTANCE,
   STEP_SECONDS,
 } from './constants.ts'
+export { JOINT_SETTINGS } from './joints/index.ts'
 export { atan2, cos, PI, sin, TRIG_LIMIT, TWO_PI, type Vec2, wrapAngle } from './math.ts'
 export { Prng } from './prng.ts'
 export {
@@ -98,6 +99,7 @@ export type {
   JointId,
   JointInfo,
   JointReaction,
+  JointSettings,
   MotorJointDef,
   MouseJointDef,
   PrismaticJointDef,

@@ -367,6 +367,59 @@ export type JointDef =
   | WheelJointDef
   | MotorJointDef
 
+/**
+ * Settings World.setJointSettings changes on an existing joint, by the names its definition uses;
+ * each kind takes only its own (RangeError naming any other): revolute enableLimit, lowerAngle,
+ * upperAngle, enableMotor, motorSpeed, maxMotorTorque, enableSpring, hertz, dampingRatio,
+ * targetAngle; distance length, minLength, maxLength, hertz, dampingRatio, enableMotor, motorSpeed,
+ * maxMotorForce; weld linearHertz, angularHertz, linearDampingRatio, angularDampingRatio;
+ * prismatic enableLimit, lower, upper, enableMotor, motorSpeed, maxMotorForce, enableSpring, hertz,
+ * dampingRatio, targetTranslation; wheel the same with maxMotorTorque for maxMotorForce and no
+ * targetTranslation; motor maxForce, maxTorque, correctionFactor; mouse maxForce, hertz,
+ * dampingRatio; every kind breakForce and breakTorque. Units and ranges as in the definitions.
+ */
+export interface JointSettings {
+  enableLimit?: boolean
+  /** Revolute limits (rad, in [-pi, pi], lower <= upper). */
+  lowerAngle?: number
+  upperAngle?: number
+  /** Prismatic and wheel limits (m, within 1e6, lower <= upper). */
+  lower?: number
+  upper?: number
+  enableMotor?: boolean
+  /** rad/s (revolute, wheel) or m/s (prismatic, distance). */
+  motorSpeed?: number
+  /** N m, in [0, 1e12] (revolute, wheel). */
+  maxMotorTorque?: number
+  /** N, in [0, 1e12] (prismatic, distance). */
+  maxMotorForce?: number
+  enableSpring?: boolean
+  /** Spring stiffness (Hz, in [0, 1e6]; mouse [0, 1000]) and damping ratio (same range). */
+  hertz?: number
+  dampingRatio?: number
+  /** Revolute spring target (rad, in [-pi, pi]). */
+  targetAngle?: number
+  /** Prismatic spring target (m, within 1e6). */
+  targetTranslation?: number
+  /** Distance: rest length (m, [0.001, 1e6]) and limits (0 <= minLength <= length <= maxLength <= 1e6). */
+  length?: number
+  minLength?: number
+  maxLength?: number
+  /** Weld springs (Hz, 0 = rigid) and damping ratios, in [0, 1e6]. */
+  linearHertz?: number
+  angularHertz?: number
+  linearDampingRatio?: number
+  angularDampingRatio?: number
+  /** Mouse and motor joints: force cap (N); motor joint: torque cap (N m), both in [0, 1e12]. */
+  maxForce?: number
+  maxTorque?: number
+  /** Motor joint: fraction of the error closed per sub-step, in [0, 1]. */
+  correctionFactor?: number
+  /** Break thresholds (N, N m), >= 0; Infinity never breaks. */
+  breakForce?: number
+  breakTorque?: number
+}
+
 /** What a joint was doing during the last step: which joints broke. */
 export interface JointEvents {
   /** Joints that broke in the last step (reaction above breakForce or breakTorque), ascending ids. */

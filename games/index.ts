@@ -60,6 +60,8 @@ export {
   WIN_SCORE,
 } from './goal/index.ts'
 export {
+  EDITABLE_JOINT_SETTINGS,
+  type EditJointArgs,
   editCommands,
   filterLayer,
   jointCommands,

@@ -163,6 +163,11 @@ export class EditTool {
     for (const id of this.selection) this.sandbox().sendGame('edit', { body: id, ...fields })
   }
 
+  /** Change settings of the selected joint (the panel's joint controls: the sandbox's `editJoint`). */
+  editJoint(fields: { [key: string]: PlainData }): void {
+    if (this.joint) this.sandbox().sendGame('editJoint', { joint: this.joint, ...fields })
+  }
+
   /** Copy every selected body beside itself (to the right, clear of it). */
   duplicate(): void {
     for (const b of this.bodies()) {

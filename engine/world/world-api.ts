@@ -19,6 +19,7 @@ import {
   updateMassData,
 } from '../dynamics/index.ts'
 import {
+  applyJointSettings,
   buildJoint,
   DISTANCE,
   JOINT_TYPE_NAMES,
@@ -49,6 +50,7 @@ import type {
   JointId,
   JointInfo,
   JointReaction,
+  JointSettings,
   ShapeDef,
   ShapeId,
 } from '../types.ts'
@@ -907,6 +909,20 @@ export class WorldApi extends WorldStore {
     if (type !== REVOLUTE && type !== WHEEL && type !== PRISMATIC && type !== DISTANCE)
       throw new RangeError(`joint ${id} is a ${JOINT_TYPE_NAMES[type]} joint, which has no motor`)
     joint.motorSpeed = finite('motorSpeed', speed)
+    this.islands.wake(joint.bodyA)
+    this.islands.wake(joint.bodyB)
+  }
+
+  /**
+   * Changes any of a joint's settings (JointSettings: the names its definition uses, checked as
+   * createJoint checks them; a setting its kind lacks is a RangeError naming it, and a refused call
+   * changes nothing), and wakes its bodies. Accumulated impulses are kept as Box2D v3.1's setters
+   * keep them (joints/joint-settings.ts). Allocates nothing.
+   */
+  setJointSettings(id: JointId, settings: JointSettings): void {
+    const joint = this.joint(id)
+    applyJointSettings(joint, id, settings)
+    this.revision++
     this.islands.wake(joint.bodyA)
     this.islands.wake(joint.bodyB)
   }

@@ -5,22 +5,29 @@
  * and `wheel` a sprung wheel joint with a motor (a car is a chassis and two wheels); every one
  * takes a breaking force and torque; each is undoable (undo-commands.ts). `jointMotor` sets a joint's motor speed, for the player who
  * made the joint only (the rule every replica applies, so keys drive only your own machine).
+ * `editJoint` changes an existing joint's settings (the Edit tool's joint panel), by the names of
+ * its wire form (WireJoint: limit, lower, upper, motor, speed, torque, force, spring, hz, damping,
+ * target, ahz, adamping, length, min, max, correction, breakForce, breakTorque), for the joint's
+ * maker and for the scene's joints; undoable (undo rebuilds the joint as it was, with a new id).
  *
  * The schemas bound every number (the ranges are PROTOCOL.md's, "The sandbox's joint commands");
  * what a schema cannot say (upper below lower, a zero axis) is refused in apply, naming the
  * fields. Anchors are clamped to the world square like a pin's; each must lie within its body's
  * reach plus ANCHOR_MARGIN (shared/sim's createUserJoint).
  */
-import { circle, type Vec2 } from '../../engine/index.ts'
+import { circle, type JointSettings, type Vec2 } from '../../engine/index.ts'
 import {
   anchorRefusal,
   clampToWorld,
+  type GameContext,
   MAX_ROPE_LENGTH,
   NO_ITEMS,
+  type WireJoint,
   type WireJointDef,
+  type WireJointKind,
 } from '../../shared/index.ts'
 import type { GameCommandDefinition } from '../game-api.ts'
-import { captureBodies, recordAction, recordJoint } from './undo-commands.ts'
+import { captureBodies, captureJoints, recordAction, recordJoint } from './undo-commands.ts'
 
 /** Fastest motor a player may ask for: rad/s for hinges and wheels, m/s for sliders. */
 export const MAX_JOINT_MOTOR_SPEED = 50
@@ -52,6 +59,140 @@ const speed = { type: 'number', minimum: -MAX_JOINT_MOTOR_SPEED, maximum: MAX_JO
 const effort = { type: 'number', exclusiveMinimum: 0, maximum: MAX_JOINT_MOTOR_EFFORT }
 const travel = { type: 'number', minimum: -MAX_SLIDER_TRAVEL, maximum: MAX_SLIDER_TRAVEL }
 const angle = { type: 'number', minimum: -Math.PI, maximum: Math.PI }
+
+/** The settings `editJoint` takes for each wire kind (WireJoint field names). */
+export const EDITABLE_JOINT_SETTINGS: Record<WireJointKind, readonly string[]> = (() => {
+  const brk = ['breakForce', 'breakTorque']
+  const distance = ['length', 'min', 'max', 'hz', 'damping', 'motor', 'speed', 'force', ...brk]
+  const slide = ['limit', 'lower', 'upper', 'motor', 'speed']
+  return {
+    pin: [...slide, 'torque', 'spring', 'hz', 'damping', 'target', ...brk],
+    rod: distance,
+    rope: distance,
+    spring: distance,
+    weld: ['hz', 'damping', 'ahz', 'adamping', ...brk],
+    slider: [...slide, 'force', 'spring', 'hz', 'damping', 'target', ...brk],
+    wheel: [...slide, 'torque', 'spring', 'hz', 'damping', ...brk],
+    motor: ['force', 'torque', 'correction', ...brk],
+  }
+})()
+
+/** editJoint's arguments: the joint and any of the WireJoint settings its kind has. */
+export interface EditJointArgs {
+  joint: number
+  limit?: boolean
+  lower?: number
+  upper?: number
+  motor?: boolean
+  speed?: number
+  torque?: number
+  force?: number
+  spring?: boolean
+  hz?: number
+  damping?: number
+  target?: number
+  ahz?: number
+  adamping?: number
+  length?: number
+  min?: number
+  max?: number
+  correction?: number
+  breakForce?: number
+  breakTorque?: number
+}
+
+/** The engine's name of each wire setting, by the engine's joint type (see the file comment). */
+function engineName(type: WireJointDef['type'], field: string): keyof JointSettings {
+  switch (field) {
+    case 'limit':
+      return 'enableLimit'
+    case 'motor':
+      return 'enableMotor'
+    case 'spring':
+      return 'enableSpring'
+    case 'speed':
+      return 'motorSpeed'
+    case 'lower':
+      return type === 'revolute' ? 'lowerAngle' : 'lower'
+    case 'upper':
+      return type === 'revolute' ? 'upperAngle' : 'upper'
+    case 'target':
+      return type === 'revolute' ? 'targetAngle' : 'targetTranslation'
+    case 'torque':
+      return type === 'motor' ? 'maxTorque' : 'maxMotorTorque'
+    case 'force':
+      return type === 'motor' ? 'maxForce' : 'maxMotorForce'
+    case 'hz':
+      return type === 'weld' ? 'linearHertz' : 'hertz'
+    case 'damping':
+      return type === 'weld' ? 'linearDampingRatio' : 'dampingRatio'
+    case 'ahz':
+      return 'angularHertz'
+    case 'adamping':
+      return 'angularDampingRatio'
+    case 'min':
+      return 'minLength'
+    case 'max':
+      return 'maxLength'
+    case 'correction':
+      return 'correctionFactor'
+    default:
+      return field as keyof JointSettings // length, breakForce, breakTorque
+  }
+}
+
+/** The engine joint type of a wire kind. */
+function engineType(kind: WireJointKind): WireJointDef['type'] {
+  if (kind === 'pin') return 'revolute'
+  if (kind === 'slider') return 'prismatic'
+  if (kind === 'rod' || kind === 'rope' || kind === 'spring') return 'distance'
+  return kind
+}
+
+/**
+ * editJoint's settings for the engine (World.setJointSettings), or why they are refused: a setting
+ * the joint's kind lacks, a pin's angle beyond +-pi, lower above upper, or a length outside
+ * [min, max] (a limit not given that equals the length follows a new length, as the engine does).
+ */
+export function editJointSettings(j: Readonly<WireJoint>, c: EditJointArgs): JointSettings | string {
+  const allowed = EDITABLE_JOINT_SETTINGS[j.kind]
+  const given = Object.keys(c).filter((k) => k !== 'joint')
+  if (given.length === 0) return 'editJoint refused: give at least one setting'
+  for (const key of given)
+    if (!allowed.includes(key))
+      return `editJoint refused: a ${j.kind} joint has no ${key} (its settings: ${allowed.join(', ')})`
+  if (j.kind === 'pin')
+    for (const key of ['lower', 'upper', 'target'] as const) {
+      const v = c[key]
+      if (v !== undefined && Math.abs(v) > Math.PI)
+        return `editJoint refused: a pin's ${key} must be within +-pi rad, got ${v}`
+    }
+  const lower = c.lower ?? j.lower
+  const upper = c.upper ?? j.upper
+  if (lower > upper) return `editJoint refused: lower (${lower}) must not be above upper (${upper})`
+  const length = c.length ?? j.length
+  const min = c.min ?? (j.min === j.length ? length : j.min)
+  const max = c.max ?? (j.max === j.length ? length : j.max)
+  if (min > length) return `editJoint refused: min (${min}) must not be above length (${length})`
+  if (max < length) return `editJoint refused: max (${max}) must not be below length (${length})`
+  const type = engineType(j.kind)
+  const out: Record<string, number | boolean> = {}
+  for (const key of given) {
+    const v = c[key as keyof EditJointArgs] as number | boolean
+    // A break threshold of 0 is "never", as on the wire.
+    out[engineName(type, key)] = (key === 'breakForce' || key === 'breakTorque') && v === 0 ? Infinity : v
+  }
+  return out as JointSettings
+}
+
+/** Why `player` may not edit joint `id` (missing, or another player's), or null. */
+function editJointRefusal(ctx: GameContext<undefined>, player: number, id: number): string | null {
+  const j = ctx.userJoint(id)
+  if (!j) return `joint ${id} is not a joint in this room`
+  if (j.owner !== 0 && j.owner !== player)
+    return `joint ${id} belongs to player ${j.owner}: only its maker may edit it`
+  return null
+}
 
 /** An object schema with these properties, the required ones, and nothing else. */
 const args = (properties: Record<string, object>, required: string[]) =>
@@ -358,6 +499,45 @@ export const jointCommands: Record<string, GameCommandDefinition<undefined>> = {
           ? `joint ${c.joint} is the scene's: only its maker may drive its motor`
           : `joint ${c.joint} belongs to player ${j.owner}: only its maker may drive its motor`
       return ctx.setJointMotor(c.joint, c.speed)
+    },
+  },
+  editJoint: {
+    args: args(
+      {
+        joint: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER },
+        limit: { type: 'boolean' },
+        lower: travel,
+        upper: travel,
+        motor: { type: 'boolean' },
+        speed,
+        torque: { type: 'number', minimum: 0, maximum: MAX_JOINT_MOTOR_EFFORT },
+        force: { type: 'number', minimum: 0, maximum: MAX_JOINT_MOTOR_EFFORT },
+        spring: { type: 'boolean' },
+        hz: spring.hz,
+        damping: spring.damping,
+        target: travel,
+        ahz: spring.hz,
+        adamping: spring.damping,
+        length: { type: 'number', minimum: 0.001, maximum: MAX_ROPE_LENGTH },
+        min: { type: 'number', minimum: 0, maximum: MAX_ROPE_LENGTH },
+        max: { type: 'number', minimum: 0.001, maximum: MAX_ROPE_LENGTH },
+        correction: { type: 'number', minimum: 0, maximum: 1 },
+        breakForce: { type: 'number', minimum: 0, maximum: MAX_BREAK },
+        breakTorque: { type: 'number', minimum: 0, maximum: MAX_BREAK },
+      },
+      ['joint'],
+    ),
+    apply(ctx, player, c: EditJointArgs) {
+      const refusal = editJointRefusal(ctx, player, c.joint)
+      if (refusal) return refusal
+      const joint = ctx.userJoint(c.joint) as Readonly<WireJoint>
+      const settings = editJointSettings(joint, c)
+      if (typeof settings === 'string') return settings
+      const before = captureJoints(ctx, [c.joint])
+      const failed = ctx.setJointSettings(c.joint, settings)
+      if (failed) return `editJoint refused: ${failed}`
+      recordAction(ctx, player, 'editJoint', before, captureJoints(ctx, [c.joint]))
+      return null
     },
   },
 }

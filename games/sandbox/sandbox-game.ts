@@ -1,6 +1,6 @@
 /*
  * The sandbox: Concord's building game, on the game module API. Its commands are the built-in
- * ones and its joint commands (joint-commands.ts: weld, hinge, spring, slider, wheel, jointMotor),
+ * ones and its joint commands (joint-commands.ts: weld, hinge, spring, slider, wheel, jointMotor, editJoint),
  * and each does to the world exactly what docs/games.md ("The sandbox's commands") says;
  * the engine-level parts (clamps, the grab's mouse joint and force cap, anchor and rope rules, the
  * body limit) are shared/sim's primitives that every game's ctx offers. The sandbox keeps no state

@@ -3,8 +3,8 @@
  * simulation keeps (shared/sim's history.ts, ctx.history), applied as commands, so every replica
  * undoes the same way. What is undoable is what records itself; today: spawn (and drawn and
  * static shapes, which are spawns), delete, pin, rope, weld, hinge, spring, slider, wheel (with the
- * wheel it made), unjoint (the Cut tool), and edit-commands.ts's edit, transform, duplicate and
- * deleteMany. Grabs, moves, explode, slow motion, lock, pause,
+ * wheel it made), unjoint (the Cut tool), editJoint (joint-commands.ts), and edit-commands.ts's
+ * edit, transform, duplicate and deleteMany. Grabs, moves, explode, slow motion, lock, pause,
  * step, gravity and scene loads are not undoable (a scene load or reset clears every history).
  *
  * Items are saved in the scene file's forms (games/scenes: saveSceneBody, saveSceneJoint; the

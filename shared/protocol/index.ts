@@ -21,6 +21,7 @@ export {
   WIRE_JOINT_KINDS,
   type WireJointDef,
   wireJoint,
+  withJointSettings,
 } from './joint-wire.ts'
 export type * from './messages.ts'
 export {

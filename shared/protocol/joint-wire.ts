@@ -11,6 +11,7 @@
 import {
   buildScene,
   type DistanceJointDef,
+  type JointDef,
   type JointId,
   type JointInfo,
   type MotorJointDef,
@@ -182,6 +183,74 @@ export function wireJoint(world: World, id: JointId, def: WireJointDef, owner = 
       return joint
     }
   }
+}
+
+/**
+ * A wire joint with its settings taken from the joint's definition as it now stands (World
+ * getJointDef, after World.setJointSettings): limits, motor, spring, lengths, weld springs, the
+ * motor joint's caps and the break thresholds (Infinity travels as 0). The anchors, axis,
+ * reference angle, collide flag and owner are kept. A new object; a distance joint's drawn kind
+ * follows its new range and hertz.
+ */
+export function withJointSettings(wire: WireJoint, def: JointDef): WireJoint {
+  const j: WireJoint = {
+    ...wire,
+    breakForce: threshold(def.breakForce),
+    breakTorque: threshold(def.breakTorque),
+  }
+  switch (def.type) {
+    case 'revolute':
+      j.limit = def.enableLimit === true
+      j.lower = def.lowerAngle ?? 0
+      j.upper = def.upperAngle ?? 0
+      j.motor = def.enableMotor === true
+      j.speed = def.motorSpeed ?? 0
+      j.torque = def.maxMotorTorque ?? 0
+      j.spring = def.enableSpring === true
+      j.hz = def.hertz ?? 0
+      j.damping = def.dampingRatio ?? 0
+      j.target = def.targetAngle ?? 0
+      break
+    case 'distance':
+      j.length = def.length ?? j.length
+      j.min = def.minLength ?? j.min
+      j.max = def.maxLength ?? j.max
+      j.hz = def.hertz ?? 0
+      j.damping = def.dampingRatio ?? 0
+      j.kind = distanceKind(j.min, j.max, j.hz)
+      j.motor = def.enableMotor === true
+      j.speed = def.motorSpeed ?? 0
+      j.force = def.maxMotorForce ?? 0
+      break
+    case 'weld':
+      j.hz = def.linearHertz ?? 0
+      j.damping = def.linearDampingRatio ?? 0
+      j.ahz = def.angularHertz ?? 0
+      j.adamping = def.angularDampingRatio ?? 0
+      break
+    case 'prismatic':
+    case 'wheel':
+      j.limit = def.enableLimit === true
+      j.lower = def.lower ?? 0
+      j.upper = def.upper ?? 0
+      j.motor = def.enableMotor === true
+      j.speed = def.motorSpeed ?? 0
+      j.spring = def.enableSpring === true
+      j.hz = def.hertz ?? 0
+      j.damping = def.dampingRatio ?? 0
+      if (def.type === 'wheel') j.torque = def.maxMotorTorque ?? 0
+      else {
+        j.force = def.maxMotorForce ?? 0
+        j.target = def.targetTranslation ?? 0
+      }
+      break
+    case 'motor':
+      j.force = def.maxForce ?? 0
+      j.torque = def.maxTorque ?? 0
+      j.correction = def.correctionFactor ?? 0
+      break
+  }
+  return j
 }
 
 /** The distance joint's fields: length, range, spring and motor, and its drawn kind. */

@@ -17,7 +17,7 @@
  * hashPlainData, FNV-1a over a canonical walk (object keys sorted), so two replicas that hold equal
  * data hash equal whatever order their objects' keys were added in.
  */
-import type { Prng, World } from '../../engine/index.ts'
+import type { JointSettings, Prng, World } from '../../engine/index.ts'
 import type {
   Command,
   PinCommand,
@@ -177,6 +177,12 @@ export interface GameContext<S = PlainData | undefined> {
   userJoint(id: number): Readonly<WireJoint> | undefined
   /** Set the motor speed of a joint with a motor (rad/s for pins and wheels, m/s for sliders and distance joints); null or a refusal. */
   setJointMotor(id: number, speed: number): string | null
+  /**
+   * Change a room joint's settings (World.setJointSettings: the engine's names, checked as the
+   * engine checks them); its wire form is rebuilt from the joint as it now stands and travels in
+   * events.jadd (same id: clients replace it). Null, or a refusal naming the field.
+   */
+  setJointSettings(id: number, settings: JointSettings): string | null
   /** Remove a user joint; null or a refusal naming the id. */
   removeJoint(id: number): string | null
   /** Replace the world with a fresh copy of a named scene (grabs and user joints go); null or a refusal. */

@@ -24,7 +24,14 @@
  * every replica throws the same way) and its sender gets "<kind> failed: <message>"; a game tick
  * that throws pauses the room and is reported to the listener (gameFailed).
  */
-import { createWorld, Prng, SCENES, type SceneBlueprint, type World } from '../../engine/index.ts'
+import {
+  createWorld,
+  type JointSettings,
+  Prng,
+  SCENES,
+  type SceneBlueprint,
+  type World,
+} from '../../engine/index.ts'
 import {
   buildSceneJoints,
   KILL_DISTANCE,
@@ -36,6 +43,7 @@ import {
   TICK_RATE,
   type WireJoint,
   type WireJointDef,
+  withJointSettings,
 } from '../protocol/index.ts'
 import {
   colorsHash,
@@ -648,6 +656,7 @@ export class RoomSimulation {
       createJoint: (owner, def, what) => sim.createJoint(owner, def, what),
       userJoint: (id) => sim.userJoints.get(id),
       setJointMotor: (id, speed) => sim.setJointMotor(id, speed),
+      setJointSettings: (id, settings) => sim.setJointSettings(id, settings),
       removeJoint: (id) => {
         if (!sim.userJoints.has(id)) return `joint ${id} is not a joint in this room`
         removeJoint(sim.world, id)
@@ -748,6 +757,22 @@ export class RoomSimulation {
     this.world.setJointMotorSpeed(id, speed)
     // A new object: a predicting client's copies share joint objects with the confirmed simulation.
     this.userJoints.set(id, { ...j, speed })
+    return null
+  }
+
+  private setJointSettings(id: number, settings: JointSettings): string | null {
+    const j = this.userJoints.get(id)
+    if (!j || !this.world.hasJoint(id)) return `joint ${id} is not a joint in this room`
+    try {
+      this.world.setJointSettings(id, settings)
+    } catch (e) {
+      if (e instanceof RangeError) return e.message
+      throw e
+    }
+    // A new object (predicting clients share joint objects with the confirmed simulation).
+    const next = withJointSettings(j, this.world.getJointDef(id))
+    this.userJoints.set(id, next)
+    this.listener.jointAdded(next)
     return null
   }
 

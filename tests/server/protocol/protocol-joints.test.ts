@@ -65,6 +65,7 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
       'deleteMany',
       'duplicate',
       'edit',
+      'editJoint',
       'explode',
       'hinge',
       'jointMotor',
@@ -339,6 +340,48 @@ describe("PROTOCOL.md: the sandbox's joint commands", { timeout: 30_000 }, () =>
     const rate = (angleAt.get(t1)! - angleAt.get(t0)!) / ((t1 - t0) / 60)
     expect(rate).toBeGreaterThan(4 * 0.99)
     expect(rate).toBeLessThan(4 * 1.01)
+    await bot.close()
+  })
+
+  it('editJoint changes a joint in place: it comes back in events.jadd with its id and the new settings; another player is refused', async () => {
+    const bot = await BotClient.connect({ url: server.url, room: 'jedit', name: 'maker' })
+    const other = await BotClient.connect({ url: server.url, room: 'jedit', name: 'other' })
+    bot.command({ k: 'pause', paused: true })
+    await bot.waitFor(() => bot.mirror.paused, 'paused')
+    const arm = await spawn(bot, { type: 'box', hw: 1, hh: 0.1 }, 1, 5)
+    const hinge = await joint(bot, 'hinge', { a: 0, b: arm, x: 0, y: 5, speed: 1, torque: 2 })
+    const seq = bot.gameCommand('editJoint', {
+      joint: hinge.id,
+      torque: 40,
+      limit: true,
+      lower: -0.2,
+      upper: 0.6,
+    })
+    const changed = (m: BotClient) => m.mirror.joints.get(hinge.id)?.torque === 40
+    await bot.waitFor(() => changed(bot) || bot.mirror.errors.some((e) => e.seq === seq), 'the edited joint')
+    expect(bot.mirror.errors.find((e) => e.seq === seq)).toBeUndefined()
+    await other.waitFor(() => changed(other), 'the edited joint at the other player')
+    expect(other.mirror.joints.get(hinge.id)).toEqual({
+      ...hinge,
+      torque: 40,
+      limit: true,
+      lower: -0.2,
+      upper: 0.6,
+    })
+    expect(await refusal(other, 'editJoint', { joint: hinge.id, torque: 1 })).toMatchObject({
+      code: 'refused',
+      reason: expect.stringContaining(
+        `joint ${hinge.id} belongs to player ${bot.mirror.clientId}: only its maker may edit it`,
+      ),
+    })
+    expect(await refusal(bot, 'editJoint', { joint: hinge.id, force: 1 })).toMatchObject({
+      reason: expect.stringContaining('a pin joint has no force'),
+    })
+    expect(await refusal(bot, 'editJoint', { joint: hinge.id, torque: -1 })).toMatchObject({
+      code: 'invalid',
+    })
+    expect(bot.mirror.joints.get(hinge.id)!.torque).toBe(40)
+    await other.close()
     await bot.close()
   })
 })
