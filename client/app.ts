@@ -266,7 +266,7 @@ export class App {
     s.sendGame(kind, isStaleRefusal(s.notices().latest ?? '', kind) ? { skip: true } : {})
   }
 
-  /** Whether this page's room offers undo and redo (the sandbox online or in lockstep). */
+  /** Whether this page's room offers undo and redo (the sandbox online, in lockstep or offline). */
   private undoable(): boolean {
     return this.sandbox.rules()?.commands?.includes('undo') ?? false
   }
@@ -694,7 +694,8 @@ export class App {
     $('slow').textContent = SLOW_LABEL[slow] ?? `1/${slow}×`
     $('slow').setAttribute('aria-pressed', String(slow !== 1))
     // Only the room's creator can lock; offline there is nobody to lock out.
-    $('lock').hidden = room === null || room.creator === 0 || room.self !== room.creator
+    $('lock').hidden =
+      room === null || room.creator === 0 || room.self !== room.creator || s.mode === 'offline'
     $('lock').setAttribute('aria-pressed', String(room?.locked ?? false))
     $('lock').textContent = room?.locked ? '🔒' : '🔓'
     // On the view itself, not only on the button (the replay page has its own Play button).
