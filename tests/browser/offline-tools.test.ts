@@ -5,8 +5,9 @@
  * box in the player's colour, the hinge tool (E) joins two overlapping boxes, Ctrl+Z takes the
  * hinge away and Ctrl+Shift+Z brings it back between the same bodies, and the Edit tool (;) gives
  * a box a new colour and density: its mass is then density x area (a closed form, from the lab's
- * numbers). Opened from disk (file:), the static build drops a box, undoes it, saves the world as
- * a scene file (a download: a valid scene with the page's bodies) and opens that file again.
+ * numbers); slow motion (-) is the game's too. Opened from disk (file:), the static build drops a
+ * box, undoes it, saves the world as a scene file (a download: a valid scene with the page's
+ * bodies) and opens that file again.
  */
 import { readFile } from 'node:fs/promises'
 import { join, resolve } from 'node:path'
@@ -141,6 +142,13 @@ describe('the offline page runs the sandbox game', { timeout: 300_000 }, () => {
     }, first)
     const mass = await page.evaluate((id) => window.concord.sandbox.lab(id)?.mass, first)
     expect(mass).toBeCloseTo(2.5, 9)
+    // Slow motion (-) is the game's: the room steps every second tick and the view says so; the
+    // lock is hidden (the page's player is alone in its room).
+    await page.keyboard.press('Escape')
+    await page.keyboard.press('-')
+    await page.waitForFunction(() => window.concord.sandbox.roomControl?.().slow === 2)
+    await page.waitForFunction(() => /Slow motion 1\/2/.test(document.getElementById('paused')!.textContent!))
+    expect(await page.isHidden('#lock')).toBe(true)
     // Nothing was refused on the way (no "needs a room").
     expect(await page.evaluate(() => window.concord.sandbox.notices().count)).toBe(0)
     expect(errors).toEqual([])
