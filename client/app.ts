@@ -260,7 +260,7 @@ export class App {
   private undoRedo(kind: 'undo' | 'redo'): void {
     const s = this.sandbox
     if (!this.undoable()) {
-      this.toast('Undo and redo need a room that runs the sandbox: open the sandbox online')
+      this.toast('Undo and redo need a room that runs the sandbox game (online or offline)')
       return
     }
     s.sendGame(kind, isStaleRefusal(s.notices().latest ?? '', kind) ? { skip: true } : {})
