@@ -167,7 +167,7 @@ const NO_LISTENER: SimulationListener = {
 /**
  * The movable bodies that have left the world: below the kill plane (KILL_PLANE_Y), beyond
  * KILL_DISTANCE, or with a non-finite position. Rooms remove them once a second (with a removal
- * event); the offline sandbox does the same.
+ * event), the offline page's room too.
  */
 export function strayBodies(world: World): number[] {
   const p = { x: 0, y: 0 }
