@@ -24,8 +24,10 @@ import {
   clickWorld,
   collectErrors,
   openSandbox,
+  pageJoints,
   pickTool,
   screenOf,
+  setEditControl,
   setPaused,
   startClientServer,
 } from '../support/client-harness.ts'
@@ -46,35 +48,9 @@ afterAll(async () => {
   await server?.close()
 })
 
-type PageJoint = { id: number; kind: string; a: number; b: number; owner: number }
-
-const joints = (page: Page): Promise<PageJoint[]> =>
-  page.evaluate(() =>
-    window.concord.sandbox.joints().map((j: { id: number; kind: string; spec: PageJoint }) => ({
-      id: j.id,
-      kind: j.kind,
-      a: j.spec.a,
-      b: j.spec.b,
-      owner: j.spec.owner,
-    })),
-  )
-
 /** Ids of the page's dynamic bodies. */
 const dynamicIds = async (page: Page): Promise<number[]> =>
   (await bodies(page)).filter((b) => b.kind === 2).map((b) => b.id)
-
-/** Set an Edit panel control's value and fire its change, as a person letting go of it does. */
-async function setControl(page: Page, key: string, value: string): Promise<void> {
-  await page.evaluate(
-    ([k, v]) => {
-      const input = document.querySelector<HTMLInputElement>(`#edit-panel [data-edit="${k}"]`)!
-      input.value = v
-      input.dispatchEvent(new Event('input'))
-      input.dispatchEvent(new Event('change'))
-    },
-    [key, value] as const,
-  )
-}
 
 describe('the offline page runs the sandbox game', { timeout: 300_000 }, () => {
   it('drops a box, hinges two boxes, undoes and redoes the hinge, and edits colour and density', async () => {
@@ -109,7 +85,7 @@ describe('the offline page runs the sandbox game', { timeout: 300_000 }, () => {
     await page.waitForFunction(() => window.concord.tools.overlay('#fff').joint?.kind === 'pin')
     await page.mouse.click(overlap.x, overlap.y)
     await page.waitForFunction(() => window.concord.sandbox.joints().length === 1)
-    const [hinge] = await joints(page)
+    const [hinge] = await pageJoints(page)
     const me = await page.evaluate(() => window.concord.sandbox.playerId())
     expect(me).toBeGreaterThan(0)
     expect(hinge.kind).toBe('pin')
@@ -122,7 +98,7 @@ describe('the offline page runs the sandbox game', { timeout: 300_000 }, () => {
     expect((await dynamicIds(page)).sort()).toEqual([first, second].sort())
     await page.keyboard.press('Control+Shift+z')
     await page.waitForFunction(() => window.concord.sandbox.joints().length === 1)
-    const [again] = await joints(page)
+    const [again] = await pageJoints(page)
     expect([again.kind, again.a, again.b, again.owner]).toEqual([hinge.kind, hinge.a, hinge.b, me])
 
     // The Edit tool (;): select the first box by its free left half, then colour and density.
@@ -133,8 +109,8 @@ describe('the offline page runs the sandbox game', { timeout: 300_000 }, () => {
       (id) => document.querySelector('#edit-panel [data-edit="title"]')?.textContent === `body ${id}`,
       first,
     )
-    await setControl(page, 'color', '#ff3366')
-    await setControl(page, 'density', '2.5')
+    await setEditControl(page, 'color', '#ff3366')
+    await setEditControl(page, 'density', '2.5')
     // An edit rebuilds the body in place: same id, new colour and density; mass = 2.5 kg/m^2 x 1 m^2.
     await page.waitForFunction((id) => {
       const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)
