@@ -47,7 +47,7 @@ import { simulationControl, simulationJoints, simulationLab } from './simulation
 /** The page's player id: the first player to join a room, as a server's first player is. */
 const PLAYER = 1
 /** Bodies in the page's room (the server's default --max-bodies). */
-export const OFFLINE_MAX_BODIES = 1500
+const OFFLINE_MAX_BODIES = 1500
 
 /** The sandbox with its room simulated in the page (see the file comment). */
 export class OfflineSandbox implements Sandbox {
@@ -66,6 +66,8 @@ export class OfflineSandbox implements Sandbox {
   /** The world's touching contacts, read once per world step at most. */
   private contactCache: { world: World; tick: number; contacts: ContactInfo[] } | null = null
   private readonly roomRules: RoomRules
+  /** This player's colour, as a room gives its first player. */
+  private readonly ownColor = cssColor(playerBodyColor(PLAYER)) as string
 
   constructor(scene = DEFAULT_SCENE) {
     const view = this.view
@@ -113,18 +115,19 @@ export class OfflineSandbox implements Sandbox {
     }
     const alpha = sim.paused ? 1 : Math.min(1, (this.ticksSinceStep + this.stepper.alpha) / sim.slowMotion)
     const grab = sim.players.get(PLAYER)?.grab?.body ?? 0
-    const own = this.color()
-    this.view.refresh(sim.world, alpha, (id) => (id === grab ? own : null))
+    this.view.refresh(sim.world, alpha, (id) => (id === grab ? this.ownColor : null))
   }
 
   /** One room tick: the queued commands (as a room applies a tick's inputs), then the simulation's tick. */
   private runTick(): void {
     const sim = this.sim
-    const queue = this.queue
-    this.queue = []
-    for (const cmd of queue) {
-      const refused = sim.apply(PLAYER, cmd)
-      if (refused !== null) this.notice.add(refused)
+    if (this.queue.length > 0) {
+      const queue = this.queue
+      this.queue = []
+      for (const cmd of queue) {
+        const refused = sim.apply(PLAYER, cmd)
+        if (refused !== null) this.notice.add(refused)
+      }
     }
     const steps = sim.stepsNextTick()
     // The poses before the step, to draw between them and the poses after it.
@@ -196,7 +199,7 @@ export class OfflineSandbox implements Sandbox {
   }
 
   color(): string {
-    return cssColor(playerBodyColor(PLAYER)) as string
+    return this.ownColor
   }
 
   status(): SandboxStatus {
