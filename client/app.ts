@@ -274,7 +274,7 @@ export class App {
   private undoRedo(kind: 'undo' | 'redo'): void {
     const s = this.sandbox
     if (!this.undoable()) {
-      this.toast('Undo and redo need a room that runs the sandbox: open the sandbox online')
+      this.toast('Undo and redo need a room that runs the sandbox game (online or offline)')
       return
     }
     s.sendGame(kind, isStaleRefusal(s.notices().latest ?? '', kind) ? { skip: true } : {})
@@ -282,7 +282,7 @@ export class App {
 
   /**
    * Whether the room's game lists a command kind, built-in (rules.builtins) or its own
-   * (rules.commands). Offline, in replays and before the welcome there are no rules: everything.
+   * (rules.commands). In replays and before the welcome there are no rules: everything.
    */
   private allows(kind: string): boolean {
     const rules = this.sandbox.rules()
@@ -295,7 +295,7 @@ export class App {
     return kind === null || this.allows(kind)
   }
 
-  /** Whether this page's room offers undo and redo (the sandbox online or in lockstep). */
+  /** Whether this page's room offers undo and redo (the sandbox online, in lockstep or offline). */
   private undoable(): boolean {
     return this.sandbox.rules()?.commands?.includes('undo') ?? false
   }
@@ -737,7 +737,8 @@ export class App {
     $('slow').textContent = SLOW_LABEL[slow] ?? `1/${slow}×`
     $('slow').setAttribute('aria-pressed', String(slow !== 1))
     // Only the room's creator can lock; offline there is nobody to lock out.
-    $('lock').hidden ||= room === null || room.creator === 0 || room.self !== room.creator
+    $('lock').hidden ||=
+      room === null || room.creator === 0 || room.self !== room.creator || s.mode === 'offline'
     $('lock').setAttribute('aria-pressed', String(room?.locked ?? false))
     $('lock').textContent = room?.locked ? '🔒' : '🔓'
     // On the view itself, not only on the button (the replay page has its own Play button).

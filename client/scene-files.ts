@@ -8,6 +8,9 @@
  *   opened in this room (the openScene room command; a room control).
  * - A share link opens the scene in a new room of its own (main.ts picks the room name) once the
  *   page has joined.
+ * - Offline (the room runs in the page: Sandbox.sceneFile), Save downloads the world made into a
+ *   file in the page, and Open checks a file the same way and opens it in the page's room; share
+ *   links need a server to keep the scene, and the Save button and its notice say so.
  */
 import { parseScene, SCENE_LIMITS } from '../games/index.ts'
 import type { Sandbox } from './modes/index.ts'
@@ -31,8 +34,13 @@ export class SceneFiles {
   ) {
     this.openOnJoin = shared
     const online = typeof sandbox.roomCommand === 'function'
-    for (const id of ['save-scene', 'open-scene']) $(id).hidden = !online
-    if (!online) return
+    const inPage = !online && typeof sandbox.sceneFile === 'function'
+    for (const id of ['save-scene', 'open-scene']) $(id).hidden = !online && !inPage
+    if (!online && !inPage) return
+    if (inPage) {
+      $('save-scene').title = 'Save the world as a scene file (share links need the sandbox online)'
+      $('open-scene').title = 'Open a scene file here (or drop one on the page)'
+    }
     $('save-scene').addEventListener('click', () => this.save())
     $('open-scene').addEventListener('click', () => $<HTMLInputElement>('scene-file').click())
     $<HTMLInputElement>('scene-file').addEventListener('change', (e) => {
@@ -67,8 +75,14 @@ export class SceneFiles {
     }
   }
 
-  /** Ask the room to save its world; update() downloads it when the server answers. */
+  /** Ask the room to save its world; update() downloads it when the server answers. Offline: download it now. */
   save(): void {
+    const text = this.sandbox.roomCommand ? undefined : this.sandbox.sceneFile?.(this.room)
+    if (text !== undefined) {
+      const name = this.offer(new Blob([text], { type: 'application/json' }))
+      this.notify(`Saved as ${name}. Share links need the sandbox online: a server keeps shared scenes.`)
+      return
+    }
     const seq = this.sandbox.roomCommand?.('saveScene', {}) ?? null
     if (seq === null) this.notify('Saving needs a connection to the server.')
     else this.pendingSave = seq
@@ -81,6 +95,11 @@ export class SceneFiles {
     const text = await file.text()
     const parsed = parseScene(text)
     if (!parsed.ok) return this.notify(`${file.name} is not a scene file Concord can open: ${parsed.error}`)
+    if (!this.sandbox.roomCommand && this.sandbox.openSceneFile) {
+      const refused = this.sandbox.openSceneFile(parsed.scene, file.name)
+      if (refused !== null) this.notify(refused)
+      return
+    }
     const res = await fetch(this.url('/scenes'), { method: 'POST', body: text })
     const body = await res.text()
     if (res.status !== 201) return this.notify(`The server did not keep ${file.name}: ${body.trim()}`)
@@ -92,14 +111,7 @@ export class SceneFiles {
   private async download(id: string): Promise<void> {
     const res = await fetch(this.url(`/scenes/${id}`))
     if (!res.ok) return this.notify(`The saved scene could not be fetched: ${(await res.text()).trim()}`)
-    const blob = await res.blob()
-    const a = document.createElement('a')
-    a.href = URL.createObjectURL(blob)
-    a.download = `${this.room}.json`
-    document.body.append(a)
-    a.click()
-    a.remove()
-    setTimeout(() => URL.revokeObjectURL(a.href), 10_000)
+    const name = this.offer(await res.blob())
     const key = new URLSearchParams(location.search).get('key')
     this.lastShareLink = `${this.httpBase}/?scene=${id}${key ? `&key=${encodeURIComponent(key)}` : ''}`
     let copied = ''
@@ -109,7 +121,19 @@ export class SceneFiles {
     } catch {
       copied = ''
     }
-    this.notify(`Saved as ${a.download}. Share link${copied}: ${this.lastShareLink}`)
+    this.notify(`Saved as ${name}. Share link${copied}: ${this.lastShareLink}`)
+  }
+
+  /** Hand a scene file to the browser as a download named after the room; its file name. */
+  private offer(blob: Blob): string {
+    const a = document.createElement('a')
+    a.href = URL.createObjectURL(blob)
+    a.download = `${this.room}.json`
+    document.body.append(a)
+    a.click()
+    a.remove()
+    setTimeout(() => URL.revokeObjectURL(a.href), 10_000)
+    return a.download
   }
 
   /** A server URL for `path`, with the page's access key when it has one. */

@@ -84,6 +84,7 @@ export {
   SCENE_SCHEMA,
   type SceneFile,
   saveScene,
+  sceneForRoom,
   sceneText,
 } from './scenes/index.ts'
 export {

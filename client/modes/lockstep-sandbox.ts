@@ -9,7 +9,6 @@
  * and, when predicting, rollbacks per second, their depth and the re-simulation time.
  */
 
-import type { Vec2 } from '../../engine/index.ts'
 import {
   type Command,
   cssColor,
@@ -26,9 +25,9 @@ import {
   type WireShape,
   wireShapesOf,
 } from '../../shared/index.ts'
-import { labFromWorld, viewJoints } from '../draw/index.ts'
 import { Connection } from '../net/index.ts'
 import { findClientGame, loadGameModule } from './game-modules.ts'
+import { NoticeLog } from './notice-log.ts'
 import { CorrectionSmoother } from './predict-smoothing.ts'
 import type {
   LabContact,
@@ -42,6 +41,7 @@ import type {
   ViewCursor,
   ViewJoint,
 } from './sandbox.ts'
+import { simulationControl, simulationJoints, simulationLab } from './simulation-view.ts'
 
 /** Where and how to join. */
 export interface LockstepSandboxOptions {
@@ -71,7 +71,7 @@ export class LockstepSandbox implements Sandbox {
   /** Scene ids the server answered this page's saveScene commands with, by seq. */
   private readonly saved = new Map<number, string>()
   private statusValue: SandboxStatus = { state: 'connecting' }
-  private readonly notice = { count: 0, latest: null as string | null, recent: [] as string[] }
+  private readonly notice = new NoticeLog()
   private lastFrame = Number.NaN
   private lastPing = 0
   private rttMs: number | null = null
@@ -233,14 +233,8 @@ export class LockstepSandbox implements Sandbox {
   joints(): readonly ViewJoint[] {
     const sim = this.drawn()
     if (!sim) return []
-    const forces = new Map<number, Vec2>()
-    for (const info of sim.world.joints()) forces.set(info.id, info.force)
     const byId = new Map(this.view.map((v) => [v.id, v]))
-    return viewJoints(
-      sim.userJoints.values(),
-      (id) => byId.get(id),
-      (id) => forces.get(id) ?? null,
-    )
+    return simulationJoints(sim, (id) => byId.get(id))
   }
 
   cursors(): readonly ViewCursor[] {
@@ -326,13 +320,7 @@ export class LockstepSandbox implements Sandbox {
   }
 
   roomControl(): RoomControl {
-    const sim = this.drawn()
-    return {
-      slow: sim?.slowMotion ?? 1,
-      creator: sim?.creator ?? 0,
-      locked: sim?.controlsLocked ?? false,
-      self: this.runner.playerId,
-    }
+    return simulationControl(this.drawn(), this.runner.playerId)
   }
 
   color(): string {
@@ -397,8 +385,7 @@ export class LockstepSandbox implements Sandbox {
 
   lab(bodyId: number): LabData | null {
     const sim = this.drawn()
-    if (!sim?.world.hasBody(bodyId) || sim.world.getBodyType(bodyId) !== 'dynamic') return null
-    return labFromWorld(sim.world, bodyId, sim.world.contacts(), (id) => sim.userJoints.get(id)?.kind)
+    return sim ? simulationLab(sim, bodyId, sim.world.contacts()) : null
   }
 
   notices(): { count: number; latest: string | null; recent: readonly string[] } {
@@ -407,10 +394,7 @@ export class LockstepSandbox implements Sandbox {
 
   /** Count a notice the server sent, keeping the last three. */
   private noted(text: string): void {
-    this.notice.count++
-    this.notice.latest = text
-    this.notice.recent.push(text)
-    if (this.notice.recent.length > 3) this.notice.recent.shift()
+    this.notice.add(text)
   }
 
   retry(): void {

@@ -1,42 +1,40 @@
 /*
- * Offline mode: the engine runs in the page. Frames are turned into whole 1/60 s steps by the
- * engine's FixedStepper (never a variable step) and drawn between the last two steps by the
- * stepper's leftover fraction (alpha), so motion is smooth at any display rate; the same protocol
- * commands the server would
- * receive are applied to the local world here, so every tool behaves as it does online. The lab
- * reads world.contacts() directly: the impulses of the step that was just taken.
+ * Offline mode: the room runs in the page. A RoomSimulation of the sandbox game (shared/sim, the
+ * very simulation a server room runs) with one local player, joined as a room joins a player, so
+ * body colours, undo histories, joint ownership and every game command (the joint tools, edit,
+ * transform, duplicate, deleteMany, explode, slow, lock, undo and redo) behave as they do online.
+ * There are no rules here: what a command does, and the text of a refusal, are the game's.
+ *
+ * Commands queue as a server room queues inputs and are applied through RoomSimulation.apply at
+ * the next tick (a newer cursor move replaces a queued one), then RoomSimulation.runTick steps the
+ * world unless paused, in slow motion on every slowMotion-th tick, and removes stray bodies once a
+ * second. Frames are turned into whole 1/60 s ticks by the engine's FixedStepper (never a variable
+ * step) and bodies are drawn between the last two world steps (alpha: the stepper's leftover
+ * fraction, spread over the slowMotion ticks between two steps), so motion is smooth at any
+ * display rate and speed. A refused command becomes a notice with the game's reason.
+ *
+ * Scene files: the world saves as a scene file in the page (downloaded), and a checked file opens
+ * into the local room as the server's openScene would open it; share links need a server.
  */
+import { type ContactInfo, DEFAULT_SCENE, FixedStepper, SCENES, type World } from '../../engine/index.ts'
+import { type SceneFile, sandbox, saveScene, sceneForRoom, sceneText } from '../../games/index.ts'
 import {
-  type ContactInfo,
-  createWorld,
-  DEFAULT_SCENE,
-  FixedStepper,
-  type JointId,
-  SCENES,
-  type Vec2,
-  type World,
-} from '../../engine/index.ts'
-import {
-  addUserJoint,
-  buildSceneJoints,
   type Command,
-  deleteBody,
-  grabBody,
-  grabRefusal,
-  moveGrab,
+  cssColor,
   type PlainData,
   playerBodyColor,
   type RoomRules,
-  removeJoint,
-  setWorldGravity,
-  spawnBody,
-  strayBodies,
+  RoomSimulation,
+  roomRules,
+  type SimCommand,
+  type SimulationListener,
   TICK_RATE,
-  type WireJoint,
 } from '../../shared/index.ts'
-import { labFromWorld, viewJoints, WorldView } from '../draw/index.ts'
+import { WorldView } from '../draw/index.ts'
+import { NoticeLog } from './notice-log.ts'
 import type {
   LabData,
+  RoomControl,
   Sandbox,
   SandboxStats,
   SandboxStatus,
@@ -44,77 +42,98 @@ import type {
   ViewCursor,
   ViewJoint,
 } from './sandbox.ts'
+import { simulationControl, simulationJoints, simulationLab } from './simulation-view.ts'
 
-const OWN_COLOR = '#ff9f1c'
+/** The page's player id: the first player to join a room, as a server's first player is. */
+const PLAYER = 1
+/** Bodies in the page's room (the server's default --max-bodies). */
+const OFFLINE_MAX_BODIES = 1500
 
-/** The sandbox with the engine in the page. */
+/** The sandbox with its room simulated in the page (see the file comment). */
 export class OfflineSandbox implements Sandbox {
   readonly mode = 'offline'
-  world: World
-  private sceneName: string
-  private isPaused = false
-  private stepOnce = false
-  /** Slow motion: the world steps on every slow-th fixed step only (1, 2 or 4), as a room does. */
-  private slow = 1
-  private fixedSteps = 0
+  /** The room: the sandbox game's simulation with this page's one player. */
+  readonly sim: RoomSimulation
   private readonly stepper = new FixedStepper()
   private lastNow = Number.NaN
+  /** Commands for the next tick, in the order sent. */
+  private queue: SimCommand[] = []
   private readonly view = new WorldView()
-  /** Colours of the bodies spawned here (the offline player is player 1), as a room keeps them. */
-  private readonly colors = new Map<number, number>()
-  private readonly joints_ = new Map<JointId, WireJoint>()
-  private grab: { joint: JointId; body: number } | null = null
-  private noticeCount = 0
-  private latestNotice: string | null = null
+  /** Room ticks run since the world last stepped (slow motion spreads one step over several). */
+  private ticksSinceStep = 0
+  private readonly notice = new NoticeLog()
   private stepMs = 0
-  private contactCache: ContactInfo[] | null = null
+  /** The world's touching contacts, read once per world step at most. */
+  private contactCache: { world: World; tick: number; contacts: ContactInfo[] } | null = null
+  private readonly roomRules: RoomRules
+  /** This player's colour, as a room gives its first player. */
+  private readonly ownColor = cssColor(playerBodyColor(PLAYER)) as string
 
   constructor(scene = DEFAULT_SCENE) {
-    this.view.colorOf = (id) => this.colors.get(id)
-    this.sceneName = Object.hasOwn(SCENES, scene) ? scene : DEFAULT_SCENE
-    this.world = this.build(this.sceneName)
-  }
-
-  private build(scene: string): World {
-    const world = createWorld()
-    const joints = buildSceneJoints(world, SCENES[scene].make())
-    this.view.clear()
-    this.colors?.clear()
-    this.joints_.clear()
-    for (const j of joints) this.joints_.set(j.id, j)
-    this.grab = null
-    return world
+    const view = this.view
+    const listener: SimulationListener = {
+      bodyAdded: () => {},
+      bodyRemoved: (id) => view.remove(id),
+      bodyChanged: (id) => view.changed(id),
+      jointAdded: () => {},
+      jointRemoved: () => {},
+      roomChanged: () => {},
+      cursorChanged: () => {},
+      worldReplaced: () => view.clear(),
+      gameFailed: (_tick, message) => this.notice.add(message),
+    }
+    this.sim = new RoomSimulation({
+      game: sandbox,
+      name: 'offline',
+      scene: Object.hasOwn(SCENES, scene) ? scene : DEFAULT_SCENE,
+      maxBodies: OFFLINE_MAX_BODIES,
+      controls: true,
+      listener,
+    })
+    this.sim.join(PLAYER, 'you', this.color())
+    view.colorOf = (id) => this.sim.bodyColors.get(id)
+    // The page's room: one player, no spectators, no input budget, every control open.
+    this.roomRules = roomRules(sandbox, {
+      snapshotRate: TICK_RATE,
+      maxBodies: OFFLINE_MAX_BODIES,
+      maxClients: 1,
+      inputsPerTick: Number.POSITIVE_INFINITY,
+      controls: true,
+      maxSpectators: 0,
+    })
   }
 
   update(nowMs: number): void {
     const frame = Number.isNaN(this.lastNow) ? 0 : (nowMs - this.lastNow) / 1000
     this.lastNow = nowMs
-    let steps = this.stepper.advance(frame)
-    if (this.slow > 1) {
-      const before = this.fixedSteps
-      this.fixedSteps += steps
-      steps =
-        Math.floor((this.fixedSteps + this.slow - 1) / this.slow) -
-        Math.floor((before + this.slow - 1) / this.slow)
-    }
-    if (this.isPaused) steps = this.stepOnce ? 1 : 0
-    this.stepOnce = false
-    if (steps > 0) {
+    const ticks = this.stepper.advance(frame)
+    const sim = this.sim
+    if (ticks > 0) {
       const start = performance.now()
-      for (let i = 0; i < steps - 1; i++) this.stepWorld()
-      this.view.capturePrevious(this.world)
-      this.stepWorld()
-      // Once a second, as a room does: bodies that left the world (below the kill plane) go.
-      if (Math.floor(this.world.tick / TICK_RATE) !== Math.floor((this.world.tick - steps) / TICK_RATE)) {
-        for (const id of strayBodies(this.world)) this.apply({ k: 'delete', body: id })
-      }
-      this.stepMs += ((performance.now() - start) / steps - this.stepMs) * 0.1
-      this.contactCache = null
+      for (let i = 0; i < ticks; i++) this.runTick()
+      this.stepMs += ((performance.now() - start) / ticks - this.stepMs) * 0.1
     }
-    const held = this.grab?.body ?? 0
-    this.view.refresh(this.world, this.isPaused ? 1 : this.stepper.alpha, (id) =>
-      id === held ? OWN_COLOR : null,
-    )
+    const alpha = sim.paused ? 1 : Math.min(1, (this.ticksSinceStep + this.stepper.alpha) / sim.slowMotion)
+    const grab = sim.players.get(PLAYER)?.grab?.body ?? 0
+    this.view.refresh(sim.world, alpha, (id) => (id === grab ? this.ownColor : null))
+  }
+
+  /** One room tick: the queued commands (as a room applies a tick's inputs), then the simulation's tick. */
+  private runTick(): void {
+    const sim = this.sim
+    if (this.queue.length > 0) {
+      const queue = this.queue
+      this.queue = []
+      for (const cmd of queue) {
+        const refused = sim.apply(PLAYER, cmd)
+        if (refused !== null) this.notice.add(refused)
+      }
+    }
+    const steps = sim.stepsNextTick()
+    // The poses before the step, to draw between them and the poses after it.
+    if (steps) this.view.capturePrevious(sim.world)
+    sim.runTick()
+    this.ticksSinceStep = steps ? 0 : this.ticksSinceStep + 1
   }
 
   bodies(): readonly ViewBody[] {
@@ -122,124 +141,65 @@ export class OfflineSandbox implements Sandbox {
   }
 
   joints(): readonly ViewJoint[] {
-    const forces = new Map<number, Vec2>()
-    for (const info of this.world.joints()) forces.set(info.id, info.force)
-    return viewJoints(
-      this.joints_.values(),
-      (id) => this.view.get(id),
-      (id) => forces.get(id) ?? null,
-    )
+    return simulationJoints(this.sim, (id) => this.view.get(id))
   }
 
+  /** Only this page's player is in its room: there are no other cursors. */
   cursors(): readonly ViewCursor[] {
     return []
   }
 
   contacts(): ContactInfo[] {
-    this.contactCache ??= this.world.contacts()
-    return this.contactCache
+    const world = this.sim.world
+    let cache = this.contactCache
+    if (cache?.world !== world || cache.tick !== world.tick) {
+      cache = { world, tick: world.tick, contacts: world.contacts() }
+      this.contactCache = cache
+    }
+    return cache.contacts
   }
 
-  /** One step; the joints it broke leave the drawn joints, as they leave a room's. */
-  private stepWorld(): void {
-    this.world.step()
-    for (const id of this.world.jointEvents().broken) this.joints_.delete(id)
-  }
-
-  /**
-   * Apply a command to the local world through shared/sim/world-commands.ts, as a room would, with the
-   * same clamps and caps; refused commands are ignored (they never throw).
-   */
+  /** Queue a command for the next tick (a newer cursor move replaces a queued one, as in a room). */
   send(cmd: Command): void {
-    this.apply(cmd)
+    // Inspecting only chooses what a server sends a player: here the lab reads the world itself.
+    if (cmd.k === 'inspect') return
+    const last = this.queue.at(-1)
+    if (cmd.k === 'move' && last?.k === 'move') this.queue[this.queue.length - 1] = cmd
+    else this.queue.push(cmd)
   }
 
-  /** The sandbox's explode and slow commands on the local world (the game's rules; lock and the joint tools need a room). */
+  /** Queue a game command (the sandbox's weld, hinge, edit, undo, ...) for the next tick. */
   sendGame(kind: string, args: { [key: string]: PlainData }): void {
-    if (kind === 'explode') {
-      const { x, y, radius, impulse } = args as { x: number; y: number; radius: number; impulse: number }
-      this.world.explode({ position: { x, y }, radius, falloff: radius, impulsePerLength: impulse })
-    } else if (kind === 'slow' && (args.every === 1 || args.every === 2 || args.every === 4)) {
-      this.slow = args.every
-      this.fixedSteps = 0
-    } else if (kind !== 'explode' && kind !== 'slow') {
-      // The joint tools are the room's game commands: this page's own world does not run the game.
-      this.noticeCount++
-      this.latestNotice = `The ${kind} tool needs a room: open the sandbox online to build machines.`
-    }
+    this.queue.push({ k: 'cmd', kind, a: args })
   }
 
-  roomControl(): { slow: number; creator: number; locked: boolean; self: number } {
-    return { slow: this.slow, creator: 0, locked: false, self: 0 }
+  playerId(): number {
+    return PLAYER
   }
 
-  private apply(cmd: Command): void {
-    const w = this.world
-    switch (cmd.k) {
-      case 'spawn': {
-        const spawned = spawnBody(w, cmd)
-        if (spawned.ok) this.colors.set(spawned.value, cmd.color ?? playerBodyColor(1))
-        return
-      }
-      case 'grab': {
-        if (grabRefusal(w, cmd.body)) return
-        this.release()
-        const grabbed = grabBody(w, cmd.body, cmd.lx, cmd.ly)
-        if (grabbed.ok) this.grab = { joint: grabbed.value.joint, body: cmd.body }
-        return
-      }
-      case 'move':
-        moveGrab(w, this.grab?.joint ?? null, cmd.x, cmd.y)
-        return
-      case 'release':
-        this.release()
-        return
-      case 'delete':
-        // As in a room: static bodies drawn here (they have a colour) may be deleted too.
-        if (this.colors.has(cmd.body) && w.hasBody(cmd.body)) w.destroyBody(cmd.body)
-        else if (deleteBody(w, cmd.body)) return
-        this.colors.delete(cmd.body)
-        if (this.grab?.body === cmd.body) this.grab = null
-        for (const [id, j] of this.joints_) if (j.a === cmd.body || j.b === cmd.body) this.joints_.delete(id)
-        this.view.remove(cmd.body)
-        return
-      case 'pin':
-      case 'rope': {
-        const added = addUserJoint(w, cmd)
-        if (added.ok) this.joints_.set(added.value.id, added.value)
-        return
-      }
-      case 'unjoint':
-        if (this.joints_.has(cmd.joint)) removeJoint(w, cmd.joint)
-        this.joints_.delete(cmd.joint)
-        return
-      case 'scene':
-        if (!Object.hasOwn(SCENES, cmd.name)) return
-        this.sceneName = cmd.name
-        this.world = this.build(cmd.name)
-        return
-      case 'reset':
-        this.world = this.build(this.sceneName)
-        return
-      case 'pause':
-        this.isPaused = cmd.paused
-        return
-      case 'step':
-        this.stepOnce = true
-        return
-      case 'gravity':
-        setWorldGravity(w, cmd.x, cmd.y)
-        return
-    }
+  roomControl(): RoomControl {
+    return simulationControl(this.sim, PLAYER)
   }
 
-  private release(): void {
-    if (this.grab) removeJoint(this.world, this.grab.joint)
-    this.grab = null
+  /** The world as a scene file's text (docs/scene-format.md) named `name`. */
+  sceneFile(name: string): string {
+    return sceneText(saveScene(this.sim.world, { name }))
+  }
+
+  /** Open a checked scene file into the page's room, as a server's openScene does; null, or why not. */
+  openSceneFile(scene: SceneFile, name: string): string | null {
+    const sim = this.sim
+    if (scene.bodies.length > sim.maxBodies)
+      return `${name} has ${scene.bodies.length} bodies; this page holds at most ${sim.maxBodies}`
+    const built = sceneForRoom(scene)
+    if (!built.ok) return `${name} does not open: ${built.error}`
+    sim.loadWorld(`file:${name}`, built.world, built.joints)
+    this.ticksSinceStep = 0
+    return null
   }
 
   color(): string {
-    return OWN_COLOR
+    return this.ownColor
   }
 
   status(): SandboxStatus {
@@ -247,51 +207,46 @@ export class OfflineSandbox implements Sandbox {
   }
 
   stats(): SandboxStats {
+    const world = this.sim.world
     return {
       room: 'offline',
       players: 1,
-      tick: this.world.tick,
+      tick: world.tick,
       pingMs: null,
       delayMs: null,
       snapshotHz: null,
       downKBs: null,
       upKBs: null,
-      awake: this.world.awakeBodyCount(),
-      total: this.world.bodyCount,
+      awake: world.awakeBodyCount(),
+      total: world.bodyCount,
       stepMs: this.stepMs,
     }
   }
 
-  rules(): RoomRules | null {
-    return null
+  rules(): RoomRules {
+    return this.roomRules
   }
 
   scene(): string {
-    return this.sceneName
+    return this.sim.scene
   }
 
   paused(): boolean {
-    return this.isPaused
+    return this.sim.paused
   }
 
   gravity(): { x: number; y: number } {
-    return this.world.getGravity()
+    return this.sim.world.getGravity()
   }
 
   inspect(_bodyId: number): void {}
 
   lab(bodyId: number): LabData | null {
-    const w = this.world
-    if (!w.hasBody(bodyId) || w.getBodyType(bodyId) !== 'dynamic') return null
-    return labFromWorld(w, bodyId, this.contacts(), (id) => this.joints_.get(id)?.kind)
+    return simulationLab(this.sim, bodyId, this.contacts())
   }
 
-  playerId(): number {
-    return 0
-  }
-
-  notices(): { count: number; latest: string | null } {
-    return { count: this.noticeCount, latest: this.latestNotice }
+  notices(): { count: number; latest: string | null; recent: readonly string[] } {
+    return this.notice
   }
 
   retry(): void {}

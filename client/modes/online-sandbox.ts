@@ -27,6 +27,7 @@ import {
 import { labFromServer, viewJoints } from '../draw/index.ts'
 import { Connection, InputOutbox, MAX_SENDS, type Pose, ServerStats, SnapshotTimeline } from '../net/index.ts'
 import { findClientGame, loadGameModule } from './game-modules.ts'
+import { NoticeLog } from './notice-log.ts'
 import type {
   LabContact,
   LabData,
@@ -116,7 +117,7 @@ export class OnlineSandbox implements Sandbox {
   /** The body this player inspects (0 for none), and the lab data last built for it. */
   private inspected = 0
   private labCache: { message: ContactsMessage; data: LabData } | null = null
-  private readonly notice = { count: 0, latest: null as string | null, recent: [] as string[] }
+  private readonly notice = new NoticeLog()
   private readonly serverStats: ServerStats
 
   constructor(private readonly options: OnlineOptions) {
@@ -479,10 +480,7 @@ export class OnlineSandbox implements Sandbox {
 
   /** Show the player a notice. */
   private tell(text: string): void {
-    this.notice.count++
-    this.notice.latest = text
-    this.notice.recent.push(text)
-    if (this.notice.recent.length > 3) this.notice.recent.shift()
+    this.notice.add(text)
   }
 
   /** Send one command now; spawns are followed until the world shows them. */

@@ -1,10 +1,12 @@
 /*
  * The seam between the page and where the physics runs. An online sandbox mirrors a server room
- * (snapshots, interpolation); an offline sandbox steps the engine in the page. Both speak the wire
- * protocol's Command type, so every tool produces the same commands whichever side applies them,
- * and both hand the renderer the same view: bodies with poses for this frame, joints, cursors.
+ * (snapshots, interpolation); an offline sandbox runs the room's simulation in the page. Both
+ * speak the wire protocol's Command type, so every tool produces the same commands whichever side
+ * applies them, and both hand the renderer the same view: bodies with poses for this frame,
+ * joints, cursors.
  */
 import type { Vec2 } from '../../engine/index.ts'
+import type { SceneFile } from '../../games/index.ts'
 import type {
   Command,
   PlainData,
@@ -179,9 +181,9 @@ export interface Sandbox {
   send(cmd: Command): void
   /** Apply or send one game command (the sandbox's joint commands: weld, hinge, ...). */
   sendGame(kind: string, args: { [key: string]: PlainData }): void
-  /** This player's id in the room (0 offline and in replays: joints made here have owner 0). */
+  /** This player's id in the room (offline 1: the page's room has one player; 0 in replays). */
   playerId(): number
-  /** Slow motion (1, 2 or 4), the room's creator and control lock, and this player's id (0 offline). */
+  /** Slow motion (1, 2 or 4), the room's creator and control lock, and this player's id. */
   roomControl?(): RoomControl
   /** Everyone in the room, by id: names, colours, the creator, who holds what. Absent offline. */
   people?(): readonly PersonRow[]
@@ -215,6 +217,13 @@ export interface Sandbox {
   roomCommand?(kind: string, args: { [key: string]: PlainData }): number | null
   /** The scene ids the server answered this page's saveScene commands with, by the command's seq. */
   savedScenes?(): ReadonlyMap<number, string>
+  /**
+   * The world as a scene file's text (docs/scene-format.md) named `name`, made in the page: where
+   * the room runs in the page (offline); online, the server saves (roomCommand saveScene).
+   */
+  sceneFile?(name: string): string
+  /** Open a checked scene file (`name`: its file name) into the room in the page; null, or why not. */
+  openSceneFile?(scene: SceneFile, name: string): string | null
   /** Reconnect now instead of waiting for the backoff (no-op offline). */
   retry(): void
   /** Close sockets and timers. */

@@ -6,16 +6,18 @@
  * colour for half a second. Replays are read only: tools that would change the world say so.
  */
 import type { ContactInfo, World } from '../../engine/index.ts'
-import type { Command, Inflate, RoomRules, SimulationListener, WireJoint } from '../../shared/index.ts'
-import { labFromWorld, viewJoints, WorldView } from '../draw/index.ts'
-import type {
-  LabData,
-  Sandbox,
-  SandboxStats,
-  SandboxStatus,
-  ViewBody,
-  ViewCursor,
-  ViewJoint,
+import type { Command, Inflate, RoomRules, SimulationListener } from '../../shared/index.ts'
+import { WorldView } from '../draw/index.ts'
+import {
+  type LabData,
+  type Sandbox,
+  type SandboxStats,
+  type SandboxStatus,
+  simulationJoints,
+  simulationLab,
+  type ViewBody,
+  type ViewCursor,
+  type ViewJoint,
 } from '../modes/index.ts'
 import { type LoadedLog, ReplayPlayer } from './replay-player.ts'
 
@@ -135,14 +137,7 @@ export class ReplaySandbox implements Sandbox {
   }
 
   joints(): readonly ViewJoint[] {
-    const forces = new Map<number, { x: number; y: number }>()
-    for (const info of this.world.joints()) forces.set(info.id, info.force)
-    const joints: Iterable<WireJoint> = this.player.sim.userJoints.values()
-    return viewJoints(
-      joints,
-      (id) => this.view.get(id),
-      (id) => forces.get(id) ?? null,
-    )
+    return simulationJoints(this.player.sim, (id) => this.view.get(id))
   }
 
   cursors(): readonly ViewCursor[] {
@@ -235,9 +230,7 @@ export class ReplaySandbox implements Sandbox {
   inspect(_bodyId: number): void {}
 
   lab(bodyId: number): LabData | null {
-    const w = this.world
-    if (!w.hasBody(bodyId) || w.getBodyType(bodyId) !== 'dynamic') return null
-    return labFromWorld(w, bodyId, this.contacts(), (id) => this.player.sim.userJoints.get(id)?.kind)
+    return simulationLab(this.player.sim, bodyId, this.contacts())
   }
 
   notices(): { count: number; latest: string | null } {

@@ -18,6 +18,7 @@ export {
   saveSceneBody,
   saveSceneJoint,
   sceneBodyDef,
+  sceneForRoom,
   sceneJointDef,
   sceneText,
 } from './scene-file.ts'

@@ -32,6 +32,7 @@ import {
   type Vec2,
   type World,
 } from '../../engine/index.ts'
+import { type WireJoint, type WireJointDef, wireJoint } from '../../shared/index.ts'
 import { compileArgs } from '../args-schema.ts'
 import { SCENE_FORMAT_VERSION, SCENE_LIMITS, SCENE_SCHEMA } from './scene-schema.ts'
 
@@ -534,6 +535,25 @@ export function buildScene(scene: SceneFile): { ok: true; built: BuiltScene } | 
   for (let i = 0; i < scene.bodies.length; i++)
     if (scene.bodies[i].awake === false && world.isAwake(ids[i])) world.setAwake(ids[i], false)
   return { ok: true, built: { world, bodies: ids, colors } }
+}
+
+/**
+ * A checked scene built for a room to open (RoomSimulation.loadWorld): the world and its joints as
+ * they travel (a file holds no mouse joints: a grab is a player's, not a scene's); or buildScene's
+ * first error. The server's openScene and the offline page's Open both build a file here.
+ */
+export function sceneForRoom(
+  scene: SceneFile,
+): { ok: true; world: World; joints: WireJoint[] } | { ok: false; error: string } {
+  const built = buildScene(scene)
+  if (!built.ok) return built
+  const world = built.built.world
+  const joints: WireJoint[] = []
+  for (const id of world.jointIds()) {
+    const def = world.getJointDef(id)
+    if (def.type !== 'mouse') joints.push(wireJoint(world, id, def as WireJointDef))
+  }
+  return { ok: true, world, joints }
 }
 
 /** A scene body's engine definition, with its shapes' definitions already made. */

@@ -7,14 +7,8 @@
  * lockstep and predict player a fresh sync, so replays and replicas get the very world the server
  * built. Saving writes the world into the scene directory and tells the sender the id.
  */
-import { buildScene, MIN_TICKS_BETWEEN_LOADS, saveScene, sceneText } from '../../games/index.ts'
-import {
-  type PlainData,
-  type RoomSimulation,
-  type WireJoint,
-  type WireJointDef,
-  wireJoint,
-} from '../../shared/index.ts'
+import { MIN_TICKS_BETWEEN_LOADS, saveScene, sceneForRoom, sceneText } from '../../games/index.ts'
+import type { PlainData, RoomSimulation } from '../../shared/index.ts'
 import { SCENE_ID, SceneStore } from '../scenes/index.ts'
 
 /** The room command kinds (`cmd` kinds every room accepts). */
@@ -63,16 +57,9 @@ export class RoomScenes {
     if (!stored.ok) return stored.error
     if (stored.scene.bodies.length > sim.maxBodies)
       return `scene ${id} has ${stored.scene.bodies.length} bodies; this room holds at most ${sim.maxBodies}`
-    const built = buildScene(stored.scene)
+    const built = sceneForRoom(stored.scene)
     if (!built.ok) return `saved scene ${id} no longer opens: ${built.error}`
-    const world = built.built.world
-    // Every joint kind travels (a file holds no mouse joints: a grab is a player's, not a scene's).
-    const joints: WireJoint[] = []
-    for (const jid of world.jointIds()) {
-      const def = world.getJointDef(jid)
-      if (def.type !== 'mouse') joints.push(wireJoint(world, jid, def as WireJointDef))
-    }
-    sim.loadWorld(`file:${id}`, world, joints)
+    sim.loadWorld(`file:${id}`, built.world, built.joints)
     return null
   }
 

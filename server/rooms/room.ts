@@ -44,13 +44,13 @@ import {
   QuantizedFrame,
   type RoomRules,
   RoomSimulation,
+  roomRules,
   type ServerMessage,
   type SimCommand,
   type SimulationListener,
   TICK_RATE,
   type WireBody,
   type WireJoint,
-  WORLD_HALF_EXTENT,
   worldFromBlueprint,
 } from '../../shared/index.ts'
 import type { ServerConfig } from '../config/index.ts'
@@ -161,25 +161,14 @@ export class Room {
     )
     this.feed = new LockstepFeed(this.sim, name, metrics, log)
     this.snapshots = new RoomSnapshots(name, this.sim, this.players, config, metrics, log)
-    this.rules = {
-      tickRate: TICK_RATE,
+    this.rules = roomRules(game, {
       snapshotRate: config.snapshotRate,
       maxBodies: config.maxBodies,
       maxClients: config.maxClientsPerRoom,
       inputsPerTick: config.inputsPerTick,
       controls: config.roomControls,
-      // Only a game that lists the scene command loads scenes: the others' list is empty.
-      scenes: Object.hasOwn(game.commands, 'scene') ? Object.keys(SCENES) : [],
-      worldHalfExtent: WORLD_HALF_EXTENT,
-      game: game.name,
-      commands: Object.keys(game.commands)
-        .filter((k) => !game.commands[k].builtin)
-        .sort(),
-      builtins: Object.keys(game.commands)
-        .filter((k) => game.commands[k].builtin)
-        .sort(),
       maxSpectators: config.maxSpectatorsPerRoom,
-    }
+    })
   }
 
   /** Largest staleness (ticks) of a body write in the last snapshot round, for the benchmark. */

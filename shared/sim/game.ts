@@ -17,14 +17,17 @@
  * hashPlainData, FNV-1a over a canonical walk (object keys sorted), so two replicas that hold equal
  * data hash equal whatever order their objects' keys were added in.
  */
-import type { JointSettings, Prng, World } from '../../engine/index.ts'
-import type {
-  Command,
-  PinCommand,
-  RopeCommand,
-  SpawnCommand,
-  WireJoint,
-  WireJointDef,
+import { type JointSettings, type Prng, SCENES, type World } from '../../engine/index.ts'
+import {
+  type Command,
+  type PinCommand,
+  type RoomRules,
+  type RopeCommand,
+  type SpawnCommand,
+  TICK_RATE,
+  type WireJoint,
+  type WireJointDef,
+  WORLD_HALF_EXTENT,
 } from '../protocol/index.ts'
 import type { GameHistory } from './history.ts'
 
@@ -224,6 +227,38 @@ export interface SimGame {
 
 /** Finds a game by name (games/'s catalogue); undefined for an unknown name. */
 export type GameCatalog = (name: string) => SimGame | undefined
+
+/** What a room's host decides of its rules (a server's settings, or the offline page's). */
+export type RoomLimits = Pick<
+  RoomRules,
+  'snapshotRate' | 'maxBodies' | 'maxClients' | 'inputsPerTick' | 'controls' | 'maxSpectators'
+>
+
+/**
+ * The rules a room running `game` announces (welcome.rules, PROTOCOL.md): the tick rate, scenes and
+ * world size every room shares, the game's name and its own command kinds (sorted), and `limits`.
+ */
+export function roomRules(game: SimGame, limits: RoomLimits): RoomRules {
+  return {
+    tickRate: TICK_RATE,
+    snapshotRate: limits.snapshotRate,
+    maxBodies: limits.maxBodies,
+    maxClients: limits.maxClients,
+    inputsPerTick: limits.inputsPerTick,
+    controls: limits.controls,
+    // Only a game that lists the scene command loads scenes: the others' list is empty.
+    scenes: Object.hasOwn(game.commands, 'scene') ? Object.keys(SCENES) : [],
+    worldHalfExtent: WORLD_HALF_EXTENT,
+    game: game.name,
+    commands: Object.keys(game.commands)
+      .filter((k) => !game.commands[k].builtin)
+      .sort(),
+    builtins: Object.keys(game.commands)
+      .filter((k) => game.commands[k].builtin)
+      .sort(),
+    maxSpectators: limits.maxSpectators,
+  }
+}
 
 /** A deep copy of plain data; throws a RangeError naming the first thing that is not plain data. */
 export function copyPlainData(value: unknown, where = 'state'): PlainData {

@@ -15,6 +15,8 @@ export {
   hashPlainData,
   NO_EVENTS,
   type PlainData,
+  type RoomLimits,
+  roomRules,
   type SimCommand,
   type SimCommandDef,
   type SimGame,

@@ -175,7 +175,7 @@ const NO_LISTENER: SimulationListener = {
 /**
  * The movable bodies that have left the world: below the kill plane (KILL_PLANE_Y), beyond
  * KILL_DISTANCE, or with a non-finite position. Rooms remove them once a second (with a removal
- * event); the offline sandbox does the same.
+ * event), the offline page's room too.
  */
 export function strayBodies(world: World): number[] {
   const p = { x: 0, y: 0 }
@@ -383,7 +383,7 @@ export class RoomSimulation {
    * increment), then the game's tick, housekeeping.
    */
   runTick(): void {
-    const step = (!this.paused && this.tick % this.slowMotion === 0) || this.stepRequested
+    const step = this.stepsNextTick()
     if (step) {
       this.world.step()
       this.removeBrokenJoints()
@@ -393,6 +393,15 @@ export class RoomSimulation {
     if (step && this.game.tick) this.runGameTick(this.game.tick)
     if (this.tick % TICK_RATE === 0) this.sweep()
     for (const o of this.observers) o.ticked?.(this.tick)
+  }
+
+  /**
+   * Whether the next runTick steps the world: not paused (or a single step was requested) and, in
+   * slow motion, a room tick that is a multiple of slowMotion. A page that draws between the last
+   * two steps keeps the poses before a tick that will step.
+   */
+  stepsNextTick(): boolean {
+    return (!this.paused && this.tick % this.slowMotion === 0) || this.stepRequested
   }
 
   /** Replace the world with a fresh copy of a named scene (SCENES). */

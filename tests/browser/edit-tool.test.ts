@@ -18,6 +18,7 @@ import {
   openSandbox,
   type PageBody,
   screenOf,
+  setEditControl,
   startClientServer,
 } from '../support/client-harness.ts'
 
@@ -45,19 +46,6 @@ async function spawnBox(page: Page, x: number, y: number, hw: number): Promise<n
   )
   await page.waitForFunction((n) => window.concord.sandbox.bodies().length > n, before.size)
   return (await bodies(page)).find((b) => !before.has(b.id))!.id
-}
-
-/** Set an Edit panel control's value and fire its change, as a person letting go of it does. */
-async function setControl(page: Page, key: string, value: string): Promise<void> {
-  await page.evaluate(
-    ([k, v]) => {
-      const input = document.querySelector<HTMLInputElement>(`#edit-panel [data-edit="${k}"]`)!
-      input.value = v
-      input.dispatchEvent(new Event('input'))
-      input.dispatchEvent(new Event('change'))
-    },
-    [key, value] as const,
-  )
 }
 
 /** The online sandbox's copy of the room's bodies as the server sent them (snapshot poses, not interpolated). */
@@ -143,8 +131,8 @@ describe('the Edit tool', { timeout: 300_000 }, () => {
     )
     expect(await page.inputValue('#edit-panel [data-edit="friction"]')).toBe('0.6')
     // Friction, colour and static from the panel.
-    await setControl(page, 'friction', '0.25')
-    await setControl(page, 'color', '#ff3366')
+    await setEditControl(page, 'friction', '0.25')
+    await setEditControl(page, 'color', '#ff3366')
     await page.check('#edit-panel [data-edit="static"]')
     await other.page.waitForFunction((id) => {
       const b = window.concord.sandbox.bodies().find((v: { id: number }) => v.id === id)

@@ -5,7 +5,7 @@
  * it is released; weld, hinge, spring and slider come from their shortcut keys, show a preview of
  * the joint before the click, and make the joint they show (the spring by touch).
  */
-import type { Browser, Page } from 'playwright-core'
+import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { DRIVE_SPEED } from '../../client/input/index.ts'
 import type { RunningServer } from '../../server/server.ts'
@@ -15,6 +15,7 @@ import {
   Finger,
   loadScene,
   openSandbox,
+  pageJoints,
   pickTool,
   screenOf,
   setPaused,
@@ -37,20 +38,6 @@ afterAll(async () => {
   await browser?.close()
   await server?.close()
 })
-
-type PageJoint = { id: number; kind: string; a: number; b: number; owner: number; motor: boolean }
-
-const joints = (page: Page): Promise<PageJoint[]> =>
-  page.evaluate(() =>
-    window.concord.sandbox.joints().map((j: { id: number; kind: string; spec: PageJoint }) => ({
-      id: j.id,
-      kind: j.kind,
-      a: j.spec.a,
-      b: j.spec.b,
-      owner: j.spec.owner,
-      motor: j.spec.motor,
-    })),
-  )
 
 describe('joint tools', { timeout: 300_000 }, () => {
   it('builds a car in three clicks (a box, two wheels) and drives it with the arrow key at motor speed x radius', async () => {
@@ -86,7 +73,7 @@ describe('joint tools', { timeout: 300_000 }, () => {
     await clickWorld(page, -0.4, 2.6)
     await clickWorld(page, 0.4, 2.6)
     await page.waitForFunction(() => window.concord.sandbox.joints().length === 2)
-    const wheels = await joints(page)
+    const wheels = await pageJoints(page)
     expect(wheels.map((j) => [j.kind, j.a, j.owner, j.motor])).toEqual([
       ['wheel', chassis, me, true],
       ['wheel', chassis, me, true],
@@ -177,7 +164,7 @@ describe('joint tools', { timeout: 300_000 }, () => {
     await finger.up()
     made.push('spring')
     await page.waitForFunction((n) => window.concord.sandbox.joints().length === n, made.length)
-    const all = await joints(page)
+    const all = await pageJoints(page)
     expect(all.map((j) => j.kind)).toEqual(made)
     const me = await page.evaluate(() => window.concord.sandbox.playerId())
     for (const j of all) expect(j.owner).toBe(me)

@@ -183,6 +183,43 @@ export function bodies(page: Page): Promise<PageBody[]> {
   )
 }
 
+/** A joint as the page draws it: id, kind, its bodies (a 0: the world), maker and whether it has a motor. */
+export interface PageJoint {
+  id: number
+  kind: string
+  a: number
+  b: number
+  owner: number
+  motor: boolean
+}
+
+/** The page's joints this frame. */
+export function pageJoints(page: Page): Promise<PageJoint[]> {
+  return page.evaluate(() =>
+    window.concord.sandbox.joints().map((j: { id: number; kind: string; spec: PageJoint }) => ({
+      id: j.id,
+      kind: j.kind,
+      a: j.spec.a,
+      b: j.spec.b,
+      owner: j.spec.owner,
+      motor: j.spec.motor,
+    })),
+  )
+}
+
+/** Set an Edit panel control's value and fire its change, as a person letting go of it does. */
+export async function setEditControl(page: Page, key: string, value: string): Promise<void> {
+  await page.evaluate(
+    ([k, v]) => {
+      const input = document.querySelector<HTMLInputElement>(`#edit-panel [data-edit="${k}"]`)!
+      input.value = v
+      input.dispatchEvent(new Event('input'))
+      input.dispatchEvent(new Event('change'))
+    },
+    [key, value] as const,
+  )
+}
+
 /** Viewport coordinates (CSS px) of a world point. */
 export function screenOf(page: Page, x: number, y: number): Promise<{ x: number; y: number }> {
   return page.evaluate(
