@@ -83,6 +83,7 @@ export {
   SCENE_LIMITS,
   SCENE_SCHEMA,
   type SceneFile,
+  saveRoomScene,
   saveScene,
   sceneForRoom,
   sceneText,

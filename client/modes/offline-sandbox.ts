@@ -17,7 +17,7 @@
  * into the local room as the server's openScene would open it; share links need a server.
  */
 import { type ContactInfo, DEFAULT_SCENE, FixedStepper, SCENES, type World } from '../../engine/index.ts'
-import { type SceneFile, sandbox, saveScene, sceneForRoom, sceneText } from '../../games/index.ts'
+import { type SceneFile, sandbox, saveRoomScene, sceneForRoom, sceneText } from '../../games/index.ts'
 import {
   type Command,
   cssColor,
@@ -183,7 +183,7 @@ export class OfflineSandbox implements Sandbox {
 
   /** The world as a scene file's text (docs/scene-format.md) named `name`. */
   sceneFile(name: string): string {
-    return sceneText(saveScene(this.sim.world, { name }))
+    return sceneText(saveRoomScene(this.sim, name))
   }
 
   /** Open a checked scene file into the page's room, as a server's openScene does; null, or why not. */
@@ -193,7 +193,7 @@ export class OfflineSandbox implements Sandbox {
       return `${name} has ${scene.bodies.length} bodies; this page holds at most ${sim.maxBodies}`
     const built = sceneForRoom(scene)
     if (!built.ok) return `${name} does not open: ${built.error}`
-    sim.loadWorld(`file:${name}`, built.world, built.joints)
+    sim.loadWorld(`file:${name}`, built.world, built.joints, built.colors)
     this.ticksSinceStep = 0
     return null
   }

@@ -14,6 +14,7 @@ export {
   type SceneFile,
   type SceneJoint,
   type SceneShape,
+  saveRoomScene,
   saveScene,
   saveSceneBody,
   saveSceneJoint,

@@ -32,7 +32,13 @@ import {
   type Vec2,
   type World,
 } from '../../engine/index.ts'
-import { type WireJoint, type WireJointDef, wireJoint } from '../../shared/index.ts'
+import {
+  cssColor,
+  type RoomSimulation,
+  type WireJoint,
+  type WireJointDef,
+  wireJoint,
+} from '../../shared/index.ts'
 import { compileArgs } from '../args-schema.ts'
 import { SCENE_FORMAT_VERSION, SCENE_LIMITS, SCENE_SCHEMA } from './scene-schema.ts'
 
@@ -537,14 +543,20 @@ export function buildScene(scene: SceneFile): { ok: true; built: BuiltScene } | 
   return { ok: true, built: { world, bodies: ids, colors } }
 }
 
+/** A room's world as a scene file named `name`, with the colours the room keeps for its bodies. */
+export function saveRoomScene(sim: RoomSimulation, name: string): SceneFile {
+  return saveScene(sim.world, { name, colorOf: (body) => cssColor(sim.bodyColors.get(body)) ?? undefined })
+}
+
 /**
- * A checked scene built for a room to open (RoomSimulation.loadWorld): the world and its joints as
- * they travel (a file holds no mouse joints: a grab is a player's, not a scene's); or buildScene's
+ * A checked scene built for a room to open (RoomSimulation.loadWorld): the world, its joints as
+ * they travel (a file holds no mouse joints: a grab is a player's, not a scene's) and its bodies'
+ * colours as a room keeps them (flat [body id, 0xRRGGBB, ...], ascending ids); or buildScene's
  * first error. The server's openScene and the offline page's Open both build a file here.
  */
 export function sceneForRoom(
   scene: SceneFile,
-): { ok: true; world: World; joints: WireJoint[] } | { ok: false; error: string } {
+): { ok: true; world: World; joints: WireJoint[]; colors: number[] } | { ok: false; error: string } {
   const built = buildScene(scene)
   if (!built.ok) return built
   const world = built.built.world
@@ -553,7 +565,10 @@ export function sceneForRoom(
     const def = world.getJointDef(id)
     if (def.type !== 'mouse') joints.push(wireJoint(world, id, def as WireJointDef))
   }
-  return { ok: true, world, joints }
+  const colors: number[] = []
+  for (const id of [...built.built.colors.keys()].sort((a, b) => a - b))
+    colors.push(id, Number.parseInt((built.built.colors.get(id) as string).slice(1), 16))
+  return { ok: true, world, joints, colors }
 }
 
 /** A scene body's engine definition, with its shapes' definitions already made. */

@@ -194,7 +194,17 @@ export class RoomRecorder implements SimulationObserver {
   }
 
   worldLoaded(tick: number, scene: string): void {
-    this.pushWorld(this.sim.world.save(), (z, world) => ({ type: 'world', tick, scene, z, world }))
+    const colors = this.sim.colorList()
+    const joints = [...this.sim.userJoints.values()].map((j) => ({ ...j }))
+    this.pushWorld(this.sim.world.save(), (z, world) => ({
+      type: 'world',
+      tick,
+      scene,
+      colors,
+      joints,
+      z,
+      world,
+    }))
   }
 
   ticked(tick: number): void {

@@ -7,7 +7,7 @@
  * lockstep and predict player a fresh sync, so replays and replicas get the very world the server
  * built. Saving writes the world into the scene directory and tells the sender the id.
  */
-import { MIN_TICKS_BETWEEN_LOADS, saveScene, sceneForRoom, sceneText } from '../../games/index.ts'
+import { MIN_TICKS_BETWEEN_LOADS, saveRoomScene, sceneForRoom, sceneText } from '../../games/index.ts'
 import type { PlainData, RoomSimulation } from '../../shared/index.ts'
 import { SCENE_ID, SceneStore } from '../scenes/index.ts'
 
@@ -59,7 +59,7 @@ export class RoomScenes {
       return `scene ${id} has ${stored.scene.bodies.length} bodies; this room holds at most ${sim.maxBodies}`
     const built = sceneForRoom(stored.scene)
     if (!built.ok) return `saved scene ${id} no longer opens: ${built.error}`
-    sim.loadWorld(`file:${id}`, built.world, built.joints)
+    sim.loadWorld(`file:${id}`, built.world, built.joints, built.colors)
     return null
   }
 
@@ -68,7 +68,7 @@ export class RoomScenes {
     const sim = this.sim
     if (sim.tick - this.lastSaveTick < MIN_TICKS_BETWEEN_SAVES)
       return { error: 'scene saves are limited to one per second per room' }
-    const text = sceneText(saveScene(sim.world, { name: roomName }))
+    const text = sceneText(saveRoomScene(sim, roomName))
     let stored: ReturnType<SceneStore['save']>
     try {
       stored = this.store.save(text, false)

@@ -130,7 +130,15 @@ export type ReplayRecord =
   | { type: 'command'; tick: number; player: number; cmd: SimCommand }
   | { type: 'join'; tick: number; player: number; name: string; color: string }
   | { type: 'leave'; tick: number; player: number }
-  | ({ type: 'world'; tick: number; scene: string } & StoredWorld)
+  | ({
+      type: 'world'
+      tick: number
+      scene: string
+      /** The body colours after the load, flat [id, 0xRRGGBB, ...] (absent in logs from before scene files kept them). */
+      colors?: number[]
+      /** The world's joints as they travel (a scene file's), for the replay's drawing and undo. */
+      joints?: WireJoint[]
+    } & StoredWorld)
   | { type: 'hash'; tick: number; hash: number; step: number }
   | ({ type: 'keyframe'; tick: number; state: SimulationState } & StoredWorld)
   | { type: 'close'; tick: number; reason: string; end: number }
@@ -181,7 +189,7 @@ function encodePayload(r: ReplayRecord): Uint8Array {
     case 'leave':
       return u32(r.player)
     case 'world':
-      return encodeValue({ scene: r.scene, z: r.z, world: r.world })
+      return encodeValue({ scene: r.scene, colors: r.colors, joints: r.joints, z: r.z, world: r.world })
     case 'hash': {
       const payload = new Uint8Array(8)
       const view = new DataView(payload.buffer)
@@ -512,7 +520,17 @@ function decodePayload(type: number, tick: number, payload: Uint8Array, format: 
       return { type: 'leave', tick, player: player() }
     case 5: {
       const m = map(msgpack(payload, 'world'), 'world')
-      return { type: 'world', tick, scene: str(m.scene, 'scene'), ...storedWorld(m) }
+      if (m.joints != null && !Array.isArray(m.joints))
+        throw new ReplayFormatError('world joints is not a list')
+      return {
+        type: 'world',
+        tick,
+        scene: str(m.scene, 'scene'),
+        // Logs from before scene files kept colours and joints in world records have neither.
+        colors: m.colors == null ? undefined : colorList(m.colors),
+        joints: m.joints == null ? undefined : (m.joints as unknown[]).map(joint),
+        ...storedWorld(m),
+      }
     }
     case 6:
       if (payload.length !== 8) throw new ReplayFormatError('hash record has the wrong size')

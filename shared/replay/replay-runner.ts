@@ -185,7 +185,7 @@ export class ReplayRunner {
         this.sim.leave(r.player)
         return
       case 'world':
-        this.sim.loadWorld(r.scene, await this.world(r))
+        this.sim.loadWorld(r.scene, await this.world(r), r.joints ?? [], r.colors ?? [])
         return
       case 'hash': {
         this.hashesChecked++

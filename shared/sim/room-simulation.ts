@@ -413,10 +413,16 @@ export class RoomSimulation {
   /**
    * Replace the world from outside a command (a benchmark's blueprint, a restored world): observers
    * see it as a world load so a recording stays reproducible. `joints` are the world's joints as
-   * they travel (worldFromBlueprint gives them), none for a world restored from bytes.
+   * they travel (worldFromBlueprint gives them), none for a world restored from bytes; `colors` its
+   * bodies' colours, flat [body id, 0xRRGGBB, ...] (a scene file's).
    */
-  loadWorld(scene: string, world: World, joints: Iterable<WireJoint> = []): void {
-    this.replaceWorld(scene, world, joints)
+  loadWorld(
+    scene: string,
+    world: World,
+    joints: Iterable<WireJoint> = [],
+    colors: readonly number[] = [],
+  ): void {
+    this.replaceWorld(scene, world, joints, colors)
     for (const o of this.observers) o.worldLoaded(this.tick, scene)
   }
 
@@ -543,14 +549,19 @@ export class RoomSimulation {
     }
   }
 
-  private replaceWorld(scene: string, world: World, joints: Iterable<WireJoint>): void {
+  private replaceWorld(
+    scene: string,
+    world: World,
+    joints: Iterable<WireJoint>,
+    colors: readonly number[] = [],
+  ): void {
     this.lastLoadTick = this.tick
     for (const [pid, p] of this.players) {
       p.grab = null
       this.listener.cursorChanged(pid)
     }
     this.grabCounts.clear()
-    this.bodyColors.clear()
+    this.setColors(colors)
     this.history.clear()
     this.userJoints.clear()
     for (const j of joints) this.userJoints.set(j.id, j)

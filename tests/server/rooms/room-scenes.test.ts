@@ -16,7 +16,7 @@ import { buildScene as buildBlueprint, createWorld, machinesScene, pileScene } f
 import { parseScene, saveScene, sceneText } from '../../../games/index.ts'
 import { replayLog } from '../../../server/replay/index.ts'
 import type { RunningServer } from '../../../server/server.ts'
-import type { ErrorMessage, ServerMessage } from '../../../shared/index.ts'
+import { cssColor, type ErrorMessage, type ServerMessage } from '../../../shared/index.ts'
 import { startTestServer } from '../../support/test-server.ts'
 import { documentedFields } from '../protocol/doc-tables.ts'
 
@@ -35,12 +35,16 @@ afterAll(async () => {
 const http = (path: string, init?: RequestInit) => fetch(`${server.url}${path}`, init)
 const post = (body: string) => http('/scenes', { method: 'POST', body })
 
-/** The machines scene (every joint kind), stepped a little, as a scene file named `name`. */
+/** Colours of the uploaded files' bodies: every third body has one, the rest none. */
+const COLORS = ['#ff8800', '#2a9d8f', '#e63946']
+const colorOf = (id: number): string | undefined => (id % 3 === 0 ? COLORS[(id / 3) % 3] : undefined)
+
+/** The machines scene (every joint kind), stepped a little, as a scene file named `name`, some bodies coloured. */
 function machinesText(name: string): string {
   const world = createWorld()
   buildBlueprint(world, machinesScene())
   for (let i = 0; i < 30; i++) world.step()
-  return sceneText(saveScene(world, { name }))
+  return sceneText(saveScene(world, { name, colorOf }))
 }
 
 /** The error answering `seq`. */
@@ -138,7 +142,11 @@ describe('scene files in rooms', { timeout: 90_000 }, () => {
     }, 'the saved scene id')
     expect(saved?.seq).toBe(saveSeq)
     expect(Object.keys(saved ?? {}).sort()).toEqual(documentedFields().get('scene')?.all.sort())
-    // Opened and saved again: the very file uploaded, so the very same id.
+    // Every body in the colour the file gives it (a scene file keeps colours: docs/scene-format.md).
+    const drawn = bodies.map((b) => cssColor(b.color))
+    expect(drawn).toEqual(file.scene.bodies.map((b) => b.color ?? null))
+    expect(drawn.filter((c) => c !== null).length).toBeGreaterThan(3)
+    // Opened and saved again: the very file uploaded (colours too), so the very same id.
     expect(saved?.id).toBe(id)
     expect(await (await http(`/scenes/${id}`)).text()).toBe(text)
     const again = await errorFor(player, player.gameCommand('saveScene', {}))
