@@ -20,6 +20,7 @@ export interface HillView {
   winner: number
   me: number
   nextPush: number
+  away: number
 }
 
 export type Message = { t: string } & Record<string, unknown>

@@ -142,7 +142,14 @@ export default defineGame<Hill>({
     if (ctx.state.king === player) ctx.state.king = 0
   },
   view(ctx, player) {
-    const last = ctx.state.pucks[player]?.lastPush ?? -1
+    const mine = ctx.state.pucks[player]
+    const last = mine?.lastPush ?? -1
+    // How far this player's puck is from the hill's centre, in tenths of a metre (-1: no puck).
+    let away = -1
+    if (mine) {
+      const at = ctx.world.getPosition(mine.body)
+      away = Math.round(Math.sqrt(at.x * at.x + at.y * at.y) * 10)
+    }
     const held: Record<string, number> = {}
     for (const id of Object.keys(ctx.state.pucks)) held[id] = ctx.state.pucks[id].held
     return {
@@ -154,6 +161,7 @@ export default defineGame<Hill>({
       me: ctx.state.pucks[player] ? player : 0,
       // the room tick from which this player may push again (0: now)
       nextPush: last < 0 ? 0 : last + PUSH_COOLDOWN,
+      away,
     }
   },
   tick(ctx) {
@@ -206,6 +214,7 @@ interface HillView {
   winner: number
   me: number
   nextPush: number
+  away: number
 }
 
 function isHillView(state: unknown): state is HillView {
@@ -236,6 +245,7 @@ export const client = defineGameClient({
             ? 'nobody is king'
             : `king: ${state.king === me ? 'you' : `player ${state.king}`}`
     items.push({ label: 'round', value: status })
+    if (state.away >= 0) items.push({ label: 'to the hill', value: `${Math.floor(state.away / 10)}.${state.away % 10} m` })
     return items.slice(0, 8)
   },
   keys: {
