@@ -53,7 +53,10 @@ describe('the hill client module in a Chromium page', { timeout: 120_000 }, () =
     const problems: string[] = []
     page.on('pageerror', (e) => problems.push(e.message))
     await page.goto(`${server.url}/?room=hill-page&game=hill&name=ada`)
-    await until(async () => (await text(page)).includes('hold 3.0 s alone'), 'the HUD item "hold 3.0 s alone"')
+    await until(
+      async () => (await text(page)).includes('hold 3.0 s alone'),
+      'the HUD item "hold 3.0 s alone"',
+    )
     await until(async () => (await text(page)).includes('waiting for a second player'), 'the waiting status')
     expect(await text(page)).toMatch(/you \(\d+\)\s*0\.0 s/)
     expect(await text(page)).toContain('6.0 m')

@@ -1,9 +1,10 @@
 /*
- * King of the hill, written from docs/games.md alone (issue 29's stranger check; see README.md in
- * this folder). Up to four players each push their own puck around a walled arena seen from above
- * with `push {x, y}`; a sensor disc in the middle is the hill. Every tick that exactly one player's
- * puck is on the hill counts for that player; the first to WIN_TICKS (3 s) wins. `restart {}`
- * starts a new round once one is over.
+ * King of the hill, written from docs/games.md alone (issue 29's stranger check; see
+ * tests/games-from-docs/README.md). Up to four players each push their own puck around a walled
+ * arena seen from above with `push {x, y}`; a sensor disc in the middle is the hill. Every tick
+ * that exactly one player's puck is on the hill counts for that player; the first to WIN_TICKS
+ * (3 s) wins. `restart {}` starts a new round once one is over. The client module (`client`,
+ * below) shows each player's time and the king, and binds the arrow keys to full pushes.
  */
 import {
   box,
@@ -245,7 +246,8 @@ export const client = defineGameClient({
             ? 'nobody is king'
             : `king: ${state.king === me ? 'you' : `player ${state.king}`}`
     items.push({ label: 'round', value: status })
-    if (state.away >= 0) items.push({ label: 'to the hill', value: `${Math.floor(state.away / 10)}.${state.away % 10} m` })
+    if (state.away >= 0)
+      items.push({ label: 'to the hill', value: `${Math.floor(state.away / 10)}.${state.away % 10} m` })
     return items.slice(0, 8)
   },
   keys: {
