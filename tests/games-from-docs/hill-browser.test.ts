@@ -81,6 +81,43 @@ describe('the hill client module in a Chromium page', { timeout: 120_000 }, () =
     await page.close()
   })
 
+  it('plays a round to its end in a lockstep page and a predicting page, which load the game from the server and never desync', async () => {
+    const ada = await browser.newPage()
+    const bob = await browser.newPage()
+    const problems: string[] = []
+    for (const page of [ada, bob]) page.on('pageerror', (e) => problems.push(e.message))
+    await ada.goto(`${server.url}/?room=hill-lockstep&game=hill&mode=lockstep&name=ada`)
+    await bob.goto(`${server.url}/?room=hill-lockstep&game=hill&mode=predict&name=bob`)
+    for (const page of [ada, bob])
+      await until(async () => (await text(page)).includes('nobody is king'), 'the round to start')
+    // Bob's puck (spot (6, 0)) goes 3.82 m left per push: 2.18 m from the hill, then 1.64 m past it.
+    await bob.keyboard.press('ArrowLeft')
+    await until(
+      async () => (await text(bob)).includes('2.2 m'),
+      "bob's first push to end 2.18 m from the hill",
+    )
+    await bob.keyboard.press('ArrowLeft')
+    await until(async () => (await text(bob)).includes('king: you'), 'bob to be king in his page')
+    await until(async () => /king: player \d+/.test(await text(ada)), "bob to be king in ada's page")
+    await until(async () => (await text(bob)).includes('you win'), 'bob to win in his page', 60_000)
+    await until(async () => /player \d+ wins/.test(await text(ada)), "bob's win in ada's page", 60_000)
+    expect(await text(bob)).toMatch(/you \(\d+\)\s*3\.0 s/)
+    // Both pages checked the server's hashes after the end, and none differed.
+    for (const [page, mode] of [
+      [ada, 'lockstep'],
+      [bob, 'predict'],
+    ] as const) {
+      const verified = async () => Number(/verified\s+tick\s+(\d+)/.exec(await text(page))?.[1] ?? 0)
+      const first = await verified()
+      await until(async () => (await verified()) > first, `${mode}: a later hash verified`)
+      expect(await text(page)).toMatch(new RegExp(`${mode}\\s+running`))
+      expect(await text(page)).toMatch(/desyncs\s+0\s+resyncs\s+0/)
+    }
+    expect(problems).toEqual([])
+    await ada.close()
+    await bob.close()
+  })
+
   // BUG (stranger's notes, "the page offers tools the game refuses"): docs/games.md says that
   // without a client module "the page still draws the world and offers the built-in tools the
   // game allows"; in a room of a game without `move` (hill, and goal too) the page offers every
