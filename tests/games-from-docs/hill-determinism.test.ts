@@ -1,7 +1,7 @@
 /*
  * The determinism check docs/games.md describes ("What the server does with DIR at start": step 2,
  * and "The determinism rules") runs over a game loaded with --games: the hill game as written
- * loads (hill-server.test.ts waits for its "games loaded" line), and a copy of it outside this
+ * passes it (checkGameDirectory, server/games/determinism-check.ts), and a copy of it outside this
  * repository with two breaks written into it stops the server with exit code 1, before it
  * listens, naming each break's file, line, column and rule on a line of its own.
  */
@@ -10,6 +10,7 @@ import { cpSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:f
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { afterAll, describe, expect, it } from 'vitest'
+import { checkGameDirectory, formatViolation } from '../../server/games/determinism-check.ts'
 
 const dirs: string[] = []
 afterAll(() => {
@@ -37,6 +38,10 @@ function startOn(gamesDir: string): Promise<{ code: number | null; stdout: strin
 }
 
 describe('the determinism check over a --games directory', { timeout: 60_000 }, () => {
+  it('passes the hill game as written', () => {
+    expect(checkGameDirectory('tests/games-from-docs/games').map(formatViolation)).toEqual([])
+  })
+
   it('names each break in a copy of the hill game, with its file, line, column and rule, and stops the server', async () => {
     const dir = mkdtempSync(join(tmpdir(), 'hill-broken-'))
     dirs.push(dir)
