@@ -7,6 +7,7 @@
 import { Packr, Unpackr } from 'msgpackr'
 import WebSocket from 'ws'
 import { until } from '../support/wait.ts'
+import { PUCK_DAMPING, PUCK_DENSITY, PUCK_RADIUS, PUSH_IMPULSE } from './games/hill/layout.ts'
 
 const packr = new Packr({ useRecords: false })
 const unpackr = new Unpackr({ useRecords: false, int64AsType: 'number' })
@@ -113,4 +114,17 @@ export class HillPlayer {
     this.socket.close()
     await this.closed
   }
+}
+
+/** A puck's mass (kg): a disc of radius PUCK_RADIUS and density PUCK_DENSITY. */
+export const MASS = Math.PI * PUCK_RADIUS * PUCK_RADIUS * PUCK_DENSITY
+/** The pushes (each at most 1 long) whose impulses sum to what moves a puck `d` metres. */
+export function pushesFor(d: number): number[] {
+  let left = (MASS * PUCK_DAMPING * d) / PUSH_IMPULSE
+  const out: number[] = []
+  while (left > 1e-12) {
+    out.push(Math.min(1, left))
+    left -= 1
+  }
+  return out
 }

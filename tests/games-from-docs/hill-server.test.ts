@@ -19,22 +19,10 @@ import { join } from 'node:path'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { type ServerProcess, startServerProcess } from '../support/server-process.ts'
 import { until } from '../support/wait.ts'
-import { PUCK_DAMPING, PUCK_DENSITY, PUCK_RADIUS, PUSH_IMPULSE, WIN_TICKS } from './games/hill/layout.ts'
-import { HillPlayer } from './hill-player.ts'
+import { WIN_TICKS } from './games/hill/layout.ts'
+import { HillPlayer, pushesFor } from './hill-player.ts'
 
 const GAMES_DIR = 'tests/games-from-docs/games'
-const MASS = Math.PI * PUCK_RADIUS * PUCK_RADIUS * PUCK_DENSITY
-/** The pushes (each at most 1 long) whose impulses sum to what moves a puck `d` metres. */
-function pushesFor(d: number): number[] {
-  let left = (MASS * PUCK_DAMPING * d) / PUSH_IMPULSE
-  const out: number[] = []
-  while (left > 1e-12) {
-    out.push(Math.min(1, left))
-    left -= 1
-  }
-  return out
-}
-
 function run(args: string[]): Promise<{ code: number; stdout: string; stderr: string }> {
   return new Promise((resolve) => {
     execFile('npm', ['run', '--silent', 'replay', '--', ...args], (error, stdout, stderr) =>
