@@ -67,6 +67,14 @@ describe('a room of the hill game after a SIGKILL', { timeout: 120_000 }, () => 
     // Ada and bob left with the killed process: the game's onLeave took their pucks and times.
     expect(Object.keys(c.view!.held)).toEqual([String(c.id)])
     expect(c.view).toMatchObject({ me: c.id, king: 0, away: 60 })
+    // Ada comes back with her token from the killed server: a new player, with a new id and puck.
+    const token = a.received.find((m) => m.t === 'welcome')!.token as string
+    const back = await HillPlayer.join(second.url, 'hill-crash', 'ada', { token })
+    expect(back.id).toBeGreaterThan(c.id)
+    await until(() => back.view !== null, "ada's new view")
+    expect(back.view).toMatchObject({ me: back.id, away: 60 })
+    expect(back.view!.held[a.id]).toBeUndefined()
+    await back.close()
     await c.push(1, 0)
     await until(() => c.view?.away === 22, "cy's puck at rest 2.18 m from the hill")
     await c.close()
