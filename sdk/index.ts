@@ -5,10 +5,13 @@
  * `Session` at the welcome. The session is a thin wrapper over the classes the Concord page runs:
  * the snapshot mirror (ClientMirror), the lockstep and predicting runners (LockstepClient,
  * PredictClient, stepped from a 16 ms timer) and the games this build ships (games/'s findGame),
- * so an SDK client decodes and simulates exactly as the page does. `npm run build:sdk` bundles it
+ * so an SDK client decodes and simulates exactly as the page does. A lockstep or predict session in
+ * a room of a game the build does not ship (one the server loaded with --games) imports that game's
+ * module from the server (GET /games/NAME.js, as the page does) before it applies anything after the
+ * welcome; one that cannot be loaded is an `error` naming the game and the URL, and the session closes. `npm run build:sdk` bundles it
  * to dist/sdk/index.js with type declarations; the canvas renderer is apart, in sdk/render.ts.
  */
-import { findGame } from '../games/index.ts'
+import { findGame, type Game } from '../games/index.ts'
 import {
   type ClientMessage,
   ClientMirror,
@@ -31,6 +34,39 @@ import {
 } from '../shared/index.ts'
 
 export type { Command, RoomRules, ServerMessage, WireJoint, WireShape }
+
+/** Games imported from servers (their --games modules), by name: shared by every session of the page. */
+const loadedGames = new Map<string, Game>()
+const findAnyGame = (name: string): Game | undefined => findGame(name) ?? loadedGames.get(name)
+
+/**
+ * Import game `name` from the server at `serverUrl` (ws, wss, http or https; GET /games/NAME.js, one self-contained ES module)
+ * and keep it. A browser imports the URL; where that fails (Node imports no http: URLs) the text
+ * is fetched and imported as a data: URL. Rejects naming the game and the URL.
+ */
+async function loadServerGame(serverUrl: string, name: string): Promise<void> {
+  if (findAnyGame(name)) return
+  const origin = new URL(serverUrl)
+  if (origin.protocol === 'wss:') origin.protocol = 'https:'
+  else if (origin.protocol === 'ws:') origin.protocol = 'http:'
+  const url = `${origin.origin}/games/${encodeURIComponent(name)}.js`
+  let module: { default?: Partial<Game> }
+  try {
+    try {
+      module = await import(/* @vite-ignore */ url)
+    } catch {
+      const response = await fetch(url)
+      if (!response.ok) throw new Error(`GET answered ${response.status}`)
+      module = await import(`data:text/javascript,${encodeURIComponent(await response.text())}`)
+    }
+  } catch (error) {
+    throw new Error(`cannot load game ${name} from ${url}: ${(error as Error).message}`)
+  }
+  const game = module.default
+  if (typeof game?.initialState !== 'function' || game.name !== name || typeof game.commands !== 'object')
+    throw new Error(`${url} is not the game ${name}`)
+  loadedGames.set(name, game as Game)
+}
 
 /** How a session follows the room (shared/protocol/PROTOCOL.md, `join.mode`). */
 export type SessionMode = 'snapshot' | 'lockstep' | 'predict'
@@ -177,6 +213,8 @@ export class Session {
   private closedWith: { code: number; reason: string } | null = null
   private readonly shapes = new Map<number, WireShape[]>()
   private shapesOf: RoomSimulation | null = null
+  /** Frames received while the room's game module loads (null when none is loading). */
+  private held: Uint8Array[] | null = null
 
   /** @internal Sessions come from `connect()`. */
   constructor(
@@ -187,8 +225,9 @@ export class Session {
     const send = (message: ClientMessage): void => this.write(message)
     const listener = this.gameListener()
     if (this.mode === 'predict')
-      this.runner = new PredictClient({ send, games: findGame, clock: now, listener })
-    else if (this.mode === 'lockstep') this.runner = new LockstepClient({ send, games: findGame, listener })
+      this.runner = new PredictClient({ send, games: findAnyGame, clock: now, listener })
+    else if (this.mode === 'lockstep')
+      this.runner = new LockstepClient({ send, games: findAnyGame, listener })
     else this.runner = null
   }
 
@@ -377,6 +416,11 @@ export class Session {
     if (data instanceof ArrayBuffer) bytes = new Uint8Array(data)
     else if (data instanceof Uint8Array) bytes = data
     else return
+    // Frames after the welcome wait while the room's game module loads (see the file comment).
+    if (this.held) {
+      this.held.push(bytes)
+      return
+    }
     const decoded = decodeServerMessage(bytes)
     if (!decoded.ok) {
       this.fail(`could not decode a server message: ${decoded.reason}`)
@@ -392,7 +436,10 @@ export class Session {
     }
     if (ack) this.write(ack)
     if (this.runner) this.runner.handle(message, now())
-    if (message.t === 'welcome' && this.runner) this.startStepping()
+    if (message.t === 'welcome' && this.runner) {
+      if (!findAnyGame(message.rules.game)) this.loadGame(message.rules.game)
+      this.startStepping()
+    }
     if (message.t === 'error') {
       const error: SessionError = { code: message.code, reason: message.reason }
       if (typeof message.seq === 'number') error.seq = message.seq
@@ -420,6 +467,19 @@ export class Session {
   /** The code and reason the socket closed with, or null while open. */
   get closeInfo(): { code: number; reason: string } | null {
     return this.closedWith
+  }
+
+  /** Hold every later frame until game `name`'s module is loaded, then apply them in order. */
+  private loadGame(name: string): void {
+    const held: Uint8Array[] = []
+    this.held = held
+    loadServerGame(this.options.url, name).then(
+      () => {
+        this.held = null
+        for (const bytes of held) this.receive(bytes)
+      },
+      (error: Error) => this.fail(error.message),
+    )
   }
 
   private fail(reason: string): void {
