@@ -25,6 +25,15 @@
  * that the game does not list are refused, so compare games with --idle (players join and send
  * nothing) unless both list the bots' commands (spawn, grab, move, release). Saved to
  * bench/results/room-tick-GAME[-world][-idle].json unless it is the default run.
+ *
+ * The same bodies under two games: --world-of OTHER gives every room the world OTHER's setup
+ * builds with the room's five players joined (a reference RoomSimulation of OTHER, its world
+ * saved and loaded into each room), so `--world-of goal` runs sandbox rooms holding a goal
+ * match's bodies (pitch, gates, goals, ball, five discs), to compare with `--game goal
+ * --game-world`. --play replaces the bots' schedule by the game's own play at the same 20 Hz: in a
+ * goal room each player runs its disc (`run` at 6 m/s, a direction drawn from its PRNG, held for
+ * 20 sends); in a sandbox room it grabs one dynamic body (with --world-of goal, its disc) and drags
+ * it the same way (`move` to 2 m from the body in that direction), so the same bodies move. Saved as room-tick-GAME[-world][-of-OTHER][-idle|-play].json.
  */
 import { mkdirSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs'
 import { loadavg, tmpdir } from 'node:os'
@@ -32,8 +41,8 @@ import { join } from 'node:path'
 import { MessageChannel } from 'node:worker_threads'
 import pino from 'pino'
 import { botCommand } from '../bots/index.ts'
-import { Prng } from '../engine/index.ts'
-import { findGame, GAMES } from '../games/index.ts'
+import { loadWorld, Prng } from '../engine/index.ts'
+import { findGame, GAMES, MAX_SPEED } from '../games/index.ts'
 import {
   createMetrics,
   handleRoomMessage,
@@ -45,7 +54,7 @@ import {
   StretchTimer,
   WorkerConnection,
 } from '../server/index.ts'
-import type { Command } from '../shared/index.ts'
+import { type Command, RoomSimulation } from '../shared/index.ts'
 import { awakePile, quantile } from './server-load.ts'
 
 const argv = process.argv.slice(2)
@@ -68,8 +77,26 @@ const option = (name: string): string | undefined => {
 const GAME = option('--game') ?? 'sandbox'
 const GAME_WORLD = argv.includes('--game-world')
 const IDLE = argv.includes('--idle')
-if (!findGame(GAME))
-  throw new Error(`--game ${GAME}: no such game (this build has ${Object.keys(GAMES).join(', ')})`)
+const PLAY = argv.includes('--play')
+const WORLD_OF = option('--world-of')
+for (const name of [GAME, WORLD_OF ?? GAME])
+  if (!findGame(name))
+    throw new Error(
+      `--game/--world-of ${name}: no such game (this build has ${Object.keys(GAMES).join(', ')})`,
+    )
+if (IDLE && PLAY) throw new Error('--idle and --play exclude each other')
+
+/** The world WORLD_OF's setup builds with PLAYERS players joined, saved (see the file comment). */
+function worldOf(name: string): Uint8Array {
+  const game = findGame(name)
+  if (!game) throw new Error(`no game ${name}`)
+  const ref = new RoomSimulation({ game, name: 'reference', scene: 'empty', maxBodies: 5000, controls: true })
+  for (let p = 1; p <= PLAYERS; p++) {
+    const refused = ref.join(p, `player ${p}`, '#888888')
+    if (refused) throw new Error(refused)
+  }
+  return ref.world.save()
+}
 
 const replayDir = mkdtempSync(join(tmpdir(), 'concord-room-tick-'))
 const config = loadConfig(
@@ -99,8 +126,16 @@ channel.port2.on('message', () => {})
 const unacked: Array<{ player: RoomPlayer; tick: number; due: number }> = []
 let loopTick = 0
 
+/** Commands the rooms refused (each answered with an error), and the first reason. */
+const refused = { count: 0, first: '' }
+
 /** A worker connection that remembers the snapshots it is sent, so they can be acknowledged. */
 class AckingConnection extends WorkerConnection {
+  override sendError(code: string, reason: string, seq?: number): void {
+    super.sendError(code, reason, seq)
+    if (refused.count++ === 0) refused.first = `${code}: ${reason}`
+  }
+
   override sendBytes(bytes: Uint8Array, snapshotTick?: number): void {
     super.sendBytes(bytes, snapshotTick)
     if (snapshotTick !== undefined && this.player)
@@ -121,7 +156,10 @@ const players: Player[] = []
 for (let r = 1; r <= ROOMS; r++) {
   const room = rooms.getOrCreate(`bench-${r}`, GAME)
   if (!room) throw new Error(`room bench-${r} was refused`)
-  if (GAME_WORLD) room.touched = true
+  if (WORLD_OF) {
+    room.sim.loadWorld(`${WORLD_OF} world`, loadWorld(worldOf(WORLD_OF)))
+    room.touched = true
+  } else if (GAME_WORLD) room.touched = true
   else room.loadBlueprint(blueprint.name, blueprint)
   for (let p = 1; p <= PLAYERS; p++) {
     const conn = new AckingConnection(players.length + 1, outbox)
@@ -150,6 +188,36 @@ function drive(player: Player): void {
   if (cmd) send(player, cmd)
 }
 
+/** One step of the game's own play (--play, see the file comment): a goal run, else a cursor move. */
+function play(player: Player): void {
+  const room = rooms.get(player.room)
+  const joined = player.conn.player
+  if (!room || !joined) throw new Error(`player ${player.conn.id} lost its room`)
+  const turn = Math.floor(player.step++ / 20)
+  const angle = new Prng(player.conn.id * 1000 + turn).next() * 2 * Math.PI
+  const x = Math.round(Math.cos(angle) * MAX_SPEED * 100) / 100
+  const y = Math.round(Math.sin(angle) * MAX_SPEED * 100) / 100
+  sent++
+  if (GAME === 'goal') {
+    handleRoomMessage(room, joined, { t: 'cmd', seq: ++player.seq, k: 'run', a: { x, y } }, 0, () => {})
+    return
+  }
+  // The sandbox moves the same bodies its way: each player holds one dynamic body (in a room
+  // holding a goal match's world, its disc: the ball comes first) and drags it the same way.
+  const world = room.world
+  const dynamic = world.bodyIds().filter((id) => world.getBodyType(id) === 'dynamic')
+  const body = dynamic[((joined.id - 1) % PLAYERS) + 1] ?? dynamic[0]
+  if (body === undefined) return
+  if (!room.sim.players.get(joined.id)?.grab) {
+    const cmd: Command = { k: 'grab', body, lx: 0, ly: 0 }
+    handleRoomMessage(room, joined, { t: 'input', seq: ++player.seq, cmd }, 0, () => {})
+    return
+  }
+  const at = world.getPosition(body)
+  const cmd: Command = { k: 'move', x: at.x + x / 3, y: at.y + y / 3 }
+  handleRoomMessage(room, joined, { t: 'input', seq: ++player.seq, cmd }, 0, () => {})
+}
+
 /** The loop tick's CPU time on this thread (server/workers/thread-cpu.ts). */
 const cpuTimer = new StretchTimer()
 
@@ -161,7 +229,12 @@ const first = rooms.get('bench-1')
 if (!first) throw new Error('room bench-1 is missing')
 for (loopTick = 0; loopTick < WARMUP + TICKS; loopTick++) {
   // The players' 20 Hz loops, spread over the ticks.
-  if (!IDLE) for (let i = 0; i < players.length; i++) if ((loopTick + i) % 3 === 0) drive(players[i])
+  if (!IDLE)
+    for (let i = 0; i < players.length; i++)
+      if ((loopTick + i) % 3 === 0) {
+        if (PLAY) play(players[i])
+        else drive(players[i])
+      }
   let kept = 0
   for (const s of unacked) {
     if (s.due <= loopTick) s.player.encoder.ack(s.tick)
@@ -195,9 +268,12 @@ const mean = (xs: number[]): number => xs.reduce((a, b) => a + b, 0) / Math.max(
 const meanOf = (kind: string): number => round(mean(cpu.filter((_, i) => kinds[i] === kind)))
 const summary = {
   game: GAME,
-  world: GAME_WORLD ? `${GAME}'s setup` : blueprint.name,
+  world: WORLD_OF ? `${WORLD_OF}'s setup` : GAME_WORLD ? `${GAME}'s setup` : blueprint.name,
   idle: IDLE,
+  play: PLAY,
   commandsSent: sent,
+  commandsRefused: refused.count,
+  firstRefusal: refused.first,
   rooms: ROOMS,
   playersPerRoom: PLAYERS,
   record: RECORD,
@@ -213,17 +289,17 @@ const summary = {
   load1: loadavg()[0],
 }
 console.log(
-  `room tick, game ${GAME} on ${summary.world}, ${ROOMS} rooms x ${PLAYERS} ${IDLE ? 'idle ' : ''}players (${summary.bodiesPerRoom} bodies/room), recorder ${RECORD ? 'on' : 'off'}: ` +
+  `room tick, game ${GAME} on ${summary.world}, ${ROOMS} rooms x ${PLAYERS} ${IDLE ? 'idle ' : PLAY ? 'playing ' : ''}players (${summary.bodiesPerRoom} bodies/room), recorder ${RECORD ? 'on' : 'off'}: ` +
     `CPU p50 ${summary.cpuMsP50} ms, p99 ${summary.cpuMsP99} ms, max ${summary.cpuMsMax} ms, mean ${summary.cpuMsMean} ms; ` +
     `mean by tick: room 1's snapshot ticks ${summary.cpuMsMeanByTick.snapshot} ms, others ${summary.cpuMsMeanByTick.other} ms, ` +
     `checkpoints ${summary.cpuMsMeanByTick.checkpoint} ms; wall p50 ${summary.wallMsP50} ms, p99 ${summary.wallMsP99} ms; ` +
-    `${summary.bytesOutPerTick} bytes out per tick; load ${summary.load1.toFixed(2)}`,
+    `${summary.bytesOutPerTick} bytes out per tick; ${sent} commands sent, ${refused.count} refused${refused.count ? ` (first: ${refused.first})` : ''}; load ${summary.load1.toFixed(2)}`,
 )
 mkdirSync('bench/results', { recursive: true })
 const file =
-  GAME === 'sandbox' && !IDLE && !GAME_WORLD
+  GAME === 'sandbox' && !IDLE && !PLAY && !GAME_WORLD && !WORLD_OF
     ? 'bench/results/room-tick.json'
-    : `bench/results/room-tick-${GAME}${GAME_WORLD ? '-world' : ''}${IDLE ? '-idle' : ''}.json`
+    : `bench/results/room-tick-${GAME}${GAME_WORLD ? '-world' : ''}${WORLD_OF ? `-of-${WORLD_OF}` : ''}${IDLE ? '-idle' : PLAY ? '-play' : ''}.json`
 writeFileSync(
   file,
   `${JSON.stringify({ started: new Date().toISOString(), node: process.version, warmupTicks: WARMUP, ticks: TICKS, summary }, null, 2)}\n`,
