@@ -776,7 +776,10 @@ export class RoomSimulation {
     if (!Number.isFinite(speed)) return `motor speed ${speed} is not a finite number`
     this.world.setJointMotorSpeed(id, speed)
     // A new object: a predicting client's copies share joint objects with the confirmed simulation.
-    this.userJoints.set(id, { ...j, speed })
+    const next = { ...j, speed }
+    this.userJoints.set(id, next)
+    // Snapshot players see the new speed (events.jadd replaces the joint by its id).
+    this.listener.jointAdded(next)
     return null
   }
 
