@@ -329,8 +329,8 @@ export class Session {
   /**
    * This player's view of the game (the game's `view(ctx, player)`, e.g. the goal game's score,
    * phase and clock; docs/games.md "Views"): in snapshot mode the last `view` message, in lockstep
-   * and predict modes computed by the session's own simulation; null for a game without views or
-   * before the first.
+   * and predict modes computed by the session's own simulation; for a game without `view`, its
+   * whole state (the default view); null for a game without state or before the first.
    */
   view(): unknown {
     if (!this.runner) return this.mirror.view
