@@ -484,6 +484,8 @@ export class App {
         break
       case 'help':
         $('help').hidden = !$('help').hidden
+        // Built on opening: the room's game (and so its keys) is known once the page joined.
+        if (!$('help').hidden) $('help-rows').innerHTML = helpRows(touchLayout(), this.gameClient())
         break
       case 'lobby':
         if (!hasServer()) break

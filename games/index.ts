@@ -31,6 +31,7 @@ export {
   type GameClientDefinition,
   type HudItem,
   type KeyBinding,
+  type KeyHelp,
   type KeyInput,
   keyCommand,
   MAX_HUD_ITEMS,

@@ -78,4 +78,10 @@ export const goalClient = defineGameClient({
     ' ': () => ({ kind: 'kick', args: { power: 1 } }),
     r: ({ state }) => (isGoalView(state) && state.phase === 'over' ? { kind: 'rematch', args: {} } : null),
   },
+  keysHelp: [
+    { keys: ['arrowup', 'arrowleft', 'arrowdown', 'arrowright'], help: 'run your disc (held: keep running)' },
+    { keys: ['w', 'a', 's', 'd'], help: 'run your disc, as the arrows do' },
+    { keys: [' '], help: 'kick the ball away from your disc, when it is within reach' },
+    { keys: ['r'], help: 'rematch, once the match is over' },
+  ],
 })

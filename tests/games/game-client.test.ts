@@ -35,6 +35,30 @@ describe('game client modules', () => {
     )
   })
 
+  it('keysHelp names only bound keys, with short text; keys it leaves out get a last row', () => {
+    const keys = { a: () => null, b: () => null, c: () => null }
+    expect(() => defineGameClient({ game: 'g', keys, keysHelp: [{ keys: ['z'], help: 'zoom' }] })).toThrow(
+      /g: keysHelp\[0\]: key "z" is not one of the bound keys/,
+    )
+    expect(() => defineGameClient({ game: 'g', keys, keysHelp: [{ keys: [], help: 'x' }] })).toThrow(
+      /g: keysHelp\[0\] must be \{ keys: \[at least one bound key\], help \}/,
+    )
+    expect(() =>
+      defineGameClient({ game: 'g', keys, keysHelp: [{ keys: ['a'], help: 'x'.repeat(121) }] }),
+    ).toThrow(/g: keysHelp\[0\]: help must be a string of 1 to 120 characters/)
+    const client = defineGameClient({ game: 'g', keys, keysHelp: [{ keys: ['b'], help: 'boost' }] })
+    expect(client.keysHelp).toEqual([
+      { keys: ['b'], help: 'boost' },
+      { keys: ['a', 'c'], help: 'a g command' },
+    ])
+    expect(defineGameClient({ game: 'g' }).keysHelp).toEqual([])
+    // The shipped modules describe every key they bind (no catch-all row).
+    for (const c of [goalClient, towerClient]) {
+      expect(c.keysHelp.flatMap((r) => r.keys).sort()).toEqual(Object.keys(c.keys).sort())
+      expect(c.keysHelp.some((r) => r.help.endsWith(' command'))).toBe(false)
+    }
+  })
+
   it('the goal keys send run with the held direction, kick on Space, rematch only when over', () => {
     expect(press(['d'], 'd', true)).toEqual({ kind: 'run', args: { x: MAX_SPEED, y: 0 } })
     expect(press(['arrowup', 'arrowleft'], 'arrowup', true)).toEqual({
