@@ -124,6 +124,7 @@ export class App {
       this.jointPanel.settings,
     )
     this.tools.onNotice = (text) => this.toast(text)
+    this.tools.gameClient = () => this.gameClient()
     this.editPanel = new EditPanel($('edit-panel'), this.tools.edit)
     this.renderer.resize()
     window.addEventListener('resize', () => {

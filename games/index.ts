@@ -35,6 +35,9 @@ export {
   type KeyInput,
   keyCommand,
   MAX_HUD_ITEMS,
+  POINTER_MOVE_INTERVAL,
+  type PointerBindings,
+  type PointerInput,
   type ToScreen,
 } from './game-client.ts'
 export {

@@ -56,5 +56,7 @@ export {
   type KeyBinding,
   type KeyHelp,
   type KeyInput,
+  type PointerBindings,
+  type PointerInput,
 } from './game-client.ts'
 export { MIN_TICKS_BETWEEN_LOADS, sandboxCommands } from './sandbox/index.ts'

@@ -186,14 +186,22 @@ const ARROWS: Record<string, string> = { arrowleft: '←', arrowup: '↑', arrow
 const escapeHtml = (s: string): string => s.replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`)
 
 /**
- * Help's rows for a game's keys (its client module's keysHelp, every bound key in some row),
- * under a heading row naming the game; its text is the module's, escaped.
+ * Help's rows for a game: its keys (its client module's keysHelp, every bound key in some row;
+ * not with `touch`) and its pointer gesture (pointer.help), under a heading row naming the game;
+ * the text is the module's, escaped.
  */
-export function gameHelpRows(client: GameClient): string {
-  const rows = (client.keysHelp ?? []).map(
-    (row) =>
-      `<tr class="game-key"><td>${row.keys.map((k) => `<kbd>${escapeHtml(keyLabel(k))}</kbd>`).join(' ')}</td><td>${escapeHtml(row.help)}</td></tr>`,
-  )
+export function gameHelpRows(client: GameClient, touch = false): string {
+  const rows = touch
+    ? []
+    : (client.keysHelp ?? []).map(
+        (row) =>
+          `<tr class="game-key"><td>${row.keys.map((k) => `<kbd>${escapeHtml(keyLabel(k))}</kbd>`).join(' ')}</td><td>${escapeHtml(row.help)}</td></tr>`,
+      )
+  const pointer = client.pointer?.help
+  if (pointer)
+    rows.push(
+      `<tr class="game-key"><td><b>${touch ? 'Tap' : 'Click'}</b></td><td>${escapeHtml(pointer)}</td></tr>`,
+    )
   if (rows.length === 0) return ''
   return `<tr class="game-keys"><td colspan="2"><b>${escapeHtml(client.game)}</b> keys</td></tr>${rows.join('')}`
 }
@@ -201,8 +209,8 @@ export function gameHelpRows(client: GameClient): string {
 /**
  * The help overlay's HTML rows. With `touch` (a phone or tablet, no keyboard) only what has a
  * button, named as the button is, without keys: short enough to fit a phone's screen unscrolled.
- * With `game` (the room's game's client module) and a keyboard, the game's keys come first and
- * the shortcuts lose the keys it binds (a shortcut left with none is not listed).
+ * With `game` (the room's game's client module), the game's rows come first (its keys only with a
+ * keyboard), and the shortcuts lose the keys it binds (a shortcut left with none is not listed).
  */
 export function helpRows(touch = false, game?: GameClient): string {
   const label = keyLabel
@@ -243,7 +251,7 @@ export function helpRows(touch = false, game?: GameClient): string {
       const text = TOUCH_HELP[s.action] ?? (tool ? s.help.slice(s.help.indexOf(':') + 1).trim() : s.help)
       rows.push(`<tr><td><b>${button}</b></td><td>${text.replace(/^click/, 'tap')}</td></tr>`)
     }
-    return rows.join('')
+    return (game ? gameHelpRows(game, true) : '') + rows.join('')
   }
   const taken = (k: string): boolean => game?.keys[k] !== undefined
   const shortcuts = SHORTCUTS.map((s) => ({ ...s, keys: s.keys.filter((k) => !taken(k)) }))

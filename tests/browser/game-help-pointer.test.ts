@@ -4,14 +4,21 @@
  * test reads the room's own simulation). In a goal room, Help lists the goal keys first, each row
  * with what the goal client's keysHelp says (written out here by hand), and the page's shortcuts
  * lose the keys the game takes (Space, R, A, D, W, S: still listed for their other keys, or not
- * at all); in a sandbox room, Help has no game rows and lists those shortcuts.
+ * at all), then the pointer gesture; in a sandbox room, Help has no game rows and lists those
+ * shortcuts. The goal client's pointer binding: a mouse press 3 m right of the page's own disc
+ * sets the server's target velocity to (MAX_SPEED, 0) and the disc runs right; dragged to 3 m left
+ * of the disc, the run turns to (-MAX_SPEED, 0); released, (0, 0); at rest again, a press 3 m
+ * right and 4 m up runs at MAX_SPEED * (3, 4) / 5 = (3.6, 4.8) (hand computed). The presses never
+ * reach the page's grab tool (no grab on the server).
  */
 import type { Browser, BrowserContext, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { type GoalState, MAX_SPEED } from '../../games/index.ts'
 import { buildClient } from '../../scripts/build-client.mjs'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from '../support/chromium.ts'
-import { openSandbox, serveClient } from '../support/client-harness.ts'
+import { openSandbox, screenOf, serveClient } from '../support/client-harness.ts'
+import { until } from '../support/wait.ts'
 
 const DIST = 'test-results/browser-game-help-pointer/dist'
 let server: RunningServer
@@ -62,6 +69,11 @@ describe('a game client module in the page', () => {
       { keys: ['W', 'A', 'S', 'D'], text: 'run your disc, as the arrows do', game: true },
       { keys: ['Space'], text: 'kick the ball away from your disc, when it is within reach', game: true },
       { keys: ['R'], text: 'rematch, once the match is over', game: true },
+      {
+        keys: [],
+        text: 'press and hold on the field: your disc runs toward the pointer; let go: it stops',
+        game: true,
+      },
     ])
     // The game rows come first; no shortcut row names a key the game takes.
     expect(rows.slice(0, game.length).every((r) => r.game)).toBe(true)
@@ -80,6 +92,76 @@ describe('a game client module in the page', () => {
     expect(rows.some((r) => r.game)).toBe(false)
     expect(rows.find((r) => r.text === 'Pause / resume')?.keys).toEqual(['Space'])
     expect(rows.find((r) => r.text === 'Reset the scene')?.keys).toEqual(['R'])
+    expect(errors).toEqual([])
+  }, 120_000)
+
+  it("a press on a goal room's field runs the page's disc toward the pointer; a drag re-aims it; letting go stops it", async () => {
+    const { page, errors } = await open('room=pointer-goal&game=goal')
+    const room = server.rooms.get('pointer-goal')
+    if (!room) throw new Error('no room pointer-goal')
+    const id = await page.evaluate(() => window.concord.sandbox.playerId())
+    const state = (): GoalState => room.sim.gameState as GoalState
+    const disc = state().players[id].disc
+    const serverDisc = () => room.sim.world.getPosition(disc)
+    // The page's view names its disc, and draws it where the server has it (at rest).
+    await until(
+      async () =>
+        (await page.evaluate(() => (window.concord.sandbox.gameState?.() as { disc?: number })?.disc)) ===
+        disc,
+      'the disc in the view',
+    )
+    const drawn = () =>
+      page.evaluate((disc) => {
+        const b = window.concord.sandbox.bodies().find((body) => body.id === disc)
+        return b ? { x: b.x, y: b.y } : null
+      }, disc)
+    await until(async () => {
+      const d = await drawn()
+      return d !== null && Math.abs(d.x - serverDisc().x) < 1e-3 && Math.abs(d.y - serverDisc().y) < 1e-3
+    }, 'the disc drawn where the server has it')
+    const start = serverDisc()
+    const player = () => state().players[id]
+
+    // Press 3 m to the right: run right at full speed.
+    const right = await screenOf(page, start.x + 3, start.y)
+    await page.mouse.move(right.x, right.y)
+    await page.mouse.down()
+    await until(() => player().vx !== 0, 'the run on the server')
+    expect(player().vx).toBeCloseTo(MAX_SPEED, 2)
+    expect(player().vy).toBeCloseTo(0, 2)
+    await until(() => serverDisc().x > start.x + 0.5, 'the disc half a metre right')
+    expect(room.sim.players.get(id)?.grab ?? null).toBeNull()
+
+    // Drag to 3 m left of where the page draws the disc now: the run turns left.
+    const now = await drawn()
+    if (!now) throw new Error('the disc is not drawn')
+    const left = await screenOf(page, now.x - 3, now.y)
+    await page.mouse.move(left.x, left.y, { steps: 4 })
+    await until(() => player().vx < 0, 'the run re-aimed left')
+    expect(player().vx).toBeCloseTo(-MAX_SPEED, 0)
+    expect(Math.abs(player().vy)).toBeLessThan(0.5)
+
+    // Let go: stop.
+    await page.mouse.up()
+    await until(() => player().vx === 0 && player().vy === 0, 'the stop on the server')
+    expect(room.sim.players.get(id)?.grab ?? null).toBeNull()
+
+    // At rest again, a press 3 m right and 4 m up: MAX_SPEED * (3, 4) / 5 = (3.6, 4.8).
+    await until(async () => {
+      const v = room.sim.world.getLinearVelocity(disc)
+      const d = await drawn()
+      const at = serverDisc()
+      return Math.hypot(v.x, v.y) < 1e-4 && d !== null && Math.hypot(d.x - at.x, d.y - at.y) < 1e-3
+    }, 'the disc at rest, drawn where the server has it')
+    const rest = serverDisc()
+    const diagonal = await screenOf(page, rest.x + 3, rest.y + 4)
+    await page.mouse.move(diagonal.x, diagonal.y)
+    await page.mouse.down()
+    await until(() => player().vy !== 0, 'the diagonal run')
+    expect(player().vx).toBeCloseTo(3.6, 2)
+    expect(player().vy).toBeCloseTo(4.8, 2)
+    await page.mouse.up()
+    await until(() => player().vx === 0 && player().vy === 0, 'the second stop')
     expect(errors).toEqual([])
   }, 120_000)
 })
