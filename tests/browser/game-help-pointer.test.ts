@@ -9,7 +9,9 @@
  * sets the server's target velocity to (MAX_SPEED, 0) and the disc runs right; dragged to 3 m left
  * of the disc, the run turns to (-MAX_SPEED, 0); released, (0, 0); at rest again, a press 3 m
  * right and 4 m up runs at MAX_SPEED * (3, 4) / 5 = (3.6, 4.8) (hand computed). The presses never
- * reach the page's grab tool (no grab on the server).
+ * reach the page's grab tool (no grab on the server). A finger (real touch events through the
+ * DevTools protocol) goes the same way: held 3 m below the disc it runs it down at full speed,
+ * lifted it stops it.
  */
 import type { Browser, BrowserContext, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
@@ -17,7 +19,7 @@ import { type GoalState, MAX_SPEED } from '../../games/index.ts'
 import { buildClient } from '../../scripts/build-client.mjs'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from '../support/chromium.ts'
-import { openSandbox, screenOf, serveClient } from '../support/client-harness.ts'
+import { Finger, openSandbox, screenOf, serveClient } from '../support/client-harness.ts'
 import { until } from '../support/wait.ts'
 
 const DIST = 'test-results/browser-game-help-pointer/dist'
@@ -162,6 +164,41 @@ describe('a game client module in the page', () => {
     expect(player().vy).toBeCloseTo(4.8, 2)
     await page.mouse.up()
     await until(() => player().vx === 0 && player().vy === 0, 'the second stop')
+    expect(errors).toEqual([])
+  }, 120_000)
+
+  it("a finger on a goal room's field runs the disc the same way; lifting it stops it", async () => {
+    const { page, errors, context } = await openSandbox(browser, `${server.url}/?room=touch-goal&game=goal`, {
+      touch: true,
+    })
+    contexts.push(context)
+    const room = server.rooms.get('touch-goal')
+    if (!room) throw new Error('no room touch-goal')
+    const id = await page.evaluate(() => window.concord.sandbox.playerId())
+    const state = (): GoalState => room.sim.gameState as GoalState
+    const disc = state().players[id].disc
+    await until(
+      async () =>
+        (await page.evaluate(() => (window.concord.sandbox.gameState?.() as { disc?: number })?.disc)) ===
+        disc,
+      'the disc in the view',
+    )
+    await until(async () => {
+      const d = await page.evaluate((disc) => {
+        const b = window.concord.sandbox.bodies().find((body) => body.id === disc)
+        return b ? { x: b.x, y: b.y } : null
+      }, disc)
+      const at = room.sim.world.getPosition(disc)
+      return d !== null && Math.hypot(d.x - at.x, d.y - at.y) < 1e-3
+    }, 'the disc drawn where the server has it')
+    const at = room.sim.world.getPosition(disc)
+    const finger = await Finger.down(page, await screenOf(page, at.x, at.y - 3))
+    await until(() => state().players[id].vy !== 0, 'the run on the server')
+    expect(state().players[id].vx).toBeCloseTo(0, 2)
+    expect(state().players[id].vy).toBeCloseTo(-MAX_SPEED, 2)
+    await finger.up()
+    await until(() => state().players[id].vx === 0 && state().players[id].vy === 0, 'the stop')
+    expect(room.sim.players.get(id)?.grab ?? null).toBeNull()
     expect(errors).toEqual([])
   }, 120_000)
 })
