@@ -4,9 +4,9 @@
  * lists optional parts: HUD items (a few label/value strings shown in the page's game panel), key
  * bindings (a key turns into one of the game's commands, with a line of Help each), pointer
  * bindings (a press, drag and release of a mouse, pen or finger turn into commands), and extra
- * drawing after the world. Each part reads `state`, the game state the page has: the player's `view` when the game
- * defines one (snapshot pages receive it, lockstep and predicting pages compute it), else the
- * simulation's game state in lockstep and predicting pages, and null in snapshot pages.
+ * drawing after the world. Each part reads `state`, the game state the page has: the player's
+ * `view` (snapshot pages receive it, lockstep and predicting pages compute it), which for a game
+ * without `view` is its whole state; null for a game without state or before the first view.
  *
  * A client module runs in the page only, never in the simulation: it decides what to send, and the
  * room's rules decide what happens. It still lives in the game's folder and passes the same static
