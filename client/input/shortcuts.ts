@@ -203,7 +203,8 @@ export function gameHelpRows(client: GameClient, touch = false): string {
       `<tr class="game-key"><td><b>${touch ? 'Tap' : 'Click'}</b></td><td>${escapeHtml(pointer)}</td></tr>`,
     )
   if (rows.length === 0) return ''
-  return `<tr class="game-keys"><td colspan="2"><b>${escapeHtml(client.game)}</b> keys</td></tr>${rows.join('')}`
+  const heading = `<b>${escapeHtml(client.game)}</b>${touch ? '' : ' keys'}`
+  return `<tr class="game-keys"><td colspan="2">${heading}</td></tr>${rows.join('')}`
 }
 
 /**

@@ -11,7 +11,8 @@
  * right and 4 m up runs at MAX_SPEED * (3, 4) / 5 = (3.6, 4.8) (hand computed). The presses never
  * reach the page's grab tool (no grab on the server). A finger (real touch events through the
  * DevTools protocol) goes the same way: held 3 m below the disc it runs it down at full speed,
- * lifted it stops it.
+ * lifted it stops it. On a phone (a mobile touch context), a goal room's Help has no key rows
+ * (no kbd at all) and lists the gesture as "Tap" under a "goal" heading, before the buttons.
  */
 import type { Browser, BrowserContext, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
@@ -200,5 +201,41 @@ describe('a game client module in the page', () => {
     await until(() => state().players[id].vx === 0 && state().players[id].vy === 0, 'the stop')
     expect(room.sim.players.get(id)?.grab ?? null).toBeNull()
     expect(errors).toEqual([])
+  }, 120_000)
+
+  it("a phone's Help in a goal room lists the tap gesture and no keys", async () => {
+    const context = await browser.newContext({
+      viewport: { width: 390, height: 844 },
+      deviceScaleFactor: 2,
+      hasTouch: true,
+      isMobile: true,
+    })
+    contexts.push(context)
+    const page = await context.newPage()
+    await page.goto(`${server.url}/?room=phone-goal&game=goal`)
+    await page.waitForFunction(
+      () =>
+        window.concord?.sandbox.status().state === 'connected' &&
+        (window.concord.sandbox.gameState?.() as { disc?: number } | null)?.disc !== undefined,
+    )
+    await page.tap('#help-button')
+    await page.waitForSelector('#help', { state: 'visible' })
+    const rows = await page.evaluate(() =>
+      [...document.querySelectorAll('#help-rows tr')].map((tr) => ({
+        first: tr.querySelector('td')?.textContent ?? '',
+        text: tr.querySelectorAll('td')[1]?.textContent ?? '',
+        kbd: tr.querySelectorAll('kbd').length,
+      })),
+    )
+    expect(rows.slice(0, 2)).toEqual([
+      { first: 'goal', text: '', kbd: 0 },
+      {
+        first: 'Tap',
+        text: 'press and hold on the field: your disc runs toward the pointer; let go: it stops',
+        kbd: 0,
+      },
+    ])
+    expect(rows[2].first).toBe('Grab')
+    expect(rows.every((r) => r.kbd === 0)).toBe(true)
   }, 120_000)
 })
