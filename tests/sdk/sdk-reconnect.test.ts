@@ -7,16 +7,20 @@
  * receive the new server's state again (bodies, ticks that advance, a spawned box seen). A
  * session without `reconnect` just closes. Nothing reconnects after a deliberate close(), after a
  * refusal another try cannot change (the restarted server wants a key: HTTP 401), or once the
- * retries run out. A bad `reconnect` option is refused naming the field.
+ * retries run out. A bad `reconnect` option is refused naming the field. Through a TCP proxy that
+ * cuts the connection while the server stays up, the session rejoins with its reconnect token and
+ * gets its old player id back, with no second player left in the room.
  */
 import { execFileSync } from 'node:child_process'
 import { mkdtemp, rm } from 'node:fs/promises'
+import { createConnection, createServer, type Socket } from 'node:net'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { pathToFileURL } from 'node:url'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import WebSocket from 'ws'
 import { type ServerProcess, startServerProcess } from '../support/server-process.ts'
+import { inProcessRooms, startTestServer } from '../support/test-server.ts'
 import { until } from '../support/wait.ts'
 
 type Sdk = typeof import('../../sdk/index.ts')
@@ -178,4 +182,40 @@ describe('the SDK reconnects when asked to', () => {
       sdk.connect({ url, room: 'r', name: 'n', WebSocket, reconnect: 'yes' as never }),
     ).rejects.toThrow('connect: reconnect must be true, false or { retries?, delayMs?, maxDelayMs? }')
   })
+
+  it('a cut connection to a server still up: the session rejoins with its token and keeps its player id', async () => {
+    const server = await startTestServer(inProcessRooms)
+    // A TCP proxy in front of the server, whose connections the test can cut.
+    const pairs: Socket[][] = []
+    const proxy = createServer((client) => {
+      const upstream = createConnection(server.port, '127.0.0.1')
+      client.pipe(upstream)
+      upstream.pipe(client)
+      const pair = [client, upstream]
+      for (const end of pair) end.on('error', () => {})
+      pairs.push(pair)
+    })
+    await new Promise<void>((resolve) => proxy.listen(0, '127.0.0.1', resolve))
+    const address = proxy.address()
+    if (address === null || typeof address === 'string') throw new Error('no proxy port')
+    try {
+      const a = await enter(`http://127.0.0.1:${address.port}`, 'cut', {
+        reconnect: { retries: 20, delayMs: 50 },
+      })
+      const id = a.session.id
+      expect(id).toBeGreaterThan(0)
+      for (const pair of pairs.splice(0)) for (const end of pair) end.destroy()
+      await until(() => a.of('reconnected').length === 1, 'the session back')
+      expect(a.of('reconnecting')[0]).toMatchObject({ attempt: 1, delayMs: 50, code: 1006 })
+      expect(a.of('reconnected')[0]).toEqual({ id, attempts: a.of('reconnecting').length })
+      expect(a.session.id).toBe(id)
+      await until(() => a.session.players().length > 0, 'the roster')
+      expect(a.session.players().map((p) => p.id)).toEqual([id])
+      expect([...(server.rooms.get('cut')?.sim.players.keys() ?? [])]).toEqual([id])
+      await a.session.close()
+    } finally {
+      proxy.close()
+      await server.close()
+    }
+  }, 120_000)
 })
