@@ -60,7 +60,9 @@ describe('the default view: the whole state of a game without view', { timeout: 
     expect(balls.length).toBe(1)
     const dropped = view() as BallDropView
     expect(dropped.owners).toEqual({ [balls[0]]: me })
-    expect(dropped.lastDrop[me]).toBeGreaterThan(beforeDrop)
+    // Commands apply before their tick's step, when ctx.tick is still the tick the page last saw
+    // (or later): the drop tick is at least that, and at most the view's tick.
+    expect(dropped.lastDrop[me]).toBeGreaterThanOrEqual(beforeDrop)
     expect(dropped.lastDrop[me]).toBeLessThanOrEqual(views(a).at(-1)?.tick ?? 0)
 
     // The ball comes to rest on the target: a point for its dropper, the ball gone from the owners.
