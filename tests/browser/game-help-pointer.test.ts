@@ -19,6 +19,7 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import { type GoalState, MAX_SPEED } from '../../games/index.ts'
 import { buildClient } from '../../scripts/build-client.mjs'
 import type { RunningServer } from '../../server/server.ts'
+import type { SimulationObserver } from '../../shared/index.ts'
 import { launchBrowser } from '../support/chromium.ts'
 import { Finger, openSandbox, screenOf, serveClient } from '../support/client-harness.ts'
 import { until } from '../support/wait.ts'
@@ -45,6 +46,23 @@ async function open(query: string): Promise<{ page: Page; errors: string[] }> {
   contexts.push(context)
   return { page, errors }
 }
+
+/** Record every `run` game command player `id` sends, as the room applies it (a simulation observer). */
+function recordRuns(room: RoomLike, id: number): { runs: Array<{ x: number; y: number }>; stop: () => void } {
+  const runs: Array<{ x: number; y: number }> = []
+  const observer: SimulationObserver = {
+    command: (_tick, player, cmd) => {
+      if (player === id && cmd.k === 'cmd' && cmd.kind === 'run') runs.push(cmd.a as { x: number; y: number })
+    },
+    join: () => {},
+    leave: () => {},
+    worldLoaded: () => {},
+  }
+  room.sim.observers.push(observer)
+  return { runs, stop: () => void room.sim.observers.splice(room.sim.observers.indexOf(observer), 1) }
+}
+
+type RoomLike = { sim: { observers: SimulationObserver[] } }
 
 /** Open Help with its button and read its rows: the keys (kbd texts) and the text of each. */
 async function helpRows(page: Page): Promise<Array<{ keys: string[]; text: string; game: boolean }>> {
@@ -129,14 +147,18 @@ describe('a game client module in the page', () => {
     const scale = await page.evaluate(() => window.concord.camera.scale)
     const within = (d: number) => (MAX_SPEED * (1 / scale + 1e-3)) / d + 1e-9
     const player = () => state().players[id]
+    // Every `run` this player's page sent, as the room applied it: each gesture's first command is
+    // checked, not whatever a later 50 ms re-aim sent.
+    const { runs, stop } = recordRuns(room, id)
 
     // Press 3 m to the right: run right at full speed.
     const right = await screenOf(page, start.x + 3, start.y)
     await page.mouse.move(right.x, right.y)
+    let from = runs.length
     await page.mouse.down()
-    await until(() => player().vx !== 0, 'the run on the server')
-    expect(Math.abs(player().vx - MAX_SPEED)).toBeLessThanOrEqual(within(3))
-    expect(Math.abs(player().vy)).toBeLessThanOrEqual(within(3))
+    await until(() => runs.length > from, 'the run on the server')
+    expect(Math.abs(runs[from].x - MAX_SPEED)).toBeLessThanOrEqual(within(3))
+    expect(Math.abs(runs[from].y)).toBeLessThanOrEqual(within(3))
     await until(() => serverDisc().x > start.x + 0.5, 'the disc half a metre right')
     expect(room.sim.players.get(id)?.grab ?? null).toBeNull()
 
@@ -144,14 +166,17 @@ describe('a game client module in the page', () => {
     const now = await drawn()
     if (!now) throw new Error('the disc is not drawn')
     const left = await screenOf(page, now.x - 3, now.y)
+    from = runs.length
     await page.mouse.move(left.x, left.y, { steps: 4 })
-    await until(() => player().vx < 0, 'the run re-aimed left')
-    expect(player().vx).toBeCloseTo(-MAX_SPEED, 0)
-    expect(Math.abs(player().vy)).toBeLessThan(0.5)
+    await until(() => runs.slice(from).some((r) => r.x < 0), 'the run re-aimed left')
+    const turned = runs.slice(from).find((r) => r.x < 0) ?? { x: 0, y: 0 }
+    expect(turned.x).toBeCloseTo(-MAX_SPEED, 0)
+    expect(Math.abs(turned.y)).toBeLessThan(0.5)
 
     // Let go: stop.
     await page.mouse.up()
     await until(() => player().vx === 0 && player().vy === 0, 'the stop on the server')
+    expect(runs.at(-1)).toEqual({ x: 0, y: 0 })
     expect(room.sim.players.get(id)?.grab ?? null).toBeNull()
 
     // At rest again, a press 3 m right and 4 m up: MAX_SPEED * (3, 4) / 5 = (3.6, 4.8).
@@ -164,13 +189,15 @@ describe('a game client module in the page', () => {
     const rest = serverDisc()
     const diagonal = await screenOf(page, rest.x + 3, rest.y + 4)
     await page.mouse.move(diagonal.x, diagonal.y)
+    from = runs.length
     await page.mouse.down()
-    await until(() => player().vy !== 0, 'the diagonal run')
-    expect(Math.abs(player().vx - 3.6)).toBeLessThanOrEqual(within(5))
-    expect(Math.abs(player().vy - 4.8)).toBeLessThanOrEqual(within(5))
-    expect(Math.hypot(player().vx, player().vy)).toBeCloseTo(MAX_SPEED, 9)
+    await until(() => runs.length > from, 'the diagonal run')
+    expect(Math.abs(runs[from].x - 3.6)).toBeLessThanOrEqual(within(5))
+    expect(Math.abs(runs[from].y - 4.8)).toBeLessThanOrEqual(within(5))
+    expect(Math.hypot(runs[from].x, runs[from].y)).toBeCloseTo(MAX_SPEED, 9)
     await page.mouse.up()
     await until(() => player().vx === 0 && player().vy === 0, 'the second stop')
+    stop()
     expect(errors).toEqual([])
   }, 120_000)
 
@@ -202,12 +229,15 @@ describe('a game client module in the page', () => {
     // Touch points land on whole CSS pixels: within MAX_SPEED / (scale * 3) m/s of (0, -MAX_SPEED).
     const scale = await page.evaluate(() => window.concord.camera.scale)
     const within = (MAX_SPEED * (1 / scale + 1e-3)) / 3 + 1e-9
+    const { runs, stop } = recordRuns(room, id)
     const finger = await Finger.down(page, await screenOf(page, at.x, at.y - 3))
-    await until(() => state().players[id].vy !== 0, 'the run on the server')
-    expect(Math.abs(state().players[id].vx)).toBeLessThanOrEqual(within)
-    expect(Math.abs(state().players[id].vy + MAX_SPEED)).toBeLessThanOrEqual(within)
+    await until(() => runs.length > 0, 'the run on the server')
+    expect(Math.abs(runs[0].x)).toBeLessThanOrEqual(within)
+    expect(Math.abs(runs[0].y + MAX_SPEED)).toBeLessThanOrEqual(within)
     await finger.up()
     await until(() => state().players[id].vx === 0 && state().players[id].vy === 0, 'the stop')
+    expect(runs.at(-1)).toEqual({ x: 0, y: 0 })
+    stop()
     expect(room.sim.players.get(id)?.grab ?? null).toBeNull()
     expect(errors).toEqual([])
   }, 120_000)
