@@ -138,6 +138,7 @@ export class App {
     )
     this.tools.onNotice = (text) => this.toast(text)
     this.tools.allows = (kind) => this.allows(kind)
+    this.tools.gameClient = () => this.gameClient()
     this.editPanel = new EditPanel($('edit-panel'), this.tools.edit)
     this.renderer.resize()
     window.addEventListener('resize', () => {
@@ -523,6 +524,8 @@ export class App {
         break
       case 'help':
         $('help').hidden = !$('help').hidden
+        // Built on opening: the room's game (and so its keys) is known once the page joined.
+        if (!$('help').hidden) $('help-rows').innerHTML = helpRows(touchLayout(), this.gameClient())
         break
       case 'lobby':
         if (!hasServer()) break

@@ -71,7 +71,8 @@ export interface GameDefinition<S extends PlainData | undefined = undefined> {
   /**
    * What `player` sees of the game: plain data sent to that player only (a snapshot player gets
    * it in a `view` message when it changed, at most MAX_VIEW_BYTES as MessagePack; a lockstep or
-   * predicting player computes it). Read the state; change nothing.
+   * predicting player computes it). Read the state; change nothing. Without it, every player's
+   * view is the whole state (sent while it fits MAX_VIEW_BYTES).
    */
   view?(ctx: GameContext<S>, player: number): PlainData
 }

@@ -31,9 +31,13 @@ export {
   type GameClientDefinition,
   type HudItem,
   type KeyBinding,
+  type KeyHelp,
   type KeyInput,
   keyCommand,
   MAX_HUD_ITEMS,
+  POINTER_MOVE_INTERVAL,
+  type PointerBindings,
+  type PointerInput,
   type ToScreen,
 } from './game-client.ts'
 export {

@@ -54,6 +54,9 @@ export {
   type GameClientDefinition,
   type HudItem,
   type KeyBinding,
+  type KeyHelp,
   type KeyInput,
+  type PointerBindings,
+  type PointerInput,
 } from './game-client.ts'
 export { MIN_TICKS_BETWEEN_LOADS, sandboxCommands } from './sandbox/index.ts'

@@ -10,6 +10,12 @@
  * module from the server (GET /games/NAME.js, as the page does) before it applies anything after the
  * welcome; one that cannot be loaded is an `error` naming the game and the URL, and the session closes. `npm run build:sdk` bundles it
  * to dist/sdk/index.js with type declarations; the canvas renderer is apart, in sdk/render.ts.
+ *
+ * Reconnecting is opt-in (`reconnect`): after a drop the session waits, opens a new socket and
+ * joins the same room in the same mode with the same name (and its reconnect token, so the server
+ * gives its old player back within its reconnect window), doubling the wait after each failed
+ * attempt. Each connection gets a fresh mirror and runner, filled by the new welcome; listeners
+ * stay. A deliberate close() or a refusal that another try cannot change is final.
  */
 import { findGame, type Game } from '../games/index.ts'
 import {
@@ -114,7 +120,42 @@ export interface ConnectOptions {
    * event in the same read): `{ event: fn, state: fn, ... }`, as `session.on(type, fn)`.
    */
   on?: { [K in keyof SessionEvents]?: (value: SessionEvents[K]) => void }
+  /**
+   * Reconnect after a drop (off by default): `true` for the defaults, or how often and how fast.
+   * Only a session that joined reconnects; a first join that fails rejects as before.
+   */
+  reconnect?: boolean | ReconnectOptions
 }
+
+/** How a session reconnects after a drop (ConnectOptions.reconnect). */
+export interface ReconnectOptions {
+  /** Attempts after each drop before the session gives up and closes (default 10, at most 1000). */
+  retries?: number
+  /** The wait before the first attempt, ms (default 500); it doubles after each failed one. */
+  delayMs?: number
+  /** The longest wait between attempts, ms (default 10,000). */
+  maxDelayMs?: number
+}
+
+/** What `reconnect: true` means. */
+export const RECONNECT_DEFAULTS: Readonly<Required<ReconnectOptions>> = Object.freeze({
+  retries: 10,
+  delayMs: 500,
+  maxDelayMs: 10_000,
+})
+
+/**
+ * Close codes after which a session with `reconnect` tries again (PROTOCOL.md, Close codes): a
+ * dropped connection (1006, 1005), a server shutting down or restarting (1001, 1012), a server
+ * failure (1011), the room directory unavailable (1013), no join in time (4003), a lost room
+ * (4008, "rejoin it"). Every other code is final: a deliberate close (1000), strikes (1008), a
+ * frame too large (1009), replaced by another connection with the token (4000, also this
+ * client's own failure code), full (4001), version (4004), forbidden key (4005), moved to another
+ * server (4006: the SDK does not follow `moved`), a room closed as overloaded (4007).
+ */
+export const RECONNECT_CLOSE_CODES: readonly number[] = Object.freeze([
+  1001, 1005, 1006, 1011, 1012, 1013, 4003, 4008,
+])
 
 /** A body as the session knows it: pose in metres and radians, y up. */
 export interface SessionBody {
@@ -162,12 +203,36 @@ export interface SessionEvents {
   game: unknown
   /** An error from the server, or one this client hit (code `client`). */
   error: SessionError
-  /** The socket closed (code and reason). */
+  /** The session closed for good (code and reason): closed, refused, or out of reconnect attempts. */
   close: { code: number; reason: string }
+  /** `reconnect`: the connection dropped (its code and reason); attempt `attempt` starts in `delayMs`. */
+  reconnecting: { attempt: number; delayMs: number; code: number; reason: string }
+  /** `reconnect`: attempt `attempts` joined again; `id` is this client's id now (the old one when the server kept it). */
+  reconnected: { id: number; attempts: number }
 }
 
 /** The events `on` takes. */
-const EVENT_TYPES: readonly string[] = ['state', 'event', 'game', 'error', 'close']
+const EVENT_TYPES: readonly string[] = [
+  'state',
+  'event',
+  'game',
+  'error',
+  'close',
+  'reconnecting',
+  'reconnected',
+]
+
+/** Why a join attempt failed; `final` when another attempt cannot help (a refusal, a bad key). */
+class JoinFailure extends Error {
+  constructor(
+    message: string,
+    readonly code: number,
+    readonly reason: string,
+    readonly final: boolean,
+  ) {
+    super(message)
+  }
+}
 
 /** The client's own close code when it cannot follow the server (a protocol bug, a bad sync). */
 const CLIENT_FAILURE = 4000
@@ -199,10 +264,13 @@ export function roomUrl(url: string, room: string, key?: string): string {
 export class Session {
   /** The mode this session joined in. */
   readonly mode: SessionMode
-  /** The snapshot mirror: players, rules, errors in every mode; bodies and joints in snapshot mode. */
-  readonly mirror = new ClientMirror()
-  /** The lockstep or predicting runner (null in snapshot mode). */
-  readonly runner: LockstepClient | PredictClient | null
+  /**
+   * The snapshot mirror: players, rules, errors in every mode; bodies and joints in snapshot mode.
+   * A reconnect replaces it with a fresh one that the new welcome fills.
+   */
+  mirror = new ClientMirror()
+  /** The lockstep or predicting runner (null in snapshot mode); a reconnect replaces it too. */
+  runner: LockstepClient | PredictClient | null = null
   /** The last game event received (snapshot mode). */
   private lastGameEvent: GameEvent | null = null
   private readonly listeners = new Map<keyof SessionEvents, Set<(value: never) => void>>()
@@ -215,13 +283,31 @@ export class Session {
   private shapesOf: RoomSimulation | null = null
   /** Frames received while the room's game module loads (null when none is loading). */
   private held: Uint8Array[] | null = null
+  /** The socket of the current connection (null between a drop and the next attempt's socket). */
+  private socket: SocketLike | null = null
+  /** close() was called: nothing reconnects. */
+  private closing = false
+  /** This client closed its socket after failing to follow the server (final, like 4000). */
+  private failed = false
+  private retryTimer: ReturnType<typeof setTimeout> | null = null
+  private retrying = false
+  private readonly retry: Readonly<Required<ReconnectOptions>> | null
 
   /** @internal Sessions come from `connect()`. */
   constructor(
-    private readonly socket: SocketLike,
     readonly options: Readonly<ConnectOptions>,
+    private readonly url: string,
+    private readonly Socket: SocketConstructor,
   ) {
     this.mode = options.mode ?? 'snapshot'
+    this.retry = reconnectSettings(options.reconnect)
+    this.reset()
+  }
+
+  /** A fresh mirror and runner for a new connection. */
+  private reset(): void {
+    this.stopStepping()
+    this.mirror = new ClientMirror()
     const send = (message: ClientMessage): void => this.write(message)
     const listener = this.gameListener()
     if (this.mode === 'predict')
@@ -229,6 +315,9 @@ export class Session {
     else if (this.mode === 'lockstep')
       this.runner = new LockstepClient({ send, games: findAnyGame, listener })
     else this.runner = null
+    this.shapes.clear()
+    this.shapesOf = null
+    this.held = null
   }
 
   /** This client's id in the room (0 before the welcome). */
@@ -252,9 +341,14 @@ export class Session {
     return sim ? sim.tick : this.mirror.tick
   }
 
-  /** Whether the socket is still open. */
+  /** Whether the session is joined now (false while reconnecting and once closed). */
   get open(): boolean {
-    return this.closedWith === null
+    return this.closedWith === null && !this.retrying
+  }
+
+  /** Whether the session is between a drop and a successful reconnect attempt. */
+  get reconnecting(): boolean {
+    return this.retrying
   }
 
   /** The simulation drawn in lockstep and predict modes (predict: the present), else null. */
@@ -368,21 +462,30 @@ export class Session {
   /**
    * This player's view of the game (the game's `view(ctx, player)`, e.g. the goal game's score,
    * phase and clock; docs/games.md "Views"): in snapshot mode the last `view` message, in lockstep
-   * and predict modes computed by the session's own simulation; null for a game without views or
-   * before the first.
+   * and predict modes computed by the session's own simulation; for a game without `view`, its
+   * whole state (the default view); null for a game without state or before the first.
    */
   view(): unknown {
     if (!this.runner) return this.mirror.view
     return this.runner.view() ?? null
   }
 
-  /** Close the socket; resolves when it has closed. */
+  /** Close the session (and stop reconnecting); resolves when it has closed. */
   close(): Promise<void> {
+    this.closing = true
     this.stopStepping()
+    if (this.retryTimer) clearTimeout(this.retryTimer)
+    this.retryTimer = null
     if (this.closedWith) return Promise.resolve()
+    const socket = this.socket
+    if (!socket || socket.readyState > OPEN) {
+      this.retrying = false
+      this.closed(1000, 'bye')
+      return Promise.resolve()
+    }
     return new Promise((resolve) => {
       this.on('close', () => resolve())
-      this.socket.close(1000, 'bye')
+      socket.close(1000, 'bye')
     })
   }
 
@@ -407,7 +510,7 @@ export class Session {
   }
 
   private write(message: ClientMessage): void {
-    if (this.socket.readyState === OPEN) this.socket.send(encodeMessage(message))
+    if (this.socket?.readyState === OPEN) this.socket.send(encodeMessage(message))
   }
 
   /** @internal One frame from the socket. */
@@ -456,12 +559,168 @@ export class Session {
       this.emit('state', this.mirror.tick)
   }
 
-  /** @internal The socket closed. */
+  /** @internal The session closed for good. */
   closed(code: number, reason: string): void {
     this.stopStepping()
+    this.retrying = false
     if (this.closedWith) return
     this.closedWith = { code, reason }
     this.emit('close', this.closedWith)
+  }
+
+  /**
+   * @internal Open a socket and join; resolves at the welcome. A first join (`first`) reports its
+   * close as the session's; a reconnect attempt sends the token of the connection before.
+   */
+  attach(first: boolean, token = ''): Promise<void> {
+    const url = this.url
+    const options = this.options
+    return new Promise((resolve, reject) => {
+      let socket: SocketLike
+      try {
+        socket = new this.Socket(url) as SocketLike
+      } catch (error) {
+        reject(new JoinFailure(`connect: cannot open ${url}: ${(error as Error).message}`, 1006, '', true))
+        return
+      }
+      socket.binaryType = 'arraybuffer'
+      this.socket = socket
+      let joined = false
+      let settled = false
+      let refusal: SessionError | null = null
+      const settle = (error: JoinFailure | null): void => {
+        if (settled) return
+        settled = true
+        clearTimeout(timeout)
+        if (error) reject(error)
+        else resolve()
+      }
+      const timeoutMs = options.timeoutMs ?? 10_000
+      const timeout = setTimeout(() => {
+        settle(
+          new JoinFailure(
+            `connect: no welcome from ${url} within ${timeoutMs} ms`,
+            4003,
+            'no welcome',
+            false,
+          ),
+        )
+        socket.close(1000, 'no welcome')
+      }, timeoutMs)
+      socket.onopen = () => {
+        const join: ClientMessage = {
+          t: 'join',
+          v: PROTOCOL_VERSION,
+          room: options.room,
+          name: options.name,
+          mode: this.mode,
+        }
+        if (options.game !== undefined) join.game = options.game
+        if (options.spectate) join.spectate = true
+        if (token !== '') join.token = token
+        if (this.runner) join.hold = this.runner.hold
+        socket.send(encodeMessage(join))
+      }
+      socket.onmessage = (event) => {
+        if (this.socket !== socket) return
+        this.receive(event.data)
+        if (this.id !== 0) {
+          joined = true
+          settle(null)
+        } else {
+          const last = this.mirror.errors.at(-1)
+          if (last) refusal = last
+        }
+      }
+      socket.onerror = () => {}
+      socket.onclose = (event) => {
+        if (this.socket === socket) this.socket = null
+        if (joined) {
+          this.dropped(event.code, event.reason)
+          return
+        }
+        // A first join's close is the session's; so is an attempt's that close() cut short.
+        if (first || this.closing) this.closed(event.code, event.reason)
+        if (refusal) {
+          const why = `${refusal.code}: ${refusal.reason}`
+          settle(
+            new JoinFailure(
+              `connect: ${url} refused the join: ${why} (close ${event.code})`,
+              event.code,
+              why,
+              true,
+            ),
+          )
+        } else if (event.code === 1006)
+          // A refused upgrade looks like an unreachable server: a plain GET of the URL says why.
+          void refusedUpgrade(url).then((why) =>
+            settle(
+              why
+                ? new JoinFailure(`connect: ${url} refused the join: ${why}`, event.code, why, true)
+                : new JoinFailure(
+                    `connect: ${url} closed before the welcome (close 1006); is the server running and the address right?`,
+                    event.code,
+                    event.reason,
+                    false,
+                  ),
+            ),
+          )
+        else
+          settle(
+            new JoinFailure(
+              `connect: ${url} closed before the welcome (close ${event.code}${event.reason ? ` ${event.reason}` : ''})`,
+              event.code,
+              event.reason,
+              !RECONNECT_CLOSE_CODES.includes(event.code),
+            ),
+          )
+      }
+    })
+  }
+
+  /** The joined connection closed: reconnect when the session may and the code allows, else close. */
+  private dropped(code: number, reason: string): void {
+    this.stopStepping()
+    if (this.closing || !this.retry || this.failed || !RECONNECT_CLOSE_CODES.includes(code)) {
+      this.closed(code, reason)
+      return
+    }
+    this.retrying = true
+    this.scheduleAttempt(1, this.mirror.token, code, reason)
+  }
+
+  /** Wait (delayMs doubled per failed attempt, at most maxDelayMs), then try to join again. */
+  private scheduleAttempt(attempt: number, token: string, code: number, reason: string): void {
+    const retry = this.retry
+    if (!retry || this.closing) return
+    if (attempt > retry.retries) {
+      this.emit('error', {
+        code: 'client',
+        reason: `gave up reconnecting after ${retry.retries} attempts (last: close ${code}${reason ? ` ${reason}` : ''})`,
+      })
+      this.closed(code, reason)
+      return
+    }
+    const delayMs = Math.min(retry.maxDelayMs, retry.delayMs * 2 ** (attempt - 1))
+    this.emit('reconnecting', { attempt, delayMs, code, reason })
+    this.retryTimer = setTimeout(() => {
+      this.retryTimer = null
+      if (this.closing) return
+      this.reset()
+      this.attach(false, token).then(
+        () => {
+          this.retrying = false
+          this.emit('reconnected', { id: this.id, attempts: attempt })
+        },
+        (failure: JoinFailure) => {
+          if (this.closing) return
+          if (failure.final) {
+            this.emit('error', { code: 'client', reason: failure.message })
+            this.closed(failure.code, failure.reason)
+          } else this.scheduleAttempt(attempt + 1, token, failure.code, failure.reason)
+        },
+      )
+    }, delayMs)
   }
 
   /** The code and reason the socket closed with, or null while open. */
@@ -475,16 +734,21 @@ export class Session {
     this.held = held
     loadServerGame(this.options.url, name).then(
       () => {
+        // A reconnect meanwhile dropped these frames with their connection (reset).
+        if (this.held !== held) return
         this.held = null
         for (const bytes of held) this.receive(bytes)
       },
-      (error: Error) => this.fail(error.message),
+      (error: Error) => {
+        if (this.held === held) this.fail(error.message)
+      },
     )
   }
 
   private fail(reason: string): void {
+    this.failed = true
     this.emit('error', { code: 'client', reason })
-    this.socket.close(CLIENT_FAILURE, reason.slice(0, 120))
+    this.socket?.close(CLIENT_FAILURE, reason.slice(0, 120))
   }
 
   private startStepping(): void {
@@ -548,84 +812,44 @@ export function connect(options: ConnectOptions): Promise<Session> {
       return Promise.reject(
         new Error(`connect: options.on: unknown event "${type}" (${EVENT_TYPES.join(', ')})`),
       )
+  try {
+    reconnectSettings(options.reconnect)
+  } catch (error) {
+    return Promise.reject(error)
+  }
   let url: string
   try {
     url = roomUrl(options.url, options.room, options.key)
   } catch (error) {
     return Promise.reject(error)
   }
-  return new Promise((resolve, reject) => {
-    let socket: SocketLike
-    try {
-      socket = new Socket(url) as SocketLike
-    } catch (error) {
-      reject(new Error(`connect: cannot open ${url}: ${(error as Error).message}`))
-      return
-    }
-    socket.binaryType = 'arraybuffer'
-    const session = new Session(socket, { ...options, mode })
-    for (const [type, fn] of Object.entries(options.on ?? {}))
-      if (fn) session.on(type as keyof SessionEvents, fn as (value: unknown) => void)
-    let settled = false
-    let refusal: SessionError | null = null
-    const settle = (error: Error | null): void => {
-      if (settled) return
-      settled = true
-      clearTimeout(timeout)
-      if (error) reject(error)
-      else resolve(session)
-    }
-    const timeout = setTimeout(() => {
-      settle(new Error(`connect: no welcome from ${url} within ${options.timeoutMs ?? 10_000} ms`))
-      socket.close(1000, 'no welcome')
-    }, options.timeoutMs ?? 10_000)
-    socket.onopen = () => {
-      const join: ClientMessage = {
-        t: 'join',
-        v: PROTOCOL_VERSION,
-        room: options.room,
-        name: options.name,
-        mode,
-      }
-      if (options.game !== undefined) join.game = options.game
-      if (options.spectate) join.spectate = true
-      if (session.runner) join.hold = session.runner.hold
-      socket.send(encodeMessage(join))
-    }
-    socket.onmessage = (event) => {
-      session.receive(event.data)
-      if (session.id !== 0) settle(null)
-      else {
-        const last = session.mirror.errors.at(-1)
-        if (last) refusal = last
-      }
-    }
-    socket.onerror = () => {}
-    socket.onclose = (event) => {
-      session.closed(event.code, event.reason)
-      if (refusal)
-        settle(
-          new Error(
-            `connect: ${url} refused the join: ${refusal.code}: ${refusal.reason} (close ${event.code})`,
-          ),
-        )
-      else if (event.code === 1006)
-        // A refused upgrade looks like an unreachable server: a plain GET of the URL says why.
-        void refusedUpgrade(url).then((why) =>
-          settle(
-            new Error(
-              why
-                ? `connect: ${url} refused the join: ${why}`
-                : `connect: ${url} closed before the welcome (close 1006); is the server running and the address right?`,
-            ),
-          ),
-        )
-      else
-        settle(
-          new Error(
-            `connect: ${url} closed before the welcome (close ${event.code}${event.reason ? ` ${event.reason}` : ''})`,
-          ),
-        )
-    }
-  })
+  const session = new Session({ ...options, mode }, url, Socket)
+  for (const [type, fn] of Object.entries(options.on ?? {}))
+    if (fn) session.on(type as keyof SessionEvents, fn as (value: unknown) => void)
+  return session.attach(true).then(
+    () => session,
+    (failure: Error) => Promise.reject(new Error(failure.message)),
+  )
+}
+
+/** The reconnect settings `reconnect` asks for (null: off); throws naming a bad field. */
+function reconnectSettings(
+  reconnect: ConnectOptions['reconnect'],
+): Readonly<Required<ReconnectOptions>> | null {
+  if (reconnect === undefined || reconnect === false) return null
+  if (reconnect === true) return RECONNECT_DEFAULTS
+  if (reconnect === null || typeof reconnect !== 'object')
+    throw new Error('connect: reconnect must be true, false or { retries?, delayMs?, maxDelayMs? }')
+  const out = { ...RECONNECT_DEFAULTS, ...reconnect }
+  const check = (field: keyof ReconnectOptions, min: number, max: number): void => {
+    const v = out[field]
+    if (typeof v !== 'number' || !Number.isInteger(v) || v < min || v > max)
+      throw new Error(
+        `connect: reconnect.${field} must be an integer from ${min} to ${max}, not ${String(v)}`,
+      )
+  }
+  check('retries', 1, 1000)
+  check('delayMs', 1, 600_000)
+  check('maxDelayMs', out.delayMs, 600_000)
+  return Object.freeze(out)
 }

@@ -5,7 +5,9 @@
  * awake, asleep, kinematic) holding every visible shape, filled and stroked once; only grabbed
  * bodies (in their player's colour) and overlays are drawn one by one. Sensor shapes (the wire's
  * `sensor: true`) are left out of those paths and drawn after them in one path of their own,
- * translucent with a dashed outline. Text (names, ids) is drawn
+ * translucent with a dashed outline; so are gates (shapeStyle: static or kinematic shapes whose
+ * collision filter lets some bodies through), faint with a dashed outline in GATE_COLOR. Text
+ * (names, ids) is drawn
  * in screen space so it is never mirrored by the y-up transform.
  */
 import type { Vec2 } from '../../engine/index.ts'
@@ -77,6 +79,32 @@ const STYLE = {
  */
 export const SENSOR_COLOR = '#4fc3f7'
 export const SENSOR_FILL_ALPHA = 0.15
+/**
+ * Gates (shapeStyle 'gate': static or kinematic shapes that let some bodies through, such as the
+ * goal game's goal lines, which stop the discs and let the ball pass) are filled in this colour at
+ * GATE_FILL_ALPHA and outlined with a dashed line in it: visibly not a wall for everything.
+ */
+export const GATE_COLOR = '#e0b050'
+export const GATE_FILL_ALPHA = 0.2
+
+/** How a shape is drawn: see shapeStyle. */
+export type ShapeStyle = 'solid' | 'sensor' | 'gate'
+
+/**
+ * How the renderer draws a shape of a body of `kind` (0 static, 1 kinematic, 2 dynamic), from its
+ * wire settings: 'sensor' for a sensor; 'gate' for a shape of a static or kinematic body whose
+ * filter (`[categoryBits, maskBits, groupIndex]`, absent: the default `[1, 0xffffffff, 0]`) lets
+ * some bodies through: maskBits not every bit, or a negative group (its members pass each other);
+ * else 'solid'. Moving bodies with filters (the goal game's ball and discs, sandbox layers) are
+ * drawn solid: what they pass through is the gate.
+ */
+export function shapeStyle(kind: number, shape: WireShape): ShapeStyle {
+  if (shape.sensor === true) return 'sensor'
+  const f = shape.filter
+  if (kind !== 2 && f !== undefined && (f[1] !== 0xffffffff || f[2] < 0)) return 'gate'
+  return 'solid'
+}
+
 /** Segment shapes (lines, drawn ground) are stroked in this colour. */
 const SEGMENT_COLOR = '#8a94a8'
 /** The explode tool's blast preview. */
@@ -270,13 +298,14 @@ export class Renderer {
       ctx.stroke()
     }
     this.drawSensors(bodies, visible)
+    this.drawGates(bodies, visible)
     // Segments have no area: stroke them (lines and drawn ground) at least 3 px wide, always.
     ctx.beginPath()
     let segments = false
     for (const v of bodies) {
       if (!visible(v)) continue
       for (const shape of v.shapes) {
-        if (shape.type !== 'segment') continue
+        if (shape.type !== 'segment' || shapeStyle(v.kind, shape) === 'gate') continue
         const [p, q] = shapeVertices(shape)
         const a = toWorld(v, p.x, p.y)
         const c = toWorld(v, q.x, q.y)
@@ -320,15 +349,49 @@ export class Renderer {
   }
 
   /**
-   * Add a body's outline (every shape; with `solid`, every shape but its sensors, which
-   * drawSensors draws) to the current path, scaled by `shrink` about its origin; circles get a
+   * Gate shapes of the visible bodies (shapeStyle 'gate'): faint fill, dashed outline in
+   * GATE_COLOR; gate segments dashed, 3 px wide.
+   */
+  private drawGates(bodies: readonly ViewBody[], visible: (v: ViewBody) => boolean): void {
+    const ctx = this.ctx
+    ctx.beginPath()
+    let any = false
+    for (const v of bodies) {
+      if (v.kind === 2 || !visible(v)) continue
+      for (const shape of v.shapes) {
+        if (shapeStyle(v.kind, shape) !== 'gate') continue
+        if (shape.type === 'segment') {
+          const [p, q] = shapeVertices(shape)
+          const a = toWorld(v, p.x, p.y)
+          const c = toWorld(v, q.x, q.y)
+          ctx.moveTo(a.x, a.y)
+          ctx.lineTo(c.x, c.y)
+        } else this.traceShape(v, shape, 1)
+        any = true
+      }
+    }
+    if (!any) return
+    ctx.globalAlpha = GATE_FILL_ALPHA
+    ctx.fillStyle = GATE_COLOR
+    ctx.fill()
+    ctx.globalAlpha = 1
+    ctx.lineWidth = this.lineWidth(1.5)
+    ctx.setLineDash([this.lineWidth(4), this.lineWidth(4)])
+    ctx.strokeStyle = GATE_COLOR
+    ctx.stroke()
+    ctx.setLineDash([])
+  }
+
+  /**
+   * Add a body's outline (every shape; with `solid`, only its solid shapes: drawSensors and
+   * drawGates draw the others) to the current path, scaled by `shrink` about its origin; circles get a
    * radius line to show rotation. Segments add nothing (drawBodies strokes them). Returns whether
    * it added anything.
    */
   private traceBody(v: ViewBody, shrink = 1, solid = false): boolean {
     let any = false
     for (const shape of v.shapes) {
-      if (solid && shape.sensor === true) continue
+      if (solid && shapeStyle(v.kind, shape) !== 'solid') continue
       this.traceShape(v, shape, shrink)
       any = true
     }

@@ -1,8 +1,10 @@
 /*
  * Keyboard shortcuts: one table drives both the key handling and the help overlay, so the help
  * can never list a key that does nothing. The tools come in toolbar order, named as their buttons
- * are, with the digit keys 1-9 along the toolbar.
+ * are, with the digit keys 1-9 along the toolbar. In a room whose game has a client module, its
+ * keys (which win over these) come first, and the shortcuts they take are left out.
  */
+import type { GameClient } from '../../games/index.ts'
 
 /** What a shortcut does; main.ts maps each action to code. */
 export type ShortcutAction =
@@ -168,20 +170,51 @@ const TOUCH_HELP: Partial<Record<ShortcutAction, string>> = {
   'tool:edit': 'tap a body to change it, drag it to move it; drag empty space to select several',
 }
 
+/** A key as Help shows it: 'Space', 'Esc', arrows as ←↑→↓, 'Ctrl/⌘+Z', letters in upper case. */
+function keyLabel(k: string): string {
+  if (k === ' ') return 'Space'
+  if (k === 'escape') return 'Esc'
+  if (ARROWS[k]) return ARROWS[k]
+  return k
+    .split('+')
+    .map((part) => (part === 'ctrl' ? 'Ctrl/⌘' : part === 'shift' ? 'Shift' : part.toUpperCase()))
+    .join('+')
+}
+
+const ARROWS: Record<string, string> = { arrowleft: '←', arrowup: '↑', arrowright: '→', arrowdown: '↓' }
+
+const escapeHtml = (s: string): string => s.replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`)
+
+/**
+ * Help's rows for a game: its keys (its client module's keysHelp, every bound key in some row;
+ * not with `touch`) and its pointer gesture (pointer.help), under a heading row naming the game;
+ * the text is the module's, escaped.
+ */
+export function gameHelpRows(client: GameClient, touch = false): string {
+  const rows = touch
+    ? []
+    : (client.keysHelp ?? []).map(
+        (row) =>
+          `<tr class="game-key"><td>${row.keys.map((k) => `<kbd>${escapeHtml(keyLabel(k))}</kbd>`).join(' ')}</td><td>${escapeHtml(row.help)}</td></tr>`,
+      )
+  const pointer = client.pointer?.help
+  if (pointer)
+    rows.push(
+      `<tr class="game-key"><td><b>${touch ? 'Tap' : 'Click'}</b></td><td>${escapeHtml(pointer)}</td></tr>`,
+    )
+  if (rows.length === 0) return ''
+  const heading = `<b>${escapeHtml(client.game)}</b>${touch ? '' : ' keys'}`
+  return `<tr class="game-keys"><td colspan="2">${heading}</td></tr>${rows.join('')}`
+}
+
 /**
  * The help overlay's HTML rows. With `touch` (a phone or tablet, no keyboard) only what has a
  * button, named as the button is, without keys: short enough to fit a phone's screen unscrolled.
+ * With `game` (the room's game's client module), the game's rows come first (its keys only with a
+ * keyboard), and the shortcuts lose the keys it binds (a shortcut left with none is not listed).
  */
-export function helpRows(touch = false): string {
-  const label = (k: string): string =>
-    k === ' '
-      ? 'Space'
-      : k === 'escape'
-        ? 'Esc'
-        : k
-            .split('+')
-            .map((part) => (part === 'ctrl' ? 'Ctrl/⌘' : part === 'shift' ? 'Shift' : part.toUpperCase()))
-            .join('+')
+export function helpRows(touch = false, game?: GameClient): string {
+  const label = keyLabel
   if (touch) {
     const rows: string[] = []
     const joints: string[] = []
@@ -219,11 +252,16 @@ export function helpRows(touch = false): string {
       const text = TOUCH_HELP[s.action] ?? (tool ? s.help.slice(s.help.indexOf(':') + 1).trim() : s.help)
       rows.push(`<tr><td><b>${button}</b></td><td>${text.replace(/^click/, 'tap')}</td></tr>`)
     }
-    return rows.join('')
+    return (game ? gameHelpRows(game, true) : '') + rows.join('')
   }
-  return SHORTCUTS.map(
-    (s) => `<tr><td>${s.keys.map((k) => `<kbd>${label(k)}</kbd>`).join(' ')}</td><td>${s.help}</td></tr>`,
-  ).join('')
+  const taken = (k: string): boolean => game?.keys[k] !== undefined
+  const shortcuts = SHORTCUTS.map((s) => ({ ...s, keys: s.keys.filter((k) => !taken(k)) }))
+    .filter((s) => s.keys.length > 0)
+    .map(
+      (s) => `<tr><td>${s.keys.map((k) => `<kbd>${label(k)}</kbd>`).join(' ')}</td><td>${s.help}</td></tr>`,
+    )
+    .join('')
+  return (game ? gameHelpRows(game) : '') + shortcuts
 }
 
 /** The help overlay's first paragraph, for a mouse and keyboard or for touch. */

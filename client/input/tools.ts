@@ -5,11 +5,21 @@
  * it) and cancels what the first pointer was doing. Pressing on empty space pans in every tool
  * that needs a body; the wheel zooms about the cursor.
  *
+ * In a room whose game's client module has pointer bindings (docs/games.md, "Client modules"), a
+ * press is offered to the game first: when its `down` returns a command, the whole gesture (press,
+ * drag, release, or a cancel such as a second finger) is the game's, and the tool never sees it.
+ *
  * Tools produce protocol commands only; the sandbox applies them locally or sends them. The
  * player's own cursor, grab line and previews are drawn from local pointer state at once, so the
  * tool never feels late even though the body follows the server a few ticks behind.
  */
 import type { Vec2 } from '../../engine/index.ts'
+import {
+  type GameClient,
+  POINTER_MOVE_INTERVAL,
+  type PointerBindings,
+  type PointerInput,
+} from '../../games/index.ts'
 import type { PlainData, SpawnCommand, WireJoint, WireJointKind, WireShape } from '../../shared/index.ts'
 import type { Camera, ToolOverlay } from '../draw/index.ts'
 import type { Sandbox, ViewBody, ViewJoint } from '../modes/index.ts'
@@ -99,6 +109,13 @@ type Action =
   | { kind: 'drag'; from: Vec2 }
   | { kind: 'explode' }
   | { kind: 'edit' }
+  | {
+      kind: 'game'
+      pointer: PointerBindings
+      last: Vec2
+      sent: string
+      timer: ReturnType<typeof setInterval> | null
+    }
 
 const dynamic = (b: ViewBody): boolean => b.kind === 2
 /** A body the wheel tool takes as a wheel: one circle. */
@@ -140,6 +157,8 @@ export class ToolController {
   readonly edit: EditTool
   /** Whether Shift was held at the last press (the Edit tool turns instead of moving). */
   private shift = false
+  /** The room's game's client module (set by the page), offered each press before the tool. */
+  gameClient: () => GameClient | undefined = () => undefined
 
   /**
    * Whether the room's game lists a command kind (set by the page from rules.builtins and
@@ -192,7 +211,53 @@ export class ToolController {
     const w = this.camera.toWorld(p.x, p.y)
     this.cursor = w
     this.shift = e.shiftKey
+    if (this.gameDown(w)) return
     this.begin(w)
+  }
+
+  /** Offer a press to the game's pointer bindings; true when its `down` sent a command. */
+  private gameDown(w: Vec2): boolean {
+    const pointer = this.gameClient()?.pointer
+    const cmd = pointer?.down?.(this.pointerInput(w))
+    if (!pointer || !cmd) return false
+    this.sandbox().sendGame(cmd.kind, cmd.args)
+    const action: Action = { kind: 'game', pointer, last: w, sent: JSON.stringify(cmd), timer: null }
+    // While held, `move` is asked every interval (the pointer may stay put while the world moves).
+    if (pointer.move) action.timer = setInterval(() => this.gameHeld(action), POINTER_MOVE_INTERVAL)
+    this.action = action
+    return true
+  }
+
+  /** A game gesture still held: send what `move` returns for the pointer now, when it changed. */
+  private gameHeld(a: Extract<Action, { kind: 'game' }>): void {
+    if (this.action !== a) return
+    const cmd = a.pointer.move?.(this.pointerInput(a.last))
+    if (!cmd) return
+    const text = JSON.stringify(cmd)
+    if (text === a.sent) return
+    a.sent = text
+    this.sandbox().sendGame(cmd.kind, cmd.args)
+  }
+
+  /** The game's pointer gesture ended (lifted or cancelled): send what its `up` returns. */
+  private gameUp(a: Extract<Action, { kind: 'game' }>, w: Vec2): void {
+    if (a.timer !== null) clearInterval(a.timer)
+    const cmd = a.pointer.up?.(this.pointerInput(w))
+    if (cmd) this.sandbox().sendGame(cmd.kind, cmd.args)
+  }
+
+  private pointerInput(w: Vec2): PointerInput {
+    const sandbox = this.sandbox()
+    return {
+      state: sandbox.gameState?.() ?? null,
+      me: sandbox.playerId(),
+      x: w.x,
+      y: w.y,
+      position: (id) => {
+        const b = sandbox.bodies().find((body) => body.id === id)
+        return b ? { x: b.x, y: b.y } : null
+      },
+    }
   }
 
   private begin(w: Vec2): void {
@@ -332,6 +397,7 @@ export class ToolController {
       if (Math.hypot(w.x - last.x, w.y - last.y) * this.camera.scale >= STROKE_STEP) a.points.push(w)
     }
     const now = performance.now()
+    if (a.kind === 'game' && previous) a.last = w
     if (a.kind === 'grab') this.sandbox().send({ k: 'move', x: w.x, y: w.y })
     else if (
       this.sandbox().mode === 'online' &&
@@ -356,6 +422,7 @@ export class ToolController {
     const w = this.camera.toWorld(p.x, p.y)
     this.action = { kind: 'none' }
     if (cancelled) {
+      if (a.kind === 'game') this.gameUp(a, a.last)
       if (a.kind === 'grab') this.sandbox().send({ k: 'release' })
       if (a.kind === 'edit') this.edit.release(w, true)
       return
@@ -366,6 +433,7 @@ export class ToolController {
   private finish(a: Action, w: Vec2): void {
     const sandbox = this.sandbox()
     if (a.kind === 'grab') sandbox.send({ k: 'release' })
+    else if (a.kind === 'game') this.gameUp(a, w)
     else if (a.kind === 'spawn') {
       const drag = Math.hypot(w.x - a.at.x, w.y - a.at.y) * this.camera.scale
       const v = drag < CLICK_SLOP ? { x: 0, y: 0 } : throwVelocity(a.at, w)
@@ -571,6 +639,7 @@ export class ToolController {
 
   /** Abandon the current action (a second finger arrived, the tool changed, focus was lost). */
   cancel(): void {
+    if (this.action.kind === 'game') this.gameUp(this.action, this.action.last)
     if (this.action.kind === 'grab') this.sandbox().send({ k: 'release' })
     if (this.action.kind === 'edit') this.edit.release({ x: 0, y: 0 }, true)
     this.action = { kind: 'none' }

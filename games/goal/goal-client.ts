@@ -3,7 +3,9 @@
  * blue), the match clock and the phase or winner, from the game's per-player view; the arrow keys
  * and WASD steer this player's disc with `run` (the held keys' direction at full speed, sent again
  * whenever one of them goes down or up), Space kicks at full power (the room refuses a kick out of
- * reach), and R asks for a rematch once the match is over.
+ * reach), and R asks for a rematch once the match is over. A press on the field (mouse, pen or
+ * finger) runs the disc toward the pointer at full speed while held, re-aimed as it moves; letting
+ * go stops it.
  */
 import {
   clockText,
@@ -11,8 +13,9 @@ import {
   type GameClientCommand,
   type KeyBinding,
   type KeyInput,
+  type PointerInput,
 } from '../game-client.ts'
-import { MAX_SPEED } from './goal-game.ts'
+import { MAX_SPEED, PLAYER_RADIUS } from './goal-game.ts'
 
 /** The goal game's view of one player (goal-game.ts `view`). */
 export interface GoalView {
@@ -21,6 +24,8 @@ export interface GoalView {
   secondsLeft: number
   team: 'red' | 'blue' | null
   winner: string | null
+  /** This player's disc (a body id), null for a player without one. */
+  disc: number | null
 }
 
 function isGoalView(state: unknown): state is GoalView {
@@ -45,6 +50,27 @@ function run(input: KeyInput): GameClientCommand {
 }
 
 const move: KeyBinding = { down: run, up: run }
+
+const clampSpeed = (v: number): number => Math.max(-MAX_SPEED, Math.min(MAX_SPEED, v))
+
+/**
+ * `run` toward the pointer at full speed from where the page draws this player's disc (a pointer
+ * on the disc: stand still); null (the press is the page tool's) without a disc or once the match
+ * is over.
+ */
+export function runToward(input: PointerInput): GameClientCommand | null {
+  const state = input.state
+  if (!isGoalView(state) || state.disc === null || state.disc === undefined || state.phase === 'over')
+    return null
+  const at = input.position(state.disc)
+  if (!at) return null
+  const dx = input.x - at.x
+  const dy = input.y - at.y
+  const distance = Math.sqrt(dx * dx + dy * dy)
+  if (distance <= PLAYER_RADIUS) return { kind: 'run', args: { x: 0, y: 0 } }
+  const k = MAX_SPEED / distance
+  return { kind: 'run', args: { x: clampSpeed(dx * k), y: clampSpeed(dy * k) } }
+}
 
 export const goalClient = defineGameClient({
   game: 'goal',
@@ -78,4 +104,17 @@ export const goalClient = defineGameClient({
     ' ': () => ({ kind: 'kick', args: { power: 1 } }),
     r: ({ state }) => (isGoalView(state) && state.phase === 'over' ? { kind: 'rematch', args: {} } : null),
   },
+  pointer: {
+    down: runToward,
+    move: runToward,
+    up: ({ state }) =>
+      isGoalView(state) && state.disc !== null ? { kind: 'run', args: { x: 0, y: 0 } } : null,
+    help: 'press and hold on the field: your disc runs toward the pointer; let go: it stops',
+  },
+  keysHelp: [
+    { keys: ['arrowup', 'arrowleft', 'arrowdown', 'arrowright'], help: 'run your disc (held: keep running)' },
+    { keys: ['w', 'a', 's', 'd'], help: 'run your disc, as the arrows do' },
+    { keys: [' '], help: 'kick the ball away from your disc, when it is within reach' },
+    { keys: ['r'], help: 'rematch, once the match is over' },
+  ],
 })

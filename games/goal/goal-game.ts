@@ -342,6 +342,7 @@ export const goal = defineGame<GoalState>({
       secondsLeft: Math.ceil(Math.max(0, MATCH_TICKS - elapsed) / TICK_HZ),
       team: s.players[player]?.team ?? null,
       winner: s.winner,
+      disc: s.players[player]?.disc ?? null,
     }
   },
   tick(ctx) {

@@ -52,4 +52,5 @@ export const towerClient = defineGameClient({
   keys: {
     r: ({ state }) => (isTowerView(state) && state.phase === 'over' ? { kind: 'restart', args: {} } : null),
   },
+  keysHelp: [{ keys: ['r'], help: 'start a new round, once the round is over' }],
 })

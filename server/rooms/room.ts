@@ -428,7 +428,7 @@ export class Room {
     this.flushEvents()
     if ((this.tick + this.snapshotPhase) % this.snapshotInterval === 0) {
       this.snapshots.send()
-      if (this.game.view) this.sendViews()
+      this.sendViews()
     }
     const hash = this.tick % TICK_RATE === 0 ? this.sim.hash() : undefined
     if (hash !== undefined) this.everySecond(hash)
@@ -636,9 +636,14 @@ export class Room {
   /**
    * Each snapshot player's game view (the game's `view`), sent to that player alone when its
    * MessagePack bytes changed since the last one it got (PROTOCOL.md, `view`). A view that throws
-   * or passes MAX_VIEW_BYTES is not sent, and logged once per room.
+   * or passes MAX_VIEW_BYTES is not sent, and logged once per room. A game without `view` sends
+   * its whole state instead (sendStateViews).
    */
   private sendViews(): void {
+    if (!this.game.view) {
+      this.sendStateViews()
+      return
+    }
     for (const p of this.players.values()) {
       if (p.lockstep || p.spectator || p.dropped) continue
       let view: PlainData | undefined
@@ -660,7 +665,33 @@ export class Room {
     }
   }
 
-  private viewProblem(player: number, problem: string): void {
+  /**
+   * The default view of a game without `view`: its whole state, the same for every snapshot
+   * player, encoded once per snapshot tick and sent to each player whose last view differs. A
+   * state over MAX_VIEW_BYTES is not sent, and logged once per room naming the fix (a `view`).
+   */
+  private sendStateViews(): void {
+    const state = this.sim.gameState
+    if (state === undefined) return
+    const bytes = encodeValue(state)
+    if (bytes.length > MAX_VIEW_BYTES) {
+      this.viewProblem(
+        undefined,
+        `it has no view, so its view is its whole state, and the state is ${bytes.length} bytes, over the ${MAX_VIEW_BYTES}-byte limit (give the game a view(ctx, player) that returns less)`,
+      )
+      return
+    }
+    let frame: Uint8Array | null = null
+    for (const p of this.players.values()) {
+      if (p.lockstep || p.spectator || p.dropped) continue
+      if (p.lastView !== null && sameBytes(p.lastView, bytes)) continue
+      p.lastView = bytes
+      frame ??= encodeMessage({ t: 'view', tick: this.tick, view: state })
+      p.conn.sendBytes(frame)
+    }
+  }
+
+  private viewProblem(player: number | undefined, problem: string): void {
     if (this.viewWarned) return
     this.viewWarned = true
     this.log.warn(

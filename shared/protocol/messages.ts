@@ -401,7 +401,8 @@ export interface GameEventsMessage {
 
 /**
  * The room's game's view for this player (the game's `view`, plain data of at most MAX_VIEW_BYTES
- * as MessagePack), sent to a snapshot player when it changed, at most once per snapshot interval.
+ * as MessagePack; a game without `view` sends its whole state), sent to a snapshot player when it
+ * changed, at most once per snapshot interval.
  */
 export interface ViewMessage {
   t: 'view'

@@ -486,13 +486,15 @@ export class RoomSimulation {
   }
 
   /**
-   * The game's view for `player` (SimGame.view): a copy of the plain data it returns, or undefined
-   * for a game without a view or a player not in the room. Throws what the view throws, or a
-   * RangeError naming what in it is not plain data.
+   * The game's view for `player` (SimGame.view): a copy of the plain data it returns; for a game
+   * without a view, a copy of the whole game state (the default view, the same for every player);
+   * undefined for a game with neither, or a player not in the room. Throws what the view throws,
+   * or a RangeError naming what in it is not plain data.
    */
   playerView(player: number): PlainData | undefined {
+    if (!this.players.has(player)) return undefined
     const view = this.game.view
-    if (!view || !this.players.has(player)) return undefined
+    if (!view) return this.gameState === undefined ? undefined : copyPlainData(this.gameState)
     return copyPlainData(view(this.ctx, player), 'view')
   }
 

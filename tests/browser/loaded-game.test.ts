@@ -9,7 +9,8 @@
  * module (its `client` export, served in the same module): a lockstep page and a snapshot page of
  * another room both show its panel item and its drawing (a magenta pixel at the world point it
  * marks) and send a drop with M, which the lockstep page's
- * simulation (confirmed by the server's stream) counts: 1, then 2.
+ * simulation (confirmed by the server's stream) counts: 1, then 2; the snapshot page's panel
+ * follows it too (a game without `view` sends snapshot players its whole state).
  */
 import type { Browser } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
@@ -83,8 +84,9 @@ describe('a game loaded from a directory, in a lockstep page', () => {
         text,
       ] as const)
     try {
+      // The snapshot page has the state too: marbles has no view, so its view is its state.
       await shows(lockstep.page, '0 dropped, 0 left')
-      await shows(snapshot.page, '-')
+      await shows(snapshot.page, '0 dropped, 0 left')
       // Its drawing, after the world: the canvas pixel at the world point (0, 1) is magenta.
       for (const page of [lockstep.page, snapshot.page])
         await page.waitForFunction(() => {
@@ -99,10 +101,11 @@ describe('a game loaded from a directory, in a lockstep page', () => {
       await lockstep.page.keyboard.press('m')
       await shows(lockstep.page, '1 dropped, 0 left')
       await snapshot.page.keyboard.press('m')
-      await lockstep.page.waitForFunction(
-        (item) => document.querySelector(item)?.textContent?.startsWith('2 dropped') === true,
-        item,
-      )
+      for (const page of [lockstep.page, snapshot.page])
+        await page.waitForFunction(
+          (item) => document.querySelector(item)?.textContent?.startsWith('2 dropped') === true,
+          item,
+        )
       expect(lockstep.errors).toEqual([])
       expect(snapshot.errors).toEqual([])
     } finally {

@@ -5,11 +5,14 @@
  * wire's `sensor: true`). The oracles are the canvas compositing rule (source-over: alpha * colour
  * + (1 - alpha) * what was under it) with the renderer's published colours, and the dash pattern:
  * along the sensor's top edge some pixels are the outline colour and others are not (the gaps),
- * while the solid box's top edge is outline colour end to end.
+ * while the solid box's top edge is outline colour end to end. A second page holds a gate (a
+ * static box whose filter [1, 2, 0] collides only with category 2) and a static box with a category
+ * alone ([4, 0xffffffff, 0], excluding nothing): the gate is GATE_COLOR at GATE_FILL_ALPHA with a
+ * dashed outline, the other its own colour's solid fill.
  */
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
-import { SENSOR_COLOR, SENSOR_FILL_ALPHA } from '../../client/draw/renderer.ts'
+import { GATE_COLOR, GATE_FILL_ALPHA, SENSOR_COLOR, SENSOR_FILL_ALPHA } from '../../client/draw/renderer.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { launchBrowser } from '../support/chromium.ts'
 import { openSandbox, pixelAt, screenOf, startClientServer } from '../support/client-harness.ts'
@@ -42,6 +45,7 @@ const GRID = rgb('#1f2530')
 const SOLID_FILL = rgb('#40a060')
 const SOLID_LINE = rgb('#e8edf5')
 const SENSOR = rgb(SENSOR_COLOR)
+const GATE = rgb(GATE_COLOR)
 
 /**
  * Along a horizontal world edge from x0 to x1 at height y: per canvas column, whether some pixel
@@ -139,6 +143,60 @@ describe('sensors on the canvas', { timeout: 300_000 }, () => {
     expect(solidEdge.every(Boolean), `solid edge ${solidEdge.map((h) => (h ? '-' : ' ')).join('')}`).toBe(
       true,
     )
+    expect(errors).toEqual([])
+    await context.close()
+  })
+
+  it('a gate (a static shape that lets some bodies through) is faint with a dashed outline; a category alone is solid', async () => {
+    const { context, page, errors } = await openSandbox(browser, `${base}/?offline&scene=empty`)
+    await page.evaluate(() => {
+      const s = window.concord.sandbox
+      s.send({ k: 'pause', paused: true })
+      s.send({
+        k: 'spawn',
+        shapes: [{ type: 'box', hw: 1, hh: 1, filter: [4, 0xffffffff, 0] }],
+        x: -2.5,
+        y: 3,
+        static: true,
+        color: 0x40a060,
+      })
+      s.send({
+        k: 'spawn',
+        shapes: [{ type: 'box', hw: 1, hh: 1, filter: [1, 2, 0] }],
+        x: 2.5,
+        y: 3,
+        static: true,
+      })
+    })
+    await page.waitForFunction(
+      () =>
+        window.concord.sandbox.bodies().filter((b: { x: number }) => Math.abs(Math.abs(b.x) - 2.5) < 1e-6)
+          .length === 2,
+    )
+    await page.evaluate(() => window.concord.act('fit'))
+    const solidAt = await screenOf(page, -2.5 + 0.37, 3 + 0.41)
+    const gateAt = await screenOf(page, 2.5 + 0.37, 3 + 0.41)
+    await page.waitForFunction(
+      ([x, y, c]) => {
+        const canvas = window.concord.renderer.canvas as HTMLCanvasElement
+        const r = canvas.getBoundingClientRect()
+        const d = canvas.getContext('2d')!.getImageData(x - r.left, y - r.top, 1, 1).data
+        return Math.abs(d[0] - c[0]) <= 2 && Math.abs(d[1] - c[1]) <= 2 && Math.abs(d[2] - c[2]) <= 2
+      },
+      [solidAt.x, solidAt.y, SOLID_FILL] as [number, number, Rgb],
+    )
+    const gatePixel = await pixelAt(page, gateAt.x, gateAt.y)
+    const expected = [over(GATE, GATE_FILL_ALPHA, BACKGROUND), over(GATE, GATE_FILL_ALPHA, GRID)]
+    expect(
+      expected.some((e) => near(gatePixel, e, 3)),
+      `gate fill ${gatePixel}, expected ${expected.map((e) => e.map(Math.round)).join(' or ')}`,
+    ).toBe(true)
+    const gateEdge = await edgeColumns(page, 1.7, 3.3, 4, GATE, 40)
+    const onDash = gateEdge.filter(Boolean).length
+    expect(onDash, `gate edge ${gateEdge.map((h) => (h ? '-' : ' ')).join('')}`).toBeGreaterThan(
+      gateEdge.length / 4,
+    )
+    expect(gateEdge.length - onDash, 'gaps in the dashed outline').toBeGreaterThan(gateEdge.length / 8)
     expect(errors).toEqual([])
     await context.close()
   })

@@ -35,6 +35,79 @@ describe('game client modules', () => {
     )
   })
 
+  it('keysHelp names only bound keys, with short text; keys it leaves out get a last row', () => {
+    const keys = { a: () => null, b: () => null, c: () => null }
+    expect(() => defineGameClient({ game: 'g', keys, keysHelp: [{ keys: ['z'], help: 'zoom' }] })).toThrow(
+      /g: keysHelp\[0\]: key "z" is not one of the bound keys/,
+    )
+    expect(() => defineGameClient({ game: 'g', keys, keysHelp: [{ keys: [], help: 'x' }] })).toThrow(
+      /g: keysHelp\[0\] must be \{ keys: \[at least one bound key\], help \}/,
+    )
+    expect(() =>
+      defineGameClient({ game: 'g', keys, keysHelp: [{ keys: ['a'], help: 'x'.repeat(121) }] }),
+    ).toThrow(/g: keysHelp\[0\]: help must be a string of 1 to 120 characters/)
+    const client = defineGameClient({ game: 'g', keys, keysHelp: [{ keys: ['b'], help: 'boost' }] })
+    expect(client.keysHelp).toEqual([
+      { keys: ['b'], help: 'boost' },
+      { keys: ['a', 'c'], help: 'a g command' },
+    ])
+    expect(defineGameClient({ game: 'g' }).keysHelp).toEqual([])
+    // The shipped modules describe every key they bind (no catch-all row).
+    for (const c of [goalClient, towerClient]) {
+      expect(c.keysHelp.flatMap((r) => r.keys).sort()).toEqual(Object.keys(c.keys).sort())
+      expect(c.keysHelp.some((r) => r.help.endsWith(' command'))).toBe(false)
+    }
+  })
+
+  it('pointer bindings: functions, a down to start, short help; refused with the part named', () => {
+    expect(() => defineGameClient({ game: 'g', pointer: 3 as never })).toThrow(/g: pointer must be/)
+    expect(() => defineGameClient({ game: 'g', pointer: { down: 'x' as never } })).toThrow(
+      /g: pointer.down must be a function/,
+    )
+    expect(() => defineGameClient({ game: 'g', pointer: { up: () => null } })).toThrow(
+      /g: pointer needs down/,
+    )
+    expect(() => defineGameClient({ game: 'g', pointer: { down: () => null, help: '' } })).toThrow(
+      /g: pointer.help must be a string of 1 to 120 characters/,
+    )
+    expect(defineGameClient({ game: 'g' }).pointer).toBeUndefined()
+  })
+
+  it('the goal pointer runs at full speed toward the point from the drawn disc, stands on it, leaves the press when over', () => {
+    const view = {
+      score: { red: 0, blue: 0 },
+      phase: 'playing',
+      secondsLeft: 90,
+      team: 'red',
+      winner: null,
+      disc: 7,
+    }
+    const at = (x: number, y: number, state: unknown = view) => ({
+      state,
+      me: 1,
+      x,
+      y,
+      position: (id: number) => (id === 7 ? { x: 1, y: -2 } : null),
+    })
+    const pointer = goalClient.pointer
+    if (!pointer?.down || !pointer.move || !pointer.up)
+      throw new Error('the goal client has no pointer bindings')
+    // From (1, -2) to (4, 2): (3, 4), 5 m: MAX_SPEED * (0.6, 0.8).
+    const diagonal = pointer.down(at(4, 2))
+    expect(diagonal?.kind).toBe('run')
+    expect(diagonal?.args.x).toBeCloseTo(MAX_SPEED * 0.6, 12)
+    expect(diagonal?.args.y).toBeCloseTo(MAX_SPEED * 0.8, 12)
+    expect(pointer.move(at(-9, -2))).toEqual({ kind: 'run', args: { x: -MAX_SPEED, y: 0 } })
+    // On the disc (within its 0.5 m radius): stand still. Released: stop.
+    expect(pointer.down(at(1.3, -1.7))).toEqual({ kind: 'run', args: { x: 0, y: 0 } })
+    expect(pointer.up(at(5, 5))).toEqual({ kind: 'run', args: { x: 0, y: 0 } })
+    // No view, no disc, a disc the page does not draw, or the match over: the page's tool has it.
+    expect(pointer.down(at(4, 2, null))).toBeNull()
+    expect(pointer.down(at(4, 2, { ...view, disc: null }))).toBeNull()
+    expect(pointer.down(at(4, 2, { ...view, disc: 8 }))).toBeNull()
+    expect(pointer.down(at(4, 2, { ...view, phase: 'over' }))).toBeNull()
+  })
+
   it('the goal keys send run with the held direction, kick on Space, rematch only when over', () => {
     expect(press(['d'], 'd', true)).toEqual({ kind: 'run', args: { x: MAX_SPEED, y: 0 } })
     expect(press(['arrowup', 'arrowleft'], 'arrowup', true)).toEqual({

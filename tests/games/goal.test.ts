@@ -66,13 +66,16 @@ const kick = (power: number) => ({ k: 'cmd' as const, kind: 'kick', a: { power }
 const goals = (events: PlainData[]) => events.filter((e) => (e as { goal?: string }).goal !== undefined)
 
 describe('goal', () => {
-  it('each player sees the score, phase, whole seconds left (ceil of ticks left / 60), team and winner', () => {
-    const { sim } = match()
+  it('each player sees the score, phase, whole seconds left (ceil of ticks left / 60), team, winner and disc', () => {
+    const { sim, state } = match()
+    const disc = (id: number) => state().players[id].disc
     const view = { score: { red: 0, blue: 0 }, phase: 'waiting', secondsLeft: 120, team: 'red', winner: null }
-    expect(sim.playerView(1)).toEqual(view)
-    expect(sim.playerView(2)).toEqual({ ...view, team: 'blue' })
+    expect(sim.playerView(1)).toEqual({ ...view, disc: disc(1) })
+    expect(sim.playerView(2)).toEqual({ ...view, team: 'blue', disc: disc(2) })
+    expect(disc(1)).not.toBe(disc(2))
+    expect(sim.world.hasBody(disc(1)) && sim.world.hasBody(disc(2))).toBe(true)
     sim.runTick() // the kickoff, at tick 1
-    expect(sim.playerView(1)).toEqual({ ...view, phase: 'playing' })
+    expect(sim.playerView(1)).toEqual({ ...view, phase: 'playing', disc: disc(1) })
     for (let i = 0; i < 60; i++) sim.runTick() // 60 ticks played: 7140 left, exactly 119 s
     expect(sim.playerView(1)).toMatchObject({ secondsLeft: 119 })
     sim.runTick() // 7139 left: 118.98 s, shown as 119
