@@ -81,8 +81,9 @@ export const SENSOR_COLOR = '#4fc3f7'
 export const SENSOR_FILL_ALPHA = 0.15
 /**
  * Gates (shapeStyle 'gate': static or kinematic shapes that let some bodies through, such as the
- * goal game's goal lines, which stop the discs and let the ball pass) are filled in this colour at
- * GATE_FILL_ALPHA and outlined with a dashed line in it: visibly not a wall for everything.
+ * goal game's goal lines, which stop the discs and let the ball pass) are filled at GATE_FILL_ALPHA
+ * in the body's colour, or in this one for a body without a colour (a scene's), and outlined with
+ * a dashed line in this colour: visibly not a wall for everything.
  */
 export const GATE_COLOR = '#e0b050'
 export const GATE_FILL_ALPHA = 0.2
@@ -349,37 +350,51 @@ export class Renderer {
   }
 
   /**
-   * Gate shapes of the visible bodies (shapeStyle 'gate'): faint fill, dashed outline in
-   * GATE_COLOR; gate segments dashed, 3 px wide.
+   * Gate shapes of the visible bodies (shapeStyle 'gate'): faint fill in the body's colour (else
+   * GATE_COLOR), dashed outline in GATE_COLOR.
    */
   private drawGates(bodies: readonly ViewBody[], visible: (v: ViewBody) => boolean): void {
     const ctx = this.ctx
-    ctx.beginPath()
     let any = false
+    // Each gate body filled faintly in its own colour (a player's static body on a layer keeps
+    // it), or GATE_COLOR for a body without one (a scene's, such as the goal lines).
+    ctx.globalAlpha = GATE_FILL_ALPHA
     for (const v of bodies) {
       if (v.kind === 2 || !visible(v)) continue
-      for (const shape of v.shapes) {
-        if (shapeStyle(v.kind, shape) !== 'gate') continue
-        if (shape.type === 'segment') {
-          const [p, q] = shapeVertices(shape)
-          const a = toWorld(v, p.x, p.y)
-          const c = toWorld(v, q.x, q.y)
-          ctx.moveTo(a.x, a.y)
-          ctx.lineTo(c.x, c.y)
-        } else this.traceShape(v, shape, 1)
-        any = true
-      }
+      ctx.beginPath()
+      if (!this.traceGates(v)) continue
+      ctx.fillStyle = v.color ?? GATE_COLOR
+      ctx.fill()
+      any = true
     }
-    if (!any) return
-    ctx.globalAlpha = GATE_FILL_ALPHA
-    ctx.fillStyle = GATE_COLOR
-    ctx.fill()
     ctx.globalAlpha = 1
+    if (!any) return
+    // Then every gate's outline, dashed in GATE_COLOR.
+    ctx.beginPath()
+    for (const v of bodies) if (v.kind !== 2 && visible(v)) this.traceGates(v)
     ctx.lineWidth = this.lineWidth(1.5)
     ctx.setLineDash([this.lineWidth(4), this.lineWidth(4)])
     ctx.strokeStyle = GATE_COLOR
     ctx.stroke()
     ctx.setLineDash([])
+  }
+
+  /** Add a body's gate shapes (shapeStyle 'gate'; segments as lines) to the current path; whether it had any. */
+  private traceGates(v: ViewBody): boolean {
+    const ctx = this.ctx
+    let any = false
+    for (const shape of v.shapes) {
+      if (shapeStyle(v.kind, shape) !== 'gate') continue
+      if (shape.type === 'segment') {
+        const [p, q] = shapeVertices(shape)
+        const a = toWorld(v, p.x, p.y)
+        const c = toWorld(v, q.x, q.y)
+        ctx.moveTo(a.x, a.y)
+        ctx.lineTo(c.x, c.y)
+      } else this.traceShape(v, shape, 1)
+      any = true
+    }
+    return any
   }
 
   /**

@@ -7,8 +7,8 @@
  * along the sensor's top edge some pixels are the outline colour and others are not (the gaps),
  * while the solid box's top edge is outline colour end to end. A second page holds a gate (a
  * static box whose filter [1, 2, 0] collides only with category 2) and a static box with a category
- * alone ([4, 0xffffffff, 0], excluding nothing): the gate is GATE_COLOR at GATE_FILL_ALPHA with a
- * dashed outline, the other its own colour's solid fill.
+ * alone ([4, 0xffffffff, 0], excluding nothing): the gate is its own colour (0xc03030) at
+ * GATE_FILL_ALPHA with a dashed GATE_COLOR outline, the other its own colour's solid fill.
  */
 import type { Browser, Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
@@ -166,6 +166,7 @@ describe('sensors on the canvas', { timeout: 300_000 }, () => {
         x: 2.5,
         y: 3,
         static: true,
+        color: 0xc03030,
       })
     })
     await page.waitForFunction(
@@ -186,7 +187,9 @@ describe('sensors on the canvas', { timeout: 300_000 }, () => {
       [solidAt.x, solidAt.y, SOLID_FILL] as [number, number, Rgb],
     )
     const gatePixel = await pixelAt(page, gateAt.x, gateAt.y)
-    const expected = [over(GATE, GATE_FILL_ALPHA, BACKGROUND), over(GATE, GATE_FILL_ALPHA, GRID)]
+    // A gate keeps its body's colour, faint (a player's static body on a layer is still its colour).
+    const own: Rgb = [0xc0, 0x30, 0x30]
+    const expected = [over(own, GATE_FILL_ALPHA, BACKGROUND), over(own, GATE_FILL_ALPHA, GRID)]
     expect(
       expected.some((e) => near(gatePixel, e, 3)),
       `gate fill ${gatePixel}, expected ${expected.map((e) => e.map(Math.round)).join(' or ')}`,
