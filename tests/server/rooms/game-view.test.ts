@@ -67,8 +67,15 @@ describe('a game view per player', { timeout: 60_000 }, () => {
     a.gameCommand('pick', { n: 111111 })
     b.gameCommand('pick', { n: 222222 })
     l.bot.gameCommand('pick', { n: 333333 })
-    await a.waitFor(() => (a.mirror.view as { picked: number }).picked === 3, "a's view after three picks")
-    await b.waitFor(() => (b.mirror.view as { picked: number }).picked === 3, "b's view after three picks")
+    // A player's view is null until its first view message arrives (b's may come after a's picks).
+    await a.waitFor(
+      () => (a.mirror.view as { picked: number } | null)?.picked === 3,
+      "a's view after three picks",
+    )
+    await b.waitFor(
+      () => (b.mirror.view as { picked: number } | null)?.picked === 3,
+      "b's view after three picks",
+    )
     expect(a.mirror.view).toEqual({ secret: 111111, note: '', picked: 3 })
     expect(b.mirror.view).toEqual({ secret: 222222, note: '', picked: 3 })
     await l.waitFor(() => (l.runner.view() as { picked: number } | undefined)?.picked === 3, "l's view")
