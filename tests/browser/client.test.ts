@@ -8,10 +8,9 @@
  */
 import { readFile } from 'node:fs/promises'
 import type { Browser, BrowserContext, Page } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
 import { CLOSE_CODES, encodeMessage } from '../../shared/index.ts'
-import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
   bodies,
@@ -27,6 +26,7 @@ import {
   screenOf,
   screenOfBody,
   startClientServer,
+  useClientPages,
   waitForBody,
 } from '../support/client-harness.ts'
 
@@ -36,16 +36,7 @@ const M_G = 1 * 10 // the ramp scene's box: 1 m x 1 m at density 1, gravity 10 m
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 describe('online', () => {
   it('loads without console errors, joins the room and draws the pyramid on the canvas', async () => {

@@ -12,27 +12,17 @@
  * the end without a desync and draws the same rebuilt joint.
  */
 import type { Browser, Page } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import { BotClient } from '../../bots/bot-client.ts'
 import type { RunningServer } from '../../server/server.ts'
 import type { WireJoint } from '../../shared/index.ts'
-import { launchBrowser } from '../support/chromium.ts'
-import { bodies, loadScene, openSandbox, screenOf, startClientServer } from '../support/client-harness.ts'
+import { bodies, loadScene, openSandbox, screenOf, useClientPages } from '../support/client-harness.ts'
 import { until } from '../support/wait.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 /** Set one of the panel's joint fields and commit it (as Enter or leaving the field does). */
 async function setJointField(page: Page, key: string, value: string | boolean): Promise<void> {

@@ -8,9 +8,8 @@
  * removes them. After each step both pages show the same bodies, poses equal to the millimetre.
  */
 import type { Browser, Page } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from '../support/chromium.ts'
 import {
   bodies,
   Finger,
@@ -19,22 +18,13 @@ import {
   type PageBody,
   screenOf,
   setEditControl,
-  startClientServer,
+  useClientPages,
 } from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 /** Spawn a box (half width `hw`) at a point and return its id once the page has it. */
 async function spawnBox(page: Page, x: number, y: number, hw: number): Promise<number> {

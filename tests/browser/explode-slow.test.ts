@@ -7,32 +7,22 @@
  * the room's creator locks the controls (key Y) and the other page shows them locked and disabled.
  */
 import type { Browser, Page } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import { EXPLODE_RADIUS } from '../../client/input/tools.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from '../support/chromium.ts'
 import {
   Finger,
   loadScene,
   openSandbox,
   pickTool,
   screenOf,
-  startClientServer,
+  useClientPages,
 } from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 type Box = { id: number; x: number; y: number }
 

@@ -6,10 +6,9 @@
  * the joint before the click, and make the joint they show (the spring by touch).
  */
 import type { Browser } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import { DRIVE_SPEED } from '../../client/input/index.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from '../support/chromium.ts'
 import {
   clickWorld,
   Finger,
@@ -21,23 +20,14 @@ import {
   setPaused,
   snapshotAfter,
   snapshotOf,
-  startClientServer,
+  useClientPages,
 } from '../support/client-harness.ts'
 import { until } from '../support/wait.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 describe('joint tools', { timeout: 300_000 }, () => {
   it('builds a car in three clicks (a box, two wheels) and drives it with the arrow key at motor speed x radius', async () => {

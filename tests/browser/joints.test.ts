@@ -6,10 +6,9 @@
  * rope keeps the two boxes it ties from sinking into each other.
  */
 import type { Browser, Page } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import { JOINT_COLORS } from '../../client/draw/joint-drawing.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
   bodies,
@@ -17,23 +16,14 @@ import {
   openSandbox,
   pickTool,
   screenOfBody,
-  startClientServer,
+  useClientPages,
   waitForBody,
 } from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 /*
  * In the page, as source text (functions compiled for Node may carry helpers the page lacks): for

@@ -6,32 +6,22 @@
  * pose), energy is 1/2 m v^2 at every sample, and both curves are painted on the plot's canvas.
  */
 import type { Browser } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import { PLOT_COLORS, type PlotSample } from '../../client/draw/lab-plot.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
   openSandbox,
   pickTool,
   screenOfBody,
-  startClientServer,
+  useClientPages,
   waitForBody,
 } from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 const Y0 = 8
 

@@ -11,24 +11,15 @@
  * GATE_FILL_ALPHA with a dashed GATE_COLOR outline, the other its own colour's solid fill.
  */
 import type { Browser, Page } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import { GATE_COLOR, GATE_FILL_ALPHA, SENSOR_COLOR, SENSOR_FILL_ALPHA } from '../../client/draw/renderer.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from '../support/chromium.ts'
-import { openSandbox, pixelAt, screenOf, startClientServer } from '../support/client-harness.ts'
+import { openSandbox, pixelAt, screenOf, useClientPages } from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 type Rgb = [number, number, number]
 const rgb = (hex: string): Rgb => [1, 3, 5].map((i) => Number.parseInt(hex.slice(i, i + 2), 16)) as Rgb

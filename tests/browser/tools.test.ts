@@ -6,11 +6,10 @@
  * drawn; a name label stays readable over a body of its player's colour.
  */
 import type { Browser, Page } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import { LABEL_TEXT, labelBox } from '../../client/draw/renderer.ts'
 import { SCENES } from '../../engine/index.ts'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
   loadScene,
@@ -19,22 +18,13 @@ import {
   pickTool,
   screenOf,
   screenOfBody,
-  startClientServer,
+  useClientPages,
 } from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 type PageJoint = { id: number; kind: string; ax: number; ay: number; bx: number; by: number }
 

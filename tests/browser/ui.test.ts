@@ -7,30 +7,20 @@
  * reported and dropped spawns sent again, each arriving once; a room name the server cannot accept says what is wrong.
  */
 import type { Browser, Page } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from '../support/chromium.ts'
 import {
   ARTIFACTS,
   collectErrors,
   pickTool,
   screenOfBody,
-  startClientServer,
+  useClientPages,
 } from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 async function open(url: string, width: number, height: number, touch = false) {
   const context = await browser.newContext({

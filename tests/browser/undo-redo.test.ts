@@ -7,9 +7,8 @@
  * undo": the actions were the first page's); Ctrl+Z is not the Slider tool's Z; Help lists the keys.
  */
 import type { Browser, Page } from 'playwright-core'
-import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import type { RunningServer } from '../../server/server.ts'
-import { launchBrowser } from '../support/chromium.ts'
 import {
   bodies,
   loadScene,
@@ -17,22 +16,13 @@ import {
   type PageBody,
   pickTool,
   screenOf,
-  startClientServer,
+  useClientPages,
 } from '../support/client-harness.ts'
 
 let server: RunningServer
 let browser: Browser
 let base: string
-
-beforeAll(async () => {
-  ;[server, browser] = await Promise.all([startClientServer(), launchBrowser()])
-  base = `http://127.0.0.1:${server.port}`
-})
-
-afterAll(async () => {
-  await browser?.close()
-  await server?.close()
-})
+useClientPages((pages) => ({ server, browser, base } = pages))
 
 /** The page's dynamic bodies. */
 const boxes = async (page: Page): Promise<PageBody[]> => (await bodies(page)).filter((b) => b.kind === 2)

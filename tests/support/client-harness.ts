@@ -7,9 +7,11 @@
 import { readdirSync, rmSync } from 'node:fs'
 import { mkdir } from 'node:fs/promises'
 import type { Browser, BrowserContext, CDPSession, Page } from 'playwright-core'
+import { afterAll, beforeAll } from 'vitest'
 import { buildClient } from '../../scripts/build-client.mjs'
 import { loadConfig, type ServerConfig } from '../../server/config/config.ts'
 import { type RunningServer, startServer } from '../../server/server.ts'
+import { launchBrowser } from './chromium.ts'
 
 /** Where screenshots go (git-ignored). */
 export const ARTIFACTS = 'test-results/browser-client'
@@ -27,6 +29,30 @@ export async function startClientServer(port = 0): Promise<RunningServer> {
     await buildClient(CLIENT_DIST)
   }
   return serveClient(CLIENT_DIST, { port })
+}
+
+/** What useClientPages hands a test file: the server serving the client, Chromium, the page address. */
+export interface ClientPages {
+  server: RunningServer
+  browser: Browser
+  base: string
+}
+
+/**
+ * A test file's server and browser: before its tests, build and serve the client
+ * (startClientServer) and launch Chromium, and hand both to `use`; after its tests, close them.
+ */
+export function useClientPages(use: (pages: ClientPages) => void): void {
+  let pages: ClientPages | undefined
+  beforeAll(async () => {
+    const [server, browser] = await Promise.all([startClientServer(), launchBrowser()])
+    pages = { server, browser, base: `http://127.0.0.1:${server.port}` }
+    use(pages)
+  })
+  afterAll(async () => {
+    await pages?.browser.close()
+    await pages?.server.close()
+  })
 }
 
 /** Remove the client builds of test processes that have ended (test workers are killed, not exited). */
