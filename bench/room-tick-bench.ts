@@ -152,12 +152,14 @@ interface Player {
 }
 
 const blueprint = awakePile(100)
+/** --world-of's world, built once and loaded into every room. */
+const otherWorld = WORLD_OF ? worldOf(WORLD_OF) : null
 const players: Player[] = []
 for (let r = 1; r <= ROOMS; r++) {
   const room = rooms.getOrCreate(`bench-${r}`, GAME)
   if (!room) throw new Error(`room bench-${r} was refused`)
-  if (WORLD_OF) {
-    room.sim.loadWorld(`${WORLD_OF} world`, loadWorld(worldOf(WORLD_OF)))
+  if (otherWorld) {
+    room.sim.loadWorld(`${WORLD_OF} world`, loadWorld(otherWorld))
     room.touched = true
   } else if (GAME_WORLD) room.touched = true
   else room.loadBlueprint(blueprint.name, blueprint)
