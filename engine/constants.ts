@@ -44,7 +44,15 @@ export const DISPLACEMENT_MULTIPLIER = 4
  * contact, so its contacts get extra sweeps (see contact-solver.ts).
  */
 export const PINCH_MASS_RATIO = 10
-/** Extra sweeps over a pinched body's or a column's contacts after each solve and relax sweep. */
+/**
+ * A shape whose thickness is less than this fraction of its length is "slender" (collision/shapes.ts
+ * isSlender): a card, a thin plank, a rod. A slender body standing on its end or leaning stands on a
+ * support as wide as its thickness, so a velocity error a compact body shrugs off tips it over (a 2 mm
+ * card 0.4 m long tips at 1/200 of what a cube survives); its contacts get extra sweeps like a pinched
+ * body's (see contact-solver.ts): 1/20.
+ */
+export const SLENDER_RATIO = 0.05
+/** Extra sweeps over a pinched or slender body's or a column's contacts after each solve and relax sweep. */
 export const PINCHED_EXTRA_ITERATIONS = 3
 /**
  * Bodies in a chain (each touching only the one below and the one above, on a static body) from which

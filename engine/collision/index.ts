@@ -24,6 +24,7 @@ export {
   combineMass,
   computeMass,
   convexPolygon,
+  isSlender,
   type MassData,
   type PolygonalShape,
   type PolygonShape,

@@ -29,6 +29,7 @@ import {
   MAX_POLYGON_VERTICES,
   MAX_SHAPE_EXTENT,
   MIN_SHAPE_EXTENT,
+  SLENDER_RATIO,
 } from '../constants.ts'
 import { atan2, cos, PI, sin, TRIG_LIMIT, type Vec2 } from '../math.ts'
 import { computeHull, MAX_HULL_INPUT } from './hull.ts'
@@ -688,6 +689,43 @@ export function computeMass(shape: Shape, density: number): MassData {
   if (shape.type === 'capsule') return capsuleMass(shape, density)
   if (shape.radius > 0) return roundedPolygonMass(shape, density)
   return polygonMass(shape.vertices, density)
+}
+
+/**
+ * Whether a shape is slender: thinner than SLENDER_RATIO times its length. Thickness is a polygon's
+ * least width across (over its edge normals, where a convex polygon's least width lies) or a capsule's
+ * diameter, plus twice the rounding radius; length is the largest distance between two vertices plus
+ * twice the radius. Segments and chain segments (zero thickness) are slender; circles never are.
+ * Uses only + - * / max and sqrt, so every JavaScript engine gives the same answer.
+ */
+export function isSlender(shape: Shape): boolean {
+  if (shape.type === 'circle') return false
+  if (shape.type !== 'polygon' && shape.type !== 'capsule') return true
+  const v = shape.vertices
+  const n = v.length
+  let longest = 0
+  for (let i = 0; i < n; i++) {
+    for (let j = i + 1; j < n; j++) {
+      const dx = v[j].x - v[i].x
+      const dy = v[j].y - v[i].y
+      longest = Math.max(longest, dx * dx + dy * dy)
+    }
+  }
+  let thinnest = 0
+  if (shape.type === 'polygon') {
+    thinnest = Number.POSITIVE_INFINITY
+    for (let i = 0; i < n; i++) {
+      const normal = shape.normals[i]
+      let width = 0
+      for (let j = 0; j < n; j++) {
+        width = Math.max(width, (v[i].x - v[j].x) * normal.x + (v[i].y - v[j].y) * normal.y)
+      }
+      thinnest = Math.min(thinnest, width)
+    }
+  }
+  const thickness = thinnest + 2 * shape.radius
+  const length = Math.sqrt(longest) + 2 * shape.radius
+  return thickness < SLENDER_RATIO * length
 }
 
 /**

@@ -9,7 +9,7 @@
  * All fields are numbers, booleans or fixed references, so every BodyShape has one hidden class.
  */
 
-import { polygonGeometry, type Shape } from '../collision/index.ts'
+import { isSlender, polygonGeometry, type Shape } from '../collision/index.ts'
 import type { Body } from './body.ts'
 
 /** Box2D's default category: bit 0. */
@@ -24,6 +24,8 @@ export class BodyShape {
   readonly shape: Shape
   /** The shape's vertices and normals laid out for the narrowphase (polygon-geometry.ts). */
   readonly geometry: Float64Array
+  /** Thinner than SLENDER_RATIO times its length (isSlender): its body's contacts get extra sweeps. */
+  readonly slender: boolean
   /** Density (kg/m^2). */
   density = 1
   /** Coulomb friction coefficient; pairs mix by sqrt(a b). */
@@ -54,6 +56,7 @@ export class BodyShape {
     this.body = body
     this.shape = shape
     this.geometry = polygonGeometry(shape)
+    this.slender = isSlender(shape)
   }
 }
 

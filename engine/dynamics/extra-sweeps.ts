@@ -1,7 +1,8 @@
 /*
  * Which contact constraints get extra solver sweeps this step, and how stiff (contact-solver.ts
  * solveContacts runs them): the contacts touching a pinched body (a dynamic body touching one more
- * than PINCH_MASS_RATIO times heavier, marked by prepareContacts) and the contacts of tall columns
+ * than PINCH_MASS_RATIO times heavier) or a slender one (touching with a shape thinner than
+ * SLENDER_RATIO times its length), both marked by prepareContacts, and the contacts of tall columns
  * (contact-columns.ts finds them; weighColumns below weighs them), within the step's budget
  * (ColumnStiffness.limit). Runs once per step after prepareContacts; it reads the constraint
  * records by the layout contact-solver.ts exports.
@@ -30,14 +31,14 @@ const {
 } = CONSTRAINT_LAYOUT
 
 /**
- * Lists the constraints of pinched bodies and tall columns in `out.extra`, sets the step's extra
+ * Lists the constraints of pinched and slender bodies and tall columns in `out.extra`, sets the step's extra
  * sweeps, and stiffens the columns' constraints (after prepareContacts filled `out`; `records` is
  * the number of body state records, as there).
  */
 export function planExtraSweeps(out: ContactConstraints, ctx: StepContext, records: number): void {
   const count = out.count
   const d = out.data
-  const pinchedRecord = out.pinchedRecord
+  const extraRecord = out.extraRecord
   markColumns(out.columns, out, count, records)
   weighColumns(out, ctx.gravityX, ctx.gravityY)
   const column = out.columns.mark
@@ -49,8 +50,8 @@ export function planExtraSweeps(out: ContactConstraints, ctx: StepContext, recor
       tallest = Math.max(tallest, column[i])
       out.extra[n++] = i
     } else if (
-      pinchedRecord[out.stateA[i] / STATE_STRIDE] === 1 ||
-      pinchedRecord[out.stateB[i] / STATE_STRIDE] === 1
+      extraRecord[out.stateA[i] / STATE_STRIDE] === 1 ||
+      extraRecord[out.stateB[i] / STATE_STRIDE] === 1
     ) {
       out.extra[n++] = i
     }

@@ -1,7 +1,7 @@
 /*
  * Dynamics: bodies, their shapes (body-shape.ts) and their solver state, contacts and their
- * records, the soft-step contact solver with its extra sweeps for pinched bodies and tall columns,
- * islands and sleep, and the continuous stage. Depends on collision/ and the root files.
+ * records, the soft-step contact solver with its extra sweeps for pinched and slender bodies and
+ * tall columns, islands and sleep, and the continuous stage. Depends on collision/ and the root files.
  */
 
 export { Body, DYNAMIC, STATIC, updateMassData } from './body.ts'

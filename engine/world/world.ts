@@ -10,7 +10,7 @@
  *   prepareJoints        joint constraint data for the step
  *   prepareJointTree     Concord's own: the pins and rigid welds that form a tree, for the direct solver
  *   prepareContacts      flat contact constraint records
- *   planExtraSweeps      Concord's own: extra solver sweeps for pinched bodies and tall columns
+ *   planExtraSweeps      Concord's own: extra solver sweeps for pinched and slender bodies and tall columns
  *   sub-steps:
  *     integrateVelocities  gravity, damping, speed limits
  *     warmStart            joints, then contacts: apply the accumulated impulses

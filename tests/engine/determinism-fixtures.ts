@@ -17,6 +17,7 @@ import {
   box,
   buildScene,
   capsule,
+  cardHouseScene,
   chain,
   circle,
   cos,
@@ -260,7 +261,9 @@ export interface VocabularyHandles {
  *   hit events, the sixth kind is sensor-blind (enableSensorEvents false);
  * - filters: dumbbells share the negative group -3 (they never touch each other); capsules are in
  *   category 2 and do not collide with category 4 ("ghosts": the decompose()d stars) until step
- *   1000, when setFilter gives them every mask bit.
+ *   1000, when setFilter gives them every mask bit;
+ * - slender shapes (extra solver sweeps): two thin capsule rods in the container and a two-storey
+ *   card house of 2 mm x 0.4 m cards on its own floor.
  * Initial angles come from `sine` (the engine's sin: the same bits everywhere; V8's Math.sin differs
  * from it by an ulp on one of the 36 arguments, i = 31, so a setup that used Math.sin is caught).
  */
@@ -375,6 +378,19 @@ export function buildVocabularyScene(world: World, sine: Sine = sin): Vocabulary
     position: { x: 8, y: 6 },
     shapes: [{ shape: circle(0.35), rollingResistance: 0.05 }],
   })
+  // Slender shapes (their contacts get extra sweeps): two thin rods dropped into the container, and
+  // a two-storey card house of 2 mm cards on its own floor at x = 30.
+  for (const x of [-2, 2]) {
+    world.createBody({
+      position: { x, y: 14 },
+      angle: x * 0.2,
+      shape: capsule({ x: -0.8, y: 0 }, { x: 0.8, y: 0 }, 0.03),
+    })
+  }
+  world.createBody({ type: 'static', position: { x: 30, y: -1 }, shape: box(3, 1), friction: 0.7 })
+  for (const card of cardHouseScene(2).bodies.slice(1)) {
+    world.createBody({ ...card, position: { x: 29.5 + (card.position?.x ?? 0), y: card.position?.y ?? 0 } })
+  }
   return handles
 }
 
