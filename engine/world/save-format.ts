@@ -7,12 +7,16 @@
  * bytes throw a WorldLoadError naming what is wrong; nothing half-built is returned.
  */
 /**
- * Bumped whenever the payload layout changes. 2 was used by two branches with different layouts
- * (issue 27: shapes saved per body with their own ids, material, filter and flags, contacts naming
- * their shapes, a sensor section and pending forces; issue 28: the new joint kinds' fields behind
- * joint flag bit 3); 3 is their merged layout, with both.
+ * Bumped whenever the payload layout changes, or the way a saved world goes on from its bytes (a
+ * world saved by one version must continue bit for bit in a build of that version, and logs of
+ * other versions are refused rather than replayed differently). 2 was used by two branches with
+ * different layouts (issue 27: shapes saved per body with their own ids, material, filter and
+ * flags, contacts naming their shapes, a sensor section and pending forces; issue 28: the new joint
+ * kinds' fields behind joint flag bit 3); 3 is their merged layout, with both. 4 has 3's layout;
+ * slender shapes' contacts get extra solver sweeps (constants.ts SLENDER_RATIO), so a world with a
+ * slender shape goes on differently than in a build of 3.
  */
-export const SAVE_FORMAT_VERSION = 3
+export const SAVE_FORMAT_VERSION = 4
 const MAGIC = 0x57434e43 // "CNCW" little-endian
 /** Bytes before the payload. */
 export const HEADER_BYTES = 16

@@ -326,9 +326,9 @@ describe('save and load of every joint kind (the machines scene)', () => {
     }
   })
 
-  it('a format-1 or format-2 save is refused naming both versions', () => {
-    expect(SAVE_FORMAT_VERSION).toBe(3)
-    for (const version of [1, 2]) {
+  it('a save of format 1, 2 or 3 is refused naming both versions', () => {
+    expect(SAVE_FORMAT_VERSION).toBe(4)
+    for (const version of [1, 2, 3]) {
       const bytes = createWorld().save()
       new DataView(bytes.buffer, bytes.byteOffset).setUint16(4, version, true)
       let message = ''
@@ -338,7 +338,7 @@ describe('save and load of every joint kind (the machines scene)', () => {
         expect(error).toBeInstanceOf(WorldLoadError)
         message = (error as Error).message
       }
-      expect(message).toBe(`saved world has format version ${version}; this engine reads version 3`)
+      expect(message).toBe(`saved world has format version ${version}; this engine reads version 4`)
     }
   })
 })

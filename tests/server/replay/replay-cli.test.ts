@@ -152,19 +152,13 @@ describe('the replay CLI', { timeout: 120_000 }, () => {
       ['text', new TextEncoder().encode('hello, this is not a log at all\n'), 2, /not a Concord replay log/],
       ['format', Object.assign(log.slice(), { 8: 9 }), 2, /unsupported replay format version 9/],
       ['engine', Object.assign(log.slice(), { 10: 77 }), 2, /engine save-format version 77/],
-      // docs/replay-format.md: logs of the two earlier save formats are refused with this line.
-      [
-        'engine-1',
-        Object.assign(log.slice(), { 10: 1 }),
+      // docs/replay-format.md: logs of the three earlier save formats are refused with this line.
+      ...[1, 2, 3].map((v): [string, Uint8Array, number, RegExp] => [
+        `engine-${v}`,
+        Object.assign(log.slice(), { 10: v }),
         2,
-        /log written with engine save-format version 1; this build reads version 3/,
-      ],
-      [
-        'engine-2',
-        Object.assign(log.slice(), { 10: 2 }),
-        2,
-        /log written with engine save-format version 2; this build reads version 3/,
-      ],
+        new RegExp(`log written with engine save-format version ${v}; this build reads version 4`),
+      ]),
       ['header-cut', log.slice(0, ends[0] - 3), 2, /no header|torn/],
       ['torn', log.slice(0, ends[5] + 7), 3, /torn tail/],
       [
