@@ -106,50 +106,25 @@ describe('slender shapes (isSlender: thickness < SLENDER_RATIO x length)', () =>
   })
 
   it('polygons: the least width over the edge normals, plus twice the rounding radius', () => {
-    // A sliver triangle 1 m long and 1 cm high: least width 0.01 (across its base), length 1.
-    expect(
-      isSlender(
-        polygon([
+    /** The triangle (0, 0), (1, 0), (x, y), rounded by `radius`. */
+    const triangle = (x: number, y: number, radius = 0) =>
+      polygon(
+        [
           { x: 0, y: 0 },
           { x: 1, y: 0 },
-          { x: 0.5, y: 0.01 },
-        ]),
-      ),
-    ).toBe(true)
+          { x, y },
+        ],
+        radius,
+      )
+    // A sliver 1 m long and 1 cm high: least width 0.01 (across its base), length 1.
+    expect(isSlender(triangle(0.5, 0.01))).toBe(true)
     // Rounded by 0.03 m: thickness 0.07, length 1.06: 0.066 (not slender).
-    expect(
-      isSlender(
-        polygon(
-          [
-            { x: 0, y: 0 },
-            { x: 1, y: 0 },
-            { x: 0.5, y: 0.01 },
-          ],
-          0.03,
-        ),
-      ),
-    ).toBe(false)
+    expect(isSlender(triangle(0.5, 0.01, 0.03))).toBe(false)
     // A right triangle with legs 1 and 0.06: least width is its height over the hypotenuse,
     // 0.06 / sqrt(1.0036) = 0.0599; length sqrt(1.0036) = 1.0018: 0.0598 (not slender).
-    expect(
-      isSlender(
-        polygon([
-          { x: 0, y: 0 },
-          { x: 1, y: 0 },
-          { x: 0, y: 0.06 },
-        ]),
-      ),
-    ).toBe(false)
+    expect(isSlender(triangle(0, 0.06))).toBe(false)
     // Legs 1 and 0.045: 0.04495 / 1.001 = 0.0449 (slender).
-    expect(
-      isSlender(
-        polygon([
-          { x: 0, y: 0 },
-          { x: 1, y: 0 },
-          { x: 0, y: 0.045 },
-        ]),
-      ),
-    ).toBe(true)
+    expect(isSlender(triangle(0, 0.045))).toBe(true)
   })
 
   it('capsules: the diameter against the length end to end; segments always; circles never', () => {
