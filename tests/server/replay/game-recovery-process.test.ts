@@ -94,9 +94,15 @@ describe('SIGKILL mid-match', { timeout: 180_000 }, () => {
     const hoopsHashes = await hashRecords(dir, 'court')
     server = await start(dir)
     const recovered = new Map<string, { tick: number; hash: number }>()
-    for (const l of server.lines)
-      if (l.msg === 'room recovered from its log')
-        recovered.set(l.room as string, { tick: l.tick as number, hash: l.hash as number })
+    const readRecovered = () => {
+      for (const l of server.lines)
+        if (l.msg === 'room recovered from its log')
+          recovered.set(l.room as string, { tick: l.tick as number, hash: l.hash as number })
+      return recovered.has('pitch') && recovered.has('court')
+    }
+    // A room rebuilt on a worker logs its recovery from the worker's thread, whose output can
+    // reach stdout after the main thread's "listening" (as in recovery.test.ts): wait for both.
+    await until(readRecovered, 'both rooms to log their recovery').catch(() => {})
     const pitch = recovered.get('pitch')
     const court = recovered.get('court')
     if (!pitch || !court) throw new Error(`rooms recovered: ${[...recovered.keys()].join(', ')}`)

@@ -23,6 +23,7 @@ import { colorsHash } from '../../../shared/index.ts'
 import { decodeByteDelta } from '../../../shared/replay/byte-delta.ts'
 import type { StoredWorld } from '../../../shared/replay/replay-log.ts'
 import { ReplayLogReader } from '../../../shared/replay/replay-log-reader.ts'
+import { Histories } from '../../../shared/sim/history.ts'
 import { ActiveBots } from '../../support/lockstep-bots.ts'
 import { type ServerProcess, startServerProcess } from '../../support/server-process.ts'
 import { until } from '../../support/wait.ts'
@@ -77,10 +78,16 @@ async function lastCheckpoint(
     else if (r.type === 'header' || r.type === 'keyframe') {
       base = savedBytes(r, base)
       // The state hash (PROTOCOL.md, Lockstep and predict): the world's, continued over the body
-      // colours when there are any (the sandbox keeps no game state).
+      // colours when there are any (the sandbox keeps no game state), then over the players' undo
+      // histories when any player has one (a keyframe written after a spawn carries them; when the
+      // kill comes between a keyframe and the hash record of its tick, the keyframe is the last
+      // checkpoint).
       const world = loadWorld(base).hash()
       const colors = r.state.colors ?? []
-      checkpoint = { tick: r.tick, hash: colors.length === 0 ? world : colorsHash(world, colors) }
+      const colored = colors.length === 0 ? world : colorsHash(world, colors)
+      const histories = new Histories()
+      histories.restore(r.state.history ?? [])
+      checkpoint = { tick: r.tick, hash: histories.empty ? colored : histories.mixInto(colored) }
     }
     // Records of one block share its end: lastRecord is the last frame's size.
     if (end > before) lastRecord = end - before
