@@ -183,11 +183,12 @@ export class WorldStore {
     const out = this.aabb
     if (shape.type === 'circle') {
       const r = shape.radius + margin
-      const lx = shape.centroid.x
-      const ly = shape.centroid.y
       let x = b.x
       let y = b.y
-      if (lx !== 0 || ly !== 0) {
+      // The centre from the layout, empty for a circle on the body origin (polygon-geometry.ts).
+      if (g.length !== 0) {
+        const lx = g[0]
+        const ly = g[1]
         x += b.c * lx - b.s * ly
         y += b.s * lx + b.c * ly
       }
