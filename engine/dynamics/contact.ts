@@ -74,11 +74,25 @@ export const CONTACT_POINT_FIELDS = [
  * everything else (saving, read-back, tests).
  */
 export class Contact {
-  key: number
-  shapeA: BodyShape
-  shapeB: BodyShape
+  // V8 lays an object's fields out in declaration order: the fields the solver's per-contact passes
+  // read (prepareContacts: bodyA to surface; storeImpulses: store and base) come first, next to
+  // the object header, so those passes touch one or two of the object's cache lines, not three.
   bodyA: Body
   bodyB: Body
+  /** The store holding this contact's record, and the record's offset in store.data. */
+  readonly store: ContactStore
+  readonly base: number
+  pointCount = 0
+  /**
+   * Whether the pair has a rolling resistance or a tangent speed other than +0 (set by mixMaterials,
+   * which alone sets both). The solver reads and writes those numbers, and the rolling impulse, only
+   * then: they sit in the last cache line of the record, which a one-point contact otherwise never
+   * touches. A pair without rolling resistance keeps a zero rolling impulse all its life.
+   */
+  surface = false
+  touching = false
+  /** Which events the pair reports: CONTACT_EVENTS | HIT_EVENTS (either shape asking is enough). */
+  events = 0
   /**
    * The shapes' proxies, geometries and narrowphase layouts, copied here when the pair is made
    * (they never change during a shape's life): the collide loop then reads only the contact and
@@ -90,20 +104,9 @@ export class Contact {
   geomB: Shape
   layoutA: Float64Array
   layoutB: Float64Array
-  touching = false
-  pointCount = 0
-  /** Which events the pair reports: CONTACT_EVENTS | HIT_EVENTS (either shape asking is enough). */
-  events = 0
-  /**
-   * Whether the pair has a rolling resistance or a tangent speed other than +0 (set by mixMaterials,
-   * which alone sets both). The solver reads and writes those numbers, and the rolling impulse, only
-   * then: they sit in the last cache line of the record, which a one-point contact otherwise never
-   * touches. A pair without rolling resistance keeps a zero rolling impulse all its life.
-   */
-  surface = false
-  /** The store holding this contact's record, and the record's offset in store.data. */
-  readonly store: ContactStore
-  readonly base: number
+  key: number
+  shapeA: BodyShape
+  shapeB: BodyShape
   declare friction: number
   declare restitution: number
   /** Mixed rolling resistance (m) and tangent speed (m/s), and the accumulated rolling impulse (N m s). */
