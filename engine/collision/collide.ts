@@ -137,7 +137,22 @@ export function collideGeometry(
   out: Manifold,
 ): void {
   setFrame(ax, ay, ac, as, bx, by, bc, bs, speculativeDistance)
-  convexInFrame(shapeA, geometryA, shapeB, geometryB, out)
+  if (shapeA.type !== 'circle') {
+    if (shapeB.type !== 'circle') polygonsInFrame(shapeA, geometryA, shapeB, geometryB, out)
+    else {
+      moveToCenter(geometryB, BX)
+      if (shapeA.count === 2) capsuleAndCircleInFrame(shapeA, shapeB, false, out)
+      else polygonAndCircleInFrame(shapeA, geometryA, shapeB, false, out)
+    }
+  } else if (shapeB.type !== 'circle') {
+    moveToCenter(geometryA, AX)
+    if (shapeB.count === 2) capsuleAndCircleInFrame(shapeB, shapeA, true, out)
+    else polygonAndCircleInFrame(shapeB, geometryB, shapeA, true, out)
+  } else {
+    moveToCenter(geometryA, AX)
+    moveToCenter(geometryB, BX)
+    circlesInFrame(shapeA, shapeB, out)
+  }
 }
 
 /** A body pose as the World's bodies hold it: origin (m) and rotation as a (cos, sin) pair. */
@@ -187,22 +202,7 @@ export function collideGeometryAt(
       null,
       out,
     )
-  } else convexInFrame(shapeA, geometryA, shapeB, geometryB, out)
-}
-
-/**
- * The manifold of two shapes that are not chain segments, with the poses and the speculative
- * distance in `frame`: the routine for their kinds. A function of its own so that collideGeometryAt
- * stays under V8's inlining size (460 bytes of bytecode) and is inlined into the contact update.
- */
-function convexInFrame(
-  shapeA: Shape,
-  geometryA: Float64Array,
-  shapeB: Shape,
-  geometryB: Float64Array,
-  out: Manifold,
-): void {
-  if (shapeA.type !== 'circle') {
+  } else if (shapeA.type !== 'circle') {
     if (shapeB.type !== 'circle') polygonsInFrame(shapeA, geometryA, shapeB, geometryB, out)
     else {
       moveToCenter(geometryB, BX)

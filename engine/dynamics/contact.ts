@@ -299,7 +299,20 @@ export function updateContact(c: Contact, speculativeDistance: number): boolean 
   const o = c.base
   const p0 = o + POINT_0
   const p1 = p0 + POINT_FIELDS
-  rememberPoints(d, p0, c.pointCount)
+  // The old points' ids and impulses, read only for the points the contact had (inherit() looks at
+  // no others): a one-point contact's second point lies in cache lines it otherwise never touches.
+  const before = c.pointCount
+  old[6] = before
+  if (before > 0) {
+    old[0] = d[p0 + ID]
+    old[2] = d[p0 + NORMAL_IMPULSE]
+    old[4] = d[p0 + TANGENT_IMPULSE]
+  }
+  if (before > 1) {
+    old[1] = d[p1 + ID]
+    old[3] = d[p1 + NORMAL_IMPULSE]
+    old[5] = d[p1 + TANGENT_IMPULSE]
+  }
   const count = scratch.pointCount
   c.pointCount = count
   d[o + NORMAL_X] = scratch.normalX
@@ -310,28 +323,6 @@ export function updateContact(c: Contact, speculativeDistance: number): boolean 
   if (count === 0 && c.surface) d[o + ROLLING_IMPULSE] = 0
   c.touching = count > 0
   return c.touching
-}
-
-/**
- * Copies the ids and impulses of a contact's `count` current points (records from `p0`) into `old`
- * for inherit(), only for the points it has (inherit() looks at no others): a one-point contact's
- * second point lies in cache lines it otherwise never touches. A function of its own so that
- * updateContact stays under V8's inlining size (460 bytes of bytecode) and is inlined into the
- * world's collide loop.
- */
-function rememberPoints(d: Float64Array, p0: number, count: number): void {
-  old[6] = count
-  if (count > 0) {
-    old[0] = d[p0 + ID]
-    old[2] = d[p0 + NORMAL_IMPULSE]
-    old[4] = d[p0 + TANGENT_IMPULSE]
-  }
-  if (count > 1) {
-    const p1 = p0 + POINT_FIELDS
-    old[1] = d[p1 + ID]
-    old[3] = d[p1 + NORMAL_IMPULSE]
-    old[5] = d[p1 + TANGENT_IMPULSE]
-  }
 }
 
 /** Writes manifold point `mp` into the point record at `p`, inheriting the old impulses by feature id. */
