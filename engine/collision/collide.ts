@@ -140,17 +140,17 @@ export function collideGeometry(
   if (shapeA.type !== 'circle') {
     if (shapeB.type !== 'circle') polygonsInFrame(shapeA, geometryA, shapeB, geometryB, out)
     else {
-      moveToCenter(shapeB, BX)
+      moveToCenter(geometryB, BX)
       if (shapeA.count === 2) capsuleAndCircleInFrame(shapeA, shapeB, false, out)
       else polygonAndCircleInFrame(shapeA, geometryA, shapeB, false, out)
     }
   } else if (shapeB.type !== 'circle') {
-    moveToCenter(shapeA, AX)
+    moveToCenter(geometryA, AX)
     if (shapeB.count === 2) capsuleAndCircleInFrame(shapeB, shapeA, true, out)
     else polygonAndCircleInFrame(shapeB, geometryB, shapeA, true, out)
   } else {
-    moveToCenter(shapeA, AX)
-    moveToCenter(shapeB, BX)
+    moveToCenter(geometryA, AX)
+    moveToCenter(geometryB, BX)
     circlesInFrame(shapeA, shapeB, out)
   }
 }
@@ -205,17 +205,17 @@ export function collideGeometryAt(
   } else if (shapeA.type !== 'circle') {
     if (shapeB.type !== 'circle') polygonsInFrame(shapeA, geometryA, shapeB, geometryB, out)
     else {
-      moveToCenter(shapeB, BX)
+      moveToCenter(geometryB, BX)
       if (shapeA.count === 2) capsuleAndCircleInFrame(shapeA, shapeB, false, out)
       else polygonAndCircleInFrame(shapeA, geometryA, shapeB, false, out)
     }
   } else if (shapeB.type !== 'circle') {
-    moveToCenter(shapeA, AX)
+    moveToCenter(geometryA, AX)
     if (shapeB.count === 2) capsuleAndCircleInFrame(shapeB, shapeA, true, out)
     else polygonAndCircleInFrame(shapeB, geometryB, shapeA, true, out)
   } else {
-    moveToCenter(shapeA, AX)
-    moveToCenter(shapeB, BX)
+    moveToCenter(geometryA, AX)
+    moveToCenter(geometryB, BX)
     circlesInFrame(shapeA, shapeB, out)
   }
 }
@@ -242,13 +242,14 @@ export function collideChainSegmentAt(
 }
 
 /**
- * Moves a circle's position in `frame` (at `at`: AX or BX) from its body origin to its centre. A
- * circle centred on the origin is left alone, so its numbers are exactly the body's.
+ * Moves a circle's position in `frame` (at `at`: AX or BX) from its body origin to its centre, read
+ * from the circle's layout (polygon-geometry.ts: [x, y], or empty for a circle centred on the origin,
+ * which is left alone so its numbers are exactly the body's).
  */
-function moveToCenter(circle: CircleShape, at: number): void {
-  const lx = circle.centroid.x
-  const ly = circle.centroid.y
-  if (lx === 0 && ly === 0) return
+function moveToCenter(layout: Float64Array, at: number): void {
+  if (layout.length === 0) return
+  const lx = layout[0]
+  const ly = layout[1]
   const c = frame[at + 2]
   const s = frame[at + 3]
   frame[at] += c * lx - s * ly

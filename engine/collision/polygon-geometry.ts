@@ -7,8 +7,13 @@
  * so results are bit-identical.
  *
  * Layout, MAX_POLYGON_VERTICES slots per block: [SHIFTED_X | SHIFTED_Y | NORMAL_X | NORMAL_Y |
- * VERTEX_X | VERTEX_Y]. Capsules and segments are two-vertex polygons; circles get an empty array.
- * A chain segment also keeps its ghost vertices, at vertex slots 2 (ghost1) and 3 (ghost2).
+ * VERTEX_X | VERTEX_Y]. Capsules and segments are two-vertex polygons. A chain segment also keeps
+ * its ghost vertices, at vertex slots 2 (ghost1) and 3 (ghost2).
+ *
+ * A circle's layout is its centre: [x, y] in the body frame, or one shared empty array when the
+ * centre is the body origin (most circles). The per-step passes that place a circle (the
+ * narrowphase's moveToCenter, the shape bounds) test `layout.length === 0` to skip the offset: the
+ * shared array is always in cache, where the shape's centroid object is a cache miss per circle.
  */
 import { MAX_POLYGON_VERTICES } from '../constants.ts'
 import type { Shape } from './shapes.ts'
@@ -30,9 +35,12 @@ export const GEOMETRY_SIZE = 6 * MAX_POLYGON_VERTICES
 
 const EMPTY = new Float64Array(0)
 
-/** The flat geometry of a shape (an empty array for a circle). */
+/** The flat geometry of a shape (for a circle its centre, or the shared empty array at the origin). */
 export function polygonGeometry(shape: Shape): Float64Array {
-  if (shape.type === 'circle') return EMPTY
+  if (shape.type === 'circle') {
+    const { x, y } = shape.centroid
+    return x === 0 && y === 0 ? EMPTY : Float64Array.of(x, y)
+  }
   const g = new Float64Array(GEOMETRY_SIZE)
   const vs = shape.vertices
   const ns = shape.normals

@@ -269,10 +269,11 @@ export function prepareContacts(
     d[o + BIAS_RATE] = soft.biasRate
     d[o + MASS_SCALE] = soft.massScale
     d[o + IMPULSE_SCALE] = soft.impulseScale
-    // Subtracting a tangent speed of +0 changes no bit, so only other values need the surface record.
-    const tangentSpeed = cd[cb + CONTACT_TANGENT_SPEED]
-    const rollingResistance = cd[cb + CONTACT_ROLLING_RESISTANCE]
-    if (rollingResistance > 0 || !Object.is(tangentSpeed, 0)) {
+    // Subtracting a tangent speed of +0 changes no bit, so only other values need the surface record:
+    // c.surface says whether the pair has one (set with the numbers, contact.ts mixMaterials).
+    if (c.surface) {
+      const tangentSpeed = cd[cb + CONTACT_TANGENT_SPEED]
+      const rollingResistance = cd[cb + CONTACT_ROLLING_RESISTANCE]
       const s = i * SURFACE_STRIDE
       hasSurface[i] = 1
       surface[s + TANGENT_SPEED] = tangentSpeed
@@ -555,8 +556,9 @@ export function storeImpulses(k: ContactConstraints, contacts: Contact[]): void 
     const cd = c.store.data
     const cp = c.base + POINT_0
     const p = i * CONSTRAINT_STRIDE + POINTS
-    cd[c.base + CONTACT_ROLLING_IMPULSE] =
-      hasSurface[i] !== 0 ? surface[i * SURFACE_STRIDE + ROLLING_IMPULSE] : 0
+    // Without a surface record the contact's rolling impulse is zero and stays so (Contact.surface).
+    if (hasSurface[i] !== 0)
+      cd[c.base + CONTACT_ROLLING_IMPULSE] = surface[i * SURFACE_STRIDE + ROLLING_IMPULSE]
     cd[cp + CONTACT_NORMAL_IMPULSE] = d[p + NORMAL_IMPULSE]
     cd[cp + CONTACT_TANGENT_IMPULSE] = d[p + TANGENT_IMPULSE]
     cd[cp + CONTACT_TOTAL_NORMAL] = d[p + TOTAL_NORMAL]

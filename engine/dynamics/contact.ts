@@ -74,11 +74,25 @@ export const CONTACT_POINT_FIELDS = [
  * everything else (saving, read-back, tests).
  */
 export class Contact {
-  key: number
-  shapeA: BodyShape
-  shapeB: BodyShape
+  // V8 lays an object's fields out in declaration order: the fields the solver's per-contact passes
+  // read (prepareContacts: bodyA to surface; storeImpulses: store and base) come first, next to
+  // the object header, so those passes touch one or two of the object's cache lines, not three.
   bodyA: Body
   bodyB: Body
+  /** The store holding this contact's record, and the record's offset in store.data. */
+  readonly store: ContactStore
+  readonly base: number
+  pointCount = 0
+  /**
+   * Whether the pair has a rolling resistance or a tangent speed other than +0 (set by mixMaterials,
+   * which alone sets both). The solver reads and writes those numbers, and the rolling impulse, only
+   * then: they sit in the last cache line of the record, which a one-point contact otherwise never
+   * touches. A pair without rolling resistance keeps a zero rolling impulse all its life.
+   */
+  surface = false
+  touching = false
+  /** Which events the pair reports: CONTACT_EVENTS | HIT_EVENTS (either shape asking is enough). */
+  events = 0
   /**
    * The shapes' proxies, geometries and narrowphase layouts, copied here when the pair is made
    * (they never change during a shape's life): the collide loop then reads only the contact and
@@ -90,13 +104,9 @@ export class Contact {
   geomB: Shape
   layoutA: Float64Array
   layoutB: Float64Array
-  touching = false
-  pointCount = 0
-  /** Which events the pair reports: CONTACT_EVENTS | HIT_EVENTS (either shape asking is enough). */
-  events = 0
-  /** The store holding this contact's record, and the record's offset in store.data. */
-  readonly store: ContactStore
-  readonly base: number
+  key: number
+  shapeA: BodyShape
+  shapeB: BodyShape
   declare friction: number
   declare restitution: number
   /** Mixed rolling resistance (m) and tangent speed (m/s), and the accumulated rolling impulse (N m s). */
@@ -210,6 +220,8 @@ export function mixMaterials(c: Contact): void {
       ? Math.max(sa.rollingResistance, sb.rollingResistance) * Math.max(sa.shape.radius, sb.shape.radius)
       : 0
   d[c.base + TANGENT_SPEED] = sa.tangentSpeed + sb.tangentSpeed
+  // The test prepareContacts made per step before this flag (contact-solver.ts), on the same numbers.
+  c.surface = d[c.base + ROLLING_RESISTANCE] > 0 || !Object.is(d[c.base + TANGENT_SPEED], 0)
 }
 
 /** The named properties of a contact's record and their offsets in it. */
@@ -270,7 +282,8 @@ export function clearContact(c: Contact): void {
   const d = c.store.data
   d[c.base + NORMAL_X] = 0
   d[c.base + NORMAL_Y] = 0
-  d[c.base + ROLLING_IMPULSE] = 0
+  // Only a pair with a surface record can hold a rolling impulse (Contact.surface).
+  if (c.surface) d[c.base + ROLLING_IMPULSE] = 0
   c.touching = false
 }
 
@@ -286,13 +299,20 @@ export function updateContact(c: Contact, speculativeDistance: number): boolean 
   const o = c.base
   const p0 = o + POINT_0
   const p1 = p0 + POINT_FIELDS
-  old[0] = d[p0 + ID]
-  old[1] = d[p1 + ID]
-  old[2] = d[p0 + NORMAL_IMPULSE]
-  old[3] = d[p1 + NORMAL_IMPULSE]
-  old[4] = d[p0 + TANGENT_IMPULSE]
-  old[5] = d[p1 + TANGENT_IMPULSE]
-  old[6] = c.pointCount
+  // The old points' ids and impulses, read only for the points the contact had (inherit() looks at
+  // no others): a one-point contact's second point lies in cache lines it otherwise never touches.
+  const before = c.pointCount
+  old[6] = before
+  if (before > 0) {
+    old[0] = d[p0 + ID]
+    old[2] = d[p0 + NORMAL_IMPULSE]
+    old[4] = d[p0 + TANGENT_IMPULSE]
+  }
+  if (before > 1) {
+    old[1] = d[p1 + ID]
+    old[3] = d[p1 + NORMAL_IMPULSE]
+    old[5] = d[p1 + TANGENT_IMPULSE]
+  }
   const count = scratch.pointCount
   c.pointCount = count
   d[o + NORMAL_X] = scratch.normalX
@@ -300,7 +320,7 @@ export function updateContact(c: Contact, speculativeDistance: number): boolean 
   if (count > 0) writePoint(d, p0, scratch.points[0], a, b)
   if (count > 1) writePoint(d, p1, scratch.points[1], a, b)
   // The rolling impulse is the contact's, not a point's: kept while the pair touches (Box2D v3.1).
-  if (count === 0) d[o + ROLLING_IMPULSE] = 0
+  if (count === 0 && c.surface) d[o + ROLLING_IMPULSE] = 0
   c.touching = count > 0
   return c.touching
 }
