@@ -50,7 +50,7 @@
 
 import { PINCH_MASS_RATIO } from '../constants.ts'
 import { DPX, DPY, DQC, DQS, STATE_STRIDE, stateOffset, VX, VY, W } from './body-state.ts'
-import type { Contact } from './contact.ts'
+import { type Contact, SLENDER_A, SLENDER_B } from './contact.ts'
 import { ColumnMarks } from './contact-columns.ts'
 import {
   ANCHOR_AX,
@@ -289,8 +289,11 @@ export function prepareContacts(
       else if (mB > PINCH_MASS_RATIO * mA) extraRecord[out.stateB[i] / STATE_STRIDE] = 1
     }
     // A dynamic body touching with a slender shape gets the same extra sweeps.
-    if (c.shapeA.slender && mA > 0) extraRecord[out.stateA[i] / STATE_STRIDE] = 1
-    if (c.shapeB.slender && mB > 0) extraRecord[out.stateB[i] / STATE_STRIDE] = 1
+    const slender = c.slender
+    if (slender !== 0) {
+      if ((slender & SLENDER_A) !== 0 && mA > 0) extraRecord[out.stateA[i] / STATE_STRIDE] = 1
+      if ((slender & SLENDER_B) !== 0 && mB > 0) extraRecord[out.stateB[i] / STATE_STRIDE] = 1
+    }
   }
 }
 

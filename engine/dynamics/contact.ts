@@ -90,6 +90,8 @@ export class Contact {
    * touches. A pair without rolling resistance keeps a zero rolling impulse all its life.
    */
   surface = false
+  /** SLENDER_A | SLENDER_B: which of the shapes is slender (BodyShape.slender), for prepareContacts. */
+  slender = 0
   touching = false
   /** Which events the pair reports: CONTACT_EVENTS | HIT_EVENTS (either shape asking is enough). */
   events = 0
@@ -159,6 +161,7 @@ export class Contact {
     this.geomB = shapeB.shape
     this.layoutA = shapeA.geometry
     this.layoutB = shapeB.geometry
+    this.slender = slenderBits(shapeA, shapeB)
     this.store = store
     this.base = store.allocate()
     mixMaterials(this)
@@ -177,6 +180,7 @@ export class Contact {
     this.geomB = shapeB.shape
     this.layoutA = shapeA.geometry
     this.layoutB = shapeB.geometry
+    this.slender = slenderBits(shapeA, shapeB)
     this.touching = false
     this.pointCount = 0
     const d = this.store.data
@@ -193,6 +197,14 @@ export class Contact {
     }
     return this
   }
+}
+
+/** Contact.slender bits: shape A is slender; shape B is. */
+export const SLENDER_A = 1
+export const SLENDER_B = 2
+
+function slenderBits(a: BodyShape, b: BodyShape): number {
+  return (a.slender ? SLENDER_A : 0) | (b.slender ? SLENDER_B : 0)
 }
 
 /** Contact.events bit: begin and end events. */
