@@ -17,8 +17,9 @@
  * worlds with dragging players, stepped in turn as a room worker does (roomsStepper below); its
  * "step" is one step of every room.
  */
-import { existsSync, readFileSync } from 'node:fs'
-import { dirname, join, resolve } from 'node:path'
+import { cpSync, existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs'
+import { tmpdir } from 'node:os'
+import { basename, dirname, join, resolve } from 'node:path'
 import { performance } from 'node:perf_hooks'
 import { pathToFileURL } from 'node:url'
 import { parseArgs } from 'node:util'
@@ -52,6 +53,20 @@ function requireModulePackage(label: string, dir: string): void {
         `${label}=${dir}: no package.json above it says "type": "module", so tsx would compile it as CommonJS (several times slower); put {"type":"module"} in a package.json beside the copy, or use a git worktree`,
       )
   }
+}
+
+/**
+ * Copies an engine (its folder, or a bundled .js file) into a new temporary folder beside a
+ * package.json saying "type": "module"; returns the copy's entry file.
+ */
+function copyForControl(entry: string, bundled: boolean): string {
+  const root = mkdtempSync(join(tmpdir(), 'concord-engine-ab-'))
+  writeFileSync(join(root, 'package.json'), '{"type":"module"}\n')
+  const target = join(root, 'engine')
+  cpSync(bundled ? entry : dirname(entry), bundled ? join(target, basename(entry)) : target, {
+    recursive: true,
+  })
+  return join(target, basename(entry))
 }
 
 /** What the benchmark needs from one engine version's index.ts. */
@@ -166,13 +181,28 @@ async function main(): Promise<void> {
     throw new Error(`--sleep must be off or on, got ${values.sleep}`)
   }
   const versions: Version[] = []
+  const loaded = new Set<string>()
+  const copies: string[] = []
   for (const { label, dir } of positionals.map(parseVersion)) {
     // A bundled engine (scripts/const-bindings.mjs builds one either way) is imported as it is.
     const bundled = /\.m?js$/.test(dir)
     if (!bundled) requireModulePackage(label, dir)
-    const url = pathToFileURL(bundled ? resolve(dir) : resolve(dir, 'index.ts'))
-    versions.push({ label, engine: (await import(url.href)) as EngineModule })
+    let path = bundled ? resolve(dir) : resolve(dir, 'index.ts')
+    if (loaded.has(path)) {
+      // The same folder again (an A/A control): imported from the same files it would be the same
+      // module, sharing the first one's compiled code and type feedback, which gave that version's
+      // two worlds a head start of a few per cent over any other version (Nov 28). A copy in its
+      // own folder is its own module, as every other version is.
+      path = copyForControl(path, bundled)
+      copies.push(dirname(path))
+      console.error(`${label}: a copy of ${dir} in ${dirname(path)} (its own module)`)
+    }
+    loaded.add(path)
+    versions.push({ label, engine: (await import(pathToFileURL(path).href)) as EngineModule })
   }
+  process.on('exit', () => {
+    for (const dir of copies) rmSync(dirname(dir), { recursive: true, force: true })
+  })
   const machine = machineInfo()
   console.error(`engine A/B, node ${machine.node}, load ${machine.loadAverage.toFixed(2)}`)
   const results: { scene: string; versions: VersionResult[] }[] = []
