@@ -190,9 +190,9 @@ async function main(): Promise<void> {
     let path = bundled ? resolve(dir) : resolve(dir, 'index.ts')
     if (loaded.has(path)) {
       // The same folder again (an A/A control): imported from the same files it would be the same
-      // module, sharing the first one's compiled code and type feedback, which gave that version's
-      // two worlds a head start of a few per cent over any other version (Nov 28). A copy in its
-      // own folder is its own module, as every other version is.
+      // module, sharing the first version's compiled code and type feedback, unlike every other
+      // version. A copy in its own folder is its own module. (On pile-1000 at load 1, Nov 28, the
+      // two kinds of control read alike within their noise.)
       path = copyForControl(path, bundled)
       copies.push(dirname(path))
       console.error(`${label}: a copy of ${dir} in ${dirname(path)} (its own module)`)
