@@ -91,7 +91,8 @@ export function builtin<S, K extends BuiltinKind>(
   return { builtin: kind, apply, control: options.control }
 }
 
-const GAME_NAME = /^[a-z][a-z0-9-]{0,31}$/
+/** A game's name: 1 to 32 lowercase letters, digits or dashes, starting with a letter. */
+export const GAME_NAME = /^[a-z][a-z0-9-]{0,31}$/
 const COMMAND_KIND = /^[A-Za-z][A-Za-z0-9_]{0,31}$/
 const noCheck = (): null => null
 
@@ -158,4 +159,36 @@ export function defineGame<S extends PlainData | undefined = undefined>(definiti
     view: hook(definition.view, 'view') as SimGame['view'],
     definition: definition as GameDefinition<PlainData | undefined>,
   })
+}
+
+/** Whether a module's default export looks like what defineGame returns. */
+export function isGame(value: unknown): value is Game {
+  if (typeof value !== 'object' || value === null) return false
+  const g = value as Record<string, unknown>
+  return (
+    typeof g.name === 'string' &&
+    typeof g.initialState === 'function' &&
+    typeof g.setup === 'function' &&
+    typeof g.commands === 'object' &&
+    g.commands !== null &&
+    typeof g.definition === 'object'
+  )
+}
+
+/**
+ * Where a game server started with --games serves game `name`'s module (GET /games/NAME.js), from
+ * the server's ws, wss, http or https address.
+ */
+export function gameModuleUrl(serverUrl: string, name: string): string {
+  const origin = new URL(serverUrl)
+  if (origin.protocol === 'wss:') origin.protocol = 'https:'
+  else if (origin.protocol === 'ws:') origin.protocol = 'http:'
+  return `${origin.origin}/games/${encodeURIComponent(name)}.js`
+}
+
+/** The game `name` a module imported from `url` exports as its default; throws naming both otherwise. */
+export function gameOfModule(module: { default?: unknown }, name: string, url: string): Game {
+  const game = module.default
+  if (!isGame(game) || game.name !== name) throw new Error(`${url} is not the game ${name}`)
+  return game
 }

@@ -13,6 +13,7 @@
  * check as the game (no clock, no locale functions), so its text is the same in every browser.
  */
 import type { PlainData } from '../shared/index.ts'
+import { GAME_NAME } from './game-api.ts'
 
 /** One HUD item: a short label and its value, both plain strings (e.g. 'score', '2 - 1'). */
 export interface HudItem {
@@ -116,8 +117,6 @@ export const MAX_HUD_ITEMS = 8
 
 /** The longest keysHelp text (characters). */
 export const MAX_KEY_HELP = 120
-
-const GAME_NAME = /^[a-z][a-z0-9-]{0,31}$/
 
 /** Check a client module's definition; throws a RangeError naming what is wrong. */
 export function defineGameClient(definition: GameClientDefinition): GameClient {

@@ -19,9 +19,13 @@ export {
   builtin,
   type CommandResult,
   defineGame,
+  GAME_NAME,
   type Game,
   type GameCommandDefinition,
   type GameDefinition,
+  gameModuleUrl,
+  gameOfModule,
+  isGame,
 } from './game-api.ts'
 export {
   clockText,

@@ -17,7 +17,7 @@
  * attempt. Each connection gets a fresh mirror and runner, filled by the new welcome; listeners
  * stay. A deliberate close() or a refusal that another try cannot change is final.
  */
-import { findGame, type Game } from '../games/index.ts'
+import { findGame, type Game, gameModuleUrl, gameOfModule } from '../games/index.ts'
 import {
   type ClientMessage,
   ClientMirror,
@@ -52,11 +52,8 @@ const findAnyGame = (name: string): Game | undefined => findGame(name) ?? loaded
  */
 async function loadServerGame(serverUrl: string, name: string): Promise<void> {
   if (findAnyGame(name)) return
-  const origin = new URL(serverUrl)
-  if (origin.protocol === 'wss:') origin.protocol = 'https:'
-  else if (origin.protocol === 'ws:') origin.protocol = 'http:'
-  const url = `${origin.origin}/games/${encodeURIComponent(name)}.js`
-  let module: { default?: Partial<Game> }
+  const url = gameModuleUrl(serverUrl, name)
+  let module: { default?: unknown }
   try {
     try {
       module = await import(/* @vite-ignore */ url)
@@ -68,10 +65,7 @@ async function loadServerGame(serverUrl: string, name: string): Promise<void> {
   } catch (error) {
     throw new Error(`cannot load game ${name} from ${url}: ${(error as Error).message}`)
   }
-  const game = module.default
-  if (typeof game?.initialState !== 'function' || game.name !== name || typeof game.commands !== 'object')
-    throw new Error(`${url} is not the game ${name}`)
-  loadedGames.set(name, game as Game)
+  loadedGames.set(name, gameOfModule(module, name, url))
 }
 
 /** How a session follows the room (shared/protocol/PROTOCOL.md, `join.mode`). */

@@ -8,11 +8,18 @@
  * but import the module too for its client module: a named export `client` made with
  * defineGameClient (docs/games.md, "Client modules"), which every page of such a room then uses.
  */
-import { findGame, findGameClient, type Game, type GameClient } from '../../games/index.ts'
+import {
+  findGame,
+  findGameClient,
+  GAME_NAME,
+  type Game,
+  type GameClient,
+  gameModuleUrl,
+  gameOfModule,
+} from '../../games/index.ts'
 
 const loaded = new Map<string, Game>()
 const clients = new Map<string, GameClient>()
-const GAME_NAME = /^[a-z][a-z0-9-]{0,31}$/
 
 /** A game by name: one this build ships, or one imported by loadGameModule; else undefined. */
 export function findClientGame(name: string): Game | undefined {
@@ -38,18 +45,13 @@ function isGameClient(value: unknown, name: string): value is GameClient {
 export async function loadGameModule(wsUrl: string, name: string): Promise<void> {
   if (findClientGame(name)) return
   if (!GAME_NAME.test(name)) throw new Error(`game name ${JSON.stringify(name)} is not a game name`)
-  const origin = new URL(wsUrl)
-  origin.protocol = origin.protocol === 'wss:' ? 'https:' : 'http:'
-  const url = `${origin.origin}/games/${name}.js`
-  let module: { default?: Partial<Game>; client?: unknown }
+  const url = gameModuleUrl(wsUrl, name)
+  let module: { default?: unknown; client?: unknown }
   try {
     module = await import(/* @vite-ignore */ url)
   } catch (error) {
     throw new Error(`cannot load game ${name} from ${url}: ${(error as Error).message}`)
   }
-  const game = module.default
-  if (typeof game?.initialState !== 'function' || game.name !== name || typeof game.commands !== 'object')
-    throw new Error(`${url} is not the game ${name}`)
-  loaded.set(name, game as Game)
+  loaded.set(name, gameOfModule(module, name, url))
   if (isGameClient(module.client, name)) clients.set(name, module.client)
 }

@@ -7,7 +7,7 @@
  * The hash checkpoints then prove every replica runs the same rules. This file has no dependency
  * beyond Node, so a worker thread loads games without the TypeScript compiler or esbuild.
  */
-import type { Game } from '../../games/index.ts'
+import { type Game, isGame } from '../../games/index.ts'
 
 /** A game bundle: the game's name, the file it came from, and the bundled module's text. */
 export interface GameBundle {
@@ -20,20 +20,6 @@ export interface GameBundle {
 /** Why a game module was refused, naming its file (the server does not start). */
 export class GameLoadError extends Error {
   override name = 'GameLoadError'
-}
-
-/** Whether a module's default export looks like what defineGame returns. */
-export function isGame(value: unknown): value is Game {
-  if (typeof value !== 'object' || value === null) return false
-  const g = value as Record<string, unknown>
-  return (
-    typeof g.name === 'string' &&
-    typeof g.initialState === 'function' &&
-    typeof g.setup === 'function' &&
-    typeof g.commands === 'object' &&
-    g.commands !== null &&
-    typeof g.definition === 'object'
-  )
 }
 
 /** Run a bundle's module and return its game; a GameLoadError naming the file if it is not one. */

@@ -8,7 +8,7 @@
  * and tests import the two files directly.
  */
 
-export { type GameBundle, GameLoadError, importGameBundle, isGame } from './game-bundle.ts'
+export { type GameBundle, GameLoadError, importGameBundle } from './game-bundle.ts'
 export {
   addLoadedGames,
   findServerGame,
