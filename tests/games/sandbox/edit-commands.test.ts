@@ -8,15 +8,10 @@
  * simulation, and one resumed from a saved state midway, keep the same hash every tick.
  */
 import { describe, expect, it } from 'vitest'
-import { circle, loadWorld } from '../../../engine/index.ts'
+import { circle } from '../../../engine/index.ts'
 import { sandbox } from '../../../games/index.ts'
-import {
-  type Command,
-  playerBodyColor,
-  RoomSimulation,
-  type SimCommand,
-  type SimulationObserver,
-} from '../../../shared/index.ts'
+import { type Command, playerBodyColor, RoomSimulation, type SimCommand } from '../../../shared/index.ts'
+import { commandKinds, expectReplays, recordSession } from './recorded-session.ts'
 
 const options = { game: sandbox, name: 'edit', scene: 'empty', maxBodies: 100, controls: true }
 
@@ -267,22 +262,8 @@ describe("the sandbox's edit commands", () => {
   })
 
   it('a recorded session replays with the same hash every tick, also resumed from a saved state midway', () => {
-    type Entry = { tick: number; player: number; cmd: SimCommand }
-    const log: Entry[] = []
-    const recorder: SimulationObserver = {
-      command: (tick, player, c) => log.push({ tick, player, cmd: structuredClone(c) }),
-      join: () => {},
-      leave: () => {},
-      worldLoaded: () => {},
-    }
-    const live = new RoomSimulation(options)
-    live.observers.push(recorder)
-    live.join(1, 'ada', '#e6194b')
-    live.join(2, 'bob', '#3cb44b')
-    const hashes: number[] = []
-    const saved: { state?: ReturnType<RoomSimulation['saveState']>; world?: Uint8Array } = {}
     const ids: number[] = []
-    for (let t = 0; t < 240; t++) {
+    const session = recordSession(options, 240, 100, (live, t) => {
       if (t < 10) {
         const id = spawn(
           live,
@@ -296,17 +277,11 @@ describe("the sandbox's edit commands", () => {
       if (t === 30) live.apply(1, cmd('duplicate', { body: ids[2], dx: 0.5, dy: 3 }))
       if (t === 40) live.apply(2, cmd('edit', { body: ids[3], static: true, color: 0x00ff00 }))
       if (t === 60) live.apply(1, cmd('deleteMany', { bodies: [ids[4], ids[6], ids[8]] }))
-      if (t === 100) {
-        saved.state = structuredClone(live.saveState())
-        saved.world = live.world.save()
-      }
       if (t === 130) live.apply(2, cmd('edit', { body: ids[3], static: false, restitution: 0.9 }))
       if (t === 150) live.apply(1, cmd('transform', { body: ids[5], x: -2, y: 8, angle: -1, scale: 0.6 }))
-      live.runTick()
-      hashes[live.tick] = live.hash()
-    }
+    })
     // Every scripted edit was accepted (logged), besides the spawns.
-    expect(log.filter((e) => e.cmd.k === 'cmd').map((e) => (e.cmd as { kind: string }).kind)).toEqual([
+    expect(commandKinds(session)).toEqual([
       'edit',
       'transform',
       'duplicate',
@@ -315,23 +290,6 @@ describe("the sandbox's edit commands", () => {
       'edit',
       'transform',
     ])
-
-    const replay = (from: RoomSimulation, start: number): void => {
-      for (let t = start; t < 240; t++) {
-        for (const e of log) if (e.tick === from.tick) expect(from.applyAccepted(e.player, e.cmd)).toBeNull()
-        from.runTick()
-        expect(from.hash(), `tick ${from.tick}`).toBe(hashes[from.tick])
-      }
-    }
-    const fresh = new RoomSimulation(options)
-    fresh.join(1, 'ada', '#e6194b')
-    fresh.join(2, 'bob', '#3cb44b')
-    replay(fresh, 0)
-    const resumed = new RoomSimulation(options)
-    resumed.restoreState(
-      saved.state as ReturnType<RoomSimulation['saveState']>,
-      loadWorld(saved.world as Uint8Array),
-    )
-    replay(resumed, 100)
+    expectReplays(session)
   })
 })

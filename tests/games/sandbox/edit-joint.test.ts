@@ -7,15 +7,9 @@
  * the new ones; a recorded session replays with the same hash every tick, also from a saved state.
  */
 import { describe, expect, it } from 'vitest'
-import { loadWorld } from '../../../engine/index.ts'
 import { sandbox } from '../../../games/index.ts'
-import {
-  type Command,
-  RoomSimulation,
-  type SimCommand,
-  type SimulationObserver,
-  type WireJoint,
-} from '../../../shared/index.ts'
+import { type Command, RoomSimulation, type SimCommand, type WireJoint } from '../../../shared/index.ts'
+import { commandKinds, expectReplays, recordSession } from './recorded-session.ts'
 
 const options = { game: sandbox, name: 'joints', scene: 'empty', maxBodies: 100, controls: true }
 
@@ -159,56 +153,15 @@ describe('editJoint', () => {
   })
 
   it('a recorded session replays with the same hash every tick, also resumed from a saved state midway', () => {
-    type Entry = { tick: number; player: number; cmd: SimCommand }
-    const log: Entry[] = []
-    const recorder: SimulationObserver = {
-      command: (tick, player, c) => log.push({ tick, player, cmd: structuredClone(c) }),
-      join: () => {},
-      leave: () => {},
-      worldLoaded: () => {},
-    }
-    const live = new RoomSimulation(options)
-    live.observers.push(recorder)
-    live.join(1, 'ada', '#e6194b')
-    live.join(2, 'bob', '#3cb44b')
-    const hashes: number[] = []
-    const saved: { state?: ReturnType<RoomSimulation['saveState']>; world?: Uint8Array } = {}
     let j = 0
-    for (let t = 0; t < 200; t++) {
+    const session = recordSession(options, 200, 50, (live, t) => {
       if (t === 0) j = arm(live).j
       if (t === 20)
         live.apply(1, cmd('editJoint', { joint: j, torque: 6, limit: true, lower: -0.6, upper: 0.4 }))
-      if (t === 50) {
-        saved.state = structuredClone(live.saveState())
-        saved.world = live.world.save()
-      }
       if (t === 80) live.apply(1, cmd('editJoint', { joint: j, speed: -2, breakTorque: 1e4 }))
       if (t === 120) live.apply(1, cmd('undo', {}))
-      live.runTick()
-      hashes[live.tick] = live.hash()
-    }
-    expect(log.filter((e) => e.cmd.k === 'cmd').map((e) => (e.cmd as { kind: string }).kind)).toEqual([
-      'hinge',
-      'editJoint',
-      'editJoint',
-      'undo',
-    ])
-    const replay = (from: RoomSimulation, start: number): void => {
-      for (let t = start; t < 200; t++) {
-        for (const e of log) if (e.tick === from.tick) expect(from.applyAccepted(e.player, e.cmd)).toBeNull()
-        from.runTick()
-        expect(from.hash(), `tick ${from.tick}`).toBe(hashes[from.tick])
-      }
-    }
-    const fresh = new RoomSimulation(options)
-    fresh.join(1, 'ada', '#e6194b')
-    fresh.join(2, 'bob', '#3cb44b')
-    replay(fresh, 0)
-    const resumed = new RoomSimulation(options)
-    resumed.restoreState(
-      saved.state as ReturnType<RoomSimulation['saveState']>,
-      loadWorld(saved.world as Uint8Array),
-    )
-    replay(resumed, 50)
+    })
+    expect(commandKinds(session)).toEqual(['hinge', 'editJoint', 'editJoint', 'undo'])
+    expectReplays(session)
   })
 })
