@@ -1,8 +1,8 @@
 /*
  * A player of the hill game written from shared/protocol/PROTOCOL.md alone: a `ws` socket and
  * standard MessagePack (msgpackr without records, int64 read as numbers), nothing of Concord's own
- * client code. It joins in snapshot mode, keeps the newest snapshot tick, the last `view`, every
- * `game` event and every `error`, and sends `cmd` messages.
+ * client code. It joins in snapshot mode, keeps the newest snapshot tick, the last `view` and its tick,
+ * every `game` event with its tick and every `error`, and sends `cmd` messages.
  */
 import { Packr, Unpackr } from 'msgpackr'
 import WebSocket from 'ws'
@@ -29,11 +29,15 @@ export type Message = { t: string } & Record<string, unknown>
 export class HillPlayer {
   readonly received: Message[] = []
   readonly events: unknown[] = []
+  /** The tick of each of `events` (game events come every tick, views only with snapshots). */
+  readonly eventTicks: number[] = []
   readonly errors: Array<{ code: string; reason: string; seq?: number }> = []
   id = 0
   rules: Record<string, unknown> = {}
   tick = 0
   view: HillView | null = null
+  /** The tick `view` shows. */
+  viewTick = 0
   private seq = 0
   private closed: Promise<void>
 
@@ -45,9 +49,15 @@ export class HillPlayer {
         this.id = m.id as number
         this.rules = m.rules as Record<string, unknown>
       } else if (m.t === 'snap') this.tick = Math.max(this.tick, m.tick as number)
-      else if (m.t === 'view') this.view = m.view as HillView
-      else if (m.t === 'game') this.events.push(...(m.events as unknown[]))
-      else if (m.t === 'error')
+      else if (m.t === 'view') {
+        this.view = m.view as HillView
+        this.viewTick = m.tick as number
+      } else if (m.t === 'game') {
+        for (const e of m.events as unknown[]) {
+          this.events.push(e)
+          this.eventTicks.push(m.tick as number)
+        }
+      } else if (m.t === 'error')
         this.errors.push(m as unknown as { code: string; reason: string; seq?: number })
     })
     this.closed = new Promise((resolve) => socket.once('close', () => resolve()))

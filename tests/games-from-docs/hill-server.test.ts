@@ -100,6 +100,10 @@ describe('king of the hill, loaded with --games', { timeout: 120_000 }, () => {
     for (const x of pushesFor(4.5)) await b.push(-x, 0)
     await until(() => kings().length === 2, 'the hill to be contested')
     expect(kings()).toEqual([a.id, 0])
+    // Game events are sent every tick, views only with snapshots: read ada's time from a view of
+    // the contest's tick or later (the view before it can be one tick short).
+    const contestTick = a.eventTicks[a.events.findIndex((e) => (e as { king?: number }).king === 0)]
+    await until(() => a.viewTick >= contestTick, "a view of the contest's tick")
     const heldWhenContested = a.view!.held[a.id]
     expect(heldWhenContested).toBeGreaterThan(0)
     expect(heldWhenContested).toBeLessThan(WIN_TICKS)
