@@ -502,6 +502,17 @@ function foldHit(
 }
 
 /**
+ * runVocabulary's hashes in Node, Chromium and Firefox (world, then stream, at steps 500, 1000, ...,
+ * 3000). Pinned so a change to what the new shape kinds do (an off-origin circle of a dumbbell, a
+ * chain's ghost vertices, a sensor's overlap) shows even where no other test looks; update them
+ * deliberately, with the values the failing test prints.
+ */
+export const VOCABULARY_GOLDEN: readonly number[] = [
+  0xe1abb802, 0xaaf2c73c, 0x01f19e17, 0x5df9907f, 0x5b014fd0, 0x86be5034, 0x11d36bfc, 0xc01eca76, 0x5eab22d1,
+  0xe1ed5f0b, 0x5668ca7c, 0x0196ca24,
+]
+
+/**
  * Runs the vocabulary scene VOCABULARY_STEPS steps; every 500 steps returns the world's hash and the
  * stream's (events and queries of every step so far).
  */
