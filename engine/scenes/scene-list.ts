@@ -49,7 +49,7 @@ export const SCENES: Readonly<Record<string, { description: string; make: () => 
     description: 'A bridge of 20 planks pinned end to end, with boxes dropped on it',
     make: chainBridgeScene,
   },
-  'card-house': { description: 'A four-storey house of leaning cards', make: cardHouseScene },
+  'card-house': { description: 'A five-storey house of leaning cards', make: cardHouseScene },
   'marble-run': {
     description: 'Balls and capsules run down four chain tracks into a bin whose sensor counts them',
     make: marbleRunScene,
