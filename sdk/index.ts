@@ -16,9 +16,14 @@
  * gives its old player back within its reconnect window), doubling the wait after each failed
  * attempt. Each connection gets a fresh mirror and runner, filled by the new welcome; listeners
  * stay. A deliberate close() or a refusal that another try cannot change is final.
+ *
+ * A room held by another server (several servers sharing a room directory, `--redis`) is followed
+ * as the page follows it: `moved`, then close 4006, and the session joins at the URL `moved` named,
+ * at once, whether or not it reconnects after drops (at most MAX_MOVES times in a row).
  */
 import { findGame, type Game, gameModuleUrl, gameOfModule } from '../games/index.ts'
 import {
+  CLOSE_CODES,
   type ClientMessage,
   ClientMirror,
   type Command,
@@ -145,7 +150,8 @@ export const RECONNECT_DEFAULTS: Readonly<Required<ReconnectOptions>> = Object.f
  * (4008, "rejoin it"). Every other code is final: a deliberate close (1000), strikes (1008), a
  * frame too large (1009), replaced by another connection with the token (4000, also this
  * client's own failure code), full (4001), version (4004), forbidden key (4005), moved to another
- * server (4006: the SDK does not follow `moved`), a room closed as overloaded (4007).
+ * server (4006; the `moved` before it is followed at once, reconnect or not), a room closed as
+ * overloaded (4007).
  */
 export const RECONNECT_CLOSE_CODES: readonly number[] = Object.freeze([
   1001, 1005, 1006, 1011, 1012, 1013, 4003, 4008,
@@ -228,6 +234,12 @@ class JoinFailure extends Error {
   }
 }
 
+/**
+ * Moves a session follows in a row before it gives up (servers whose directory keeps disagreeing
+ * would otherwise send it back and forth for ever); a welcome starts the count again.
+ */
+export const MAX_MOVES = 3
+
 /** The client's own close code when it cannot follow the server (a protocol bug, a bad sync). */
 const CLIENT_FAILURE = 4000
 const STEP_MS = 16
@@ -286,13 +298,18 @@ export class Session {
   private retryTimer: ReturnType<typeof setTimeout> | null = null
   private retrying = false
   private readonly retry: Readonly<Required<ReconnectOptions>> | null
+  /** The room's WebSocket URL: the one connect() was given, or the last `moved` followed. */
+  private url: string
+  /** Where the last `moved` of the current connection sends the session (a room URL), else null. */
+  private movedTo: string | null = null
 
   /** @internal Sessions come from `connect()`. */
   constructor(
     readonly options: Readonly<ConnectOptions>,
-    private readonly url: string,
+    url: string,
     private readonly Socket: SocketConstructor,
   ) {
+    this.url = url
     this.mode = options.mode ?? 'snapshot'
     this.retry = reconnectSettings(options.reconnect)
     this.reset()
@@ -524,6 +541,14 @@ export class Session {
       return
     }
     const message = decoded.value
+    if (message.t === 'moved') {
+      try {
+        this.movedTo = roomUrl(message.url, this.options.room, this.options.key)
+      } catch {
+        // Not a ws/http address: nothing to follow; the 4006 close that comes next is final.
+        this.emit('error', { code: 'client', reason: `cannot follow moved to "${message.url}"` })
+      }
+    }
     let ack: ReturnType<ClientMirror['handle']>
     try {
       ack = this.mirror.handle(message)
@@ -564,11 +589,13 @@ export class Session {
 
   /**
    * @internal Open a socket and join; resolves at the welcome. A first join (`first`) reports its
-   * close as the session's; a reconnect attempt sends the token of the connection before.
+   * close as the session's; a reconnect attempt sends the token of the connection before. A
+   * `moved` answer is followed (`moves` counts the ones followed so far).
    */
-  attach(first: boolean, token = ''): Promise<void> {
+  attach(first: boolean, token = '', moves = 0): Promise<void> {
     const url = this.url
     const options = this.options
+    this.movedTo = null
     return new Promise((resolve, reject) => {
       let socket: SocketLike
       try {
@@ -633,6 +660,29 @@ export class Session {
           this.dropped(event.code, event.reason)
           return
         }
+        const to = this.movedTo
+        if (to !== null && event.code === CLOSE_CODES.moved && !this.closing && !settled) {
+          // The room is held by another server (PROTOCOL.md, `moved`): join there instead.
+          clearTimeout(timeout)
+          if (moves >= MAX_MOVES) {
+            settle(
+              new JoinFailure(
+                `connect: room ${options.room} moved ${moves + 1} times in a row (last to ${to}); the servers' room directory disagrees`,
+                event.code,
+                event.reason,
+                true,
+              ),
+            )
+            if (first) this.closed(event.code, event.reason)
+            return
+          }
+          this.url = to
+          this.attach(first, token, moves + 1).then(
+            () => settle(null),
+            (failure: JoinFailure) => settle(failure),
+          )
+          return
+        }
         // A first join's close is the session's; so is an attempt's that close() cut short.
         if (first || this.closing) this.closed(event.code, event.reason)
         if (refusal) {
@@ -672,30 +722,47 @@ export class Session {
     })
   }
 
-  /** The joined connection closed: reconnect when the session may and the code allows, else close. */
+  /**
+   * The joined connection closed: follow a `moved` at once, reconnect when the session may and the
+   * code allows, else close.
+   */
   private dropped(code: number, reason: string): void {
     this.stopStepping()
-    if (this.closing || !this.retry || this.failed || !RECONNECT_CLOSE_CODES.includes(code)) {
+    const moved = this.movedTo !== null && code === CLOSE_CODES.moved
+    if (this.closing || this.failed || (!moved && (!this.retry || !RECONNECT_CLOSE_CODES.includes(code)))) {
       this.closed(code, reason)
       return
     }
     this.retrying = true
-    this.scheduleAttempt(1, this.mirror.token, code, reason)
+    if (moved) {
+      this.url = this.movedTo as string
+      this.scheduleAttempt(1, this.mirror.token, code, reason, true)
+    } else this.scheduleAttempt(1, this.mirror.token, code, reason)
   }
 
-  /** Wait (delayMs doubled per failed attempt, at most maxDelayMs), then try to join again. */
-  private scheduleAttempt(attempt: number, token: string, code: number, reason: string): void {
+  /**
+   * Wait (delayMs doubled per failed attempt, at most maxDelayMs; no wait `now`, for a moved room),
+   * then try to join again. A session without `reconnect` makes only the attempt that follows a
+   * `moved`; with it, that attempt failing starts the retries (from 1) at the new address.
+   */
+  private scheduleAttempt(attempt: number, token: string, code: number, reason: string, now = false): void {
+    if (this.closing) return
     const retry = this.retry
-    if (!retry || this.closing) return
-    if (attempt > retry.retries) {
-      this.emit('error', {
-        code: 'client',
-        reason: `gave up reconnecting after ${retry.retries} attempts (last: close ${code}${reason ? ` ${reason}` : ''})`,
-      })
-      this.closed(code, reason)
-      return
+    let delayMs = 0
+    if (!now) {
+      if (!retry || attempt > retry.retries) {
+        const last = `close ${code}${reason ? ` ${reason}` : ''}`
+        this.emit('error', {
+          code: 'client',
+          reason: retry
+            ? `gave up reconnecting after ${retry.retries} attempts (last: ${last})`
+            : `could not join the room at ${this.url} after it moved (${last})`,
+        })
+        this.closed(code, reason)
+        return
+      }
+      delayMs = Math.min(retry.maxDelayMs, retry.delayMs * 2 ** (attempt - 1))
     }
-    const delayMs = Math.min(retry.maxDelayMs, retry.delayMs * 2 ** (attempt - 1))
     this.emit('reconnecting', { attempt, delayMs, code, reason })
     this.retryTimer = setTimeout(() => {
       this.retryTimer = null
@@ -711,7 +778,10 @@ export class Session {
           if (failure.final) {
             this.emit('error', { code: 'client', reason: failure.message })
             this.closed(failure.code, failure.reason)
-          } else this.scheduleAttempt(attempt + 1, token, failure.code, failure.reason)
+            return
+          }
+          // A failed move's attempt is a drop at the new address: its retries start at 1.
+          this.scheduleAttempt(now ? 1 : attempt + 1, token, failure.code, failure.reason)
         },
       )
     }, delayMs)
@@ -726,7 +796,7 @@ export class Session {
   private loadGame(name: string): void {
     const held: Uint8Array[] = []
     this.held = held
-    loadServerGame(this.options.url, name).then(
+    loadServerGame(this.url, name).then(
       () => {
         // A reconnect meanwhile dropped these frames with their connection (reset).
         if (this.held !== held) return

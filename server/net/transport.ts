@@ -297,7 +297,6 @@ export class Transport {
     }
   }
 
-  /** Stop accepting; close every socket with a reason; resolves when all are closed (or forced). */
   /**
    * Hand room `name` over to the server at `url` (the room directory found an older copy there):
    * every player of it gets `moved`, then the room closes here with 4006 (PROTOCOL.md: `moved`
@@ -310,6 +309,7 @@ export class Transport {
     this.rooms.close(name, CLOSE_CODES.moved, `room ${name} moved to another server`)
   }
 
+  /** Stop accepting; close every socket with a reason; resolves when all are closed (or forced). */
   async closeAll(code: number, reason: string, graceMs: number): Promise<void> {
     this.accepting = false
     if (this.heartbeat) clearInterval(this.heartbeat)

@@ -1,7 +1,7 @@
 /*
  * Rooms across processes: two server processes share a room directory in a real redis-server.
  * A client that asks either server for a room gets to the one holding it (`moved`, followed by
- * the bot client), a room name is never open on both servers even when both are asked for it at
+ * the bot client and by the client SDK), a room name is never open on both servers even when both are asked for it at
  * the same moment, a disposed room is released, and a killed server's rooms are free for the
  * other after the directory's time to live.
  */
@@ -11,6 +11,7 @@ import { Redis } from 'ioredis'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import WebSocket from 'ws'
 import { BotClient } from '../../../bots/bot-client.ts'
+import { connect } from '../../../sdk/index.ts'
 import { decodeServerMessage, encodeMessage, PROTOCOL_VERSION } from '../../../shared/index.ts'
 import { startRedis, type TestRedis } from '../../support/redis-server.ts'
 import { until } from '../../support/wait.ts'
@@ -110,6 +111,19 @@ describe('room directory in Redis, two server processes', { timeout: 60_000 }, (
     expect(bot.options.url).toBe(a.url.replace('http', 'ws'))
     expect((await roomsOf(a)).get('lobby')).toBe(1)
     expect((await roomsOf(b)).has('lobby')).toBe(false)
+    // The client SDK follows it too (docs/sdk.md, Rooms on another server).
+    const session = await connect({ url: b.url, room: 'lobby', name: 'sdk', WebSocket: WebSocket as never })
+    expect(session.open).toBe(true)
+    expect((await roomsOf(a)).get('lobby')).toBe(2)
+    expect((await roomsOf(b)).has('lobby')).toBe(false)
+    await until(() => session.players().length === 2, "the SDK session's roster")
+    expect(
+      session
+        .players()
+        .map((p) => p.name)
+        .sort(),
+    ).toEqual(['sdk', 'via-b'])
+    await session.close()
     await bot.close()
   })
 
