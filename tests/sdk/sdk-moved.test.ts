@@ -17,11 +17,12 @@
 import { createServer } from 'node:net'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
 import WebSocket, { WebSocketServer } from 'ws'
-import { connect, MAX_MOVES, type Session, type SessionEvents } from '../../sdk/index.ts'
+import { type ConnectOptions, connect, MAX_MOVES, type Session } from '../../sdk/index.ts'
 import type { RunningServer } from '../../server/server.ts'
 import { decodeClientMessage, encodeMessage } from '../../shared/index.ts'
 import { inProcessRooms, startTestServer } from '../support/test-server.ts'
 import { until } from '../support/wait.ts'
+import { recordingSession } from './recording-session.ts'
 
 /** A WebSocket relay to `target` (ws://host:port) that can hand its clients over with `moved`. */
 class Relay {
@@ -115,27 +116,11 @@ afterAll(async () => {
   await b?.close()
 })
 
-/** A session through `url` that records its events in order. */
-async function enter(url: string, room: string, extra: Partial<Parameters<typeof connect>[0]> = {}) {
-  const log: Array<{ type: keyof SessionEvents; value: unknown }> = []
-  const record = (type: keyof SessionEvents) => (value: unknown) => log.push({ type, value })
-  const session = await connect({
-    url,
-    room,
-    name: 'm',
-    WebSocket: WebSocket as never,
-    on: {
-      reconnecting: record('reconnecting'),
-      reconnected: record('reconnected'),
-      close: record('close'),
-      error: record('error'),
-    },
-    ...extra,
-  })
-  sessions.push(session)
-  const of = <K extends keyof SessionEvents>(type: K) =>
-    log.filter((e) => e.type === type).map((e) => e.value as SessionEvents[K])
-  return { session, log, of }
+/** A session through `url` that records its events (recording-session.ts). */
+async function enter(url: string, room: string, extra: Partial<ConnectOptions> = {}) {
+  const recorded = await recordingSession(connect, url, room, { name: 'm', ...extra })
+  sessions.push(recorded.session)
+  return recorded
 }
 
 const playersOf = (s: RunningServer, room: string): number[] => [

@@ -22,10 +22,11 @@ import WebSocket from 'ws'
 import { type ServerProcess, startServerProcess } from '../support/server-process.ts'
 import { inProcessRooms, startTestServer } from '../support/test-server.ts'
 import { until } from '../support/wait.ts'
+import { recordingSession } from './recording-session.ts'
 
 type Sdk = typeof import('../../sdk/index.ts')
 type Session = import('../../sdk/index.ts').Session
-type Events = import('../../sdk/index.ts').SessionEvents
+type ConnectOptions = import('../../sdk/index.ts').ConnectOptions
 
 let sdk: Sdk
 let outdir: string
@@ -56,27 +57,11 @@ async function kill(s: ServerProcess): Promise<void> {
   await s.exited
 }
 
-/** A session that records every event it emits, in order. */
-async function enter(url: string, room: string, extra: Partial<Parameters<Sdk['connect']>[0]> = {}) {
-  const log: Array<{ type: keyof Events; value: unknown }> = []
-  const record = (type: keyof Events) => (value: unknown) => log.push({ type, value })
-  const session = await sdk.connect({
-    url,
-    room,
-    name: 'r',
-    WebSocket,
-    on: {
-      reconnecting: record('reconnecting'),
-      reconnected: record('reconnected'),
-      close: record('close'),
-      error: record('error'),
-    },
-    ...extra,
-  })
-  sessions.push(session)
-  const of = <K extends keyof Events>(type: K) =>
-    log.filter((e) => e.type === type).map((e) => e.value as Events[K])
-  return { session, log, of }
+/** A session of the built SDK that records its events (recording-session.ts). */
+async function enter(url: string, room: string, extra: Partial<ConnectOptions> = {}) {
+  const recorded = await recordingSession(sdk.connect, url, room, extra)
+  sessions.push(recorded.session)
+  return recorded
 }
 
 const box = (x: number, y: number) =>
