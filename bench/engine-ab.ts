@@ -11,12 +11,19 @@
  * like the pyramids) and the world hash after the last step (equal hashes: the versions stepped bit-identically). Saves bench/results/engine-ab.json.
  *
  * Flags: --scenes pyramid-20,pyramid-50,pile-1000 (also pile-N for any N), --rounds 40,
- * --chunk 10, --warmup 30, --sleep off|on, --out FILE. pile-N-awake is the server capacity scene
+ * --chunk 10, --warmup 30, --sleep off|on, --out FILE, --runs K.
+ *
+ * The version listed first reads a few per cent slow (Nov 28: on pile-1000, 2-3 % in either
+ * order), whatever the rotation within a run. `--runs K` (K >= 2) settles it in one command: K
+ * runs, each in its own process, the order of the versions reversed every other run; then, per
+ * scene and version, the geometric mean over the runs of the paired and CPU ratios to the first
+ * version named (the same version in every run, whatever its place), with their range. pile-N-awake is the server capacity scene
  * (bench/server-load.ts awakePile): the pile with every dynamic body's enableSleep false, so with
  * --sleep on the world keeps sleeping enabled and still simulates every body. rooms-K is K such
  * worlds with dragging players, stepped in turn as a room worker does (roomsStepper below); its
  * "step" is one step of every room.
  */
+import { spawnSync } from 'node:child_process'
 import { cpSync, existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs'
 import { tmpdir } from 'node:os'
 import { basename, dirname, join, resolve } from 'node:path'
@@ -88,6 +95,9 @@ interface VersionResult {
   cpuToFirst: number
   /** Fastest round (sum of its chunk's steps, ms) over the first version's fastest round. */
   bestToFirst: number
+  /** pairedToFirst and cpuToFirst, but to the `--base` version (the first named with --runs). */
+  pairedToBase: number
+  cpuToBase: number
   hash: number
 }
 
@@ -110,7 +120,7 @@ function blueprintOf(engine: EngineModule, scene: string): Blueprint {
 function runScene(
   versions: Version[],
   scene: string,
-  options: { rounds: number; chunk: number; warmup: number; sleep: boolean },
+  options: { rounds: number; chunk: number; warmup: number; sleep: boolean; base: number },
 ): VersionResult[] {
   const rooms = /^rooms-(\d+)$/.exec(scene)
   const worlds: Stepper[] = versions.map(({ engine }) => {
@@ -146,6 +156,7 @@ function runScene(
     done += count
   }
   const steps = samples[0].length
+  const base = options.base
   return versions.map((version, v) => ({
     label: version.label,
     medianMs: median(samples[v]),
@@ -154,6 +165,8 @@ function runScene(
     medianToFirst: median(samples[v]) / median(samples[0]),
     cpuToFirst: cpu[v] / cpu[0],
     bestToFirst: best[v] / best[0],
+    pairedToBase: pairedRatio(samples[v], samples[base], options.chunk),
+    cpuToBase: cpu[v] / cpu[base],
     hash: worlds[v].hash(),
   }))
 }
@@ -168,9 +181,21 @@ async function main(): Promise<void> {
       warmup: { type: 'string', default: '30' },
       sleep: { type: 'string', default: 'off' },
       out: { type: 'string' },
+      runs: { type: 'string', default: '1' },
+      base: { type: 'string' },
     },
   })
   if (positionals.length < 2) throw new Error('give at least two versions: LABEL=ENGINE_DIR ...')
+  const runs = Number(values.runs)
+  if (!Number.isInteger(runs) || runs < 1)
+    throw new Error(`--runs must be a whole number >= 1, got ${values.runs}`)
+  if (runs > 1) {
+    runInBothOrders(positionals, runs, values)
+    return
+  }
+  const labels = positionals.map((p) => parseVersion(p).label)
+  const base = values.base === undefined ? 0 : labels.indexOf(values.base)
+  if (base < 0) throw new Error(`--base ${values.base} is not one of the versions (${labels.join(', ')})`)
   const counts = { rounds: Number(values.rounds), chunk: Number(values.chunk), warmup: Number(values.warmup) }
   for (const [name, value] of Object.entries(counts)) {
     if (!Number.isInteger(value) || value < (name === 'warmup' ? 0 : 1)) {
@@ -209,7 +234,7 @@ async function main(): Promise<void> {
   const rows: string[][] = []
   for (const scene of values.scenes.split(',')) {
     const t0 = performance.now()
-    const out = runScene(versions, scene, { ...counts, sleep: values.sleep === 'on' })
+    const out = runScene(versions, scene, { ...counts, sleep: values.sleep === 'on', base })
     console.error(`  ${scene}: ${((performance.now() - t0) / 1000).toFixed(1)} s`)
     results.push({ scene, versions: out })
     for (const r of out) {
@@ -242,6 +267,74 @@ async function main(): Promise<void> {
   console.log(`load average ${machine.loadAverage.toFixed(2)} at start, ${loadAtEnd.toFixed(2)} at end`)
   const path = values.out ?? new URL('./results/engine-ab.json', import.meta.url).pathname
   saveResults(path, { benchmark: 'engine-ab', machine: { ...machine, loadAtEnd }, counts, results })
+}
+
+/**
+ * `--runs K`: K runs of this benchmark, one process each (so every run compiles every version
+ * afresh), the versions in the given order in even runs and reversed in odd ones; prints and saves,
+ * per scene and version, the geometric means and ranges of the paired and CPU ratios to the first
+ * version named, and each run's.
+ */
+function runInBothOrders(
+  positionals: string[],
+  runs: number,
+  values: Record<string, string | undefined>,
+): void {
+  const base = parseVersion(positionals[0]).label
+  const dir = mkdtempSync(join(tmpdir(), 'concord-engine-ab-runs-'))
+  const flags = ['scenes', 'rounds', 'chunk', 'warmup', 'sleep'].flatMap((f) => [`--${f}`, String(values[f])])
+  const perRun: { order: string[]; results: { scene: string; versions: VersionResult[] }[] }[] = []
+  try {
+    for (let run = 0; run < runs; run++) {
+      const order = run % 2 === 0 ? positionals : [...positionals].reverse()
+      const out = join(dir, `run-${run}.json`)
+      const labels = order.map((p) => parseVersion(p).label)
+      console.error(`run ${run + 1} of ${runs}: ${labels.join(', ')}`)
+      const child = spawnSync(
+        process.execPath,
+        [...process.execArgv, process.argv[1], ...order, ...flags, '--base', base, '--out', out],
+        { stdio: ['ignore', 'ignore', 'inherit'] },
+      )
+      if (child.status !== 0) throw new Error(`run ${run + 1} failed (exit ${child.status ?? child.signal})`)
+      const saved = JSON.parse(readFileSync(out, 'utf8')) as {
+        results: { scene: string; versions: VersionResult[] }[]
+      }
+      perRun.push({ order: labels, results: saved.results })
+    }
+  } finally {
+    rmSync(dir, { recursive: true, force: true })
+  }
+  const geometricMean = (xs: number[]): number =>
+    Math.exp(xs.reduce((sum, x) => sum + Math.log(x), 0) / xs.length)
+  const range = (xs: number[]): string => `${Math.min(...xs).toFixed(3)}-${Math.max(...xs).toFixed(3)}`
+  const rows: string[][] = []
+  const summary: {
+    scene: string
+    label: string
+    paired: number
+    cpu: number
+    pairedRuns: number[]
+    cpuRuns: number[]
+  }[] = []
+  for (const { scene } of perRun[0].results) {
+    for (const p of positionals) {
+      const label = parseVersion(p).label
+      const of = perRun.map(
+        (r) =>
+          r.results.find((x) => x.scene === scene)?.versions.find((v) => v.label === label) as VersionResult,
+      )
+      const pairedRuns = of.map((v) => v.pairedToBase)
+      const cpuRuns = of.map((v) => v.cpuToBase)
+      const paired = geometricMean(pairedRuns)
+      const cpu = geometricMean(cpuRuns)
+      summary.push({ scene, label, paired, cpu, pairedRuns, cpuRuns })
+      rows.push([scene, label, paired.toFixed(3), range(pairedRuns), cpu.toFixed(3), range(cpuRuns)])
+    }
+  }
+  console.log(`${runs} runs, orders alternating; ratios to ${base}, geometric means over the runs`)
+  console.log(formatTable(['scene', 'version', `paired/${base}`, 'range', `cpu/${base}`, 'range'], rows))
+  const path = values.out ?? new URL('./results/engine-ab.json', import.meta.url).pathname
+  saveResults(path, { benchmark: 'engine-ab', runs, base, machine: machineInfo(), summary, perRun })
 }
 
 await main()
