@@ -2,9 +2,46 @@
  * Starting server/main.ts in its own Node process (through tsx, as `npm start` runs the built
  * server) for tests that need a real process: signals, crashes, restarts. Its stdout log lines
  * (pino JSON) are collected so a test can wait for one.
+ *
+ * A server given neither `--replay-dir` nor `--record` records into one temporary folder per test
+ * process (shared by the servers a test file starts, so a restarted server recovers its rooms as it
+ * would in production), never into the repository's replays/, where `npm start` would recover the
+ * tests' rooms as its own (a fresh clone's `npm test` left 8 logs there, lobby's among them).
  */
 import { type ChildProcess, spawn } from 'node:child_process'
+import { mkdirSync, readdirSync, rmSync } from 'node:fs'
+import { tmpdir } from 'node:os'
+import { join } from 'node:path'
 import { createInterface } from 'node:readline'
+
+/** The test processes' replay folders: one per process, named by its pid. */
+const TEST_REPLAYS = join(tmpdir(), 'concord-test-replays')
+let testReplayDir: string | null = null
+
+/**
+ * This test process's replay folder, made at first use. Vitest ends its worker processes without
+ * their exit handlers, so each first use also removes the folders of processes no longer running.
+ */
+function replayDirOfTests(): string {
+  if (testReplayDir !== null) return testReplayDir
+  mkdirSync(TEST_REPLAYS, { recursive: true })
+  for (const name of readdirSync(TEST_REPLAYS))
+    if (!running(Number(name))) rmSync(join(TEST_REPLAYS, name), { recursive: true, force: true })
+  testReplayDir = join(TEST_REPLAYS, String(process.pid))
+  mkdirSync(testReplayDir, { recursive: true })
+  return testReplayDir
+}
+
+/** Whether a process with this pid runs (signal 0 checks without sending anything). */
+function running(pid: number): boolean {
+  if (!Number.isInteger(pid) || pid <= 0) return false
+  try {
+    process.kill(pid, 0)
+    return true
+  } catch (error) {
+    return (error as NodeJS.ErrnoException).code === 'EPERM'
+  }
+}
 
 /** One pino log line of the child. */
 export type LogLine = { msg?: string } & Record<string, unknown>
@@ -33,9 +70,11 @@ export function startServerProcess(
   listenTimeoutMs?: number,
   user?: { uid: number; gid: number },
 ): Promise<ServerProcess> {
+  const recording =
+    args.includes('--replay-dir') || args.includes('--record') ? [] : ['--replay-dir', replayDirOfTests()]
   const proc = spawn(
     process.execPath,
-    ['--import', 'tsx', 'server/main.ts', '--port', '0', '--log-level', 'info', ...args],
+    ['--import', 'tsx', 'server/main.ts', '--port', '0', '--log-level', 'info', ...recording, ...args],
     {
       stdio: ['ignore', 'pipe', 'inherit'],
       env: { ...process.env, ...env },
