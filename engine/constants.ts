@@ -52,6 +52,15 @@ export const PINCH_MASS_RATIO = 10
  * body's (see contact-solver.ts): 1/20.
  */
 export const SLENDER_RATIO = 0.05
+/**
+ * A slender body stands or leans on an end, and its contacts get the extra sweeps (contact-solver.ts),
+ * only through a contact whose normal, and gravity too, lie nearer its long axis than across it:
+ * |normal . axis| and |gravity . axis| / |gravity| above cos 45 degrees. A card leaning 25 degrees
+ * off upright has 0.91 for both on the ground; a card or plank lying flat, or touching along its
+ * long side, about 0 (a flat plank's end touching a neighbour's end has the normal along its axis
+ * but gravity across it).
+ */
+export const SLENDER_END_COSINE = Math.SQRT1_2
 /** Extra sweeps over a pinched or slender body's or a column's contacts after each solve and relax sweep. */
 export const PINCHED_EXTRA_ITERATIONS = 3
 /**

@@ -32,6 +32,7 @@ export {
   type SegmentShape,
   type Shape,
   segment,
+  slenderAxis,
 } from './shapes.ts'
 export {
   CORE,

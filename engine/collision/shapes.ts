@@ -699,10 +699,19 @@ export function computeMass(shape: Shape, density: number): MassData {
  * Uses only + - * / max and sqrt, so every JavaScript engine gives the same answer.
  */
 export function isSlender(shape: Shape): boolean {
-  if (shape.type === 'circle') return false
-  if (shape.type !== 'polygon' && shape.type !== 'capsule') return true
+  return slenderAxis(shape) !== null
+}
+
+/**
+ * A slender shape's long axis (isSlender), a unit vector in the body frame; null when the shape is
+ * not slender. A polygon's is along the edge whose normal gives its least width (a box's long side);
+ * a capsule's and a segment's runs from its first point to its second. Only + - * / max min sqrt.
+ */
+export function slenderAxis(shape: Shape): Vec2 | null {
+  if (shape.type === 'circle') return null
   const v = shape.vertices
   const n = v.length
+  if (shape.type !== 'polygon' && shape.type !== 'capsule') return unitAxis(v[1].x - v[0].x, v[1].y - v[0].y)
   let longest = 0
   for (let i = 0; i < n; i++) {
     for (let j = i + 1; j < n; j++) {
@@ -712,6 +721,7 @@ export function isSlender(shape: Shape): boolean {
     }
   }
   let thinnest = 0
+  let across = 0
   if (shape.type === 'polygon') {
     thinnest = Number.POSITIVE_INFINITY
     for (let i = 0; i < n; i++) {
@@ -720,12 +730,24 @@ export function isSlender(shape: Shape): boolean {
       for (let j = 0; j < n; j++) {
         width = Math.max(width, (v[i].x - v[j].x) * normal.x + (v[i].y - v[j].y) * normal.y)
       }
-      thinnest = Math.min(thinnest, width)
+      if (width < thinnest) {
+        thinnest = width
+        across = i
+      }
     }
   }
   const thickness = thinnest + 2 * shape.radius
   const length = Math.sqrt(longest) + 2 * shape.radius
-  return thickness < SLENDER_RATIO * length
+  if (!(thickness < SLENDER_RATIO * length)) return null
+  if (shape.type === 'capsule') return unitAxis(v[1].x - v[0].x, v[1].y - v[0].y)
+  // Along the edge of least width: the normal (x, y) turned a quarter, (-y, x).
+  return { x: -shape.normals[across].y, y: shape.normals[across].x }
+}
+
+/** (x, y) scaled to unit length ((1, 0) for a zero vector). */
+function unitAxis(x: number, y: number): Vec2 {
+  const length = Math.sqrt(x * x + y * y)
+  return length > 0 ? { x: x / length, y: y / length } : { x: 1, y: 0 }
 }
 
 /**

@@ -9,7 +9,7 @@
  * All fields are numbers, booleans or fixed references, so every BodyShape has one hidden class.
  */
 
-import { isSlender, polygonGeometry, type Shape } from '../collision/index.ts'
+import { polygonGeometry, type Shape, slenderAxis } from '../collision/index.ts'
 import type { Body } from './body.ts'
 
 /** Box2D's default category: bit 0. */
@@ -24,8 +24,14 @@ export class BodyShape {
   readonly shape: Shape
   /** The shape's vertices and normals laid out for the narrowphase (polygon-geometry.ts). */
   readonly geometry: Float64Array
-  /** Thinner than SLENDER_RATIO times its length (isSlender): its body's contacts get extra sweeps. */
+  /**
+   * Thinner than SLENDER_RATIO times its length (isSlender): its body's contacts get extra sweeps
+   * while it touches on an end (contact-solver.ts prepareContacts).
+   */
   readonly slender: boolean
+  /** A slender shape's long axis in the body frame (slenderAxis; 0, 0 when not slender). */
+  readonly axisX: number
+  readonly axisY: number
   /** Density (kg/m^2). */
   density = 1
   /** Coulomb friction coefficient; pairs mix by sqrt(a b). */
@@ -56,7 +62,10 @@ export class BodyShape {
     this.body = body
     this.shape = shape
     this.geometry = polygonGeometry(shape)
-    this.slender = isSlender(shape)
+    const axis = slenderAxis(shape)
+    this.slender = axis !== null
+    this.axisX = axis === null ? 0 : axis.x
+    this.axisY = axis === null ? 0 : axis.y
   }
 }
 

@@ -48,7 +48,9 @@
  * only as far as the budget pays for (ColumnStiffness.limit).
  */
 
-import { PINCH_MASS_RATIO } from '../constants.ts'
+import { PINCH_MASS_RATIO, SLENDER_END_COSINE } from '../constants.ts'
+import type { Body } from './body.ts'
+import type { BodyShape } from './body-shape.ts'
 import { DPX, DPY, DQC, DQS, STATE_STRIDE, stateOffset, VX, VY, W } from './body-state.ts'
 import { type Contact, SLENDER_A, SLENDER_B } from './contact.ts'
 import { ColumnMarks } from './contact-columns.ts'
@@ -235,6 +237,7 @@ export function prepareContacts(
   contactSoftness: Softness,
   staticSoftness: Softness,
   records: number,
+  ctx: StepContext,
 ): void {
   out.reserve(count, records)
   const extraRecord = out.extraRecord
@@ -288,13 +291,41 @@ export function prepareContacts(
       if (mA > PINCH_MASS_RATIO * mB) extraRecord[out.stateA[i] / STATE_STRIDE] = 1
       else if (mB > PINCH_MASS_RATIO * mA) extraRecord[out.stateB[i] / STATE_STRIDE] = 1
     }
-    // A dynamic body touching with a slender shape gets the same extra sweeps.
+    // A dynamic body touching with a slender shape on an end (the normal not across its long axis)
+    // gets the same extra sweeps.
     const slender = c.slender
     if (slender !== 0) {
-      if ((slender & SLENDER_A) !== 0 && mA > 0) extraRecord[out.stateA[i] / STATE_STRIDE] = 1
-      if ((slender & SLENDER_B) !== 0 && mB > 0) extraRecord[out.stateB[i] / STATE_STRIDE] = 1
+      if ((slender & SLENDER_A) !== 0 && mA > 0 && standsOnEnd(a, c.shapeA, d, o, ctx))
+        extraRecord[out.stateA[i] / STATE_STRIDE] = 1
+      if ((slender & SLENDER_B) !== 0 && mB > 0 && standsOnEnd(b, c.shapeB, d, o, ctx))
+        extraRecord[out.stateB[i] / STATE_STRIDE] = 1
     }
   }
+}
+
+/** The square of SLENDER_END_COSINE. */
+const END_COSINE_2 = SLENDER_END_COSINE * SLENDER_END_COSINE
+
+/**
+ * Whether a slender shape on `body` stands or leans on an end at this contact: both the normal of
+ * constraint record `o` and gravity have a component along the shape's long axis (turned by the
+ * body's rotation) above SLENDER_END_COSINE of their length. A slender body touching along its long
+ * side, or lying flat, is as stable as a box. Reads the normal from the record and gravity from
+ * `ctx` (no double passed: V8 boxes a double passed to a function it does not inline).
+ */
+function standsOnEnd(body: Body, shape: BodyShape, d: Float64Array, o: number, ctx: StepContext): boolean {
+  const ux = shape.axisX
+  const uy = shape.axisY
+  const c = body.c
+  const s = body.s
+  const ax = c * ux - s * uy
+  const ay = s * ux + c * uy
+  const normal = d[o + NX] * ax + d[o + NY] * ay
+  if (!(normal * normal > END_COSINE_2)) return false
+  const gx = ctx.gravityX
+  const gy = ctx.gravityY
+  const gravity = gx * ax + gy * ay
+  return gravity * gravity > END_COSINE_2 * (gx * gx + gy * gy)
 }
 
 /** Applies the accumulated impulses (each sub-step). */

@@ -377,6 +377,7 @@ export class World extends QueryApi {
       this.contactSoftness,
       this.staticSoftness,
       this.awakeCount + 1,
+      this.stepContext,
     )
   }
 

@@ -3,7 +3,8 @@
  * (bundled with esbuild, run in a separate quiet `node --expose-gc` process).
  *
  * - pile: a 300-body pile (pileScene(300), sleeping off, so every body is simulated every step) and,
- *   beside it, two alternating towers of 20 and 50 boxes (column contacts, contact-columns.ts).
+ *   beside it, two alternating towers of 20 and 50 boxes (column contacts, contact-columns.ts) and
+ *   the five-storey card house (slender cards: the leaning ones' contacts get extra sweeps).
  * - room: the server's capacity room without the server: a 100-body pile whose bodies never sleep
  *   (bench/server-load.ts awakePile) and five players, each dragging a random dynamic body with a
  *   mouse joint round an ellipse (half-axes 4 m and 3 m; a lap in 80 of their 20 Hz steps, about
@@ -34,6 +35,7 @@ import {
   box,
   buildScene,
   capsule,
+  cardHouseScene,
   circle,
   createWorld,
   type JointId,
@@ -263,6 +265,13 @@ export class AllocationScene {
         for (let i = 0; i < height; i++)
           this.world.createBody({ position: { x: x + (i % 2) * 0.05, y: 0.5 + i }, shape: box(0.5, 0.5) })
       }
+      // The five-storey card house on its own ground: slender cards, leaning (extra sweeps) and flat.
+      this.world.createBody({ type: 'static', position: { x: 60, y: -0.5 }, shape: box(5, 0.5) })
+      for (const card of cardHouseScene(5).bodies.slice(1))
+        this.world.createBody({
+          ...card,
+          position: { x: 60 + (card.position?.x ?? 0), y: card.position?.y ?? 0 },
+        })
     } else {
       const pile = pileScene(100)
       buildScene(this.world, {
