@@ -313,7 +313,13 @@ const END_COSINE_2 = SLENDER_END_COSINE * SLENDER_END_COSINE
  * side, or lying flat, is as stable as a box. Reads the normal from the record and gravity from
  * `ctx` (no double passed: V8 boxes a double passed to a function it does not inline).
  */
-function standsOnEnd(body: Body, shape: BodyShape, d: Float64Array, o: number, ctx: StepContext): boolean {
+export function standsOnEnd(
+  body: Body,
+  shape: BodyShape,
+  d: Float64Array,
+  o: number,
+  ctx: StepContext,
+): boolean {
   const ux = shape.axisX
   const uy = shape.axisY
   const c = body.c

@@ -5,7 +5,8 @@
  * Oracles: Box2D v3.1 (box2d3-wasm 5.2.0) keeps this house standing as built, its worst card
  * 3.5 cm from where it was made after 10 s; a fallen card moves by about its own height, 0.4 m
  * (this engine's house used to fall, its cards moving 1.8 m). Slenderness is checked against widths
- * and lengths computed by hand.
+ * and lengths computed by hand, the long axis and the "on an end" rule (contact-solver.ts
+ * standsOnEnd) against cosines of hand-picked angles.
  */
 import { execFile } from 'node:child_process'
 import { mkdtempSync, rmSync } from 'node:fs'
@@ -15,8 +16,12 @@ import { fileURLToPath } from 'node:url'
 import { promisify } from 'node:util'
 import { build } from 'esbuild'
 import { describe, expect, it } from 'vitest'
-import { isSlender } from '../../engine/collision/shapes.ts'
-import { SLENDER_RATIO } from '../../engine/constants.ts'
+import { isSlender, slenderAxis } from '../../engine/collision/shapes.ts'
+import { SLENDER_END_COSINE, SLENDER_RATIO } from '../../engine/constants.ts'
+import type { Body } from '../../engine/dynamics/body.ts'
+import { BodyShape } from '../../engine/dynamics/body-shape.ts'
+import { CONSTRAINT_LAYOUT, standsOnEnd } from '../../engine/dynamics/contact-solver.ts'
+import { StepContext } from '../../engine/dynamics/step-context.ts'
 import { box, capsule, circle, createWorld, polygon, segment } from '../../engine/index.ts'
 import { buildHouse, type runBattery, STANDING, STEPS, worstDrift } from './card-house-scene.ts'
 
@@ -133,5 +138,77 @@ describe('slender shapes (isSlender: thickness < SLENDER_RATIO x length)', () =>
     expect(isSlender(capsule({ x: -1, y: 0 }, { x: 1, y: 0 }, 0.055))).toBe(false)
     expect(isSlender(segment({ x: 0, y: 0 }, { x: 0.01, y: 0 }))).toBe(true)
     expect(isSlender(circle(0.001))).toBe(false)
+  })
+})
+
+describe('the long axis (slenderAxis) and standing on an end (standsOnEnd)', () => {
+  /** |a . (x, y)| for a unit (x, y): 1 when the axis runs along it, either way. */
+  const along = (a: { x: number; y: number } | null, x: number, y: number) =>
+    Math.abs((a?.x ?? 0) * x + (a?.y ?? 0) * y)
+
+  it("is a box's long side, a capsule's or segment's direction, none for a shape that is not slender", () => {
+    expect(along(slenderAxis(box(0.001, 0.2)), 0, 1)).toBe(1) // a card stands along y
+    expect(along(slenderAxis(box(1, 0.05)), 1, 0)).toBe(1)
+    const turned = slenderAxis(box(1, 0.05, { x: 3, y: -2 }, 0.7))
+    expect(along(turned, Math.cos(0.7), Math.sin(0.7))).toBeCloseTo(1, 12)
+    expect(along(slenderAxis(capsule({ x: -1, y: 0 }, { x: 1, y: 0 }, 0.05)), 1, 0)).toBe(1)
+    expect(slenderAxis(segment({ x: 0, y: 0 }, { x: 3, y: 4 }))).toEqual({ x: 0.6, y: 0.8 })
+    // The sliver (0, 0), (1, 0), (0.5, 0.01): least width across its base, so the axis is along it.
+    const sliver = polygon([
+      { x: 0, y: 0 },
+      { x: 1, y: 0 },
+      { x: 0.5, y: 0.01 },
+    ])
+    expect(along(slenderAxis(sliver), 1, 0)).toBe(1)
+    expect(slenderAxis(box(1, 0.051))).toBeNull()
+    expect(slenderAxis(circle(0.001))).toBeNull()
+  })
+
+  it('is cos 45 degrees', () => {
+    expect(SLENDER_END_COSINE).toBe(Math.SQRT1_2)
+  })
+
+  /**
+   * Whether a card (box(0.001, 0.2): its long axis along the body's y) turned by `angle` stands on
+   * an end at a contact of unit normal (nx, ny), under gravity (gx, gy).
+   */
+  function onEnd(angle: number, nx: number, ny: number, gx = 0, gy = -10): boolean {
+    const body = { c: Math.cos(angle), s: Math.sin(angle) } as Body
+    const shape = new BodyShape(1, body, box(0.001, 0.2))
+    const d = new Float64Array(CONSTRAINT_LAYOUT.CONSTRAINT_STRIDE)
+    d[CONSTRAINT_LAYOUT.NX] = nx
+    d[CONSTRAINT_LAYOUT.NY] = ny
+    const ctx = new StepContext()
+    ctx.gravityX = gx
+    ctx.gravityY = gy
+    return standsOnEnd(body, shape, d, 0, ctx)
+  }
+  const deg = Math.PI / 180
+
+  it('a card leaning 25 degrees on the ground (0.91) or on the card it leans on (sin 50 = 0.77): on an end', () => {
+    expect(onEnd(25 * deg, 0, 1)).toBe(true)
+    expect(onEnd(-25 * deg, 0, -1)).toBe(true)
+    // The other card leans -25 degrees; its face normal is (cos 25, -sin 25).
+    expect(onEnd(25 * deg, Math.cos(25 * deg), -Math.sin(25 * deg))).toBe(true)
+  })
+
+  it('a card lying flat, or touched across its long side: not on an end', () => {
+    expect(onEnd(90 * deg, 0, 1)).toBe(false)
+    expect(onEnd(25 * deg, Math.cos(25 * deg), Math.sin(25 * deg))).toBe(false) // its own face normal
+  })
+
+  it('the normal and gravity must both be within 45 degrees of the axis', () => {
+    // Tilted 44 and 46 degrees off upright, on the ground.
+    expect(onEnd(44 * deg, 0, 1)).toBe(true)
+    expect(onEnd(46 * deg, 0, 1)).toBe(false)
+    // Lying flat (axis along x), its end against a neighbour's end: the normal runs along the axis,
+    // gravity across it; with gravity along x it stands on that end.
+    expect(onEnd(90 * deg, 1, 0)).toBe(false)
+    expect(onEnd(90 * deg, 1, 0, -10, 0)).toBe(true)
+    // Upright on the ground with a normal 44 or 46 degrees off the axis (a corner on a slope).
+    expect(onEnd(0, Math.sin(44 * deg), Math.cos(44 * deg))).toBe(true)
+    expect(onEnd(0, Math.sin(46 * deg), Math.cos(46 * deg))).toBe(false)
+    // Without gravity nothing stands on anything.
+    expect(onEnd(0, 0, 1, 0, 0)).toBe(false)
   })
 })
