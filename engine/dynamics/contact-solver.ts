@@ -33,11 +33,12 @@
  * exactly as before; the few contacts of a heavy-on-light stack cost little.
  *
  * Slender bodies (a dynamic body touching with a shape thinner than SLENDER_RATIO times its length:
- * cards, thin planks and rods) get the same extra sweeps. Such a body standing on its end or leaning
- * stands on a support as wide as its thickness, so the velocity error one sweep per sub-step leaves
- * tips it: issue 27's five-storey house of 2 mm x 0.4 m cards fell in 18 of 66 creation orders and
- * stands in all of them with the extra sweeps (tests/engine/card-house.test.ts). Scenes without
- * slender shapes solve exactly as before.
+ * cards, thin planks and rods) get the same extra sweeps while they stand or lean on an end (the
+ * contact's normal and gravity both nearer the shape's long axis than across it: standsOnEnd). Such
+ * a body stands on a support as wide as its thickness, so the velocity error one sweep per sub-step
+ * leaves tips it: issue 27's five-storey house of 2 mm x 0.4 m cards fell in 18 of 66 creation
+ * orders and stands in all of them with the extra sweeps (tests/engine/card-house.test.ts). Lying
+ * flat it is as stable as a box and gets none. Scenes without slender shapes solve exactly as before.
  *
  * Tall columns (contact-columns.ts: a chain of at least COLUMN_MIN_BODIES bodies on a static body,
  * each touching only the one below and the one above) buckle on 45 Hz soft contacts; their contacts

@@ -2,7 +2,7 @@
  * Which contact constraints get extra solver sweeps this step, and how stiff (contact-solver.ts
  * solveContacts runs them): the contacts touching a pinched body (a dynamic body touching one more
  * than PINCH_MASS_RATIO times heavier) or a slender one (touching with a shape thinner than
- * SLENDER_RATIO times its length), both marked by prepareContacts, and the contacts of tall columns
+ * SLENDER_RATIO times its length, on an end), both marked by prepareContacts, and the contacts of tall columns
  * (contact-columns.ts finds them; weighColumns below weighs them), within the step's budget
  * (ColumnStiffness.limit). Runs once per step after prepareContacts; it reads the constraint
  * records by the layout contact-solver.ts exports.
